@@ -1,0 +1,248 @@
+#include "hoembedElementGeometry.h"
+#include "hoembedShapeFunctions.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace hoembed
+{
+namespace
+{
+// The 20 multi-indices (i, j, k, l), i + j + k + l = 3, of the cubic Bernstein basis on a
+// tet, with barycentric weights (L0, L1, L2, L3) = (i, j, k, l) / 3 at the lattice nodes.
+struct CubicLattice
+{
+  std::array<std::array<int, 4>, 20> Index;
+  Eigen::Matrix<double, 20, 20> LagrangeToBernstein; // c = M^-1 f
+
+  CubicLattice()
+  {
+    int n = 0;
+    for (int i = 3; i >= 0; --i)
+      for (int j = 3 - i; j >= 0; --j)
+        for (int k = 3 - i - j; k >= 0; --k)
+          Index[n++] = { i, j, k, 3 - i - j - k };
+    static const double fact[4] = { 1, 1, 2, 6 };
+    Eigen::Matrix<double, 20, 20> M;
+    for (int p = 0; p < 20; ++p)
+    {
+      double L[4];
+      for (int a = 0; a < 4; ++a)
+        L[a] = Index[p][a] / 3.0;
+      for (int q = 0; q < 20; ++q)
+      {
+        double b = 6.0;
+        for (int a = 0; a < 4; ++a)
+          b *= std::pow(L[a], Index[q][a]) / fact[Index[q][a]];
+        M(p, q) = b;
+      }
+    }
+    LagrangeToBernstein = M.inverse();
+  }
+};
+
+const CubicLattice& Lattice()
+{
+  static const CubicLattice lattice;
+  return lattice;
+}
+
+// Parametric (r, s, t) of the lattice node p of the sub-tet with parametric corners c.
+void LatticePoint(const CubicLattice& lat, int p, const double c[4][3], double pc[3])
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    pc[d] = 0.0;
+    for (int a = 0; a < 4; ++a)
+      pc[d] += lat.Index[p][a] / 3.0 * c[a][d];
+  }
+}
+
+// Bernstein coefficients of det J restricted to a parametric sub-tet; returns whether a
+// lattice (sample) value is <= 0, i.e. the element is certainly invalid.
+bool SubTetCoefficients(const double* x, const double c[4][3], double coef[20])
+{
+  const CubicLattice& lat = Lattice();
+  Eigen::Matrix<double, 20, 1> f;
+  bool sampledNonPositive = false;
+  for (int p = 0; p < 20; ++p)
+  {
+    double pc[3];
+    LatticePoint(lat, p, c, pc);
+    f[p] = Tet10JacobianDeterminant(x, pc);
+    sampledNonPositive |= !(f[p] > 0.0);
+  }
+  Eigen::Matrix<double, 20, 1> b = lat.LagrangeToBernstein * f;
+  for (int q = 0; q < 20; ++q)
+    coef[q] = b[q];
+  return sampledNonPositive;
+}
+
+void Mid(const double a[3], const double b[3], double m[3])
+{
+  for (int d = 0; d < 3; ++d)
+    m[d] = 0.5 * (a[d] + b[d]);
+}
+
+// Lower bound of det J over the sub-tet c, refined by red subdivision up to `depth`.
+double SubTetLowerBound(const double* x, const double c[4][3], int depth)
+{
+  double coef[20];
+  const bool certainlyInvalid = SubTetCoefficients(x, c, coef);
+  const double lo = *std::min_element(coef, coef + 20);
+  if (lo > 0.0 || certainlyInvalid || depth <= 0)
+  {
+    if (certainlyInvalid)
+    {
+      // min over the samples is an upper bound of the true minimum: report the smaller.
+      return std::min(lo, 0.0);
+    }
+    return lo;
+  }
+  double m01[3], m02[3], m03[3], m12[3], m13[3], m23[3];
+  Mid(c[0], c[1], m01);
+  Mid(c[0], c[2], m02);
+  Mid(c[0], c[3], m03);
+  Mid(c[1], c[2], m12);
+  Mid(c[1], c[3], m13);
+  Mid(c[2], c[3], m23);
+  const double* kids[8][4] = { { c[0], m01, m02, m03 }, { m01, c[1], m12, m13 },
+    { m02, m12, c[2], m23 }, { m03, m13, m23, c[3] }, { m02, m13, m01, m12 },
+    { m02, m13, m12, m23 }, { m02, m13, m23, m03 }, { m02, m13, m03, m01 } };
+  double best = std::numeric_limits<double>::infinity();
+  for (auto& kid : kids)
+  {
+    double k[4][3];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        k[a][d] = kid[a][d];
+    best = std::min(best, SubTetLowerBound(x, k, depth - 1));
+    if (!(best > 0.0) && best < lo)
+    {
+      break; // a non-positive bound that is already below the parent's: conclusive enough
+    }
+  }
+  return std::max(best, lo); // the parent's bound is valid too
+}
+
+void Cross(const double a[3], const double b[3], double c[3])
+{
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+} // namespace
+
+double Determinant3(const double J[3][3])
+{
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+    J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+    J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+void Tet10Jacobian(const double* x, const double pc[3], double J[3][3])
+{
+  double dN[30];
+  Tet10Derivs(pc, dN);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+    {
+      double s = 0.0;
+      for (int n = 0; n < 10; ++n)
+        s += dN[10 * j + n] * x[3 * n + i];
+      J[i][j] = s;
+    }
+}
+
+double Tet10JacobianDeterminant(const double* x, const double pc[3])
+{
+  double J[3][3];
+  Tet10Jacobian(x, pc, J);
+  return Determinant3(J);
+}
+
+double Tet4JacobianDeterminant(const double* x)
+{
+  double a[3], b[3], c[3], n[3];
+  for (int d = 0; d < 3; ++d)
+  {
+    a[d] = x[3 + d] - x[d];
+    b[d] = x[6 + d] - x[d];
+    c[d] = x[9 + d] - x[d];
+  }
+  Cross(b, c, n);
+  return a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+}
+
+void Tet10JacobianBounds(const double* x, double& minBound, double& maxBound, int depth)
+{
+  static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  double coef[20];
+  SubTetCoefficients(x, corners, coef);
+  maxBound = *std::max_element(coef, coef + 20);
+  minBound = SubTetLowerBound(x, corners, depth);
+}
+
+bool Tet10IsValid(const double* x, int depth)
+{
+  double lo, hi;
+  Tet10JacobianBounds(x, lo, hi, depth);
+  return lo > 0.0;
+}
+
+double Tet10MinScaledJacobian(const double* x)
+{
+  const CubicLattice& lat = Lattice();
+  static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  double best = std::numeric_limits<double>::infinity();
+  for (int p = 0; p < 20; ++p)
+  {
+    double pc[3], J[3][3];
+    LatticePoint(lat, p, corners, pc);
+    Tet10Jacobian(x, pc, J);
+    double len = 1.0;
+    for (int j = 0; j < 3; ++j)
+      len *= std::sqrt(J[0][j] * J[0][j] + J[1][j] * J[1][j] + J[2][j] * J[2][j]);
+    const double sj = len > 0.0 ? std::sqrt(2.0) * Determinant3(J) / len : -1.0;
+    best = std::min(best, sj);
+  }
+  if (best > 0.0 && !Tet10IsValid(x))
+  {
+    best = 0.0; // positive at the samples but not provably positive everywhere
+  }
+  return std::min(best, 1.0);
+}
+
+double Tet4ScaledJacobian(const double* x)
+{
+  double e[3][3];
+  double len = 1.0;
+  for (int j = 0; j < 3; ++j)
+  {
+    for (int d = 0; d < 3; ++d)
+      e[j][d] = x[3 * (j + 1) + d] - x[d];
+    len *= std::sqrt(e[j][0] * e[j][0] + e[j][1] * e[j][1] + e[j][2] * e[j][2]);
+  }
+  return len > 0.0 ? std::min(1.0, std::sqrt(2.0) * Tet4JacobianDeterminant(x) / len) : -1.0;
+}
+
+double Tet10Volume(const double* x)
+{
+  static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  double coef[20];
+  SubTetCoefficients(x, corners, coef);
+  double s = 0.0;
+  for (double c : coef)
+    s += c;
+  return s / 20.0 / 6.0; // each cubic Bernstein polynomial integrates to 1/20 of the volume
+}
+
+double Tet4Volume(const double* x)
+{
+  return Tet4JacobianDeterminant(x) / 6.0;
+}
+} // namespace hoembed

@@ -1,0 +1,62 @@
+/**
+ * @file hoembedElementGeometry.h
+ * @brief Jacobians, a conservative validity test and quality of tet4 / tet10 elements.
+ *
+ * Plain C++ kernels. Node coordinates are passed as 3 doubles per node in VTK's node
+ * order (see hoembedShapeFunctions.h).
+ *
+ * The Jacobian determinant of a quadratic (tet10) element is a cubic polynomial in the
+ * barycentric coordinates. It is represented exactly by its 20 coefficients in the cubic
+ * Bernstein basis; their minimum is a lower bound of det J over the whole element
+ * (Bernstein polynomials are non-negative and sum to one), and the bound is sharp at the
+ * corners. `Tet10JacobianBounds` computes that bound, refined by de Casteljau subdivision
+ * where it is not conclusive, so `Tet10IsValid` never accepts an element whose det J
+ * reaches zero anywhere inside it.
+ */
+#ifndef hoembedElementGeometry_h
+#define hoembedElementGeometry_h
+
+#include "hoembedFiltersCoreModule.h"
+
+namespace hoembed
+{
+/// Jacobian J[i][j] = d x_i / d pc_j of a tet10 at parametric point pc.
+HOEMBEDFILTERSCORE_EXPORT void Tet10Jacobian(const double* x, const double pc[3], double J[3][3]);
+/// det J of a tet10 at parametric point pc (6 x the volume scale of a straight tet).
+HOEMBEDFILTERSCORE_EXPORT double Tet10JacobianDeterminant(const double* x, const double pc[3]);
+/// det J of a tet4 (constant): (x1 - x0) . ((x2 - x0) x (x3 - x0)).
+HOEMBEDFILTERSCORE_EXPORT double Tet4JacobianDeterminant(const double* x);
+HOEMBEDFILTERSCORE_EXPORT double Determinant3(const double J[3][3]);
+
+/**
+ * Bounds of det J over the whole tet10 element.
+ * @param x        10 nodes, 3 doubles each
+ * @param minBound on return, a lower bound of min det J (exact at the corners)
+ * @param maxBound on return, an upper bound of max det J
+ * @param depth    de Casteljau subdivision levels used when the plain bound is not
+ *                 positive while sampled values are (0 = plain Bernstein bound)
+ * The returned lower bound is the best one found; it is positive only if det J > 0
+ * everywhere in the element.
+ */
+HOEMBEDFILTERSCORE_EXPORT void Tet10JacobianBounds(
+  const double* x, double& minBound, double& maxBound, int depth = 3);
+
+/// True when det J > 0 everywhere in the tet10 (conservative: may reject a valid element
+/// whose minimum is within round-off of zero, never accepts an invalid one).
+HOEMBEDFILTERSCORE_EXPORT bool Tet10IsValid(const double* x, int depth = 3);
+
+/**
+ * Scaled Jacobian of a tet10: min over the element of det J / (|J_r| |J_s| |J_t|),
+ * times sqrt(2) so that a regular straight tet scores 1. The minimum is taken over the
+ * 20 nodes of the cubic lattice and the 4 corners' Bernstein bound is used to return a
+ * value <= 0 whenever the element is not provably valid.
+ */
+HOEMBEDFILTERSCORE_EXPORT double Tet10MinScaledJacobian(const double* x);
+/// Scaled Jacobian of a straight tet4 (sqrt(2) normalised, 1 for a regular tet).
+HOEMBEDFILTERSCORE_EXPORT double Tet4ScaledJacobian(const double* x);
+/// Volume of a tet10 (exact: 4-point-free, uses the cubic Bernstein mean of det J).
+HOEMBEDFILTERSCORE_EXPORT double Tet10Volume(const double* x);
+HOEMBEDFILTERSCORE_EXPORT double Tet4Volume(const double* x);
+} // namespace hoembed
+
+#endif

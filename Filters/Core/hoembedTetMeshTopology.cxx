@@ -1,0 +1,203 @@
+#include "hoembedTetMeshTopology.h"
+#include "hoembedShapeFunctions.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace hoembed
+{
+namespace
+{
+using Id = TetMeshTopology::Id;
+
+// Items keyed by a sorted tuple of node ids; bucketed by the smallest id (counting sort),
+// so that matching is linear in the number of items for bounded node valence.
+template <int K>
+struct Keyed
+{
+  Id Key[K];
+  Id Item;
+};
+
+template <int K>
+void BucketByFirst(std::vector<Keyed<K>>& items, Id numberOfPoints, std::vector<Id>& offsets,
+  std::vector<Keyed<K>>& sorted)
+{
+  offsets.assign(numberOfPoints + 1, 0);
+  for (const auto& it : items)
+    ++offsets[it.Key[0] + 1];
+  for (Id i = 0; i < numberOfPoints; ++i)
+    offsets[i + 1] += offsets[i];
+  std::vector<Id> fill(offsets.begin(), offsets.end() - 1);
+  sorted.resize(items.size());
+  for (const auto& it : items)
+    sorted[fill[it.Key[0]]++] = it;
+}
+} // namespace
+
+std::string TetMeshTopology::Build(
+  const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints)
+{
+  if (nodesPerCell != 4 && nodesPerCell != 10)
+  {
+    return "cells must have 4 (tet4) or 10 (tet10) nodes";
+  }
+  this->NodesPerCell = nodesPerCell;
+  this->NumberOfCells = numberOfCells;
+  this->NumberOfPoints = numberOfPoints;
+  const int npf = this->GetNodesPerFace();
+
+  for (Id c = 0; c < numberOfCells; ++c)
+  {
+    const Id* cell = conn + c * nodesPerCell;
+    for (int i = 0; i < nodesPerCell; ++i)
+    {
+      if (cell[i] < 0 || cell[i] >= numberOfPoints)
+      {
+        std::ostringstream os;
+        os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
+           << numberOfPoints << ")";
+        return os.str();
+      }
+      for (int j = 0; j < i; ++j)
+      {
+        if (cell[i] == cell[j])
+        {
+          std::ostringstream os;
+          os << "cell " << c << " repeats point " << cell[i];
+          return os.str();
+        }
+      }
+    }
+  }
+
+  // Face neighbours.
+  std::vector<Keyed<3>> faces(static_cast<size_t>(4 * numberOfCells));
+  for (Id c = 0; c < numberOfCells; ++c)
+  {
+    const Id* cell = conn + c * nodesPerCell;
+    for (int f = 0; f < 4; ++f)
+    {
+      Keyed<3>& k = faces[4 * c + f];
+      for (int a = 0; a < 3; ++a)
+        k.Key[a] = cell[TetFaceNodes[f][a]];
+      std::sort(k.Key, k.Key + 3);
+      k.Item = 4 * c + f;
+    }
+  }
+  std::vector<Id> offsets;
+  std::vector<Keyed<3>> sorted;
+  BucketByFirst(faces, numberOfPoints, offsets, sorted);
+  faces.clear();
+  this->FaceNeighbor.assign(4 * numberOfCells, -1);
+  for (Id p = 0; p < numberOfPoints; ++p)
+  {
+    for (Id i = offsets[p]; i < offsets[p + 1]; ++i)
+    {
+      int matches = 0;
+      for (Id j = offsets[p]; j < offsets[p + 1]; ++j)
+      {
+        if (i != j && sorted[i].Key[1] == sorted[j].Key[1] && sorted[i].Key[2] == sorted[j].Key[2])
+        {
+          ++matches;
+          this->FaceNeighbor[sorted[i].Item] = sorted[j].Item / 4;
+        }
+      }
+      if (matches > 1)
+      {
+        std::ostringstream os;
+        os << "face (" << sorted[i].Key[0] << ", " << sorted[i].Key[1] << ", " << sorted[i].Key[2]
+           << ") is shared by more than two cells";
+        return os.str();
+      }
+    }
+  }
+
+  // Boundary faces.
+  this->BoundaryFaceCell.clear();
+  this->BoundaryFaceLocal.clear();
+  this->BoundaryFaceNodes.clear();
+  this->CellBoundaryFace.assign(4 * numberOfCells, -1);
+  for (Id c = 0; c < numberOfCells; ++c)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      if (this->FaceNeighbor[4 * c + f] >= 0)
+        continue;
+      this->CellBoundaryFace[4 * c + f] = static_cast<Id>(this->BoundaryFaceCell.size());
+      this->BoundaryFaceCell.push_back(c);
+      this->BoundaryFaceLocal.push_back(f);
+      for (int a = 0; a < npf; ++a)
+        this->BoundaryFaceNodes.push_back(conn[c * nodesPerCell + TetFaceNodes[f][a]]);
+    }
+  }
+  const Id nbf = this->GetNumberOfBoundaryFaces();
+
+  // Boundary edges and the neighbours across them.
+  std::vector<Keyed<2>> edges(static_cast<size_t>(3 * nbf));
+  for (Id b = 0; b < nbf; ++b)
+  {
+    const Id* fn = &this->BoundaryFaceNodes[b * npf];
+    for (int e = 0; e < 3; ++e)
+    {
+      Keyed<2>& k = edges[3 * b + e];
+      k.Key[0] = std::min(fn[e], fn[(e + 1) % 3]);
+      k.Key[1] = std::max(fn[e], fn[(e + 1) % 3]);
+      k.Item = 3 * b + e;
+    }
+  }
+  std::vector<Keyed<2>> sortedEdges;
+  BucketByFirst(edges, numberOfPoints, offsets, sortedEdges);
+  edges.clear();
+  this->BoundaryFaceNeighbor.assign(3 * nbf, -1);
+  this->BoundaryEdgeNodes.clear();
+  this->NumberOfNonManifoldBoundaryEdges = 0;
+  for (Id p = 0; p < numberOfPoints; ++p)
+  {
+    for (Id i = offsets[p]; i < offsets[p + 1]; ++i)
+    {
+      int count = 0;
+      Id other = -1;
+      bool first = true;
+      for (Id j = offsets[p]; j < offsets[p + 1]; ++j)
+      {
+        if (sortedEdges[j].Key[1] != sortedEdges[i].Key[1])
+          continue;
+        if (j < i)
+          first = false;
+        if (j != i)
+        {
+          ++count;
+          other = sortedEdges[j].Item / 3;
+        }
+      }
+      const Id item = sortedEdges[i].Item;
+      this->BoundaryFaceNeighbor[item] = count == 1 ? other : -1;
+      if (first)
+      {
+        const Id b = item / 3;
+        const int e = static_cast<int>(item % 3);
+        this->BoundaryEdgeNodes.push_back(sortedEdges[i].Key[0]);
+        this->BoundaryEdgeNodes.push_back(sortedEdges[i].Key[1]);
+        this->BoundaryEdgeNodes.push_back(npf == 6 ? this->BoundaryFaceNodes[b * npf + 3 + e] : -1);
+        if (count > 1)
+          ++this->NumberOfNonManifoldBoundaryEdges;
+      }
+    }
+  }
+
+  // Boundary faces around each node.
+  this->NodeFaceOffsets.assign(numberOfPoints + 1, 0);
+  for (Id b = 0; b < nbf; ++b)
+    for (int a = 0; a < npf; ++a)
+      ++this->NodeFaceOffsets[this->BoundaryFaceNodes[b * npf + a] + 1];
+  for (Id i = 0; i < numberOfPoints; ++i)
+    this->NodeFaceOffsets[i + 1] += this->NodeFaceOffsets[i];
+  this->NodeFaces.resize(this->NodeFaceOffsets[numberOfPoints]);
+  std::vector<Id> fill(this->NodeFaceOffsets.begin(), this->NodeFaceOffsets.end() - 1);
+  for (Id b = 0; b < nbf; ++b)
+    for (int a = 0; a < npf; ++a)
+      this->NodeFaces[fill[this->BoundaryFaceNodes[b * npf + a]]++] = b;
+  return std::string();
+}
+} // namespace hoembed

@@ -1,0 +1,149 @@
+/**
+ * @class   vtkTet10Mesher
+ * @brief   A coarse, valid, curved quadratic tetrahedral (tet10) mesh from a fine closed
+ *          triangle surface.
+ *
+ * Input (port 0): a closed, manifold triangle surface (vtkPolyData), typically 10k-1M
+ * triangles. Polygons and triangle strips are triangulated first; vertices and lines are
+ * ignored. Output: a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (ElementOrder 2,
+ * default) or VTK_TETRA cells (ElementOrder 1, the paper's linear baseline on the same
+ * corner nodes).
+ *
+ * Steps:
+ * 1. Checks: non-empty, finite coordinates, triangles only after triangulation, closed
+ *    (every edge in exactly two triangles) and manifold. Problems are reported with
+ *    vtkErrorMacro naming the filter, and the output stays empty.
+ * 2. Coarsening: the surface is decimated (quadric error) to the number of boundary
+ *    triangles that a mesh of TargetNumberOfElements quality tets has, or to the edge
+ *    length TargetEdgeLength when that is set (> 0).
+ * 3. TetGen (compiled in; AGPL-3) meshes the coarse surface with the radius-edge ratio
+ *    bound RadiusEdgeRatio, the dihedral-angle bound MinDihedralAngle and a volume bound
+ *    from the target edge length.
+ * 4. Boundary corner nodes are moved to their closest point on the fine surface where
+ *    that keeps their linear tets valid; mid-edge nodes are added at edge midpoints.
+ * 5. CurveBoundary (default on): every boundary mid-edge node moves to its closest point
+ *    on the fine surface. Where that would make an element's Jacobian determinant
+ *    non-positive anywhere (a conservative Bernstein bound, see
+ *    hoembed::Tet10IsValid), the element's curved mid-edge nodes are pulled back towards
+ *    the straight position, just enough (bisection on the fraction of the move).
+ *
+ * Output arrays:
+ * - cell data `MinScaledJacobian` (double): hoembed::Tet10MinScaledJacobian, or the
+ *   tet4 scaled Jacobian.
+ * - point data `BoundaryNode` (unsigned char): 1 for nodes on the boundary.
+ * - field data `RelaxedNodeCount` (vtkIdType): boundary mid-edge nodes not moved all the
+ *   way onto the fine surface; `CurvedNodeCount`: those that are;
+ *   `MaxSurfaceDeviation` (double): the largest distance from a fine-surface vertex to the
+ *   coarse straight boundary, relative to the bounding-box diagonal (a large value means
+ *   thin parts were not resolved: a warning is issued above 5%).
+ *
+ * Progress events are fired during the steps above.
+ *
+ * @warning TetGen is AGPL-3.0 licensed (or commercially licensed by WIAS).
+ * @sa vtkEmbeddingCoordinatesFilter, vtkCorotationalFEMStepper
+ */
+#ifndef vtkTet10Mesher_h
+#define vtkTet10Mesher_h
+
+#include "hoembedFiltersMeshingModule.h" // for export macro
+#include "vtkUnstructuredGridAlgorithm.h"
+
+class HOEMBEDFILTERSMESHING_EXPORT vtkTet10Mesher : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkTet10Mesher* New();
+  vtkTypeMacro(vtkTet10Mesher, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Approximate number of elements wanted (default 1000). Ignored when
+   * TargetEdgeLength > 0.
+   */
+  vtkSetClampMacro(TargetNumberOfElements, int, 4, 10000000);
+  vtkGetMacro(TargetNumberOfElements, int);
+  ///@}
+
+  ///@{
+  /**
+   * Target edge length in the units of the input (default 0: derived from
+   * TargetNumberOfElements and the enclosed volume).
+   */
+  vtkSetClampMacro(TargetEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(TargetEdgeLength, double);
+  ///@}
+
+  ///@{
+  /** 2 (default): VTK_QUADRATIC_TETRA; 1: VTK_TETRA on the same corner nodes. */
+  vtkSetClampMacro(ElementOrder, int, 1, 2);
+  vtkGetMacro(ElementOrder, int);
+  ///@}
+
+  ///@{
+  /** Move boundary mid-edge nodes onto the fine surface (default on). */
+  vtkSetMacro(CurveBoundary, bool);
+  vtkGetMacro(CurveBoundary, bool);
+  vtkBooleanMacro(CurveBoundary, bool);
+  ///@}
+
+  ///@{
+  /** Move boundary corner nodes onto the fine surface where valid (default on). */
+  vtkSetMacro(ProjectCorners, bool);
+  vtkGetMacro(ProjectCorners, bool);
+  vtkBooleanMacro(ProjectCorners, bool);
+  ///@}
+
+  ///@{
+  /** TetGen radius-edge ratio bound (default 1.5; TetGen's -q first value). */
+  vtkSetClampMacro(RadiusEdgeRatio, double, 1.05, 100.0);
+  vtkGetMacro(RadiusEdgeRatio, double);
+  ///@}
+
+  ///@{
+  /** TetGen minimum dihedral angle in degrees (default 10; TetGen's -q second value). */
+  vtkSetClampMacro(MinDihedralAngle, double, 0.0, 30.0);
+  vtkGetMacro(MinDihedralAngle, double);
+  ///@}
+
+  ///@{
+  /**
+   * Maximum distance from the fine surface to the coarse boundary, relative to the
+   * bounding-box diagonal, above which a warning is issued (default 0.05).
+   */
+  vtkSetClampMacro(SurfaceDeviationWarning, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SurfaceDeviationWarning, double);
+  ///@}
+
+  ///@{
+  /** Statistics of the last run (also in field data). */
+  vtkGetMacro(RelaxedNodeCount, vtkIdType);
+  vtkGetMacro(CurvedNodeCount, vtkIdType);
+  vtkGetMacro(MaxSurfaceDeviation, double);
+  ///@}
+
+protected:
+  vtkTet10Mesher();
+  ~vtkTet10Mesher() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int TargetNumberOfElements = 1000;
+  double TargetEdgeLength = 0.0;
+  int ElementOrder = 2;
+  bool CurveBoundary = true;
+  bool ProjectCorners = true;
+  double RadiusEdgeRatio = 1.5;
+  double MinDihedralAngle = 10.0;
+  double SurfaceDeviationWarning = 0.05;
+
+  vtkIdType RelaxedNodeCount = 0;
+  vtkIdType CurvedNodeCount = 0;
+  double MaxSurfaceDeviation = 0.0;
+
+private:
+  vtkTet10Mesher(const vtkTet10Mesher&) = delete;
+  void operator=(const vtkTet10Mesher&) = delete;
+};
+
+#endif

@@ -1,0 +1,57 @@
+"""pyvista-level front end of vtkTet10Mesher."""
+
+import pyvista
+
+from ._errors import run_filter
+from .hoembedFiltersMeshing import vtkTet10Mesher
+
+
+def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundary=True,
+               radius_edge_ratio=1.5, min_dihedral_angle=10.0, progress=None):
+    """Mesh a closed triangle surface with coarse, curved, valid tet10 (or tet4) elements.
+
+    Parameters
+    ----------
+    surface : pyvista.PolyData or vtkPolyData
+        Closed, manifold triangle surface (polygons are triangulated).
+    n_elements : int
+        Approximate number of elements (default 1000); ignored if ``edge_length > 0``.
+    edge_length : float
+        Target edge length in surface units (default 0: from ``n_elements``).
+    order : int
+        2 for VTK_QUADRATIC_TETRA (default), 1 for VTK_TETRA.
+    curve_boundary : bool
+        Move boundary mid-edge nodes onto the surface (default True).
+    radius_edge_ratio, min_dihedral_angle : float
+        TetGen quality bounds (defaults 1.5 and 10 degrees).
+    progress : callable, optional
+        Called with a float in [0, 1] on the filter's progress events.
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+        With cell data ``MinScaledJacobian`` and field data ``RelaxedNodeCount``,
+        ``CurvedNodeCount`` and ``MaxSurfaceDeviation``.
+
+    Raises
+    ------
+    hoembed.HOEmbedError
+        On bad input (empty, NaN, open or non-manifold surface) or a TetGen failure.
+
+    Examples
+    --------
+    >>> import pyvista as pv, hoembed
+    >>> mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=500)
+    """
+    alg = vtkTet10Mesher()
+    alg.SetInputData(surface)
+    alg.SetTargetNumberOfElements(int(n_elements))
+    alg.SetTargetEdgeLength(float(edge_length))
+    alg.SetElementOrder(int(order))
+    alg.SetCurveBoundary(bool(curve_boundary))
+    alg.SetRadiusEdgeRatio(float(radius_edge_ratio))
+    alg.SetMinDihedralAngle(float(min_dihedral_angle))
+    if progress is not None:
+        alg.AddObserver("ProgressEvent", lambda o, e: progress(o.GetProgress()))
+    out = run_filter(alg)
+    return pyvista.wrap(out).copy()

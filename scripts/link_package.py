@@ -1,0 +1,13 @@
+"""Make the build tree's hoembed package importable from the venv (a .pth file)."""
+import pathlib
+import sys
+import sysconfig
+
+build = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "build").resolve()
+candidates = sorted(build.glob("lib*/python3*/site-packages/hoembed/__init__.py"))
+if not candidates:
+    sys.exit(f"link_package: no hoembed package under {build}")
+site = candidates[0].parent.parent
+pth = pathlib.Path(sysconfig.get_paths()["purelib"]) / "hoembed-build.pth"
+if not pth.exists() or pth.read_text().strip() != str(site):
+    pth.write_text(str(site) + "\n")
