@@ -1,0 +1,169 @@
+#include "hoembedBoundaryNormals.h"
+#include "hoembedShapeFunctions.h"
+
+#include <cmath>
+
+namespace hoembed
+{
+namespace
+{
+using Id = TetMeshTopology::Id;
+
+void Cross(const double a[3], const double b[3], double c[3])
+{
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+double Dot(const double a[3], const double b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+double Norm(const double a[3])
+{
+  return std::sqrt(Dot(a, a));
+}
+
+// Face-local (u, v) of the six tri6 nodes.
+const double FaceNodeUV[6][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 0.5, 0 }, { 0.5, 0.5 },
+  { 0, 0.5 } };
+} // namespace
+
+void EvaluateBoundaryFace(const TetMeshTopology& topo, const double* points, Id face,
+  const double uv[2], double x[3], double xu[3], double xv[3])
+{
+  const int npf = topo.GetNodesPerFace();
+  const Id* fn = &topo.BoundaryFaceNodes[face * npf];
+  double N[6], dN[12];
+  if (npf == 6)
+  {
+    Tri6Shape(uv, N);
+    Tri6Derivs(uv, dN);
+  }
+  else
+  {
+    Tri3Shape(uv, N);
+    Tri3Derivs(uv, dN);
+  }
+  for (int d = 0; d < 3; ++d)
+  {
+    x[d] = xu[d] = xv[d] = 0.0;
+  }
+  for (int a = 0; a < npf; ++a)
+  {
+    const double* p = points + 3 * fn[a];
+    for (int d = 0; d < 3; ++d)
+    {
+      x[d] += N[a] * p[d];
+      xu[d] += dN[a] * p[d];
+      xv[d] += dN[npf + a] * p[d];
+    }
+  }
+}
+
+void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* points, double* normals)
+{
+  const Id np = topo.NumberOfPoints;
+  for (Id i = 0; i < 3 * np; ++i)
+  {
+    normals[i] = 0.0;
+  }
+  const int npf = topo.GetNodesPerFace();
+  const Id nbf = topo.GetNumberOfBoundaryFaces();
+  for (Id b = 0; b < nbf; ++b)
+  {
+    const Id* fn = &topo.BoundaryFaceNodes[b * npf];
+    for (int a = 0; a < npf; ++a)
+    {
+      double x[3], xu[3], xv[3], n[3];
+      EvaluateBoundaryFace(topo, points, b, FaceNodeUV[a], x, xu, xv);
+      Cross(xu, xv, n);
+      const double len = Norm(n);
+      if (!(len > 0.0))
+      {
+        continue;
+      }
+      double angle = M_PI; // the patch is smooth at its mid-edge nodes
+      if (a < 3)
+      {
+        double t1[3], t2[3];
+        for (int d = 0; d < 3; ++d)
+        {
+          if (a == 0)
+          {
+            t1[d] = xu[d];
+            t2[d] = xv[d];
+          }
+          else if (a == 1)
+          {
+            t1[d] = -xu[d];
+            t2[d] = xv[d] - xu[d];
+          }
+          else
+          {
+            t1[d] = -xv[d];
+            t2[d] = xu[d] - xv[d];
+          }
+        }
+        double c[3];
+        Cross(t1, t2, c);
+        angle = std::atan2(Norm(c), Dot(t1, t2));
+      }
+      double* out = normals + 3 * fn[a];
+      for (int d = 0; d < 3; ++d)
+      {
+        out[d] += angle * n[d] / len;
+      }
+    }
+  }
+  for (Id i = 0; i < np; ++i)
+  {
+    double* n = normals + 3 * i;
+    const double len = Norm(n);
+    if (len > 0.0)
+    {
+      n[0] /= len;
+      n[1] /= len;
+      n[2] /= len;
+    }
+  }
+}
+
+double InterpolateBoundaryNormal(const TetMeshTopology& topo, const double* nodalNormals,
+  Id face, const double uv[2], double n[3], double unnormalized[3])
+{
+  const int npf = topo.GetNodesPerFace();
+  const Id* fn = &topo.BoundaryFaceNodes[face * npf];
+  double N[6];
+  if (npf == 6)
+  {
+    Tri6Shape(uv, N);
+  }
+  else
+  {
+    Tri3Shape(uv, N);
+  }
+  double s[3] = { 0, 0, 0 };
+  for (int a = 0; a < npf; ++a)
+  {
+    const double* m = nodalNormals + 3 * fn[a];
+    s[0] += N[a] * m[0];
+    s[1] += N[a] * m[1];
+    s[2] += N[a] * m[2];
+  }
+  if (unnormalized)
+  {
+    unnormalized[0] = s[0];
+    unnormalized[1] = s[1];
+    unnormalized[2] = s[2];
+  }
+  const double len = Norm(s);
+  for (int d = 0; d < 3; ++d)
+  {
+    n[d] = len > 0.0 ? s[d] / len : 0.0;
+  }
+  return len;
+}
+} // namespace hoembed
