@@ -2,6 +2,8 @@
 
 import pyvista
 
+__all__ = ["tet10_mesh"]
+
 from ._errors import run_filter
 from .hoembedFiltersMeshing import vtkTet10Mesher
 
