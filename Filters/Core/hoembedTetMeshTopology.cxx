@@ -33,6 +33,34 @@ void BucketByFirst(std::vector<Keyed<K>>& items, Id numberOfPoints, std::vector<
   for (const auto& it : items)
     sorted[fill[it.Key[0]]++] = it;
 }
+
+// Whether local faces fa and fb (items 4 * cell + face) of two tet10 cells with the same
+// corners also have the same mid-edge node on each edge.
+bool SameFaceMids(const Id* conn, Id fa, Id fb)
+{
+  const Id* ca = conn + (fa / 4) * 10;
+  const Id* cb = conn + (fb / 4) * 10;
+  const int* na = TetFaceNodes[fa % 4];
+  const int* nb = TetFaceNodes[fb % 4];
+  for (int e = 0; e < 3; ++e)
+  {
+    const Id p = ca[na[e]], q = ca[na[(e + 1) % 3]];
+    bool found = false;
+    for (int e2 = 0; e2 < 3 && !found; ++e2)
+    {
+      const Id p2 = cb[nb[e2]], q2 = cb[nb[(e2 + 1) % 3]];
+      if ((p == p2 && q == q2) || (p == q2 && q == p2))
+      {
+        found = ca[na[3 + e]] == cb[nb[3 + e2]];
+        if (!found)
+          return false;
+      }
+    }
+    if (!found)
+      return false;
+  }
+  return true;
+}
 } // namespace
 
 std::string TetMeshTopology::Build(
@@ -41,6 +69,14 @@ std::string TetMeshTopology::Build(
   if (nodesPerCell != 4 && nodesPerCell != 10)
   {
     return "cells must have 4 (tet4) or 10 (tet10) nodes";
+  }
+  if (numberOfCells < 0 || numberOfPoints < 0)
+  {
+    return "negative number of cells or points";
+  }
+  if (numberOfCells > 0 && !conn)
+  {
+    return "no connectivity given";
   }
   this->NodesPerCell = nodesPerCell;
   this->NumberOfCells = numberOfCells;
@@ -95,13 +131,25 @@ std::string TetMeshTopology::Build(
     for (Id i = offsets[p]; i < offsets[p + 1]; ++i)
     {
       int matches = 0;
+      Id match = -1;
       for (Id j = offsets[p]; j < offsets[p + 1]; ++j)
       {
         if (i != j && sorted[i].Key[1] == sorted[j].Key[1] && sorted[i].Key[2] == sorted[j].Key[2])
         {
           ++matches;
+          match = j;
           this->FaceNeighbor[sorted[i].Item] = sorted[j].Item / 4;
         }
+      }
+      if (matches == 1 && nodesPerCell == 10 && sorted[i].Item < sorted[match].Item &&
+        !SameFaceMids(conn, sorted[i].Item, sorted[match].Item))
+      {
+        // Conforming tet10 neighbours share the face's mid-edge nodes too.
+        std::ostringstream os;
+        os << "cells " << sorted[i].Item / 4 << " and " << sorted[match].Item / 4
+           << " share the face (" << sorted[i].Key[0] << ", " << sorted[i].Key[1] << ", "
+           << sorted[i].Key[2] << ") but not its mid-edge nodes (non-conforming tet10 mesh)";
+        return os.str();
       }
       if (matches > 1)
       {

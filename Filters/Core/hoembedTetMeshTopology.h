@@ -26,7 +26,9 @@ public:
    * Build the adjacency of `numberOfCells` cells of `nodesPerCell` (4 or 10) nodes each,
    * connectivity flattened in `conn` (VTK node order), node ids in [0, numberOfPoints).
    * Returns an empty string on success, otherwise a description of the problem (node id
-   * out of range, a face shared by more than two cells, repeated nodes in a cell).
+   * out of range, a face shared by more than two cells, repeated nodes in a cell,
+   * negative counts, tet10 neighbours sharing a face's corners but not its mid-edge
+   * nodes). Cells are expected positively oriented: boundary faces then point outward.
    */
   std::string Build(const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints);
 
