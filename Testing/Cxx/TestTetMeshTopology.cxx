@@ -407,6 +407,10 @@ void TestErrors()
   HOEMBED_CHECK(Contains(err, "(0, 1, 2)") && Contains(err, "more than two"), "message: %s",
     err.c_str());
 
+  HOEMBED_CHECK(topo.FaceNeighbor.empty() && topo.GetNumberOfBoundaryFaces() == 0 &&
+      topo.NodeFaces.empty(),
+    "a failed Build left a half-built topology");
+
   err = topo.Build(conn.data(), 1, 8, 5);
   std::printf("8 nodes per cell: %s\n", err.c_str());
   HOEMBED_CHECK(!err.empty(), "8 nodes per cell accepted");
@@ -466,6 +470,59 @@ void TestTiming()
     }
   }
 }
+
+// A fan: every tet shares node 0 (the centre of a triangulated sphere, node 0 has the
+// smallest id). Bucketing faces by their smallest node id puts nearly all faces in one
+// bucket: matching inside a bucket must not be quadratic.
+void TestFan()
+{
+  const int nu = 160, nv = 80; // latitude-longitude sphere: 2 * nu * (nv - 1) triangles
+  std::vector<double> pts = { 0, 0, 0, 0, 0, 1, 0, 0, -1 };
+  auto ring = [&](int i, int j) { return Id(3 + (j - 1) * nu + (i % nu)); };
+  for (int j = 1; j < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+    {
+      const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
+      pts.insert(pts.end(), { std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th) });
+    }
+  std::vector<std::array<Id, 3>> tris;
+  for (int i = 0; i < nu; ++i)
+  {
+    tris.push_back({ 1, ring(i, 1), ring(i + 1, 1) });
+    tris.push_back({ 2, ring(i + 1, nv - 1), ring(i, nv - 1) });
+    for (int j = 1; j + 1 < nv; ++j)
+    {
+      tris.push_back({ ring(i, j), ring(i, j + 1), ring(i + 1, j + 1) });
+      tris.push_back({ ring(i, j), ring(i + 1, j + 1), ring(i + 1, j) });
+    }
+  }
+  std::vector<Id> conn;
+  for (const auto& t : tris)
+    conn.insert(conn.end(), { 0, t[0], t[1], t[2] });
+  Mesh m;
+  m.Conn = conn;
+  m.Points = pts;
+  m.NumberOfCells = static_cast<Id>(tris.size());
+  double volume = 0;
+  for (Id c = 0; c < m.NumberOfCells; ++c)
+    volume += CellVolume(m, c);
+  hoembed::TetMeshTopology topo;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string err = topo.Build(conn.data(), m.NumberOfCells, 4, m.NumberOfPoints());
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  HOEMBED_CHECK(err.empty(), "fan: %s", err.c_str());
+  HOEMBED_CHECK(volume > 0, "fan tets are not positive");
+  HOEMBED_CHECK(topo.GetNumberOfBoundaryFaces() == m.NumberOfCells, "fan: %lld boundary faces",
+    (long long)topo.GetNumberOfBoundaryFaces());
+  HOEMBED_CHECK(topo.NumberOfNonManifoldBoundaryEdges == 0, "fan: non-manifold edges");
+  Id interior = 0;
+  for (Id n : topo.FaceNeighbor)
+    interior += n >= 0;
+  HOEMBED_CHECK(interior == 3 * m.NumberOfCells, "fan: %lld interior face sides",
+    (long long)interior);
+  std::printf("timing: fan of %lld tets around node 0: Build %.3f s (%.0f ns/cell)\n",
+    (long long)m.NumberOfCells, s, 1e9 * s / m.NumberOfCells);
+}
 } // namespace
 
 int main(int, char*[])
@@ -495,5 +552,6 @@ int main(int, char*[])
   }
   TestErrors();
   TestTiming();
+  TestFan();
   return hoembed_test::Report("TestTetMeshTopology");
 }
