@@ -449,6 +449,47 @@ void TestScaledJacobian(std::mt19937& rng)
       int(hoembed::Tet10IsValid(x)));
   }
 }
+
+void TestDegenerate()
+{
+  const double ref[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  double x[30];
+  // Flat: corner 3 in the plane of the others.
+  const double flat[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0.3, 0.3, 0 } };
+  Straight(flat, x);
+  HOEMBED_CHECK(!hoembed::Tet10IsValid(x), "flat tet10 accepted");
+  HOEMBED_CHECK(hoembed::Tet10MinScaledJacobian(x) == 0, "flat tet10 scaled Jacobian %g",
+    hoembed::Tet10MinScaledJacobian(x));
+  HOEMBED_CHECK(hoembed::Tet4ScaledJacobian(x) == 0, "flat tet4 scaled Jacobian %g",
+    hoembed::Tet4ScaledJacobian(x));
+  // Two coincident corners.
+  const double pinched[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 0, 0 } };
+  Straight(pinched, x);
+  HOEMBED_CHECK(!hoembed::Tet10IsValid(x), "pinched tet10 accepted");
+  HOEMBED_CHECK(hoembed::Tet4ScaledJacobian(x) == 0 && hoembed::Tet10MinScaledJacobian(x) == 0,
+    "pinched scaled Jacobian %g / %g", hoembed::Tet4ScaledJacobian(x),
+    hoembed::Tet10MinScaledJacobian(x));
+  // All nodes at one point.
+  for (double& v : x)
+    v = 0.5;
+  HOEMBED_CHECK(!hoembed::Tet10IsValid(x), "collapsed tet10 accepted");
+  HOEMBED_CHECK(hoembed::Tet10MinScaledJacobian(x) <= 0, "collapsed scaled Jacobian %g",
+    hoembed::Tet10MinScaledJacobian(x));
+  // NaN / Inf coordinates: never valid, quality not NaN and not positive.
+  for (double bad : { std::nan(""), std::numeric_limits<double>::infinity() })
+    for (int node : { 0, 5 })
+    {
+      Straight(ref, x);
+      x[3 * node + 1] = bad;
+      double lo, hi;
+      hoembed::Tet10JacobianBounds(x, lo, hi);
+      const double sj = hoembed::Tet10MinScaledJacobian(x);
+      HOEMBED_CHECK(!hoembed::Tet10IsValid(x), "non-finite node %d accepted", node);
+      HOEMBED_CHECK(!(lo > 0), "non-finite node %d: lower bound %g", node, lo);
+      HOEMBED_CHECK(!std::isnan(sj) && sj <= 0, "non-finite node %d: scaled Jacobian %g", node,
+        sj);
+    }
+}
 } // namespace
 
 int main(int, char*[])
@@ -460,5 +501,6 @@ int main(int, char*[])
   TestBounds(rng);
   TestHiddenNegative();
   TestScaledJacobian(rng);
+  TestDegenerate();
   return hoembed_test::Report("TestElementGeometry");
 }
