@@ -224,9 +224,9 @@ void Tet10JacobianBounds(const double* x, double& minBound, double& maxBound, in
 
 bool Tet10IsValid(const double* x, int depth)
 {
-  double lo, hi;
-  Tet10JacobianBounds(x, lo, hi, depth);
-  return lo > 0.0;
+  // The lower bound alone (Tet10JacobianBounds also computes the upper one).
+  static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  return SubTetLowerBound(x, corners, depth) > 0.0;
 }
 
 double Tet10MinScaledJacobian(const double* x)

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -490,6 +491,39 @@ void TestDegenerate()
         sj);
     }
 }
+
+// Throughput of the validity test (printed, never asserted): well-shaped curved elements
+// (settled by the plain Bernstein bound) and nearly invalid ones (subdivision needed).
+void PrintTimings(std::mt19937& rng)
+{
+  std::vector<std::array<double, 30>> good, hard;
+  while (good.size() < 2000 || hard.size() < 200)
+  {
+    double c[4][3];
+    std::array<double, 30> x;
+    RandomCorners(rng, c);
+    Straight(c, x.data());
+    Perturb(rng, x.data(), good.size() < 2000 ? 0.05 : 0.35);
+    double lo, hi;
+    hoembed::Tet10JacobianBounds(x.data(), lo, hi, 0);
+    if (good.size() < 2000 && lo > 0)
+      good.push_back(x);
+    else if (good.size() >= 2000 && !(lo > 0) && hoembed::Tet10IsValid(x.data()))
+      hard.push_back(x);
+  }
+  for (auto* set : { &good, &hard })
+  {
+    int valid = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int rep = 0; rep < 5; ++rep)
+      for (const auto& x : *set)
+        valid += hoembed::Tet10IsValid(x.data());
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("timing: Tet10IsValid on %s elements: %.2f us per call (%d/%zu valid)\n",
+      set == &good ? "well-shaped curved" : "valid but not plainly provable",
+      1e6 * s / (5.0 * set->size()), valid / 5, set->size());
+  }
+}
 } // namespace
 
 int main(int, char*[])
@@ -502,5 +536,6 @@ int main(int, char*[])
   TestHiddenNegative();
   TestScaledJacobian(rng);
   TestDegenerate();
+  PrintTimings(rng);
   return hoembed_test::Report("TestElementGeometry");
 }
