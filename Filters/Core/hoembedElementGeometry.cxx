@@ -82,6 +82,16 @@ bool SubTetCoefficients(const double* x, const double c[4][3], double coef[20])
   return sampledNonPositive;
 }
 
+// 1e-12 of the largest coefficient: far above the round-off of computing the 20
+// coefficients from sampled det J values, far below any element worth keeping.
+double RoundOffAllowance(const double coef[20])
+{
+  double m = 0.0;
+  for (int q = 0; q < 20; ++q)
+    m = std::max(m, std::abs(coef[q]));
+  return 1e-12 * m;
+}
+
 void Mid(const double a[3], const double b[3], double m[3])
 {
   for (int d = 0; d < 3; ++d)
@@ -93,7 +103,9 @@ double SubTetLowerBound(const double* x, const double c[4][3], int depth)
 {
   double coef[20];
   const bool certainlyInvalid = SubTetCoefficients(x, c, coef);
-  const double lo = *std::min_element(coef, coef + 20);
+  // Allow for the round-off of the samples and of the basis change, so that a bound that
+  // is positive is positive for the exact polynomial too.
+  const double lo = *std::min_element(coef, coef + 20) - RoundOffAllowance(coef);
   if (lo > 0.0 || certainlyInvalid || depth <= 0)
   {
     if (certainlyInvalid)
@@ -218,7 +230,7 @@ void Tet10JacobianBounds(const double* x, double& minBound, double& maxBound, in
   static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
   double coef[20];
   SubTetCoefficients(x, corners, coef);
-  maxBound = *std::max_element(coef, coef + 20);
+  maxBound = *std::max_element(coef, coef + 20) + RoundOffAllowance(coef);
   minBound = SubTetLowerBound(x, corners, depth);
 }
 
