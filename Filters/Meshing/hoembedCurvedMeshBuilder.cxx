@@ -228,16 +228,23 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
       if (surface.Ray(S, end, hit))
         add(hit);
     }
-    for (double r : { 0.05, 0.1, 0.2, 0.35, 0.5 })
-      for (int k = 0; k < 12; ++k)
+    for (double r : { 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7 })
+      for (int k = 0; k < 16; ++k)
       {
-        const double th = 2.0 * vtkMath::Pi() * k / 12.0;
+        const double th = 2.0 * vtkMath::Pi() * k / 16.0;
         double q[3], cp[3];
         for (int d = 0; d < 3; ++d)
           q[d] = S[d] + r * L * (std::cos(th) * t1[d] + std::sin(th) * t2[d]);
         surface.Closest(q, cp);
         add(cp);
       }
+    if (surface.VerticesWithin)
+    {
+      std::vector<double> near;
+      surface.VerticesWithin(S, 0.6 * L, near);
+      for (size_t k = 0; k < near.size() / 3; ++k)
+        add(&near[3 * k]);
+    }
     std::sort(candidates.begin(), candidates.end());
     double keep[3] = { pts[3 * m], pts[3 * m + 1], pts[3 * m + 2] };
     bool placed = false;
@@ -427,7 +434,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     CurvingResult curving =
       CurveMidEdgeNodes(out.Points, out.Conn, nodes, targets, options.QualityRatio);
     report(0.7);
-    for (int pass = 0; pass < 2; ++pass) // a node placed can free its neighbours
+    for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
       RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
         surface, options.QualityRatio);
     std::vector<char> relaxedNode(nPts, 0);

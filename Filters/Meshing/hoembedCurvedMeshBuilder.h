@@ -33,6 +33,8 @@ struct HOEMBEDFILTERSMESHING_EXPORT SurfaceQueries
   std::function<void(const double x[3], double closest[3])> Closest;
   /// first crossing of segment a-b with the surface; false if none
   std::function<bool(const double a[3], const double b[3], double hit[3])> Ray;
+  /// vertices of the surface within distance r of x (3 doubles each), optional
+  std::function<void(const double x[3], double r, std::vector<double>& points)> VerticesWithin;
 };
 
 struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions

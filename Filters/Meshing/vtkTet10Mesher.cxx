@@ -23,6 +23,8 @@
 #include "vtkQuadricDecimation.h"
 #include "vtkSmartPointer.h"
 #include "vtkStaticCellLocator.h"
+#include "vtkStaticPointLocator.h"
+#include "vtkIdList.h"
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -30,6 +32,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstdint>
 #include <unordered_map>
@@ -238,16 +241,22 @@ int vtkTet10Mesher::RequestData(
   const double nFine = static_cast<double>(fineArrays.Tris.size() / 3);
 
   // Decimate to the boundary of edge length h, mesh with TetGen; when a target number of
-  // elements is asked for, correct h from the count obtained (twice at most). A failed
-  // decimation or TetGen run is retried with a finer boundary.
+  // elements is asked for, correct h from the count obtained and keep the closest result.
+  // A decimation that folds (not a closed manifold, or self-intersecting: TetGen can crash
+  // on such input) or a TetGen failure is retried with a slightly different target.
   hoembed::TetGenResult tg;
   hoembed::TetGenParameters params;
-  TriSurface coarse;
+  params.RadiusEdgeRatio = this->RadiusEdgeRatio;
+  params.MinDihedralAngle = this->MinDihedralAngle;
+  double bestMismatch = VTK_DOUBLE_MAX;
+  std::string lastError;
   double triFactor = 1.0;
-  for (int attempt = 0, calibrations = 0; attempt < 6; ++attempt)
+  for (int attempt = 0; attempt < 8; ++attempt)
   {
+    this->UpdateProgress(0.1 + 0.05 * attempt);
     // Boundary triangles of edge h: equilateral area sqrt(3)/4 h^2.
     const double nTri = std::max(8.0, triFactor * check.Area / (std::sqrt(3.0) / 4.0 * h * h));
+    TriSurface coarse;
     if (nTri < 0.9 * nFine)
     {
       vtkNew<vtkQuadricDecimation> decimate;
@@ -266,7 +275,6 @@ int vtkTet10Mesher::RequestData(
     {
       coarse = fineArrays;
     }
-    this->UpdateProgress(0.1 + 0.08 * attempt);
     hoembed::SurfaceCheck coarseCheck;
     coarseCheck.Run(coarse.Points.data(), static_cast<Id>(coarse.Points.size() / 3),
       coarse.Tris.data(), static_cast<Id>(coarse.Tris.size() / 3));
@@ -275,27 +283,34 @@ int vtkTet10Mesher::RequestData(
         static_cast<Id>(coarse.Points.size() / 3), coarse.Tris.data(),
         static_cast<Id>(coarse.Tris.size() / 3), 1e-9, 1) > 0)
     {
-      // TetGen can crash on such input: never hand it over.
-      tg.Error = "the coarsened surface is not a closed manifold free of self-intersections";
-      triFactor *= 1.6;
+      lastError = "the coarsened surface is not a closed manifold free of self-intersections";
+      triFactor *= 1.15;
       continue;
     }
-    params.RadiusEdgeRatio = this->RadiusEdgeRatio;
-    params.MinDihedralAngle = this->MinDihedralAngle;
     params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
-    tg = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
-    if (!tg.Error.empty())
+    hoembed::TetGenResult run = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
+    if (!run.Error.empty())
     {
-      triFactor *= 1.6; // a finer boundary is less likely to self-intersect
+      lastError = run.Error;
+      triFactor *= 1.15;
       continue;
     }
-    const double ratio = static_cast<double>(tg.Tets.size() / 4) / this->TargetNumberOfElements;
-    if (this->TargetEdgeLength > 0.0 || calibrations >= 2 || (ratio > 0.8 && ratio < 1.25))
+    const double ratio = static_cast<double>(run.Tets.size() / 4) / this->TargetNumberOfElements;
+    const double mismatch = std::fabs(std::log(ratio));
+    if (mismatch < bestMismatch)
+    {
+      bestMismatch = mismatch;
+      tg = std::move(run);
+    }
+    if (this->TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
     {
       break;
     }
-    ++calibrations;
     h *= std::cbrt(ratio);
+  }
+  if (tg.Tets.empty())
+  {
+    tg.Error = lastError;
   }
   if (!tg.Error.empty())
   {
@@ -310,6 +325,16 @@ int vtkTet10Mesher::RequestData(
   SurfaceProjector projector(fine);
   hoembed::SurfaceQueries queries;
   queries.Closest = [&](const double x[3], double cp[3]) { projector.Project(x, cp); };
+  vtkNew<vtkStaticPointLocator> vertexLocator;
+  vertexLocator->SetDataSet(fine);
+  vertexLocator->BuildLocator();
+  vtkNew<vtkIdList> nearIds;
+  queries.VerticesWithin = [&](const double x[3], double r, std::vector<double>& out) {
+    vertexLocator->FindPointsWithinRadius(r, x, nearIds);
+    out.resize(3 * nearIds->GetNumberOfIds());
+    for (vtkIdType k = 0; k < nearIds->GetNumberOfIds(); ++k)
+      fine->GetPoint(nearIds->GetId(k), &out[3 * k]);
+  };
   queries.Ray = [&](const double a[3], const double b[3], double hit[3]) {
     return projector.Ray(a, b, hit);
   };
