@@ -10,7 +10,7 @@ namespace hoembed
 {
 using Id = std::int64_t;
 
-bool Tet10Acceptable(const double* x, double qualityRatio)
+bool Tet10Acceptable(const double* x, double qualityRatio, const Tet10Check& extra)
 {
   const double det4 = Tet4JacobianDeterminant(x);
   if (!(det4 > 0.0))
@@ -25,11 +25,12 @@ bool Tet10Acceptable(const double* x, double qualityRatio)
   }
   // Corner nodes are the first four: the straight tet4's quality.
   const double straight = Tet4ScaledJacobian(x);
-  return Tet10MinScaledJacobian(x) >= qualityRatio * straight;
+  return Tet10MinScaledJacobian(x) >= qualityRatio * straight && (!extra || extra(x));
 }
 
 CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<Id>& conn,
-  const std::vector<Id>& nodes, const std::vector<double>& targets, double qualityRatio)
+  const std::vector<Id>& nodes, const std::vector<double>& targets, double qualityRatio,
+  const Tet10Check& extra)
 {
   CurvingResult result;
   const Id nn = static_cast<Id>(nodes.size());
@@ -97,7 +98,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
     queued[c] = 0;
     double x[30];
     gather(c, x);
-    if (Tet10Acceptable(x, qualityRatio))
+    if (Tet10Acceptable(x, qualityRatio, extra))
     {
       continue;
     }
@@ -118,7 +119,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
         gather(c, x);
         double lo, hi;
         hoembed::Tet10JacobianBounds(x, lo, hi, 1);
-        if (Tet10Acceptable(x, qualityRatio))
+        if (Tet10Acceptable(x, qualityRatio, extra))
           lo = std::numeric_limits<double>::max();
         if (lo > bestBound)
         {
@@ -140,7 +141,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
           result.Alpha[best] = alpha0 * beta;
           place(best);
           gather(c, x);
-          (Tet10Acceptable(x, qualityRatio) ? lo : hi) = beta;
+          (Tet10Acceptable(x, qualityRatio, extra) ? lo : hi) = beta;
         }
       }
       result.Alpha[best] = alpha0 * lo;
@@ -154,7 +155,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
         }
       }
       gather(c, x);
-      if (Tet10Acceptable(x, qualityRatio))
+      if (Tet10Acceptable(x, qualityRatio, extra))
         break;
     }
   }

@@ -18,6 +18,7 @@
 #include "hoembedFiltersMeshingModule.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace hoembed
@@ -36,9 +37,12 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvingResult
  * @param targets     their targets (3 per node)
  * @param qualityRatio see above (e.g. 0.2)
  */
+/// An extra acceptance test of a tet10 (10 nodes, 3 doubles each), e.g. VTK's validator.
+using Tet10Check = std::function<bool(const double* x)>;
+
 HOEMBEDFILTERSMESHING_EXPORT CurvingResult CurveMidEdgeNodes(std::vector<double>& points,
   const std::vector<std::int64_t>& conn, const std::vector<std::int64_t>& nodes,
-  const std::vector<double>& targets, double qualityRatio);
+  const std::vector<double>& targets, double qualityRatio, const Tet10Check& extra = Tet10Check());
 
 /**
  * Harmonic extension of boundary mid-edge-node displacements into the interior: each
@@ -56,8 +60,10 @@ HOEMBEDFILTERSMESHING_EXPORT std::vector<double> ExtendMidNodeDisplacement(
   const std::vector<double>& points, const std::vector<std::int64_t>& conn,
   const std::vector<double>& fixedDisp, const std::vector<char>& isFixed, int iterations);
 
-/// True when the tet10 (10 nodes, 3 doubles each) passes the acceptance test above.
-HOEMBEDFILTERSMESHING_EXPORT bool Tet10Acceptable(const double* x, double qualityRatio);
+/// True when the tet10 (10 nodes, 3 doubles each) passes the acceptance test above (and
+/// `extra`, when given).
+HOEMBEDFILTERSMESHING_EXPORT bool Tet10Acceptable(
+  const double* x, double qualityRatio, const Tet10Check& extra = Tet10Check());
 } // namespace hoembed
 
 #endif

@@ -175,7 +175,7 @@ void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4,
 // every element around the node acceptable is taken (alpha becomes 1).
 void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& conn,
   const TetMeshTopology& topo4, const std::vector<Id>& nodes, std::vector<double>& alpha,
-  Id nbe, const SurfaceQueries& surface, double qualityRatio)
+  Id nbe, const SurfaceQueries& surface, double qualityRatio, const Tet10Check& extra)
 {
   const Id nc = static_cast<Id>(conn.size() / 10);
   std::unordered_map<Id, std::vector<Id>> cellsOf;
@@ -198,7 +198,7 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
       for (int a = 0; a < 10; ++a)
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = pts[3 * conn[10 * c + a] + d];
-      if (!Tet10Acceptable(x, qualityRatio))
+      if (!Tet10Acceptable(x, qualityRatio, extra))
         return false;
     }
     return true;
@@ -315,6 +315,7 @@ struct QuadraticNodes
 {
   std::vector<Id> Conn;      // 10 per cell
   std::vector<Id> EdgeMid;   // boundary edge e -> its mid-edge node
+  std::vector<Id> MidCorners; // 2 per node: the edge's corners (-1 for corner nodes)
   Id NumberOfCorners = 0;
 };
 
@@ -324,6 +325,7 @@ QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& 
   QuadraticNodes q;
   const Id nTets = static_cast<Id>(tets.size() / 4);
   q.NumberOfCorners = static_cast<Id>(pts.size() / 3);
+  q.MidCorners.assign(2 * q.NumberOfCorners, -1);
   const auto nc = static_cast<std::uint64_t>(q.NumberOfCorners);
   std::unordered_map<std::uint64_t, Id> mids;
   mids.reserve(static_cast<size_t>(8 * nTets));
@@ -345,6 +347,8 @@ QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& 
                .first;
         for (int d = 0; d < 3; ++d)
           pts.push_back(0.5 * (pts[3 * u + d] + pts[3 * v + d]));
+        q.MidCorners.push_back(u);
+        q.MidCorners.push_back(v);
       }
       q.Conn[10 * t + 4 + e] = it->second;
     }
@@ -436,7 +440,82 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     report(0.7);
     for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
       RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-        surface, options.QualityRatio);
+        surface, options.QualityRatio, Tet10Check());
+    if (options.ExtraCheck)
+    {
+      // The extra test is costly: run it once on the result, and pull back (from the
+      // straight position, with the full test) only the nodes of the cells that fail it.
+      std::vector<char> mark(nPts, 0);
+      std::vector<Id> redo;
+      std::vector<double> redoTargets;
+      for (Id c = 0; c < nTets; ++c)
+      {
+        double x[30];
+        for (int a = 0; a < 10; ++a)
+          for (int d = 0; d < 3; ++d)
+            x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+        if (options.ExtraCheck(x))
+          continue;
+        for (int a = 4; a < 10; ++a)
+        {
+          const Id m = out.Conn[10 * c + a];
+          if (mark[m])
+            continue;
+          mark[m] = 1;
+          redo.push_back(m);
+          redoTargets.insert(redoTargets.end(), &out.Points[3 * m], &out.Points[3 * m] + 3);
+          const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+          for (int d = 0; d < 3; ++d)
+            out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+        }
+      }
+      if (!redo.empty())
+      {
+        CurvingResult again = CurveMidEdgeNodes(
+          out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.ExtraCheck);
+        std::vector<Id> edgeOf(nPts, -1);
+        for (Id e = 0; e < nbe; ++e)
+          edgeOf[quad.EdgeMid[e]] = e;
+        for (size_t k = 0; k < redo.size(); ++k)
+          if (again.Alpha[k] < 1.0 && edgeOf[redo[k]] >= 0)
+            curving.Alpha[edgeOf[redo[k]]] = std::min(curving.Alpha[edgeOf[redo[k]]], again.Alpha[k]);
+      }
+    }
+    // Safety net: any cell still not valid gets all its mid-edge nodes straight; repeat for
+    // the cells around them. Terminates (each sweep straightens nodes for good) and ends
+    // valid (a straight tet10 is valid when its corners are).
+    {
+      std::vector<Id> edgeOf(nPts, -1);
+      for (Id e = 0; e < nbe; ++e)
+        edgeOf[quad.EdgeMid[e]] = e;
+      std::vector<char> straightened(nPts, 0);
+      for (bool changed = true; changed;)
+      {
+        changed = false;
+        for (Id c = 0; c < nTets; ++c)
+        {
+          double x[30];
+          for (int a = 0; a < 10; ++a)
+            for (int d = 0; d < 3; ++d)
+              x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+          if (Tet10MinScaledJacobian(x) > 0.0)
+            continue;
+          for (int a = 4; a < 10; ++a)
+          {
+            const Id m = out.Conn[10 * c + a];
+            if (straightened[m])
+              continue;
+            straightened[m] = 1;
+            changed = true;
+            const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+            for (int d = 0; d < 3; ++d)
+              out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+            if (edgeOf[m] >= 0)
+              curving.Alpha[edgeOf[m]] = 0.0;
+          }
+        }
+      }
+    }
     std::vector<char> relaxedNode(nPts, 0);
     for (Id e = 0; e < nbe; ++e)
     {

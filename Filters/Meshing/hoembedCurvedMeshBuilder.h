@@ -44,6 +44,8 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
   bool ProjectCorners = true;
   double QualityRatio = 0.1;  ///< see hoembed::Tet10Acceptable
   double SliverQuality = 0.2; ///< scaled Jacobian below which flat boundary tets go
+  /// extra acceptance test of curved elements (e.g. VTK's cell validator), optional
+  std::function<bool(const double* x10)> ExtraCheck;
 };
 
 struct HOEMBEDFILTERSMESHING_EXPORT CurvedMesh

@@ -3,6 +3,7 @@
 #include "tetgen.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <new>
@@ -108,7 +109,9 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
 {
   TetGenResult result;
   std::ostringstream sw;
-  sw << "pzQ" << QualitySwitches(params);
+  // F: TetGen must not write the facets it skips (self-intersections) to files in the
+  // working directory; we detect skipped facets ourselves (volume check below).
+  sw << "pzQF" << QualitySwitches(params);
   if (params.MaxVolume > 0.0)
   {
     sw.precision(17);
@@ -146,6 +149,41 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
     tetrahedralize(&switches[0], &in, &out);
     CollectOutput(out, result);
   });
+  if (result.Error.empty())
+  {
+    // TetGen skips facets that intersect others and meshes on: the mesh then no longer
+    // fills the surface. The volumes tell. (With quality refinement TetGen's volume differs
+    // from the surface's by ~1e-5 relative on real inputs, hence the loose bound; the
+    // caller's own self-intersection check runs first.)
+    double surfaceVolume = 0.0, meshVolume = 0.0;
+    for (size_t t = 0; t < tris.size() / 3; ++t)
+    {
+      const double* a = &pts[3 * tris[3 * t]];
+      const double* b = &pts[3 * tris[3 * t + 1]];
+      const double* c = &pts[3 * tris[3 * t + 2]];
+      surfaceVolume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                         a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+    }
+    for (size_t t = 0; t < result.Tets.size() / 4; ++t)
+    {
+      const double* p0 = &result.Points[3 * result.Tets[4 * t]];
+      double e[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int d = 0; d < 3; ++d)
+          e[r][d] = result.Points[3 * result.Tets[4 * t + r + 1] + d] - p0[d];
+      meshVolume += (e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                      e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                      e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) / 6.0;
+    }
+    if (std::fabs(meshVolume - std::fabs(surfaceVolume)) > 1e-3 * std::fabs(surfaceVolume))
+    {
+      std::ostringstream os;
+      os << "TetGen skipped self-intersecting facets of the (coarsened) surface (mesh volume " << meshVolume << ", surface volume " << surfaceVolume << ")";
+      result.Error = os.str();
+      result.Points.clear();
+      result.Tets.clear();
+    }
+  }
   return result;
 }
 } // namespace hoembed

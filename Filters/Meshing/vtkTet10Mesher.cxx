@@ -7,6 +7,8 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCellValidator.h"
+#include "vtkQuadraticTetra.h"
 #include "vtkCleanPolyData.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -343,6 +345,27 @@ int vtkTet10Mesher::RequestData(
   options.CurveBoundary = this->CurveBoundary;
   options.ProjectCorners = this->ProjectCorners;
   options.QualityRatio = this->CurvedQualityRatio;
+  // Beyond det J > 0, curved elements must pass VTK's own cell validator (its linearised
+  // faces must not intersect or flip), so that VTK tools accept every element.
+  vtkNew<vtkQuadraticTetra> checkCell;
+  checkCell->GetPoints()->SetNumberOfPoints(10);
+  for (vtkIdType i = 0; i < 10; ++i)
+    checkCell->GetPointIds()->SetId(i, i);
+  options.ExtraCheck = [&checkCell](const double* x) {
+    double longest = 0.0;
+    for (vtkIdType i = 0; i < 10; ++i)
+    {
+      checkCell->GetPoints()->SetPoint(i, x + 3 * i);
+      longest = std::max(longest, vtkMath::Distance2BetweenPoints(x, x + 3 * i));
+    }
+    // Curved faces are legitimately not convex: only intersections and flips count.
+    const auto state = static_cast<short>(vtkCellValidator::Check(checkCell, 1e-6 * std::sqrt(longest)));
+    const short bad = static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
+      static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
+      static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
+      static_cast<short>(vtkCellValidator::State::WrongNumberOfPoints);
+    return (state & bad) == 0;
+  };
   hoembed::CurvedMesh mesh = hoembed::BuildCurvedMesh(tg.Points, tg.Tets, queries, options,
     [this](double f) { this->UpdateProgress(0.5 + 0.4 * f); });
   if (!mesh.Error.empty())
