@@ -531,6 +531,7 @@ void TestRealMeshes(const std::string& dir)
       topo.Build(conn.data(), straight->GetNumberOfCells(), npc, straight->GetNumberOfPoints());
       const vtkIdType n = fine->GetNumberOfPoints();
       std::vector<EmbeddedVertex> truth(n);
+      vtkNew<vtkTriangle> tri;
       for (vtkIdType i = 0; i < n; ++i)
       {
         double v[3];
@@ -544,7 +545,6 @@ void TestRealMeshes(const std::string& dir)
           straight->GetPoint(fn[0], a);
           straight->GetPoint(fn[1], bb);
           straight->GetPoint(fn[2], c);
-          vtkNew<vtkTriangle> tri;
           tri->GetPoints()->SetPoint(0, a);
           tri->GetPoints()->SetPoint(1, bb);
           tri->GetPoints()->SetPoint(2, c);
