@@ -260,3 +260,22 @@ def test_vtk_pipeline_class():
     assert alg.GetNormalMode() == 0 and not alg.GetComputePointNormals()
     alg.SetNormalModeToRotate()
     assert alg.GetNormalMode() == 1
+
+
+def test_saved_embedding_round_trip(setup, tmp_path):
+    """The embedded surface written to .vtp and read back (as users load it at start-up)
+    transfers like the original; without EmbeddingFace (older files) too."""
+    mesh, rng = setup
+    surf = embedded_box_surface(mesh, SIZE, rng)
+    path = tmp_path / "embedded.vtp"
+    surf.save(path)
+    back = pv.read(path)
+    assert back.GetFieldData().GetAbstractArray("EmbeddingMethod") is not None
+    R, t = random_rigid(rng)
+    m = moved(mesh, lambda x: x @ R.T + t)
+    ref = hoembed.transfer(surf, m)
+    out = hoembed.transfer(back, m)
+    assert np.abs(out.points - ref.points).max() < 1e-12 * surf.length
+    back.point_data.remove("EmbeddingFace")
+    out = hoembed.transfer(back, m)
+    assert np.abs(out.points - ref.points).max() < 1e-12 * surf.length
