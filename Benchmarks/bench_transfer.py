@@ -146,6 +146,10 @@ def main(spacing=0.125 / 22, n_frames=10):
     T["normal-offset tet10, float output"] = time_filter(surf_no, mesh10, frames10, single=True)
     T["barycentric tet10"] = time_filter(surf_b10, mesh10, frames10)
     T["barycentric tet4"] = time_filter(surf_b4, mesh4, frames4)
+    threads = smp.GetEstimatedNumberOfThreads()
+    smp.Initialize(1)
+    T["normal-offset tet10, 1 thread"] = time_filter(surf_no, mesh10, frames10)
+    smp.Initialize(threads)
     W4, W10 = weight_matrices(surf_no, mesh10)
     B = result["baselines"]
     B["scipy csr 4 weights/row @ (n_nodes x 3)"] = time_spmv(W4, frames10)
