@@ -203,6 +203,10 @@ int vtkDeformationTransferFilter::RequestData(
     output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
       mesh->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()));
   }
+  else
+  {
+    output->GetInformation()->Remove(vtkDataObject::DATA_TIME_STEP());
+  }
 
   // --- The deformed mesh: cell types, topology (cached) and fingerprint.
   const vtkIdType numMeshPoints = mesh->GetNumberOfPoints();
