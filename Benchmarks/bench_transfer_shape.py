@@ -62,6 +62,7 @@ def errors(out, exact, tris, thorn_vertex, thorn_tri, diag):
 
 DEFORMATIONS = {
     "bend": dict(radius=3.0, twist=0.0),
+    "strong bend": dict(radius=1.5, twist=0.0),
     "twist": dict(radius=float("inf"), twist=0.2),
     "bend+twist": dict(radius=3.0, twist=0.2),
 }
@@ -146,8 +147,8 @@ def main(spacing=0.0125, height=0.3, render=True):
         result["picture"] = "not rendered: no display (run under xvfb-run)"
     elif render:
         try:
-            result["picture"] = str(picture(v, tris, phi(v, **DEFORMATIONS["bend"]),
-                                            {k: outputs[("bend", k)] for k in surfaces},
+            result["picture"] = str(picture(v, tris, phi(v, **DEFORMATIONS["strong bend"]),
+                                            {k: outputs[("strong bend", k)] for k in surfaces},
                                             RESULTS))
         except Exception as exc:  # rendering problems must not lose the numbers
             result["picture"] = f"not rendered: {exc}"
