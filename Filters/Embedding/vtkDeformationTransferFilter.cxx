@@ -21,7 +21,6 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 #include "vtkSignedCharArray.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
@@ -31,6 +30,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -43,20 +43,11 @@ namespace
 const char* const kEmbeddingPointArrays[] = { "EmbeddingCellId", "EmbeddingParametricCoords",
   "EmbeddingDistance", "EmbeddingResidual", "EmbeddingFace" };
 
-std::string FieldString(vtkFieldData* fd, const char* name, bool& found)
+// The first value of a string array in field data, or null (no per-frame copy).
+const vtkStdString* FieldString(vtkFieldData* fd, const char* name)
 {
-  found = false;
-  if (!fd)
-  {
-    return std::string();
-  }
-  auto* a = vtkStringArray::SafeDownCast(fd->GetAbstractArray(name));
-  if (!a || a->GetNumberOfValues() < 1)
-  {
-    return std::string();
-  }
-  found = true;
-  return a->GetValue(0);
+  auto* a = fd ? vtkStringArray::SafeDownCast(fd->GetAbstractArray(name)) : nullptr;
+  return a && a->GetNumberOfValues() > 0 ? &a->GetValue(0) : nullptr;
 }
 
 bool AllFinite(const double* x, std::int64_t n)
@@ -291,27 +282,27 @@ int vtkDeformationTransferFilter::RequestData(
   this->UpdateProgress(0.1);
 
   // --- The embedding: field data, then the per-vertex plan (cached).
-  bool found = false;
-  const std::string method = FieldString(surface->GetFieldData(), "EmbeddingMethod", found);
-  if (!found)
+  const vtkStdString* methodValue = FieldString(surface->GetFieldData(), "EmbeddingMethod");
+  if (!methodValue)
   {
     vtkErrorMacro("the surface (port 0) has no field data EmbeddingMethod: is it the output of "
                   "vtkEmbeddingCoordinatesFilter?");
     return 0;
   }
+  const std::string& method = *methodValue;
   if (method != "normal-offset" && method != "barycentric")
   {
     vtkErrorMacro("unknown EmbeddingMethod '" << method
                                               << "' (expected normal-offset or barycentric)");
     return 0;
   }
-  const std::string surfaceFp =
-    FieldString(surface->GetFieldData(), "EmbeddingMeshFingerprint", found);
-  if (!found)
+  const vtkStdString* fpValue = FieldString(surface->GetFieldData(), "EmbeddingMeshFingerprint");
+  if (!fpValue)
   {
     vtkErrorMacro("the surface (port 0) has no field data EmbeddingMeshFingerprint");
     return 0;
   }
+  const std::string& surfaceFp = *fpValue;
   if (surfaceFp != I.Fingerprint)
   {
     vtkErrorMacro("the FE mesh (port 1) is not the mesh the surface was embedded in: mesh "
@@ -466,16 +457,12 @@ int vtkDeformationTransferFilter::RequestData(
   // --- Inverted elements: warn, still map.
   if (this->CheckInvertedElements)
   {
-    vtkSMPThreadLocal<std::int64_t> counts;
+    std::atomic<std::int64_t> inverted(0);
     const std::int64_t* conn = I.Conn.data();
     vtkSMPTools::For(0, numCells, 256, [&](vtkIdType b, vtkIdType e) {
-      counts.Local() += hoembed::CountInvertedCells(conn, npc, pts, b, e);
+      inverted += hoembed::CountInvertedCells(conn, npc, pts, b, e);
     });
-    std::int64_t total = 0;
-    for (auto c : counts)
-    {
-      total += c;
-    }
+    const std::int64_t total = inverted.load();
     this->NumberOfInvertedElements = static_cast<vtkIdType>(total);
     if (total > 0)
     {
