@@ -72,11 +72,13 @@ def fingerprint(mesh):
 
 
 def thorny_beam_surface(length=8.0, width=1.0, spacing=0.0125, height=0.3, radius=0.1,
-                        pitch=0.25, rows=(0.375, 0.625), clear=1.0):
+                        pitch=0.25, rows=(0.375, 0.625), clear=1.0, base_offset=0.0):
     """Fine surface of the beam [0,length]x[0,width]^2 with cone thorns on the 4 long faces.
 
     Returns (points v, rest points p on the box, normals n, d, triangles) where v = p + d n.
-    Thorn centres are grid nodes when pitch/2 is a multiple of spacing (sharp tips)."""
+    Thorn centres are grid nodes when pitch/2 is a multiple of spacing (sharp tips).
+    `base_offset` > 0 lifts every vertex (all of them then have d != 0, the worst case
+    for speed; v = p + d n(p) then no longer holds near the box edges)."""
     verts, bases, normals, dists, tris = [], [], [], [], []
 
     def sheet(origin, ea, eb, na, nb, normal, thorns):
@@ -84,14 +86,14 @@ def thorny_beam_surface(length=8.0, width=1.0, spacing=0.0125, height=0.3, radiu
         b = np.linspace(0, 1, nb + 1)
         A, B = np.meshgrid(a, b, indexing="ij")
         p = origin + A.reshape(-1, 1) * ea + B.reshape(-1, 1) * eb
-        d = np.zeros(len(p))
+        d = np.full(len(p), float(base_offset))
         if thorns:
             s = p @ (ea / np.linalg.norm(ea))  # along the beam
             t = (p - origin) @ (eb / np.linalg.norm(eb))  # across the face
             cx = np.arange(clear + pitch / 2, length - clear, pitch)
             for row in rows:
                 r = np.hypot(s[:, None] - cx[None, :], (t - row)[:, None]).min(axis=1)
-                d = np.maximum(d, height * np.clip(1.0 - r / radius, 0.0, None))
+                d = np.maximum(d, base_offset + height * np.clip(1.0 - r / radius, 0.0, None))
         start = sum(len(x) for x in verts)
         idx = start + np.arange((na + 1) * (nb + 1)).reshape(na + 1, nb + 1)
         q0, q1, q2, q3 = idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]

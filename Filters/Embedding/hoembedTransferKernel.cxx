@@ -5,6 +5,10 @@
 
 #include <cmath>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace hoembed
 {
 void ComputeCellMapCoefficients(const std::int64_t* conn, int nodesPerCell, const double* points,
@@ -132,73 +136,133 @@ const FaceCorners kFaceCorners[4] = { { TetFaceNodes[0][0], TetFaceNodes[0][1], 
   { TetFaceNodes[2][0], TetFaceNodes[2][1], TetFaceNodes[2][2] },
   { TetFaceNodes[3][0], TetFaceNodes[3][1], TetFaceNodes[3][2] } };
 
+// p' of one entry from its cell's map coefficients.
+inline void MapPoint(const TransferEntry& e, bool quadratic, const double* cellCoeffs, double x[3])
+{
+  const double r = e.PC[0], s = e.PC[1], t = e.PC[2];
+  if (quadratic)
+  {
+    const double* k = cellCoeffs + 30 * static_cast<std::int64_t>(e.Cell);
+    const double rr = r * r, ss = s * s, tt = t * t, rs = r * s, rt = r * t, st = s * t;
+    for (int d = 0; d < 3; ++d)
+    {
+      // Summed as a tree: short dependency chains.
+      x[d] = ((k[d] + k[3 + d] * r) + (k[6 + d] * s + k[9 + d] * t)) +
+        ((k[12 + d] * rr + k[15 + d] * ss) + (k[18 + d] * tt + k[21 + d] * rs)) +
+        (k[24 + d] * rt + k[27 + d] * st);
+    }
+  }
+  else
+  {
+    const double* k = cellCoeffs + 12 * static_cast<std::int64_t>(e.Cell);
+    for (int d = 0; d < 3; ++d)
+    {
+      x[d] = (k[d] + k[3 + d] * r) + (k[6 + d] * s + k[9 + d] * t);
+    }
+  }
+}
+
+// scale = w / sqrt(len2) (0 where len2 = 0), two entries at a time with SSE2.
+inline void OffsetScales(const double* len2, const double* w, double* scale, int m)
+{
+  int j = 0;
+#if defined(__SSE2__)
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d one = _mm_set1_pd(1.0);
+  for (; j + 1 < m; j += 2)
+  {
+    const __m128d l = _mm_loadu_pd(len2 + j);
+    const __m128d positive = _mm_cmpgt_pd(l, zero);
+    const __m128d safe = _mm_or_pd(_mm_and_pd(positive, l), _mm_andnot_pd(positive, one));
+    const __m128d q = _mm_div_pd(_mm_loadu_pd(w + j), _mm_sqrt_pd(safe));
+    _mm_storeu_pd(scale + j, _mm_and_pd(positive, q));
+  }
+#endif
+  for (; j < m; ++j)
+  {
+    scale[j] = len2[j] > 0.0 ? w[j] / std::sqrt(len2[j]) : 0.0;
+  }
+}
+
 template <typename T>
 void EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, std::int64_t begin, std::int64_t end, T* out)
 {
+  // Blocks of vertices in short passes (positions; normals; scales; sums) rather than one
+  // long dependency chain per vertex: the out-of-order core overlaps many vertices, and
+  // the square roots and divisions run two at a time.
+  //
+  // The face coordinates are u = lb / S, v = lc / S with lb, lc, S = la + lb + lc the
+  // barycentric coordinates of the face's corners (S = 1 on the face). The normal field
+  // is a polynomial of degree q (2 for tri6, 1 for tri3) in (u, v); it is evaluated as
+  // S^q n(u, v), a homogeneous polynomial in (S, lb, lc): no division, and the factor
+  // S^q > 0 disappears in the normalisation.
+  constexpr int kBlock = 64;
   const bool quadratic = nodesPerCell == 10;
-  const int csize = quadratic ? 30 : 12;
   const int fsize = quadratic ? 18 : 9;
-  for (std::int64_t i = begin; i < end; ++i)
+  double x[3 * kBlock], n[3 * kBlock], w[kBlock], len2[kBlock], scale[kBlock];
+  for (std::int64_t b = begin; b < end; b += kBlock)
   {
-    const TransferEntry& e = plan[i];
-    const double r = e.PC[0], s = e.PC[1], t = e.PC[2];
-    const double* k = cellCoeffs + static_cast<std::int64_t>(csize) * e.Cell;
-    double x[3];
-    if (quadratic)
+    const int m = static_cast<int>(end - b < kBlock ? end - b : kBlock);
+    const TransferEntry* e = plan + b;
+    for (int j = 0; j < m; ++j)
     {
-      const double rr = r * r, ss = s * s, tt = t * t, rs = r * s, rt = r * t, st = s * t;
-      for (int d = 0; d < 3; ++d)
-      {
-        x[d] = k[d] + k[3 + d] * r + k[6 + d] * s + k[9 + d] * t + k[12 + d] * rr +
-          k[15 + d] * ss + k[18 + d] * tt + k[21 + d] * rs + k[24 + d] * rt + k[27 + d] * st;
-      }
+      MapPoint(e[j], quadratic, cellCoeffs, x + 3 * j);
     }
-    else
+    int offsets = 0;
+    for (int j = 0; faceCoeffs && j < m; ++j)
     {
-      for (int d = 0; d < 3; ++d)
+      double* nj = n + 3 * j;
+      const bool has = e[j].Face >= 0 && e[j].Distance != 0.0;
+      w[j] = has ? e[j].Distance : 0.0;
+      if (!has)
       {
-        x[d] = k[d] + k[3 + d] * r + k[6 + d] * s + k[9 + d] * t;
+        nj[0] = nj[1] = nj[2] = 0.0;
+        len2[j] = 0.0;
+        continue;
       }
-    }
-    if (e.Face >= 0 && e.Distance != 0.0 && faceCoeffs)
-    {
-      const FaceCorners& fc = kFaceCorners[e.Face & 3];
+      ++offsets;
+      const double r = e[j].PC[0], s = e[j].PC[1], t = e[j].PC[2];
       const double L[4] = { 1.0 - r - s - t, r, s, t };
-      const double la = L[fc.A], lb = L[fc.B], lc = L[fc.C];
-      const double sum = la + lb + lc;
-      const double inv = sum != 0.0 ? 1.0 / sum : 1.0;
-      const double u = lb * inv, v = lc * inv;
-      const double* a = faceCoeffs + static_cast<std::int64_t>(fsize) * (e.Face >> 2);
-      double n[3];
+      const FaceCorners& fc = kFaceCorners[e[j].Face & 3];
+      const double lb = L[fc.B], lc = L[fc.C];
+      double S = L[fc.A] + lb + lc;
+      S = S > 0.0 ? S : 1.0;
+      const double* a = faceCoeffs + fsize * static_cast<std::int64_t>(e[j].Face >> 2);
       if (quadratic)
       {
-        const double uu = u * u, vv = v * v, uv = u * v;
+        const double SS = S * S, Sb = S * lb, Sc = S * lc, bb = lb * lb, cc = lc * lc;
+        const double bc = lb * lc;
         for (int d = 0; d < 3; ++d)
         {
-          n[d] = a[d] + a[3 + d] * u + a[6 + d] * v + a[9 + d] * uu + a[12 + d] * vv +
-            a[15 + d] * uv;
+          nj[d] = ((a[d] * SS + a[3 + d] * Sb) + (a[6 + d] * Sc + a[9 + d] * bb)) +
+            (a[12 + d] * cc + a[15 + d] * bc);
         }
       }
       else
       {
         for (int d = 0; d < 3; ++d)
         {
-          n[d] = a[d] + a[3 + d] * u + a[6 + d] * v;
+          nj[d] = a[d] * S + (a[3 + d] * lb + a[6 + d] * lc);
         }
       }
-      const double len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-      if (len2 > 0.0)
+      len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
+    }
+    if (offsets > 0)
+    {
+      OffsetScales(len2, w, scale, m);
+      for (int j = 0; j < m; ++j)
       {
-        const double scale = e.Distance / std::sqrt(len2);
-        x[0] += scale * n[0];
-        x[1] += scale * n[1];
-        x[2] += scale * n[2];
+        x[3 * j] += scale[j] * n[3 * j];
+        x[3 * j + 1] += scale[j] * n[3 * j + 1];
+        x[3 * j + 2] += scale[j] * n[3 * j + 2];
       }
     }
-    out[3 * i] = static_cast<T>(x[0]);
-    out[3 * i + 1] = static_cast<T>(x[1]);
-    out[3 * i + 2] = static_cast<T>(x[2]);
+    T* o = out + 3 * b;
+    for (int j = 0; j < 3 * m; ++j)
+    {
+      o[j] = static_cast<T>(x[j]);
+    }
   }
 }
 } // namespace
