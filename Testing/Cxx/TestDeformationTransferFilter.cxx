@@ -412,10 +412,13 @@ void TestPointNormals()
     worst = std::max(worst, vtkMath::DegreesFromRadians(vtkMath::AngleBetweenVectors(a, b)));
   }
   HOEMBED_CHECK(worst < 10.0, "point normals differ from vtkPolyDataNormals by %g degrees", worst);
-  // Single precision output when asked.
+  // Single precision output when asked: the same points to float precision.
+  const std::vector<double> doubles = Coordinates(out->GetPoints());
   f->SetOutputPointsPrecision(vtkAlgorithm::SINGLE_PRECISION);
   f->Update();
   HOEMBED_CHECK(f->GetOutput()->GetPoints()->GetDataType() == VTK_FLOAT, "not single precision");
+  const double ferr = MaxDiff(f->GetOutput()->GetPoints(), doubles) / Diagonal(out);
+  HOEMBED_CHECK(ferr < 1e-6 && ferr > 0.0, "single precision output differs by %g", ferr);
 }
 
 void TestBadInput()
