@@ -33,6 +33,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -40,9 +41,6 @@ vtkStandardNewMacro(vtkDeformationTransferFilter);
 
 namespace
 {
-const char* const kEmbeddingPointArrays[] = { "EmbeddingCellId", "EmbeddingParametricCoords",
-  "EmbeddingDistance", "EmbeddingResidual", "EmbeddingFace" };
-
 // The first value of a string array in field data, or null (no per-frame copy).
 const vtkStdString* FieldString(vtkFieldData* fd, const char* name)
 {
@@ -618,9 +616,15 @@ int vtkDeformationTransferFilter::RequestData(
   output->GetPointData()->ShallowCopy(surface->GetPointData());
   output->GetCellData()->ShallowCopy(surface->GetCellData());
   output->GetFieldData()->ShallowCopy(surface->GetFieldData());
-  for (const char* name : kEmbeddingPointArrays)
+  // Every Embedding* point array (the embedding's own, and its diagnostics) describes the
+  // rest state, not this frame.
+  for (int a = output->GetPointData()->GetNumberOfArrays() - 1; a >= 0; --a)
   {
-    output->GetPointData()->RemoveArray(name);
+    const char* name = output->GetPointData()->GetArrayName(a);
+    if (name && std::strncmp(name, "Embedding", 9) == 0)
+    {
+      output->GetPointData()->RemoveArray(a);
+    }
   }
   if (vtkDataArray* stale = output->GetPointData()->GetNormals())
   {

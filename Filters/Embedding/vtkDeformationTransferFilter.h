@@ -23,8 +23,8 @@
  *   `Displacement` (3 components).
  *
  * Output: vtkPolyData with the surface's topology (shared, not copied) and point, cell and
- * field data passed through, except the five `Embedding*` point arrays and any stale
- * point/cell normals; new points:
+ * field data passed through, except the point arrays named `Embedding*` (the embedding
+ * and its diagnostics) and any stale point/cell normals; new points:
  * - p' = sum_I N_I(r, s, t) x'_I, the isoparametric map of the deformed cell (tet10 or
  *   tet4 shape functions; for the barycentric method parametric coordinates outside the
  *   cell extrapolate);

@@ -325,3 +325,15 @@ def test_time_series_pipeline(setup):
         assert out.GetInformation().Get(vtkDataObject.DATA_TIME_STEP()) == t
         shift = pv.wrap(out).points - surf.points
         assert np.abs(shift - np.array([t, 0.0, 0.0])).max() < 1e-12
+
+
+def test_passes_user_data_drops_embedding_arrays(setup):
+    mesh, rng = setup
+    surf = embedded_box_surface(mesh, SIZE, rng)
+    surf.point_data["EmbeddingIterations"] = np.ones(surf.n_points, dtype=np.int32)
+    surf.point_data["Color"] = np.arange(surf.n_points, dtype=float)
+    surf.cell_data["Label"] = np.arange(surf.n_cells)
+    out = hoembed.transfer(surf, mesh)
+    assert not [k for k in out.point_data.keys() if k.startswith("Embedding")]
+    assert np.array_equal(out.point_data["Color"], surf.point_data["Color"])
+    assert np.array_equal(out.cell_data["Label"], surf.cell_data["Label"])
