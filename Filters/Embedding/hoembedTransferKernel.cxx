@@ -1,0 +1,335 @@
+#include "hoembedTransferKernel.h"
+
+#include "hoembedElementGeometry.h"
+#include "hoembedShapeFunctions.h"
+
+#include <cmath>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace hoembed
+{
+void ComputeCellMapCoefficients(const std::int64_t* conn, int nodesPerCell, const double* points,
+  std::int64_t begin, std::int64_t end, double* coeffs)
+{
+  const int csize = CellCoefficientSize(nodesPerCell);
+  for (std::int64_t c = begin; c < end; ++c)
+  {
+    const std::int64_t* ids = conn + nodesPerCell * c;
+    double* k = coeffs + csize * c;
+    for (int d = 0; d < 3; ++d)
+    {
+      const double x0 = points[3 * ids[0] + d];
+      const double x1 = points[3 * ids[1] + d];
+      const double x2 = points[3 * ids[2] + d];
+      const double x3 = points[3 * ids[3] + d];
+      if (nodesPerCell == 4)
+      {
+        k[d] = x0;
+        k[3 + d] = x1 - x0;
+        k[6 + d] = x2 - x0;
+        k[9 + d] = x3 - x0;
+        continue;
+      }
+      const double x4 = points[3 * ids[4] + d];
+      const double x5 = points[3 * ids[5] + d];
+      const double x6 = points[3 * ids[6] + d];
+      const double x7 = points[3 * ids[7] + d];
+      const double x8 = points[3 * ids[8] + d];
+      const double x9 = points[3 * ids[9] + d];
+      // Tet10 shape functions expanded in monomials of (r, s, t) (see the header).
+      k[d] = x0;
+      k[3 + d] = -3.0 * x0 - x1 + 4.0 * x4;
+      k[6 + d] = -3.0 * x0 - x2 + 4.0 * x6;
+      k[9 + d] = -3.0 * x0 - x3 + 4.0 * x7;
+      k[12 + d] = 2.0 * x0 + 2.0 * x1 - 4.0 * x4;
+      k[15 + d] = 2.0 * x0 + 2.0 * x2 - 4.0 * x6;
+      k[18 + d] = 2.0 * x0 + 2.0 * x3 - 4.0 * x7;
+      k[21 + d] = 4.0 * (x0 - x4 + x5 - x6);
+      k[24 + d] = 4.0 * (x0 - x4 - x7 + x8);
+      k[27 + d] = 4.0 * (x0 - x6 - x7 + x9);
+    }
+  }
+}
+
+void ComputeFaceNormalCoefficients(const TetMeshTopology& topo, const double* nodalNormals,
+  std::int64_t begin, std::int64_t end, double* coeffs)
+{
+  const int npf = topo.GetNodesPerFace();
+  const int fsize = npf == 6 ? 18 : 9;
+  for (std::int64_t f = begin; f < end; ++f)
+  {
+    const TetMeshTopology::Id* fn = &topo.BoundaryFaceNodes[npf * f];
+    double* a = coeffs + fsize * f;
+    for (int d = 0; d < 3; ++d)
+    {
+      const double n0 = nodalNormals[3 * fn[0] + d];
+      const double n1 = nodalNormals[3 * fn[1] + d];
+      const double n2 = nodalNormals[3 * fn[2] + d];
+      if (npf == 3)
+      {
+        a[d] = n0;
+        a[3 + d] = n1 - n0;
+        a[6 + d] = n2 - n0;
+        continue;
+      }
+      const double n3 = nodalNormals[3 * fn[3] + d];
+      const double n4 = nodalNormals[3 * fn[4] + d];
+      const double n5 = nodalNormals[3 * fn[5] + d];
+      // Tri6 shape functions expanded in monomials of (u, v).
+      a[d] = n0;
+      a[3 + d] = -3.0 * n0 - n1 + 4.0 * n3;
+      a[6 + d] = -3.0 * n0 - n2 + 4.0 * n5;
+      a[9 + d] = 2.0 * n0 + 2.0 * n1 - 4.0 * n3;
+      a[12 + d] = 2.0 * n0 + 2.0 * n2 - 4.0 * n5;
+      a[15 + d] = 4.0 * (n0 - n3 + n4 - n5);
+    }
+  }
+}
+
+void TetParametricToFace(int face, const double pc[3], double uv[2])
+{
+  const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
+  const double la = L[TetFaceNodes[face][0]];
+  const double lb = L[TetFaceNodes[face][1]];
+  const double lc = L[TetFaceNodes[face][2]];
+  const double sum = la + lb + lc;
+  const double inv = sum != 0.0 ? 1.0 / sum : 1.0;
+  uv[0] = lb * inv;
+  uv[1] = lc * inv;
+}
+
+std::int32_t DeduceBoundaryFace(
+  const TetMeshTopology& topo, std::int64_t cell, const double pc[3], double tol)
+{
+  const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
+  std::int32_t best = -1;
+  double bestValue = tol;
+  for (int f = 0; f < 4; ++f)
+  {
+    const TetMeshTopology::Id b = topo.CellBoundaryFace[4 * cell + f];
+    if (b < 0)
+    {
+      continue;
+    }
+    const double value = std::fabs(L[TetFaceOpposite[f]]);
+    if (value <= bestValue)
+    {
+      bestValue = value;
+      best = static_cast<std::int32_t>(4 * b + f);
+    }
+  }
+  return best;
+}
+
+namespace
+{
+// Barycentric coordinate of the face corners (a, b, c) as indices into L = (L0, r, s, t).
+struct FaceCorners
+{
+  int A, B, C;
+};
+const FaceCorners kFaceCorners[4] = { { TetFaceNodes[0][0], TetFaceNodes[0][1], TetFaceNodes[0][2] },
+  { TetFaceNodes[1][0], TetFaceNodes[1][1], TetFaceNodes[1][2] },
+  { TetFaceNodes[2][0], TetFaceNodes[2][1], TetFaceNodes[2][2] },
+  { TetFaceNodes[3][0], TetFaceNodes[3][1], TetFaceNodes[3][2] } };
+
+// p' of one entry from its cell's map coefficients.
+inline void MapPoint(const TransferEntry& e, bool quadratic, const double* cellCoeffs, double x[3])
+{
+  const double r = e.PC[0], s = e.PC[1], t = e.PC[2];
+  if (quadratic)
+  {
+    const double* k = cellCoeffs + 30 * static_cast<std::int64_t>(e.Cell);
+    const double rr = r * r, ss = s * s, tt = t * t, rs = r * s, rt = r * t, st = s * t;
+    for (int d = 0; d < 3; ++d)
+    {
+      // Summed as a tree: short dependency chains.
+      x[d] = ((k[d] + k[3 + d] * r) + (k[6 + d] * s + k[9 + d] * t)) +
+        ((k[12 + d] * rr + k[15 + d] * ss) + (k[18 + d] * tt + k[21 + d] * rs)) +
+        (k[24 + d] * rt + k[27 + d] * st);
+    }
+  }
+  else
+  {
+    const double* k = cellCoeffs + 12 * static_cast<std::int64_t>(e.Cell);
+    for (int d = 0; d < 3; ++d)
+    {
+      x[d] = (k[d] + k[3 + d] * r) + (k[6 + d] * s + k[9 + d] * t);
+    }
+  }
+}
+
+// scale = w / sqrt(len2) (0 where len2 = 0), two entries at a time with SSE2.
+inline void OffsetScales(const double* len2, const double* w, double* scale, int m)
+{
+  int j = 0;
+#if defined(__SSE2__)
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d one = _mm_set1_pd(1.0);
+  for (; j + 1 < m; j += 2)
+  {
+    const __m128d l = _mm_loadu_pd(len2 + j);
+    const __m128d positive = _mm_cmpgt_pd(l, zero);
+    const __m128d safe = _mm_or_pd(_mm_and_pd(positive, l), _mm_andnot_pd(positive, one));
+    const __m128d q = _mm_div_pd(_mm_loadu_pd(w + j), _mm_sqrt_pd(safe));
+    _mm_storeu_pd(scale + j, _mm_and_pd(positive, q));
+  }
+#endif
+  for (; j < m; ++j)
+  {
+    scale[j] = len2[j] > 0.0 ? w[j] / std::sqrt(len2[j]) : 0.0;
+  }
+}
+
+template <typename T>
+void EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, std::int64_t begin, std::int64_t end, T* out)
+{
+  // Blocks of vertices in short passes (positions; normals; scales; sums) rather than one
+  // long dependency chain per vertex: the out-of-order core overlaps many vertices, and
+  // the square roots and divisions run two at a time.
+  //
+  // The face coordinates are u = lb / S, v = lc / S with lb, lc, S = la + lb + lc the
+  // barycentric coordinates of the face's corners (S = 1 on the face). The normal field
+  // is a polynomial of degree q (2 for tri6, 1 for tri3) in (u, v); it is evaluated as
+  // S^q n(u, v), a homogeneous polynomial in (S, lb, lc): no division, and the factor
+  // S^q > 0 disappears in the normalisation.
+  constexpr int kBlock = 64;
+  const bool quadratic = nodesPerCell == 10;
+  const int fsize = quadratic ? 18 : 9;
+  double x[3 * kBlock], n[3 * kBlock], w[kBlock], len2[kBlock], scale[kBlock];
+  for (std::int64_t b = begin; b < end; b += kBlock)
+  {
+    const int m = static_cast<int>(end - b < kBlock ? end - b : kBlock);
+    const TransferEntry* e = plan + b;
+    for (int j = 0; j < m; ++j)
+    {
+      MapPoint(e[j], quadratic, cellCoeffs, x + 3 * j);
+    }
+    int offsets = 0;
+    for (int j = 0; faceCoeffs && j < m; ++j)
+    {
+      double* nj = n + 3 * j;
+      const bool has = e[j].Face >= 0 && e[j].Distance != 0.0;
+      w[j] = has ? e[j].Distance : 0.0;
+      if (!has)
+      {
+        nj[0] = nj[1] = nj[2] = 0.0;
+        len2[j] = 0.0;
+        continue;
+      }
+      ++offsets;
+      const double r = e[j].PC[0], s = e[j].PC[1], t = e[j].PC[2];
+      const double L[4] = { 1.0 - r - s - t, r, s, t };
+      const FaceCorners& fc = kFaceCorners[e[j].Face & 3];
+      const double lb = L[fc.B], lc = L[fc.C];
+      double S = L[fc.A] + lb + lc;
+      S = S > 0.0 ? S : 1.0;
+      const double* a = faceCoeffs + fsize * static_cast<std::int64_t>(e[j].Face >> 2);
+      if (quadratic)
+      {
+        const double SS = S * S, Sb = S * lb, Sc = S * lc, bb = lb * lb, cc = lc * lc;
+        const double bc = lb * lc;
+        for (int d = 0; d < 3; ++d)
+        {
+          nj[d] = ((a[d] * SS + a[3 + d] * Sb) + (a[6 + d] * Sc + a[9 + d] * bb)) +
+            (a[12 + d] * cc + a[15 + d] * bc);
+        }
+      }
+      else
+      {
+        for (int d = 0; d < 3; ++d)
+        {
+          nj[d] = a[d] * S + (a[3 + d] * lb + a[6 + d] * lc);
+        }
+      }
+      len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
+    }
+    if (offsets > 0)
+    {
+      OffsetScales(len2, w, scale, m);
+      for (int j = 0; j < m; ++j)
+      {
+        x[3 * j] += scale[j] * n[3 * j];
+        x[3 * j + 1] += scale[j] * n[3 * j + 1];
+        x[3 * j + 2] += scale[j] * n[3 * j + 2];
+      }
+    }
+    T* o = out + 3 * b;
+    for (int j = 0; j < 3 * m; ++j)
+    {
+      o[j] = static_cast<T>(x[j]);
+    }
+  }
+}
+} // namespace
+
+void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, std::int64_t begin, std::int64_t end, double* out)
+{
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, begin, end, out);
+}
+
+void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, std::int64_t begin, std::int64_t end, float* out)
+{
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, begin, end, out);
+}
+
+void RotateNodalNormals(const double* restNormals, const double* rotations, std::int64_t begin,
+  std::int64_t end, double* out)
+{
+  for (std::int64_t i = begin; i < end; ++i)
+  {
+    const double* n = restNormals + 3 * i;
+    const double* R = rotations + 9 * i;
+    double m[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      m[d] = R[3 * d] * n[0] + R[3 * d + 1] * n[1] + R[3 * d + 2] * n[2];
+    }
+    const double len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    for (int d = 0; d < 3; ++d)
+    {
+      out[3 * i + d] = len > 0.0 ? m[d] / len : 0.0;
+    }
+  }
+}
+
+std::int64_t CountInvertedCells(const std::int64_t* conn, int nodesPerCell, const double* points,
+  std::int64_t begin, std::int64_t end)
+{
+  static const double kSamples[5][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+    { 0.25, 0.25, 0.25 } };
+  std::int64_t count = 0;
+  double x[30];
+  for (std::int64_t c = begin; c < end; ++c)
+  {
+    const std::int64_t* ids = conn + nodesPerCell * c;
+    for (int a = 0; a < nodesPerCell; ++a)
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        x[3 * a + d] = points[3 * ids[a] + d];
+      }
+    }
+    bool inverted = false;
+    if (nodesPerCell == 4)
+    {
+      inverted = !(Tet4JacobianDeterminant(x) > 0.0);
+    }
+    else
+    {
+      for (int k = 0; k < 5 && !inverted; ++k)
+      {
+        inverted = !(Tet10JacobianDeterminant(x, kSamples[k]) > 0.0);
+      }
+    }
+    count += inverted ? 1 : 0;
+  }
+  return count;
+}
+} // namespace hoembed

@@ -1,0 +1,114 @@
+/**
+ * @file hoembedTransferKernel.h
+ * @brief The per-frame work of the deformation transfer (paper eq. 4): v' = p' + d n'.
+ *
+ * Plain C++ kernels (no VTK pipeline code, no Eigen). The transfer is split into
+ * - a *plan*, one TransferEntry per surface vertex, built once from the embedding arrays
+ *   (cell, parametric coordinates, distance, boundary face) and reused for every frame;
+ * - per-frame *coefficient tables*, small (size of the FE mesh): the isoparametric map of
+ *   every deformed cell and the smooth normal field of every deformed boundary face, both
+ *   as monomial coefficients, contiguous per cell / face, so the per-vertex loop reads one
+ *   contiguous block per cell and no node ids;
+ * - the per-vertex evaluation over a range [begin, end) (the caller splits the range over
+ *   threads; every entry is independent).
+ *
+ * Coefficient layouts (3 doubles per coefficient vector):
+ * - tet10 cell: x(r,s,t) = c1 + cr r + cs s + ct t + crr r^2 + css s^2 + ctt t^2
+ *   + crs rs + crt rt + cst st (10 vectors, 30 doubles, in that order); tet4: c1, cr, cs,
+ *   ct (4 vectors, 12 doubles). Equal to the VTK shape functions' sum_I N_I x_I.
+ * - tri6 boundary face normal field: n(u,v) = a1 + au u + av v + auu u^2 + avv v^2
+ *   + auv uv (6 vectors); tri3: a1, au, av (3 vectors). Equal to sum_a N_a nbar_a
+ *   (paper eq. 7 before normalisation); the evaluation normalises.
+ */
+#ifndef hoembedTransferKernel_h
+#define hoembedTransferKernel_h
+
+#include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedTetMeshTopology.h"
+
+#include <cstdint>
+
+namespace hoembed
+{
+/// One surface vertex of the plan (48 bytes).
+struct TransferEntry
+{
+  double PC[3];       ///< parametric coordinates (r, s, t) in Cell
+  double Distance;    ///< d of v = p + d n (0: no normal offset)
+  std::int32_t Cell;  ///< FE cell
+  std::int32_t Face;  ///< 4 * boundary face index + local face of Cell, or -1 (no offset)
+};
+
+/// Number of doubles per cell in the map coefficient table (30 for tet10, 12 for tet4).
+inline int CellCoefficientSize(int nodesPerCell)
+{
+  return nodesPerCell == 10 ? 30 : 12;
+}
+/// Number of doubles per boundary face in the normal coefficient table (18 tri6, 9 tri3).
+inline int FaceCoefficientSize(int nodesPerCell)
+{
+  return nodesPerCell == 10 ? 18 : 9;
+}
+
+/**
+ * Map coefficients of cells [begin, end): `conn` holds nodesPerCell ids per cell, `points`
+ * 3 doubles per node; `coeffs` receives CellCoefficientSize doubles per cell.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void ComputeCellMapCoefficients(const std::int64_t* conn,
+  int nodesPerCell, const double* points, std::int64_t begin, std::int64_t end, double* coeffs);
+
+/**
+ * Normal-field coefficients of boundary faces [begin, end) of `topo` from nodal normals
+ * (3 doubles per node); `coeffs` receives FaceCoefficientSize doubles per face.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void ComputeFaceNormalCoefficients(const TetMeshTopology& topo,
+  const double* nodalNormals, std::int64_t begin, std::int64_t end, double* coeffs);
+
+/**
+ * Face-local (u, v) (hoembed::TetFaceToTetParametric convention, tri node order of
+ * hoembed::TetFaceNodes) of the tet parametric point `pc` on local face `face`: the
+ * barycentric coordinates of the face's corners b and c, divided by the sum of those of
+ * a, b, c (so a point slightly off the face is projected along the opposite corner).
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void TetParametricToFace(int face, const double pc[3], double uv[2]);
+
+/**
+ * The boundary face of `cell` on which the parametric point `pc` lies: among the cell's
+ * local faces that are boundary faces, the one whose opposite barycentric coordinate is
+ * smallest in magnitude, if that is <= tol. Returns 4 * boundary face + local face
+ * (the TransferEntry::Face encoding), or -1 when there is none.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT std::int32_t DeduceBoundaryFace(
+  const TetMeshTopology& topo, std::int64_t cell, const double pc[3], double tol);
+
+/**
+ * Deformed positions of plan entries [begin, end): out[3 i..3 i+2] = p' + d n' for entry i
+ * (p' from the cell map coefficients, n' the normalised normal field of its boundary face;
+ * entries with Face < 0 or Distance == 0 give p'). `faceCoeffs` may be null when no entry
+ * has an offset. A degenerate normal (zero interpolated sum) gives p' alone.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, std::int64_t begin, std::int64_t end,
+  double* out);
+/// The same, writing single precision.
+HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, std::int64_t begin, std::int64_t end,
+  float* out);
+
+/**
+ * Nodal normals rotated to the deformed configuration (paper §5.1): for nodes [begin, end),
+ * out_I = normalise(R_I restNormals_I), R_I 9 doubles row-major per node. Nodes with a zero
+ * rest normal (interior nodes) get (0, 0, 0).
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void RotateNodalNormals(const double* restNormals,
+  const double* rotations, std::int64_t begin, std::int64_t end, double* out);
+
+/**
+ * Number of cells in [begin, end) that are inverted or degenerate: det J <= 0 at one of the
+ * corners or at the centroid (tet10), or the constant det J <= 0 (tet4).
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT std::int64_t CountInvertedCells(const std::int64_t* conn,
+  int nodesPerCell, const double* points, std::int64_t begin, std::int64_t end);
+} // namespace hoembed
+
+#endif

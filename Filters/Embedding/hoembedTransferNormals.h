@@ -1,0 +1,42 @@
+/**
+ * @file hoembedTransferNormals.h
+ * @brief Area-weighted vertex normals of a polygon surface, for rendering the transferred
+ *        surface (computed in parallel-friendly ranges, no atomics).
+ *
+ * Plain C++ kernel. Polygons are given in VTK's offsets/connectivity layout (64-bit). The
+ * vertex -> polygon incidence is built once per surface topology; every frame then runs
+ * two passes over ranges: polygon normals (Newell's method: the unnormalised normal is
+ * twice the area times the unit normal, so the sum is area-weighted), then vertex normals
+ * (sum over incident polygons, normalised; (0, 0, 0) for isolated vertices).
+ */
+#ifndef hoembedTransferNormals_h
+#define hoembedTransferNormals_h
+
+#include "hoembedFiltersEmbeddingModule.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace hoembed
+{
+/// Vertex -> polygon incidence (CSR): polygons of vertex i are
+/// incPolys[incOffsets[i] .. incOffsets[i + 1]).
+HOEMBEDFILTERSEMBEDDING_EXPORT void BuildVertexPolygonIncidence(const std::int64_t* offsets,
+  const std::int64_t* conn, std::int64_t numberOfPolys, std::int64_t numberOfPoints,
+  std::vector<std::int64_t>& incOffsets, std::vector<std::int64_t>& incPolys);
+
+/// Unnormalised (area-weighted) normals of polygons [begin, end), 3 doubles each.
+HOEMBEDFILTERSEMBEDDING_EXPORT void ComputePolygonNormals(const std::int64_t* offsets,
+  const std::int64_t* conn, const double* points, std::int64_t begin, std::int64_t end,
+  double* polyNormals);
+HOEMBEDFILTERSEMBEDDING_EXPORT void ComputePolygonNormals(const std::int64_t* offsets,
+  const std::int64_t* conn, const float* points, std::int64_t begin, std::int64_t end,
+  double* polyNormals);
+
+/// Unit vertex normals of vertices [begin, end) from the polygon normals, as floats.
+HOEMBEDFILTERSEMBEDDING_EXPORT void ComputeVertexNormals(const std::int64_t* incOffsets,
+  const std::int64_t* incPolys, const double* polyNormals, std::int64_t begin, std::int64_t end,
+  float* normals);
+} // namespace hoembed
+
+#endif

@@ -1,0 +1,62 @@
+"""pyvista-level front end of vtkDeformationTransferFilter."""
+
+import pyvista
+
+__all__ = ["transfer"]
+
+from ._errors import run_filter
+from .hoembedFiltersEmbedding import vtkDeformationTransferFilter
+
+_NORMAL_MODES = {"recompute": 0, "rotate": 1}
+
+
+def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False,
+             warnings=None):
+    """The deformed fine surface for a deformed FE mesh: v' = p' + d n' (paper eq. 4).
+
+    Parameters
+    ----------
+    embedded_surface : pyvista.PolyData or vtkPolyData
+        The surface with the embedding arrays (``EmbeddingCellId``,
+        ``EmbeddingParametricCoords``, ``EmbeddingDistance``, optional ``EmbeddingFace``)
+        and field data ``EmbeddingMethod`` / ``EmbeddingMeshFingerprint``, as written by
+        ``hoembed.embed`` / vtkEmbeddingCoordinatesFilter.
+    deformed_mesh : pyvista.UnstructuredGrid or vtkUnstructuredGrid
+        The FE mesh the surface was embedded in (same points and cells, tet10 or tet4),
+        with deformed coordinates.
+    normals : {"recompute", "rotate"}
+        ``"recompute"`` (default): smooth nodal normals of the deformed curved boundary.
+        ``"rotate"``: rest nodal normals rotated by the mesh's ``NodalRotation`` point data
+        (needs ``Displacement`` too; falls back to recompute with a warning otherwise).
+    compute_point_normals : bool
+        Add area-weighted point normals ``Normals`` for rendering (default False).
+    warnings : list, optional
+        Receives the filter's warnings (e.g. inverted deformed elements).
+
+    Returns
+    -------
+    pyvista.PolyData
+        The input surface's topology and data with deformed points (the ``Embedding*``
+        point arrays removed).
+
+    Raises
+    ------
+    hoembed.HOEmbedError
+        Missing embedding arrays, a mesh that is not the embedding's (fingerprint), NaN
+        coordinates, unsupported cells.
+    ValueError
+        An unknown ``normals`` value.
+
+    Examples
+    --------
+    >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
+    """
+    if normals not in _NORMAL_MODES:
+        raise ValueError(f"normals must be 'recompute' or 'rotate', not {normals!r}")
+    alg = vtkDeformationTransferFilter()
+    alg.SetInputData(0, embedded_surface)
+    alg.SetInputData(1, deformed_mesh)
+    alg.SetNormalMode(_NORMAL_MODES[normals])
+    alg.SetComputePointNormals(bool(compute_point_normals))
+    out = run_filter(alg, warnings=warnings)
+    return pyvista.wrap(out).copy()
