@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -453,6 +454,11 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
 {
   const double bnorm = b.norm();
   LastRes = 0.0;
+  if (!std::isfinite(bnorm))
+  {
+    xs.setConstant(std::numeric_limits<double>::quiet_NaN()); // reported by Step
+    return 0;
+  }
   if (bnorm == 0.0)
   {
     xs.setZero();
