@@ -57,7 +57,13 @@ struct CorotationalSolver::Impl
   // preconditioner
   Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>> LLT;
   bool HaveFactor = false;
+  bool Analyzed = false;
   double FactorCM = -1, FactorCK = -1;
+  double FactorSeconds = 0.0;   // cost of the last factorisation
+  double SolveSinceFactor = 0.0; // CG seconds spent with it since
+  std::vector<double> FactorQ;  // NP * 9 nodal rotations baked into the factor
+  std::vector<double> RelRot;   // NP * 9: NodeRot * FactorQ^T (preconditioner rotation)
+  double LoadFloor = 0.0;       // |dt f_ext|: residual scale when the system is at rest
   Timings T;
   int LastIt = 0;
   double LastRes = 0;
@@ -65,6 +71,8 @@ struct CorotationalSolver::Impl
   void ComputeRotations();
   void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
   bool Factor(double cM, double cK);
+  bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
+  void UpdateRelativeRotations();
   int PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol);
   void Mask(Eigen::VectorXd& r) const
   {
@@ -398,8 +406,18 @@ bool CorotationalSolver::Impl::Factor(double cM, double cK)
   {
     return LLT.info() == Eigen::Success;
   }
-  RowMat A0 = A;
+  return FactorMatrix(A, true, cM, cK);
+}
+
+// Factorise either the unrotated system cM M + cK K (rest = true) or the current
+// assembled A (rest = false), with clamped rows and columns replaced by the identity.
+// The symbolic analysis is done once (the pattern never changes).
+bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, double cM, double cK)
+{
+  auto t0 = Clock::now();
+  RowMat A0 = source;
   double* val = A0.valuePtr();
+  const double* cur = source.valuePtr();
   const int* outer = A0.outerIndexPtr();
   const int* inner = A0.innerIndexPtr();
   for (long long r = 0; r < 3 * NP; ++r)
@@ -413,16 +431,53 @@ bool CorotationalSolver::Impl::Factor(double cM, double cK)
       }
       else
       {
-        val[k] = cM * MassValues[k] + cK * StiffValues[k];
+        val[k] = rest ? cM * MassValues[k] + cK * StiffValues[k] : cur[k];
       }
     }
   }
   ColMat A0c = A0;
-  LLT.compute(A0c);
+  if (!Analyzed)
+  {
+    LLT.analyzePattern(A0c);
+    Analyzed = true;
+  }
+  LLT.factorize(A0c);
   HaveFactor = true;
   FactorCM = cM;
   FactorCK = cK;
+  FactorQ.assign(9 * NP, 0.0);
+  if (rest)
+  {
+    for (long long p = 0; p < NP; ++p)
+    {
+      FactorQ[9 * p] = FactorQ[9 * p + 4] = FactorQ[9 * p + 8] = 1.0;
+    }
+  }
+  else
+  {
+    FactorQ = NodeRot;
+  }
+  FactorSeconds = Seconds(t0, Clock::now());
+  SolveSinceFactor = 0.0;
   return LLT.info() == Eigen::Success;
+}
+
+void CorotationalSolver::Impl::UpdateRelativeRotations()
+{
+  RelRot.resize(9 * NP);
+  for (long long p = 0; p < NP; ++p)
+  {
+    const double* Q = &NodeRot[9 * p];
+    const double* F = &FactorQ[9 * p];
+    double* R = &RelRot[9 * p];
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        R[3 * i + j] = Q[3 * i] * F[3 * j] + Q[3 * i + 1] * F[3 * j + 1] + Q[3 * i + 2] * F[3 * j + 2];
+      }
+    }
+  }
 }
 
 void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const
@@ -430,7 +485,7 @@ void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::Vector
   Eigen::VectorXd t(3 * NP);
   for (long long p = 0; p < NP; ++p)
   {
-    const double* Q = &NodeRot[9 * p];
+    const double* Q = &RelRot[9 * p];
     const double* rp = r.data() + 3 * p;
     for (int i = 0; i < 3; ++i)
     {
@@ -440,7 +495,7 @@ void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::Vector
   Eigen::VectorXd s = LLT.solve(t);
   for (long long p = 0; p < NP; ++p)
   {
-    const double* Q = &NodeRot[9 * p];
+    const double* Q = &RelRot[9 * p];
     const double* sp = s.data() + 3 * p;
     for (int i = 0; i < 3; ++i)
     {
@@ -469,7 +524,8 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
   Mask(r);
   Eigen::VectorXd z(3 * NP), p(3 * NP), Ap(3 * NP);
   double rn = r.norm();
-  if (rn <= tol * bnorm)
+  const double goal = tol * std::max(bnorm, LoadFloor);
+  if (rn <= goal)
   {
     LastRes = rn / bnorm;
     return 0;
@@ -492,7 +548,7 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
     xs += a * p;
     r -= a * Ap;
     rn = r.norm();
-    if (rn <= tol * bnorm || !std::isfinite(rn))
+    if (rn <= goal || !std::isfinite(rn))
     {
       break;
     }
@@ -627,11 +683,30 @@ bool CorotationalSolver::Step()
   I.Mask(rhs);
   auto t2 = Clock::now();
 
-  I.Factor(cM, cK);
+  // Preconditioner: the unrotated factor (first step, new dt / damping / clamps), then
+  // the factor of a recent system matrix, refreshed when the CG time spent since the
+  // last factorisation exceeds what the factorisation cost (so it pays for itself).
+  if (!I.HaveFactor || cM != I.FactorCM || cK != I.FactorCK)
+  {
+    I.Factor(cM, cK);
+  }
+  else if (I.LastIt > 2 && I.SolveSinceFactor > I.FactorSeconds)
+  {
+    I.FactorMatrix(I.A, false, cM, cK);
+  }
+  I.UpdateRelativeRotations();
+  double load = 0.0;
+  for (long long k = 0; k < 3 * I.NP; ++k)
+  {
+    load += I.Free[k] ? I.FExt[k] * I.FExt[k] : 0.0;
+  }
+  I.LoadFloor = dt * std::sqrt(load);
+  auto ts = Clock::now();
   Eigen::Map<Eigen::VectorXd> dv(I.dv.data(), 3 * I.NP);
   Eigen::VectorXd sol = dv;
   I.LastIt = I.PCG(rhs, sol, I.Tol);
   dv = sol;
+  I.SolveSinceFactor += Seconds(ts, Clock::now());
   bool finite = true;
   for (long long k = 0; k < 3 * I.NP; ++k)
   {
