@@ -58,6 +58,8 @@ struct CorotationalSolver::Impl
   Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>> LLT;
   bool HaveFactor = false;
   bool Analyzed = false;
+  int ItAfterFactor = 0;
+  bool JustFactored = false;
   double FactorCM = -1, FactorCK = -1;
   double FactorSeconds = 0.0;   // cost of the last factorisation
   double SolveSinceFactor = 0.0; // CG seconds spent with it since
@@ -442,6 +444,7 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
     Analyzed = true;
   }
   LLT.factorize(A0c);
+  JustFactored = true;
   HaveFactor = true;
   FactorCM = cM;
   FactorCK = cK;
@@ -690,7 +693,8 @@ bool CorotationalSolver::Step()
   {
     I.Factor(cM, cK);
   }
-  else if (I.LastIt > 2 && I.SolveSinceFactor > I.FactorSeconds)
+  else if (I.LastIt > std::max(2, (3 * I.ItAfterFactor) / 2) &&
+    I.SolveSinceFactor > I.FactorSeconds)
   {
     I.FactorMatrix(I.A, false, cM, cK);
   }
@@ -705,6 +709,11 @@ bool CorotationalSolver::Step()
   Eigen::Map<Eigen::VectorXd> dv(I.dv.data(), 3 * I.NP);
   Eigen::VectorXd sol = dv;
   I.LastIt = I.PCG(rhs, sol, I.Tol);
+  if (I.JustFactored)
+  {
+    I.ItAfterFactor = I.LastIt;
+    I.JustFactored = false;
+  }
   dv = sol;
   I.SolveSinceFactor += Seconds(ts, Clock::now());
   bool finite = true;
