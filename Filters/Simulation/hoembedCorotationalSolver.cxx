@@ -44,6 +44,7 @@ struct CorotationalSolver::Impl
   std::vector<double> EB;     // NC * D * D rotated element matrices
   std::vector<double> EF;     // NC * D element right-hand sides
   std::vector<int> Scatter;   // NC * D * D value index in the CSR pattern
+  std::vector<int> GatherOffsets, GatherIndex; // per CSR value: element entries summed into it
   std::vector<double> MassValues, StiffValues; // rest M and K on the pattern
   std::vector<double> Gravity0; // consistent body force for unit density * g / density
   std::vector<double> FExt;
@@ -275,6 +276,25 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   }
   I.M = I.A;
   std::copy(I.MassValues.begin(), I.MassValues.end(), I.M.valuePtr());
+  // Transpose of the scatter map, so that the assembly runs in parallel over CSR values.
+  const long long nnz = I.A.nonZeros();
+  I.GatherOffsets.assign(nnz + 1, 0);
+  for (int idx : I.Scatter)
+  {
+    I.GatherOffsets[idx + 1]++;
+  }
+  for (long long k = 0; k < nnz; ++k)
+  {
+    I.GatherOffsets[k + 1] += I.GatherOffsets[k];
+  }
+  I.GatherIndex.assign(I.Scatter.size(), 0);
+  {
+    std::vector<int> fill(I.GatherOffsets.begin(), I.GatherOffsets.end() - 1);
+    for (size_t j = 0; j < I.Scatter.size(); ++j)
+    {
+      I.GatherIndex[fill[I.Scatter[j]]++] = static_cast<int>(j);
+    }
+  }
   I.Free.assign(3 * I.NP, 1);
   this->SetFixed(nullptr);
   I.FExt.assign(3 * I.NP, 0.0);
@@ -651,19 +671,27 @@ bool CorotationalSolver::Step()
       }
     });
 
-  // Scatter.
+  // Assembly: each CSR value gathers its element entries (parallel over values).
   double* val = I.A.valuePtr();
   const long long nnz = I.A.nonZeros();
-  for (long long k = 0; k < nnz; ++k)
   {
-    val[k] = cM * I.MassValues[k];
-  }
-  const long long total = NC * D * D;
-  const int* sc = I.Scatter.data();
-  const double* eb = I.EB.data();
-  for (long long k = 0; k < total; ++k)
-  {
-    val[sc[k]] += cK * eb[k];
+    const int* off = I.GatherOffsets.data();
+    const int* gi = I.GatherIndex.data();
+    const double* eb = I.EB.data();
+    const double* mv = I.MassValues.data();
+    vtkSMPTools::For(0, nnz,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType k = begin; k < end; ++k)
+        {
+          double sum = 0.0;
+          for (int j = off[k]; j < off[k + 1]; ++j)
+          {
+            sum += eb[gi[j]];
+          }
+          val[k] = cM * mv[k] + cK * sum;
+        }
+      });
   }
   Eigen::Map<const Eigen::VectorXd> vv(I.v.data(), 3 * I.NP);
   Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(I.FExt.data(), 3 * I.NP);
