@@ -7,6 +7,9 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#ifdef HOEMBED_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -23,6 +26,11 @@ using Clock = std::chrono::steady_clock;
 using RowMat = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+#ifdef HOEMBED_HAVE_CHOLMOD
+using Factorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
+#else
+using Factorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+#endif
 
 double Seconds(Clock::time_point a, Clock::time_point b)
 {
@@ -56,7 +64,7 @@ struct CorotationalSolver::Impl
   int MaxIt = 500;
   RowMat A, M;
   // preconditioner
-  Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>> LLT;
+  Factorization LLT;
   bool HaveFactor = false;
   bool Analyzed = false;
   int ItAfterFactor = 0;
