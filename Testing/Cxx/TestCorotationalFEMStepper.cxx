@@ -8,6 +8,7 @@
 #include "hoembedTestUtilities.h"
 #include "hoembedTetElementMatrices.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkDoubleArray.h"
@@ -490,7 +491,14 @@ void TestTimeProtocol()
     s->GetLastNumberOfSteps());
   const double dataTime = s->GetOutput()->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP());
   HOEMBED_CHECK(std::abs(dataTime - 0.04) < 1e-15, "DATA_TIME_STEP %g", dataTime);
+  int progressEvents = 0;
+  vtkNew<vtkCallbackCommand> counter;
+  counter->SetClientData(&progressEvents);
+  counter->SetCallback([](vtkObject*, unsigned long, void* cd, void*) { ++*static_cast<int*>(cd); });
+  s->AddObserver(vtkCommand::ProgressEvent, counter);
   RunAt(s, 0.10);
+  s->RemoveObservers(vtkCommand::ProgressEvent);
+  HOEMBED_CHECK(progressEvents >= 2, "only %d progress events for 6 steps", progressEvents);
   HOEMBED_CHECK(s->GetLastNumberOfSteps() == 6, "jump forward took %d steps", s->GetLastNumberOfSteps());
   RunAt(s, 0.03);
   HOEMBED_CHECK(s->GetLastNumberOfSteps() == 3, "jump back took %d steps (restart expected)",
