@@ -228,8 +228,16 @@ int vtkCorotationalFEMStepper::RequestData(
     }
     // Clamps.
     std::vector<unsigned char> fixed(np, 0);
-    vtkDataArray* fixedArray =
-      this->FixedArrayName ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
+    vtkDataArray* fixedArray = (this->FixedArrayName && *this->FixedArrayName)
+      ? input->GetPointData()->GetArray(this->FixedArrayName)
+      : nullptr;
+    if (!fixedArray && this->FixedArrayName && *this->FixedArrayName &&
+      std::string(this->FixedArrayName) != "Fixed")
+    {
+      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                       << "' is not a point-data array of the input.");
+      return 0;
+    }
     double bounds[6];
     input->GetBounds(bounds);
     const double diag = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +

@@ -628,6 +628,9 @@ void TestErrors()
     auto s = MakeStepper(mesh);
     s->SetExternalForceArrayName("NoSuchArray");
     ExpectError(s, "ExternalForceArrayName");
+    auto f = MakeStepper(mesh);
+    f->SetFixedArrayName("NoSuchClamps");
+    ExpectError(f, "FixedArrayName");
     auto t = MakeStepper(mesh);
     t->StaticSolveOn(); // free body
     ExpectError(t, "clamped");

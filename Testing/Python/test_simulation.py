@@ -179,3 +179,5 @@ def test_bad_mesh_and_state_raise():
                          external_force=np.full((mesh.n_points, 3), 1e300))
     with pytest.raises(hoembed.HOEmbedError, match="clamped"):
         hoembed.simulate(mesh, static=True)
+    with pytest.raises(hoembed.HOEmbedError, match="FixedArrayName"):
+        hoembed.simulate(mesh, steps=1, fixed="NoSuchArray")
