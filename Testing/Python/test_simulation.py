@@ -181,3 +181,24 @@ def test_bad_mesh_and_state_raise():
         hoembed.simulate(mesh, static=True)
     with pytest.raises(hoembed.HOEmbedError, match="FixedArrayName"):
         hoembed.simulate(mesh, steps=1, fixed="NoSuchArray")
+
+
+def test_real_mesh_bunny_frames(data_dir, tmp_path):
+    surf = pv.read(str(data_dir / "bunny_lowres.obj"))
+    mesh = hoembed.tet10_mesh(surf, n_elements=90)
+    ymin = mesh.bounds[2]
+    frames = hoembed.simulate(mesh, steps=20, dt=0.01, young=5e4, gravity=(0, -9.81, 0),
+                              fixed={"plane": ((0, ymin + 0.01, 0), (0, 1, 0))}, every=10)
+    last = frames[-1]
+    u = last.point_data["Displacement"]
+    assert np.all(np.isfinite(u))
+    clamped = mesh.points[:, 1] <= ymin + 0.01
+    assert clamped.any() and np.abs(u[clamped]).max() == 0.0
+    assert u[~clamped, 1].mean() < 0  # sags under gravity
+    assert np.abs(u).max() < 0.5 * (mesh.bounds[3] - mesh.bounds[2])
+    R = last.point_data["NodalRotation"].reshape(-1, 3, 3)
+    np.testing.assert_allclose(R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape),
+                               atol=1e-10)
+    path = hoembed.write_series(frames, tmp_path, "bunny")
+    reader = pv.get_reader(path)
+    assert len(reader.time_values) == len(frames)
