@@ -85,6 +85,16 @@ struct CorotationalSolver::Impl
   bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
   void UpdateRelativeRotations();
   int PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol);
+  // y = CM M p + CK sum_e R_e K_e R_e^T p_e (matrix-free: element by element)
+  void MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y);
+  // y += s * M p with the node-level (scalar) mass matrix
+  void MassApply(const double* p, double s, double* y) const;
+  // assemble A = cM M + cK sum R K R^T (only needed to refresh the factorisation)
+  void AssembleA(double cM, double cK);
+  double CM = 1.0, CK = 0.0;
+  bool StaticMode = false; // steps without mass (static increments)
+  RowMat MN;              // NP x NP scalar mass matrix
+  std::vector<double> EW; // NC * D element matvec results
   void Mask(Eigen::VectorXd& r) const
   {
     for (long long k = 0; k < 3 * NP; ++k)
@@ -284,6 +294,24 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   }
   I.M = I.A;
   std::copy(I.MassValues.begin(), I.MassValues.end(), I.M.valuePtr());
+  {
+    std::vector<Eigen::Triplet<double, int>> mt;
+    mt.reserve(NC * N * N);
+    for (long long e = 0; e < NC; ++e)
+    {
+      for (int a = 0; a < N; ++a)
+      {
+        for (int b = 0; b < N; ++b)
+        {
+          mt.emplace_back(I.Conn[e * N + a], I.Conn[e * N + b], Me[e * N * N + a * N + b]);
+        }
+      }
+    }
+    I.MN.resize(I.NP, I.NP);
+    I.MN.setFromTriplets(mt.begin(), mt.end());
+    I.MN.makeCompressed();
+  }
+  I.EW.assign(NC * D, 0.0);
   // Transpose of the scatter map, so that the assembly runs in parallel over CSR values.
   const long long nnz = I.A.nonZeros();
   I.GatherOffsets.assign(nnz + 1, 0);
@@ -551,7 +579,9 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
     return 0;
   }
   Mask(xs);
-  Eigen::VectorXd r = b - A * xs;
+  Eigen::VectorXd r(3 * NP);
+  MatVec(xs, r);
+  r = b - r;
   Mask(r);
   Eigen::VectorXd z(3 * NP), p(3 * NP), Ap(3 * NP);
   double rn = r.norm();
@@ -568,7 +598,7 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
   while (it < MaxIt)
   {
     ++it;
-    Ap.noalias() = A * p;
+    MatVec(p, Ap);
     Mask(Ap);
     const double pAp = p.dot(Ap);
     if (!(pAp > 0.0))
@@ -592,13 +622,147 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
   return it;
 }
 
+void CorotationalSolver::Impl::MassApply(const double* p, double s, double* y) const
+{
+  const int* outer = MN.outerIndexPtr();
+  const int* inner = MN.innerIndexPtr();
+  const double* val = MN.valuePtr();
+  for (long long r = 0; r < NP; ++r)
+  {
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      const double m = val[k];
+      const double* q = p + 3 * inner[k];
+      a0 += m * q[0];
+      a1 += m * q[1];
+      a2 += m * q[2];
+    }
+    y[3 * r] += s * a0;
+    y[3 * r + 1] += s * a1;
+    y[3 * r + 2] += s * a2;
+  }
+}
+
+void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y)
+{
+  vtkSMPTools::For(0, NC,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double l[30], w[30];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const double* R = &Rot[e * 9];
+        for (int a = 0; a < N; ++a)
+        {
+          const double* q = p.data() + 3 * Conn[e * N + a];
+          for (int i = 0; i < 3; ++i)
+          {
+            l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
+          }
+        }
+        const double* K = &Ke[e * D * D];
+        for (int r = 0; r < D; ++r)
+        {
+          double s = 0.0;
+          const double* Kr = K + r * D;
+          for (int c = 0; c < D; ++c)
+          {
+            s += Kr[c] * l[c];
+          }
+          w[r] = s;
+        }
+        double* out = &EW[e * D];
+        for (int a = 0; a < N; ++a)
+        {
+          for (int i = 0; i < 3; ++i)
+          {
+            out[3 * a + i] =
+              R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2];
+          }
+        }
+      }
+    });
+  y.setZero();
+  MassApply(p.data(), CM, y.data());
+  for (long long e = 0; e < NC; ++e)
+  {
+    const double* out = &EW[e * D];
+    for (int a = 0; a < N; ++a)
+    {
+      double* ya = y.data() + 3 * Conn[e * N + a];
+      ya[0] += CK * out[3 * a];
+      ya[1] += CK * out[3 * a + 1];
+      ya[2] += CK * out[3 * a + 2];
+    }
+  }
+}
+
+void CorotationalSolver::Impl::AssembleA(double cM, double cK)
+{
+  vtkSMPTools::For(0, NC,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const Mat3 R = Eigen::Map<const Mat3>(&Rot[e * 9]);
+        const double* K = &Ke[e * D * D];
+        double* B = &EB[e * D * D];
+        for (int a = 0; a < N; ++a)
+        {
+          for (int b = a; b < N; ++b)
+          {
+            Mat3 Kab;
+            for (int i = 0; i < 3; ++i)
+            {
+              for (int j = 0; j < 3; ++j)
+              {
+                Kab(i, j) = K[(3 * a + i) * D + 3 * b + j];
+              }
+            }
+            const Mat3 Bab = R * Kab * R.transpose();
+            for (int i = 0; i < 3; ++i)
+            {
+              for (int j = 0; j < 3; ++j)
+              {
+                B[(3 * a + i) * D + 3 * b + j] = Bab(i, j);
+                B[(3 * b + j) * D + 3 * a + i] = Bab(i, j);
+              }
+            }
+          }
+        }
+      }
+    });
+  double* val = A.valuePtr();
+  const long long nnz = A.nonZeros();
+  {
+    const int* off = GatherOffsets.data();
+    const int* gi = GatherIndex.data();
+    const double* eb = EB.data();
+    const double* mv = MassValues.data();
+    vtkSMPTools::For(0, nnz,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType k = begin; k < end; ++k)
+        {
+          double sum = 0.0;
+          for (int j = off[k]; j < off[k + 1]; ++j)
+          {
+            sum += eb[gi[j]];
+          }
+          val[k] = cM * mv[k] + cK * sum;
+        }
+      });
+  }
+}
+
 bool CorotationalSolver::Step()
 {
   Impl& I = *this->P;
   const int N = I.N, D = I.D;
   const long long NC = I.NC;
   const double dt = I.Dt;
-  const double cM = 1.0 + dt * I.Alpha;
+  const double cM = I.StaticMode ? 0.0 : 1.0 + dt * I.Alpha;
   const double cK = dt * I.Beta + dt * dt;
   const double vScale = dt + I.Beta;
 
@@ -613,7 +777,9 @@ bool CorotationalSolver::Step()
   I.ComputeRotations();
   auto t1 = Clock::now();
 
-  // Rotated element matrices R K R^T and element forces -R K (R^T (x + (dt+beta) v) - X).
+  I.CM = cM;
+  I.CK = cK;
+  // Element forces -R K (R^T (x + (dt+beta) v) - X).
   vtkSMPTools::For(0, NC,
     [&](vtkIdType begin, vtkIdType end)
     {
@@ -622,7 +788,6 @@ bool CorotationalSolver::Step()
       {
         const Mat3 R = Eigen::Map<const Mat3>(&I.Rot[e * 9]);
         const double* K = &I.Ke[e * D * D];
-        double* B = &I.EB[e * D * D];
         for (int a = 0; a < N; ++a)
         {
           const int pa = I.Conn[e * N + a];
@@ -653,59 +818,13 @@ bool CorotationalSolver::Step()
           f[3 * a + 1] = -g[1];
           f[3 * a + 2] = -g[2];
         }
-        for (int a = 0; a < N; ++a)
-        {
-          for (int b = a; b < N; ++b)
-          {
-            Mat3 Kab;
-            for (int i = 0; i < 3; ++i)
-            {
-              for (int j = 0; j < 3; ++j)
-              {
-                Kab(i, j) = K[(3 * a + i) * D + 3 * b + j];
-              }
-            }
-            const Mat3 Bab = R * Kab * R.transpose();
-            for (int i = 0; i < 3; ++i)
-            {
-              for (int j = 0; j < 3; ++j)
-              {
-                B[(3 * a + i) * D + 3 * b + j] = Bab(i, j);
-                B[(3 * b + j) * D + 3 * a + i] = Bab(i, j);
-              }
-            }
-          }
-        }
       }
     });
 
-  // Assembly: each CSR value gathers its element entries (parallel over values).
-  double* val = I.A.valuePtr();
-  const long long nnz = I.A.nonZeros();
-  {
-    const int* off = I.GatherOffsets.data();
-    const int* gi = I.GatherIndex.data();
-    const double* eb = I.EB.data();
-    const double* mv = I.MassValues.data();
-    vtkSMPTools::For(0, nnz,
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType k = begin; k < end; ++k)
-        {
-          double sum = 0.0;
-          for (int j = off[k]; j < off[k + 1]; ++j)
-          {
-            sum += eb[gi[j]];
-          }
-          val[k] = cM * mv[k] + cK * sum;
-        }
-      });
-  }
-  Eigen::Map<const Eigen::VectorXd> vv(I.v.data(), 3 * I.NP);
   Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(I.FExt.data(), 3 * I.NP);
   if (I.Alpha != 0.0)
   {
-    rhs -= I.Alpha * (I.M * vv);
+    I.MassApply(I.v.data(), -I.Alpha, rhs.data());
   }
   for (long long e = 0; e < NC; ++e)
   {
@@ -732,6 +851,11 @@ bool CorotationalSolver::Step()
   else if (I.LastIt > std::max(2, (3 * I.ItAfterFactor) / 2) &&
     I.SolveSinceFactor > I.FactorSeconds)
   {
+    auto ta = Clock::now();
+    I.AssembleA(cM, cK);
+    const double assembly = Seconds(ta, Clock::now());
+    I.T.Assembly += assembly;
+    I.T.Solve -= assembly; // counted in the solve phase below; keep it in assembly
     I.FactorMatrix(I.A, false, cM, cK);
   }
   I.UpdateRelativeRotations();
@@ -791,15 +915,12 @@ bool CorotationalSolver::SolveStatic(int maxIterations, double tolerance, std::s
   }
   const double saveDt = I.Dt, saveA = I.Alpha, saveB = I.Beta;
   // A static increment is an implicit step with dt = 1, no mass, from zero velocity:
-  // K~ dx = f_ext - f_int(x). Reuse Step's assembly by zeroing the mass coefficient.
-  const std::vector<double> mass = I.MassValues;
-  std::fill(I.MassValues.begin(), I.MassValues.end(), 0.0);
+  // K~ dx = f_ext - f_int(x) (Step with a zero mass coefficient; the factor of K just
+  // computed is the one for cM = 0, cK = 1).
+  I.StaticMode = true;
   I.Dt = 1.0;
   I.Alpha = 0.0;
   I.Beta = 0.0;
-  // the factor of K just computed is the factor of the mass-free system of the steps
-  I.FactorCM = 1.0;
-  I.FactorCK = 1.0;
   const double saveTol = I.Tol;
   I.Tol = std::min(I.Tol, 1e-13);
   bool ok = false;
@@ -839,7 +960,7 @@ bool CorotationalSolver::SolveStatic(int maxIterations, double tolerance, std::s
   {
     error = "the static solve did not converge (load too large for the co-rotated iteration)";
   }
-  I.MassValues = mass;
+  I.StaticMode = false;
   I.Dt = saveDt;
   I.Alpha = saveA;
   I.Beta = saveB;
