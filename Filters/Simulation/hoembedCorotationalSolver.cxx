@@ -26,11 +26,15 @@ using Clock = std::chrono::steady_clock;
 using RowMat = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+// Small systems: Eigen's simplicial factor (low per-solve overhead). Large systems:
+// CHOLMOD's supernodal factor when available (much less time to factorise).
+using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 #ifdef HOEMBED_HAVE_CHOLMOD
-using Factorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
+using LargeFactorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
 #else
-using Factorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+using LargeFactorization = SmallFactorization;
 #endif
+constexpr long long LargeSystem = 6000; // DOF from which the large factorisation is used
 
 double Seconds(Clock::time_point a, Clock::time_point b)
 {
@@ -64,7 +68,13 @@ struct CorotationalSolver::Impl
   int MaxIt = 500;
   RowMat A, M;
   // preconditioner
-  Factorization LLT;
+  SmallFactorization SmallLLT;
+  LargeFactorization LargeLLT;
+  bool Large() const { return 3 * NP >= LargeSystem; }
+  bool FactorOK() const
+  {
+    return (Large() ? LargeLLT.info() : SmallLLT.info()) == Eigen::Success;
+  }
   bool HaveFactor = false;
   bool Analyzed = false;
   int ItAfterFactor = 0;
@@ -462,7 +472,7 @@ bool CorotationalSolver::Impl::Factor(double cM, double cK)
 {
   if (HaveFactor && cM == FactorCM && cK == FactorCK)
   {
-    return LLT.info() == Eigen::Success;
+    return FactorOK();
   }
   return FactorMatrix(A, true, cM, cK);
 }
@@ -496,10 +506,24 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
   ColMat A0c = A0;
   if (!Analyzed)
   {
-    LLT.analyzePattern(A0c);
+    if (Large())
+    {
+      LargeLLT.analyzePattern(A0c);
+    }
+    else
+    {
+      SmallLLT.analyzePattern(A0c);
+    }
     Analyzed = true;
   }
-  LLT.factorize(A0c);
+  if (Large())
+  {
+    LargeLLT.factorize(A0c);
+  }
+  else
+  {
+    SmallLLT.factorize(A0c);
+  }
   JustFactored = true;
   HaveFactor = true;
   FactorCM = cM;
@@ -518,7 +542,7 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
   }
   FactorSeconds = Seconds(t0, Clock::now());
   SolveSinceFactor = 0.0;
-  return LLT.info() == Eigen::Success;
+  return FactorOK();
 }
 
 void CorotationalSolver::Impl::UpdateRelativeRotations()
@@ -551,7 +575,7 @@ void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::Vector
       t[3 * p + i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
     }
   }
-  Eigen::VectorXd s = LLT.solve(t);
+  Eigen::VectorXd s = Large() ? Eigen::VectorXd(LargeLLT.solve(t)) : Eigen::VectorXd(SmallLLT.solve(t));
   for (long long p = 0; p < NP; ++p)
   {
     const double* Q = &RelRot[9 * p];
