@@ -90,6 +90,14 @@ struct CorotationalSolver::Impl
   double LastRes = 0;
 
   void ComputeRotations();
+  bool RotationsValid = false; // Rot / NodeRot match x
+  void EnsureRotations()
+  {
+    if (!RotationsValid)
+    {
+      ComputeRotations();
+    }
+  }
   void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
   bool Factor(double cM, double cK);
   bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
@@ -398,6 +406,7 @@ void CorotationalSolver::ResetState()
 {
   Impl& I = *this->P;
   I.x = I.X;
+  I.RotationsValid = false;
   I.v.assign(3 * I.NP, 0.0);
   I.dv.assign(3 * I.NP, 0.0);
 }
@@ -409,6 +418,7 @@ void CorotationalSolver::SetState(const double* positions, const double* velocit
   {
     I.x.assign(positions, positions + 3 * I.NP);
   }
+  I.RotationsValid = false;
   if (velocities)
   {
     I.v.assign(velocities, velocities + 3 * I.NP);
@@ -418,6 +428,7 @@ void CorotationalSolver::SetState(const double* positions, const double* velocit
 
 void CorotationalSolver::Impl::ComputeRotations()
 {
+  RotationsValid = true;
   vtkSMPTools::For(0, NC,
     [&](vtkIdType begin, vtkIdType end)
     {
@@ -901,6 +912,7 @@ bool CorotationalSolver::Step()
   dv = sol;
   I.SolveSinceFactor += Seconds(ts, Clock::now());
   bool finite = true;
+  I.RotationsValid = false;
   for (long long k = 0; k < 3 * I.NP; ++k)
   {
     I.v[k] += I.dv[k];
@@ -1023,7 +1035,7 @@ const double* CorotationalSolver::GetRestPositions() const
 void CorotationalSolver::ComputeNodalRotations(double* rotations) const
 {
   Impl& I = *this->P;
-  I.ComputeRotations();
+  I.EnsureRotations();
   for (long long p = 0; p < I.NP; ++p)
   {
     PolarRotation(&I.NodeRot[9 * p], rotations + 9 * p);
@@ -1033,7 +1045,7 @@ void CorotationalSolver::ComputeNodalRotations(double* rotations) const
 void CorotationalSolver::ComputeVonMises(double* stress) const
 {
   Impl& I = *this->P;
-  I.ComputeRotations();
+  I.EnsureRotations();
   const int N = I.N;
   vtkSMPTools::For(0, I.NC,
     [&](vtkIdType begin, vtkIdType end)
@@ -1071,7 +1083,7 @@ double CorotationalSolver::KineticEnergy() const
 double CorotationalSolver::StrainEnergy() const
 {
   Impl& I = *this->P;
-  I.ComputeRotations();
+  I.EnsureRotations();
   const int N = I.N, D = I.D;
   double energy = 0.0;
   std::vector<double> ue(D);

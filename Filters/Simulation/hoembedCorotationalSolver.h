@@ -16,17 +16,23 @@
  *   v_{n+1} = v_n + dv,  x_{n+1} = x_n + dt v_{n+1}.
  * Clamped DOFs keep dv = 0 (their position stays where the state put them).
  *
- * Linear solver: the sparsity pattern is built once; every step refills the values
- * through a precomputed element-to-CSR scatter map and solves with conjugate gradients,
- * warm-started from the previous step's dv, preconditioned by a sparse Cholesky
- * factorisation of the unrotated system matrix (computed once per dt / damping /
- * material), rotated by the averaged nodal rotations: P^-1 = Q A_0^-1 Q^T. For a rigid
- * rotation of the whole body it is exact; for smooth deformations CG needs few iterations.
+ * Linear solver: conjugate gradients on the exact step system, warm-started from the
+ * previous step's dv, with matrix-free products (element by element: R_e K_e R_e^T p_e,
+ * plus the mass), preconditioned by a sparse Cholesky factor rotated by the averaged
+ * nodal rotations Q: P^-1 = Q A_f^-1 Q^T. A_f is first the unrotated system matrix
+ * (factorised once per dt / damping / material / clamps; exact for a rigid rotation of
+ * the whole body); when the CG time spent since the last factorisation exceeds its cost
+ * and the iteration count has grown by half, the current matrix is assembled (fixed
+ * pattern, element-to-CSR gather map built once) and factorised instead (symbolic
+ * analysis reused), and Q becomes the rotation relative to that state. Factor: Eigen's
+ * SimplicialLLT below 6000 DOF, SuiteSparse CHOLMOD (supernodal) above when the build
+ * found it. The CG stops at |r| <= tol * max(|b|, dt |f_ext|).
  *
  * StaticSolve: solves f_int(x) = f_ext by repeated linearised solves (the first one is
  * exactly small-strain linear elasticity from the rest state), needs clamped nodes.
  *
- * Threading: element loops run with vtkSMPTools; the scatter into the matrix is serial.
+ * Threading: element loops and the assembly gather run with vtkSMPTools; the scatter of
+ * element vectors is serial.
  */
 #ifndef hoembedCorotationalSolver_h
 #define hoembedCorotationalSolver_h

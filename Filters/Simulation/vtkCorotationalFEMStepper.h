@@ -24,9 +24,10 @@
  * fix, stable for inverted elements), rotated stiffness R K R^T, consistent mass
  * (or HRZ-lumped with LumpedMass on) and consistent body force, Rayleigh damping
  * C = RayleighMass * M + RayleighStiffness * K, backward Euler with one linearised solve
- * per step (preconditioned conjugate gradients, pattern and factorisation reused; the
- * sparse Cholesky factor comes from SuiteSparse CHOLMOD when the build found it,
- * otherwise from Eigen's SimplicialLLT).
+ * per step (conjugate gradients with matrix-free products, preconditioned by a rotated
+ * sparse Cholesky factor that is reused across steps and refreshed when that pays; the
+ * factor is Eigen's SimplicialLLT, or SuiteSparse CHOLMOD for systems of 6000 DOF or
+ * more when the build found it).
  *
  * Time: RequestInformation advertises TIME_STEPS t_k = k * TimeStep, k = 0..
  * NumberOfTimeSteps, and TIME_RANGE. RequestData integrates from the cached state to the
