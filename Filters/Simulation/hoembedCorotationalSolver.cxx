@@ -1,0 +1,669 @@
+#include "hoembedCorotationalSolver.h"
+#include "hoembedCorotationalSolverImpl.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace hoembed
+{
+
+CorotationalSolver::CorotationalSolver()
+  : P(new Impl)
+{
+}
+
+CorotationalSolver::~CorotationalSolver() = default;
+
+bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
+  const long long* connectivity, long long numberOfPoints, const double* restPoints,
+  double young, double poisson, double density, bool lumpedMass, std::string& error,
+  long long& badCell)
+{
+  Impl& I = *this->P;
+  badCell = -1;
+  if (nodesPerCell != 4 && nodesPerCell != 10)
+  {
+    error = "only 4- or 10-node tetrahedra are supported";
+    return false;
+  }
+  I.N = nodesPerCell;
+  I.D = 3 * nodesPerCell;
+  I.NC = numberOfCells;
+  I.NP = numberOfPoints;
+  I.Young = young;
+  I.Poisson = poisson;
+  I.Density = density;
+  I.Conn.assign(connectivity, connectivity + numberOfCells * nodesPerCell);
+  for (long long k = 0; k < numberOfCells * nodesPerCell; ++k)
+  {
+    if (connectivity[k] < 0 || connectivity[k] >= numberOfPoints)
+    {
+      badCell = k / nodesPerCell;
+      error = "a cell references a point id out of range";
+      return false;
+    }
+  }
+  I.X.assign(restPoints, restPoints + 3 * numberOfPoints);
+  const int N = I.N, D = I.D;
+  const long long NC = I.NC;
+  I.Ke.assign(NC * D * D, 0.0);
+  I.G.assign(NC * N * 3, 0.0);
+  I.Rot.assign(NC * 9, 0.0);
+  I.EB.assign(NC * D * D, 0.0);
+  I.EF.assign(NC * D, 0.0);
+  std::vector<double> Me(NC * N * N, 0.0); // per-component mass block
+  std::vector<double> fg(NC * N, 0.0);    // integral of N_a (times density)
+  std::vector<char> bad(NC, 0);
+
+  ParallelFor(NC, 64, // heavy per cell: worth threads early
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      std::vector<double> xe(3 * N), Mfull(D * D);
+      const double c[3] = { 0.25, 0.25, 0.25 };
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        for (int a = 0; a < N; ++a)
+        {
+          for (int i = 0; i < 3; ++i)
+          {
+            xe[3 * a + i] = I.X[3 * I.Conn[e * N + a] + i];
+          }
+        }
+        const double vol = ElementStiffness(N, xe.data(), young, poisson, &I.Ke[e * D * D]);
+        if (!(vol > 0.0) || !std::isfinite(vol))
+        {
+          bad[e] = 1;
+          continue;
+        }
+        ShapeGradients(N, xe.data(), c, &I.G[e * N * 3]);
+        if (lumpedMass)
+        {
+          std::vector<double> m(N);
+          ElementLumpedMassHRZ(N, xe.data(), density, m.data());
+          for (int a = 0; a < N; ++a)
+          {
+            Me[e * N * N + a * N + a] = m[a];
+          }
+        }
+        else
+        {
+          ElementConsistentMass(N, xe.data(), density, Mfull.data());
+          for (int a = 0; a < N; ++a)
+          {
+            for (int b = 0; b < N; ++b)
+            {
+              Me[e * N * N + a * N + b] = Mfull[(3 * a) * D + 3 * b];
+            }
+          }
+        }
+        const double gunit[3] = { 1.0, 0.0, 0.0 };
+        std::vector<double> f(D);
+        ElementBodyForce(N, xe.data(), density, gunit, f.data());
+        for (int a = 0; a < N; ++a)
+        {
+          fg[e * N + a] = f[3 * a];
+        }
+      }
+    });
+  for (long long e = 0; e < NC; ++e)
+  {
+    if (bad[e])
+    {
+      badCell = e;
+      error = "a cell has zero or negative volume (det J <= 0 at a quadrature point)";
+      return false;
+    }
+  }
+
+  // Sparsity pattern: node adjacency -> 3x3 blocks.
+  std::vector<std::vector<int>> adj(I.NP);
+  for (long long e = 0; e < NC; ++e)
+  {
+    for (int a = 0; a < N; ++a)
+    {
+      for (int b = 0; b < N; ++b)
+      {
+        adj[I.Conn[e * N + a]].push_back(I.Conn[e * N + b]);
+      }
+    }
+  }
+  std::vector<Eigen::Triplet<double, int>> trip;
+  for (long long p = 0; p < I.NP; ++p)
+  {
+    auto& l = adj[p];
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+    if (l.empty())
+    {
+      l.push_back(static_cast<int>(p)); // isolated point: keep a diagonal entry
+    }
+    for (int q : l)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        for (int j = 0; j < 3; ++j)
+        {
+          trip.emplace_back(static_cast<int>(3 * p + i), 3 * q + j, 0.0);
+        }
+      }
+    }
+  }
+  I.A.resize(3 * I.NP, 3 * I.NP);
+  I.A.setFromTriplets(trip.begin(), trip.end());
+  I.A.makeCompressed();
+  const int* outer = I.A.outerIndexPtr();
+  const int* inner = I.A.innerIndexPtr();
+  auto position = [&](int row, int col)
+  {
+    const int* b = inner + outer[row];
+    const int* e = inner + outer[row + 1];
+    return static_cast<int>(std::lower_bound(b, e, col) - inner);
+  };
+  I.Scatter.assign(NC * D * D, 0);
+  I.MassValues.assign(I.A.nonZeros(), 0.0);
+  I.StiffValues.assign(I.A.nonZeros(), 0.0);
+  I.Gravity0.assign(3 * I.NP, 0.0);
+  I.NodeCellCount.assign(I.NP, 0);
+  for (long long e = 0; e < NC; ++e)
+  {
+    for (int a = 0; a < N; ++a)
+    {
+      const int pa = I.Conn[e * N + a];
+      I.NodeCellCount[pa]++;
+      I.Gravity0[3 * pa] += fg[e * N + a];
+      for (int i = 0; i < 3; ++i)
+      {
+        for (int b = 0; b < N; ++b)
+        {
+          const int pb = I.Conn[e * N + b];
+          const int row = 3 * pa + i;
+          const int base = position(row, 3 * pb);
+          for (int j = 0; j < 3; ++j)
+          {
+            const int idx = base + j;
+            I.Scatter[(e * D + 3 * a + i) * D + 3 * b + j] = idx;
+            I.StiffValues[idx] += I.Ke[(e * D + 3 * a + i) * D + 3 * b + j];
+            if (i == j)
+            {
+              I.MassValues[idx] += Me[e * N * N + a * N + b];
+            }
+          }
+        }
+      }
+    }
+  }
+  I.M = I.A;
+  std::copy(I.MassValues.begin(), I.MassValues.end(), I.M.valuePtr());
+  {
+    std::vector<Eigen::Triplet<double, int>> mt;
+    mt.reserve(NC * N * N);
+    for (long long e = 0; e < NC; ++e)
+    {
+      for (int a = 0; a < N; ++a)
+      {
+        for (int b = 0; b < N; ++b)
+        {
+          mt.emplace_back(I.Conn[e * N + a], I.Conn[e * N + b], Me[e * N * N + a * N + b]);
+        }
+      }
+    }
+    I.MN.resize(I.NP, I.NP);
+    I.MN.setFromTriplets(mt.begin(), mt.end());
+    I.MN.makeCompressed();
+  }
+  I.EW.assign(NC * D, 0.0);
+  // Transpose of the scatter map, so that the assembly runs in parallel over CSR values.
+  const long long nnz = I.A.nonZeros();
+  I.GatherOffsets.assign(nnz + 1, 0);
+  for (int idx : I.Scatter)
+  {
+    I.GatherOffsets[idx + 1]++;
+  }
+  for (long long k = 0; k < nnz; ++k)
+  {
+    I.GatherOffsets[k + 1] += I.GatherOffsets[k];
+  }
+  I.GatherIndex.assign(I.Scatter.size(), 0);
+  {
+    std::vector<int> fill(I.GatherOffsets.begin(), I.GatherOffsets.end() - 1);
+    for (size_t j = 0; j < I.Scatter.size(); ++j)
+    {
+      I.GatherIndex[fill[I.Scatter[j]]++] = static_cast<int>(j);
+    }
+  }
+  I.Free.assign(3 * I.NP, 1);
+  this->SetFixed(nullptr);
+  I.FExt.assign(3 * I.NP, 0.0);
+  I.NodeRot.assign(9 * I.NP, 0.0);
+  I.HaveFactor = false;
+  this->ResetState();
+  this->ResetTimings();
+  return true;
+}
+
+void CorotationalSolver::SetFixed(const unsigned char* fixed)
+{
+  Impl& I = *this->P;
+  for (long long p = 0; p < I.NP; ++p)
+  {
+    // points in no cell have no mass and no stiffness: keep them where they are
+    const char f = ((fixed && fixed[p]) || I.NodeCellCount[p] == 0) ? 0 : 1;
+    I.Free[3 * p] = I.Free[3 * p + 1] = I.Free[3 * p + 2] = f;
+  }
+  I.HaveFactor = false;
+}
+
+void CorotationalSolver::SetExternalForces(const double gravity[3], const double* nodalForces)
+{
+  Impl& I = *this->P;
+  for (long long p = 0; p < I.NP; ++p)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      // Gravity0 holds integral(N_a) * density in its x slot.
+      I.FExt[3 * p + i] =
+        I.Gravity0[3 * p] * gravity[i] + (nodalForces ? nodalForces[3 * p + i] : 0.0);
+    }
+  }
+}
+
+void CorotationalSolver::SetTimeStep(double dt)
+{
+  this->P->Dt = dt;
+}
+
+void CorotationalSolver::SetRayleighDamping(double alpha, double beta)
+{
+  this->P->Alpha = alpha;
+  this->P->Beta = beta;
+}
+
+void CorotationalSolver::SetSolverControls(double tol, int maxIterations)
+{
+  this->P->Tol = tol;
+  this->P->MaxIt = std::max(1, maxIterations);
+}
+
+void CorotationalSolver::ResetState()
+{
+  Impl& I = *this->P;
+  I.x = I.X;
+  I.RotationsValid = false;
+  I.RestartPreconditioner();
+  I.v.assign(3 * I.NP, 0.0);
+  I.dv.assign(3 * I.NP, 0.0);
+}
+
+void CorotationalSolver::SetState(const double* positions, const double* velocities)
+{
+  Impl& I = *this->P;
+  if (positions)
+  {
+    I.x.assign(positions, positions + 3 * I.NP);
+  }
+  I.RotationsValid = false;
+  I.RestartPreconditioner();
+  if (velocities)
+  {
+    I.v.assign(velocities, velocities + 3 * I.NP);
+  }
+  I.dv.assign(3 * I.NP, 0.0);
+}
+
+
+bool CorotationalSolver::Step()
+{
+  Impl& I = *this->P;
+  const int N = I.N, D = I.D;
+  const long long NC = I.NC;
+  const double dt = I.Dt;
+  const double cM = I.StaticMode ? 0.0 : 1.0 + dt * I.Alpha;
+  const double cK = dt * I.Beta + dt * dt;
+  const double vScale = dt + I.Beta;
+
+  for (long long k = 0; k < 3 * I.NP; ++k)
+  {
+    if (!I.Free[k])
+    {
+      I.v[k] = 0.0; // clamped nodes do not move
+    }
+  }
+  auto t0 = Clock::now();
+  I.ComputeRotations();
+  auto t1 = Clock::now();
+
+  I.CM = cM;
+  I.CK = cK;
+  // Element forces -R K (R^T (x + (dt+beta) v) - X).
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double ue[30], w[30];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const Mat3 R = Eigen::Map<const Mat3>(&I.Rot[e * 9]);
+        const double* K = &I.Ke[e * D * D];
+        for (int a = 0; a < N; ++a)
+        {
+          const int pa = I.Conn[e * N + a];
+          Eigen::Vector3d y(I.x[3 * pa] + vScale * I.v[3 * pa],
+            I.x[3 * pa + 1] + vScale * I.v[3 * pa + 1], I.x[3 * pa + 2] + vScale * I.v[3 * pa + 2]);
+          const Eigen::Vector3d l = R.transpose() * y;
+          for (int i = 0; i < 3; ++i)
+          {
+            ue[3 * a + i] = l[i] - I.X[3 * pa + i];
+          }
+        }
+        for (int r = 0; r < D; ++r)
+        {
+          double s = 0.0;
+          const double* Kr = K + r * D;
+          for (int c = 0; c < D; ++c)
+          {
+            s += Kr[c] * ue[c];
+          }
+          w[r] = s;
+        }
+        double* f = &I.EF[e * D];
+        for (int a = 0; a < N; ++a)
+        {
+          const Eigen::Vector3d l(w[3 * a], w[3 * a + 1], w[3 * a + 2]);
+          const Eigen::Vector3d g = R * l;
+          f[3 * a] = -g[0];
+          f[3 * a + 1] = -g[1];
+          f[3 * a + 2] = -g[2];
+        }
+      }
+    });
+
+  Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(I.FExt.data(), 3 * I.NP);
+  if (I.Alpha != 0.0)
+  {
+    I.MassApply(I.v.data(), -I.Alpha, rhs.data());
+  }
+  for (long long e = 0; e < NC; ++e)
+  {
+    const double* f = &I.EF[e * D];
+    for (int a = 0; a < N; ++a)
+    {
+      const int pa = I.Conn[e * N + a];
+      rhs[3 * pa] += f[3 * a];
+      rhs[3 * pa + 1] += f[3 * a + 1];
+      rhs[3 * pa + 2] += f[3 * a + 2];
+    }
+  }
+  rhs *= dt;
+  I.Mask(rhs);
+  auto t2 = Clock::now();
+
+  // Preconditioner: the unrotated factor (first step, new dt / damping / clamps), then
+  // the factor of a recent system matrix, refreshed when the CG time spent since the
+  // last factorisation exceeds what the factorisation cost (so it pays for itself).
+  if (!I.HaveFactor || cM != I.FactorCM || cK != I.FactorCK)
+  {
+    I.Factor(cM, cK);
+  }
+  else if (I.LastIt > std::max(2, (3 * I.ItAfterFactor) / 2) &&
+    I.IterationsSinceFactor > I.RefactorBudget())
+  {
+    auto ta = Clock::now();
+    I.AssembleA(cM, cK);
+    const double assembly = Seconds(ta, Clock::now());
+    I.T.Assembly += assembly;
+    I.T.Solve -= assembly; // counted in the solve phase below; keep it in assembly
+    I.FactorMatrix(I.A, false, cM, cK);
+  }
+  I.UpdateRelativeRotations();
+  double load = 0.0;
+  for (long long k = 0; k < 3 * I.NP; ++k)
+  {
+    load += I.Free[k] ? I.FExt[k] * I.FExt[k] : 0.0;
+  }
+  I.LoadFloor = dt * std::sqrt(load);
+  auto ts = Clock::now();
+  Eigen::Map<Eigen::VectorXd> dv(I.dv.data(), 3 * I.NP);
+  Eigen::VectorXd sol = dv;
+  I.LastIt = I.PCG(rhs, sol, I.Tol);
+  if (I.JustFactored)
+  {
+    I.ItAfterFactor = I.LastIt;
+    I.JustFactored = false;
+  }
+  dv = sol;
+  I.SolveSinceFactor += Seconds(ts, Clock::now());
+  I.IterationsSinceFactor += I.LastIt;
+  bool finite = true;
+  I.RotationsValid = false;
+  for (long long k = 0; k < 3 * I.NP; ++k)
+  {
+    I.v[k] += I.dv[k];
+    I.x[k] += dt * I.v[k];
+    if (!std::isfinite(I.x[k]) || !std::isfinite(I.v[k]))
+    {
+      finite = false;
+    }
+  }
+  auto t3 = Clock::now();
+  I.T.Rotation += Seconds(t0, t1);
+  I.T.Assembly += Seconds(t1, t2);
+  I.T.Solve += Seconds(t2, t3);
+  I.T.Steps++;
+  I.T.Iterations += I.LastIt;
+  return finite;
+}
+
+bool CorotationalSolver::SolveStatic(int maxIterations, double tolerance, std::string& error)
+{
+  Impl& I = *this->P;
+  bool anyFixed = false;
+  for (char f : I.Free)
+  {
+    anyFixed = anyFixed || !f;
+  }
+  if (!anyFixed)
+  {
+    error = "the static solve needs clamped nodes (a free body has no equilibrium)";
+    return false;
+  }
+  if (!I.Factor(0.0, 1.0))
+  {
+    error = "the clamped stiffness matrix is singular (clamp more nodes)";
+    return false;
+  }
+  const double saveDt = I.Dt, saveA = I.Alpha, saveB = I.Beta;
+  // A static increment is an implicit step with dt = 1, no mass, from zero velocity:
+  // K~ dx = f_ext - f_int(x) (Step with a zero mass coefficient; the factor of K just
+  // computed is the one for cM = 0, cK = 1).
+  I.StaticMode = true;
+  I.Dt = 1.0;
+  I.Alpha = 0.0;
+  I.Beta = 0.0;
+  const double saveTol = I.Tol;
+  I.Tol = std::min(I.Tol, 1e-13);
+  bool ok = false;
+  double previous = -1.0;
+  for (int it = 0; it < maxIterations; ++it)
+  {
+    std::fill(I.v.begin(), I.v.end(), 0.0);
+    std::fill(I.dv.begin(), I.dv.end(), 0.0);
+    if (!this->Step())
+    {
+      error = "the static solve produced a non-finite state";
+      break;
+    }
+    // increment (exact: dv of the step) against the displacement so far
+    double dn = 0.0, un = 0.0;
+    for (long long k = 0; k < 3 * I.NP; ++k)
+    {
+      dn += I.dv[k] * I.dv[k];
+      un += (I.x[k] - I.X[k]) * (I.x[k] - I.X[k]);
+    }
+    dn = std::sqrt(dn);
+    un = std::sqrt(un);
+    if (dn <= tolerance * un || un == 0.0)
+    {
+      ok = true;
+      break;
+    }
+    // stagnation at round-off level (x - X loses digits for tiny displacements)
+    if (it >= 3 && previous >= 0.0 && dn >= 0.5 * previous && dn <= 1e-7 * un)
+    {
+      ok = true;
+      break;
+    }
+    previous = dn;
+  }
+  if (!ok && error.empty())
+  {
+    error = "the static solve did not converge (load too large for the co-rotated iteration)";
+  }
+  I.StaticMode = false;
+  I.Dt = saveDt;
+  I.Alpha = saveA;
+  I.Beta = saveB;
+  I.Tol = saveTol;
+  I.HaveFactor = false;
+  std::fill(I.v.begin(), I.v.end(), 0.0);
+  std::fill(I.dv.begin(), I.dv.end(), 0.0);
+  return ok;
+}
+
+long long CorotationalSolver::GetNumberOfPoints() const
+{
+  return this->P->NP;
+}
+
+long long CorotationalSolver::GetNumberOfCells() const
+{
+  return this->P->NC;
+}
+
+const double* CorotationalSolver::GetPositions() const
+{
+  return this->P->x.data();
+}
+
+const double* CorotationalSolver::GetVelocities() const
+{
+  return this->P->v.data();
+}
+
+const double* CorotationalSolver::GetRestPositions() const
+{
+  return this->P->X.data();
+}
+
+void CorotationalSolver::ComputeNodalRotations(double* rotations) const
+{
+  Impl& I = *this->P;
+  I.EnsureRotations();
+  for (long long p = 0; p < I.NP; ++p)
+  {
+    PolarRotation(&I.NodeRot[9 * p], rotations + 9 * p);
+  }
+}
+
+void CorotationalSolver::ComputeVonMises(double* stress) const
+{
+  Impl& I = *this->P;
+  I.EnsureRotations();
+  const int N = I.N;
+  ParallelFor(I.NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double Xe[30], ue[30];
+      const double c[3] = { 0.25, 0.25, 0.25 };
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const Mat3 R = Eigen::Map<const Mat3>(&I.Rot[e * 9]);
+        for (int a = 0; a < N; ++a)
+        {
+          const int pa = I.Conn[e * N + a];
+          const Eigen::Vector3d y(I.x[3 * pa], I.x[3 * pa + 1], I.x[3 * pa + 2]);
+          const Eigen::Vector3d l = R.transpose() * y;
+          for (int i = 0; i < 3; ++i)
+          {
+            Xe[3 * a + i] = I.X[3 * pa + i];
+            ue[3 * a + i] = l[i] - Xe[3 * a + i];
+          }
+        }
+        // the co-rotated displacement carries an arbitrary translation: harmless, the
+        // stress only sees its gradient.
+        stress[e] = VonMisesStress(N, Xe, ue, c, I.Young, I.Poisson);
+      }
+    });
+}
+
+double CorotationalSolver::KineticEnergy() const
+{
+  const Impl& I = *this->P;
+  Eigen::Map<const Eigen::VectorXd> vv(I.v.data(), 3 * I.NP);
+  return 0.5 * vv.dot(I.M * vv);
+}
+
+double CorotationalSolver::StrainEnergy() const
+{
+  Impl& I = *this->P;
+  I.EnsureRotations();
+  const int N = I.N, D = I.D;
+  double energy = 0.0;
+  std::vector<double> ue(D);
+  for (long long e = 0; e < I.NC; ++e)
+  {
+    const Mat3 R = Eigen::Map<const Mat3>(&I.Rot[e * 9]);
+    for (int a = 0; a < N; ++a)
+    {
+      const int pa = I.Conn[e * N + a];
+      const Eigen::Vector3d l =
+        R.transpose() * Eigen::Vector3d(I.x[3 * pa], I.x[3 * pa + 1], I.x[3 * pa + 2]);
+      for (int i = 0; i < 3; ++i)
+      {
+        ue[3 * a + i] = l[i] - I.X[3 * pa + i];
+      }
+    }
+    const double* K = &I.Ke[e * D * D];
+    for (int r = 0; r < D; ++r)
+    {
+      double s = 0.0;
+      for (int c = 0; c < D; ++c)
+      {
+        s += K[r * D + c] * ue[c];
+      }
+      energy += 0.5 * ue[r] * s;
+    }
+  }
+  return energy;
+}
+
+double CorotationalSolver::TotalMass() const
+{
+  const Impl& I = *this->P;
+  double m = 0.0;
+  for (long long p = 0; p < I.NP; ++p)
+  {
+    m += I.Gravity0[3 * p];
+  }
+  return m;
+}
+
+const CorotationalSolver::Timings& CorotationalSolver::GetTimings() const
+{
+  return this->P->T;
+}
+
+void CorotationalSolver::ResetTimings()
+{
+  this->P->T = Timings();
+}
+
+int CorotationalSolver::GetLastIterations() const
+{
+  return this->P->LastIt;
+}
+
+double CorotationalSolver::GetLastRelativeResidual() const
+{
+  return this->P->LastRes;
+}
+} // namespace hoembed

@@ -1,0 +1,173 @@
+// Private to HOEmbed::FiltersSimulation (not installed): the state of
+// hoembed::CorotationalSolver, shared by its two implementation files
+// (hoembedCorotationalSolver.cxx: set-up, stepping, outputs;
+// hoembedCorotationalSolverLinear.cxx: rotations, products, preconditioner, CG).
+#ifndef hoembedCorotationalSolverImpl_h
+#define hoembedCorotationalSolverImpl_h
+
+#include "hoembedCorotationalSolver.h"
+
+#include "hoembedTetElementMatrices.h"
+
+#include "vtkSMPTools.h"
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#ifdef HOEMBED_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+namespace hoembed
+{
+namespace corotational_detail
+{
+using Clock = std::chrono::steady_clock;
+using RowMat = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+// Small systems: Eigen's simplicial factor (low per-solve overhead). Large systems:
+// CHOLMOD's supernodal factor when available (much less time to factorise).
+using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+#ifdef HOEMBED_HAVE_CHOLMOD
+using LargeFactorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
+#else
+using LargeFactorization = SmallFactorization;
+#endif
+constexpr long long LargeSystem = 6000; // DOF from which the large factorisation is used
+
+inline double Seconds(Clock::time_point a, Clock::time_point b)
+{
+  return std::chrono::duration<double>(b - a).count();
+}
+
+// Loops shorter than `minParallel` run on the calling thread: for meshes of a few hundred
+// cells the thread hand-off costs more than it saves (measured 2x slower steps on the
+// shared 2-core machine for a 168-cell mesh).
+template <typename F>
+void ParallelFor(vtkIdType n, vtkIdType minParallel, F&& f)
+{
+  if (n < minParallel)
+  {
+    f(0, n);
+  }
+  else
+  {
+    vtkSMPTools::For(0, n, f);
+  }
+}
+constexpr vtkIdType ParallelCells = 1000;
+constexpr vtkIdType ParallelValues = 1000000;
+} // namespace corotational_detail
+using namespace corotational_detail;
+
+struct CorotationalSolver::Impl
+{
+  int N = 0;  // nodes per cell
+  int D = 0;  // 3 N
+  long long NC = 0, NP = 0;
+  std::vector<int> Conn;
+  std::vector<double> X, x, v, dv;
+  std::vector<double> Ke;     // NC * D * D rest stiffness
+  std::vector<double> G;      // NC * N * 3 centroid shape gradients
+  std::vector<double> Rot;    // NC * 9 element rotations
+  std::vector<double> NodeRot; // NP * 9 (averaged, not projected) for the preconditioner
+  std::vector<double> EB;     // NC * D * D rotated element matrices
+  std::vector<double> EF;     // NC * D element right-hand sides
+  std::vector<int> Scatter;   // NC * D * D value index in the CSR pattern
+  std::vector<int> GatherOffsets, GatherIndex; // per CSR value: element entries summed into it
+  std::vector<double> MassValues, StiffValues; // rest M and K on the pattern
+  std::vector<double> Gravity0; // consistent body force for unit density * g / density
+  std::vector<double> FExt;
+  std::vector<char> Free; // 3 NP
+  std::vector<int> NodeCellCount;
+  double Young = 1, Poisson = 0.3, Density = 1;
+  double Dt = 0.01, Alpha = 0, Beta = 0;
+  double Tol = 1e-8;
+  int MaxIt = 500;
+  RowMat A, M;
+  // preconditioner
+  SmallFactorization SmallLLT;
+  LargeFactorization LargeLLT;
+  bool Large() const { return 3 * NP >= LargeSystem; }
+  bool FactorOK() const
+  {
+    return (Large() ? LargeLLT.info() : SmallLLT.info()) == Eigen::Success;
+  }
+  bool HaveFactor = false;
+  bool Analyzed = false;
+  int ItAfterFactor = 0;
+  bool JustFactored = false;
+  double FactorCM = -1, FactorCK = -1;
+  double FactorSeconds = 0.0;   // cost of the last factorisation
+  double SolveSinceFactor = 0.0; // CG seconds spent with it since (reported only)
+  long long IterationsSinceFactor = 0;
+  // Deterministic estimate of a factorisation's cost in preconditioned CG iterations
+  // (3D meshes: factor ~ n^2, solve ~ n^4/3 flops; calibrated on this machine: ~30 at
+  // 1.1k DOF, ~150 at 15k DOF). Time-based rules made results depend on machine load.
+  double RefactorBudget() const
+  {
+    const double b = 0.25 * std::pow(static_cast<double>(3 * NP), 2.0 / 3.0);
+    return std::min(500.0, std::max(10.0, b));
+  }
+  std::vector<double> FactorQ;  // NP * 9 nodal rotations baked into the factor
+  std::vector<double> RelRot;   // NP * 9: NodeRot * FactorQ^T (preconditioner rotation)
+  double LoadFloor = 0.0;       // |dt f_ext|: residual scale when the system is at rest
+  Timings T;
+  int LastIt = 0;
+  double LastRes = 0;
+
+  void ComputeRotations();
+  bool RotationsValid = false; // Rot / NodeRot match x
+  // A restart from a new state starts from the unrotated factor again, so that the same
+  // state and settings always give bitwise the same trajectory.
+  void RestartPreconditioner()
+  {
+    HaveFactor = false;
+    LastIt = 0;
+    ItAfterFactor = 0;
+    IterationsSinceFactor = 0;
+  }
+  void EnsureRotations()
+  {
+    if (!RotationsValid)
+    {
+      ComputeRotations();
+    }
+  }
+  void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+  bool Factor(double cM, double cK);
+  bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
+  void UpdateRelativeRotations();
+  int PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol);
+  // y = CM M p + CK sum_e R_e K_e R_e^T p_e (matrix-free: element by element)
+  void MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y);
+  // y += s * M p with the node-level (scalar) mass matrix
+  void MassApply(const double* p, double s, double* y) const;
+  // assemble A = cM M + cK sum R K R^T (only needed to refresh the factorisation)
+  void AssembleA(double cM, double cK);
+  double CM = 1.0, CK = 0.0;
+  bool StaticMode = false; // steps without mass (static increments)
+  RowMat MN;              // NP x NP scalar mass matrix
+  std::vector<double> EW; // NC * D element matvec results
+  void Mask(Eigen::VectorXd& r) const
+  {
+    for (long long k = 0; k < 3 * NP; ++k)
+    {
+      if (!Free[k])
+      {
+        r[k] = 0.0;
+      }
+    }
+  }
+};
+} // namespace hoembed
+
+#endif

@@ -1,0 +1,376 @@
+#include "hoembedCorotationalSolver.h"
+#include "hoembedCorotationalSolverImpl.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace hoembed
+{
+void CorotationalSolver::Impl::ComputeRotations()
+{
+  RotationsValid = true;
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        double F[9] = { 0, 0, 0, 0, 0, 0, 0, 0, 0 };
+        const double* g = &G[e * N * 3];
+        for (int a = 0; a < N; ++a)
+        {
+          const double* xa = &x[3 * Conn[e * N + a]];
+          for (int i = 0; i < 3; ++i)
+          {
+            for (int j = 0; j < 3; ++j)
+            {
+              F[3 * i + j] += xa[i] * g[3 * a + j];
+            }
+          }
+        }
+        PolarRotation(F, &Rot[e * 9]);
+      }
+    });
+  std::fill(NodeRot.begin(), NodeRot.end(), 0.0);
+  for (long long e = 0; e < NC; ++e)
+  {
+    const double* R = &Rot[e * 9];
+    for (int a = 0; a < N; ++a)
+    {
+      double* Q = &NodeRot[9 * Conn[e * N + a]];
+      for (int k = 0; k < 9; ++k)
+      {
+        Q[k] += R[k];
+      }
+    }
+  }
+  for (long long p = 0; p < NP; ++p)
+  {
+    double* Q = &NodeRot[9 * p];
+    if (NodeCellCount[p] == 0)
+    {
+      Q[0] = Q[4] = Q[8] = 1.0;
+      continue;
+    }
+    const double s = 1.0 / NodeCellCount[p];
+    for (int k = 0; k < 9; ++k)
+    {
+      Q[k] *= s;
+    }
+  }
+}
+
+bool CorotationalSolver::Impl::Factor(double cM, double cK)
+{
+  if (HaveFactor && cM == FactorCM && cK == FactorCK)
+  {
+    return FactorOK();
+  }
+  return FactorMatrix(A, true, cM, cK);
+}
+
+// Factorise either the unrotated system cM M + cK K (rest = true) or the current
+// assembled A (rest = false), with clamped rows and columns replaced by the identity.
+// The symbolic analysis is done once (the pattern never changes).
+bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, double cM, double cK)
+{
+  auto t0 = Clock::now();
+  RowMat A0 = source;
+  double* val = A0.valuePtr();
+  const double* cur = source.valuePtr();
+  const int* outer = A0.outerIndexPtr();
+  const int* inner = A0.innerIndexPtr();
+  for (long long r = 0; r < 3 * NP; ++r)
+  {
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      const int c = inner[k];
+      if (!Free[r] || !Free[c])
+      {
+        val[k] = (r == c) ? 1.0 : 0.0;
+      }
+      else
+      {
+        val[k] = rest ? cM * MassValues[k] + cK * StiffValues[k] : cur[k];
+      }
+    }
+  }
+  ColMat A0c = A0;
+  if (!Analyzed)
+  {
+    if (Large())
+    {
+      LargeLLT.analyzePattern(A0c);
+    }
+    else
+    {
+      SmallLLT.analyzePattern(A0c);
+    }
+    Analyzed = true;
+  }
+  if (Large())
+  {
+    LargeLLT.factorize(A0c);
+  }
+  else
+  {
+    SmallLLT.factorize(A0c);
+  }
+  JustFactored = true;
+  HaveFactor = true;
+  FactorCM = cM;
+  FactorCK = cK;
+  FactorQ.assign(9 * NP, 0.0);
+  if (rest)
+  {
+    for (long long p = 0; p < NP; ++p)
+    {
+      FactorQ[9 * p] = FactorQ[9 * p + 4] = FactorQ[9 * p + 8] = 1.0;
+    }
+  }
+  else
+  {
+    FactorQ = NodeRot;
+  }
+  FactorSeconds = Seconds(t0, Clock::now());
+  SolveSinceFactor = 0.0;
+  IterationsSinceFactor = 0;
+  return FactorOK();
+}
+
+void CorotationalSolver::Impl::UpdateRelativeRotations()
+{
+  RelRot.resize(9 * NP);
+  for (long long p = 0; p < NP; ++p)
+  {
+    const double* Q = &NodeRot[9 * p];
+    const double* F = &FactorQ[9 * p];
+    double* R = &RelRot[9 * p];
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        R[3 * i + j] = Q[3 * i] * F[3 * j] + Q[3 * i + 1] * F[3 * j + 1] + Q[3 * i + 2] * F[3 * j + 2];
+      }
+    }
+  }
+}
+
+void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const
+{
+  Eigen::VectorXd t(3 * NP);
+  for (long long p = 0; p < NP; ++p)
+  {
+    const double* Q = &RelRot[9 * p];
+    const double* rp = r.data() + 3 * p;
+    for (int i = 0; i < 3; ++i)
+    {
+      t[3 * p + i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
+    }
+  }
+  Eigen::VectorXd s = Large() ? Eigen::VectorXd(LargeLLT.solve(t)) : Eigen::VectorXd(SmallLLT.solve(t));
+  for (long long p = 0; p < NP; ++p)
+  {
+    const double* Q = &RelRot[9 * p];
+    const double* sp = s.data() + 3 * p;
+    for (int i = 0; i < 3; ++i)
+    {
+      z[3 * p + i] = Q[3 * i] * sp[0] + Q[3 * i + 1] * sp[1] + Q[3 * i + 2] * sp[2];
+    }
+  }
+  Mask(z);
+}
+
+int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol)
+{
+  const double bnorm = b.norm();
+  LastRes = 0.0;
+  if (!std::isfinite(bnorm))
+  {
+    xs.setConstant(std::numeric_limits<double>::quiet_NaN()); // reported by Step
+    return 0;
+  }
+  if (bnorm == 0.0)
+  {
+    xs.setZero();
+    return 0;
+  }
+  Mask(xs);
+  Eigen::VectorXd r(3 * NP);
+  MatVec(xs, r);
+  r = b - r;
+  Mask(r);
+  Eigen::VectorXd z(3 * NP), p(3 * NP), Ap(3 * NP);
+  double rn = r.norm();
+  const double goal = tol * std::max(bnorm, LoadFloor);
+  if (rn <= goal)
+  {
+    LastRes = rn / bnorm;
+    return 0;
+  }
+  ApplyPrec(r, z);
+  p = z;
+  double rz = r.dot(z);
+  int it = 0;
+  while (it < MaxIt)
+  {
+    ++it;
+    MatVec(p, Ap);
+    Mask(Ap);
+    const double pAp = p.dot(Ap);
+    if (!(pAp > 0.0))
+    {
+      break;
+    }
+    const double a = rz / pAp;
+    xs += a * p;
+    r -= a * Ap;
+    rn = r.norm();
+    if (rn <= goal || !std::isfinite(rn))
+    {
+      break;
+    }
+    ApplyPrec(r, z);
+    const double rzNew = r.dot(z);
+    p = z + (rzNew / rz) * p;
+    rz = rzNew;
+  }
+  LastRes = rn / bnorm;
+  return it;
+}
+
+void CorotationalSolver::Impl::MassApply(const double* p, double s, double* y) const
+{
+  const int* outer = MN.outerIndexPtr();
+  const int* inner = MN.innerIndexPtr();
+  const double* val = MN.valuePtr();
+  for (long long r = 0; r < NP; ++r)
+  {
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      const double m = val[k];
+      const double* q = p + 3 * inner[k];
+      a0 += m * q[0];
+      a1 += m * q[1];
+      a2 += m * q[2];
+    }
+    y[3 * r] += s * a0;
+    y[3 * r + 1] += s * a1;
+    y[3 * r + 2] += s * a2;
+  }
+}
+
+void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y)
+{
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double l[30], w[30];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const double* R = &Rot[e * 9];
+        for (int a = 0; a < N; ++a)
+        {
+          const double* q = p.data() + 3 * Conn[e * N + a];
+          for (int i = 0; i < 3; ++i)
+          {
+            l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
+          }
+        }
+        const double* K = &Ke[e * D * D];
+        for (int r = 0; r < D; ++r)
+        {
+          double s = 0.0;
+          const double* Kr = K + r * D;
+          for (int c = 0; c < D; ++c)
+          {
+            s += Kr[c] * l[c];
+          }
+          w[r] = s;
+        }
+        double* out = &EW[e * D];
+        for (int a = 0; a < N; ++a)
+        {
+          for (int i = 0; i < 3; ++i)
+          {
+            out[3 * a + i] =
+              R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2];
+          }
+        }
+      }
+    });
+  y.setZero();
+  MassApply(p.data(), CM, y.data());
+  for (long long e = 0; e < NC; ++e)
+  {
+    const double* out = &EW[e * D];
+    for (int a = 0; a < N; ++a)
+    {
+      double* ya = y.data() + 3 * Conn[e * N + a];
+      ya[0] += CK * out[3 * a];
+      ya[1] += CK * out[3 * a + 1];
+      ya[2] += CK * out[3 * a + 2];
+    }
+  }
+}
+
+void CorotationalSolver::Impl::AssembleA(double cM, double cK)
+{
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const Mat3 R = Eigen::Map<const Mat3>(&Rot[e * 9]);
+        const double* K = &Ke[e * D * D];
+        double* B = &EB[e * D * D];
+        for (int a = 0; a < N; ++a)
+        {
+          for (int b = a; b < N; ++b)
+          {
+            Mat3 Kab;
+            for (int i = 0; i < 3; ++i)
+            {
+              for (int j = 0; j < 3; ++j)
+              {
+                Kab(i, j) = K[(3 * a + i) * D + 3 * b + j];
+              }
+            }
+            const Mat3 Bab = R * Kab * R.transpose();
+            for (int i = 0; i < 3; ++i)
+            {
+              for (int j = 0; j < 3; ++j)
+              {
+                B[(3 * a + i) * D + 3 * b + j] = Bab(i, j);
+                B[(3 * b + j) * D + 3 * a + i] = Bab(i, j);
+              }
+            }
+          }
+        }
+      }
+    });
+  double* val = A.valuePtr();
+  const long long nnz = A.nonZeros();
+  {
+    const int* off = GatherOffsets.data();
+    const int* gi = GatherIndex.data();
+    const double* eb = EB.data();
+    const double* mv = MassValues.data();
+    ParallelFor(nnz, ParallelValues,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType k = begin; k < end; ++k)
+        {
+          double sum = 0.0;
+          for (int j = off[k]; j < off[k + 1]; ++j)
+          {
+            sum += eb[gi[j]];
+          }
+          val[k] = cM * mv[k] + cK * sum;
+        }
+      });
+  }
+}
+} // namespace hoembed

@@ -1,0 +1,485 @@
+#include "vtkCorotationalFEMStepper.h"
+
+#include "hoembedCorotationalSolver.h"
+#include "hoembedElementGeometry.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCellTypes.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkCorotationalFEMStepper);
+
+struct vtkCorotationalFEMStepper::Internals
+{
+  hoembed::CorotationalSolver Solver;
+  vtkTimeStamp BuildTime;
+  bool Built = false;
+  bool StaticDone = false;
+  int CurrentStep = 0;
+  std::vector<double> InitialX, InitialV;
+};
+
+vtkCorotationalFEMStepper::vtkCorotationalFEMStepper()
+  : Internal(new Internals)
+{
+  this->SetFixedArrayName("Fixed");
+}
+
+vtkCorotationalFEMStepper::~vtkCorotationalFEMStepper()
+{
+  delete this->Internal;
+  this->SetExternalForceArrayName(nullptr);
+  this->SetInitialDisplacementArrayName(nullptr);
+  this->SetInitialVelocityArrayName(nullptr);
+  this->SetFixedArrayName(nullptr);
+}
+
+bool vtkCorotationalFEMStepper::CheckProperties()
+{
+  if (!(this->YoungModulus > 0.0) || !std::isfinite(this->YoungModulus))
+  {
+    vtkErrorMacro("YoungModulus must be > 0 (got " << this->YoungModulus << ").");
+    return false;
+  }
+  if (!(this->PoissonRatio > -1.0 && this->PoissonRatio < 0.5))
+  {
+    vtkErrorMacro("PoissonRatio must be in (-1, 0.5) (got " << this->PoissonRatio << ").");
+    return false;
+  }
+  if (!(this->Density > 0.0) || !std::isfinite(this->Density))
+  {
+    vtkErrorMacro("Density must be > 0 (got " << this->Density << ").");
+    return false;
+  }
+  if (!(this->TimeStep > 0.0) || !std::isfinite(this->TimeStep))
+  {
+    vtkErrorMacro("TimeStep must be > 0 (got " << this->TimeStep << ").");
+    return false;
+  }
+  if (!(this->RayleighMass >= 0.0) || !(this->RayleighStiffness >= 0.0))
+  {
+    vtkErrorMacro("RayleighMass and RayleighStiffness must be >= 0 (got "
+      << this->RayleighMass << ", " << this->RayleighStiffness << ").");
+    return false;
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    if (!std::isfinite(this->Gravity[i]))
+    {
+      vtkErrorMacro("Gravity must be finite.");
+      return false;
+    }
+  }
+  return true;
+}
+
+int vtkCorotationalFEMStepper::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+  if (!(this->TimeStep > 0.0) || !std::isfinite(this->TimeStep))
+  {
+    return 1; // reported by RequestData
+  }
+  std::vector<double> times(static_cast<size_t>(this->NumberOfTimeSteps) + 1);
+  for (size_t k = 0; k < times.size(); ++k)
+  {
+    times[k] = static_cast<double>(k) * this->TimeStep;
+  }
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(),
+    static_cast<int>(times.size()));
+  double range[2] = { 0.0, times.back() };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  return 1;
+}
+
+namespace
+{
+vtkDataArray* GetVectorArray(vtkUnstructuredGrid* input, const char* name, bool& error)
+{
+  error = false;
+  if (!name || !*name)
+  {
+    return nullptr;
+  }
+  vtkDataArray* a = input->GetPointData()->GetArray(name);
+  if (!a || a->GetNumberOfComponents() != 3)
+  {
+    error = true;
+    return nullptr;
+  }
+  return a;
+}
+} // namespace
+
+int vtkCorotationalFEMStepper::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  output->Initialize();
+  this->LastNumberOfSteps = 0;
+  this->LastRotationTime = this->LastAssemblyTime = this->LastSolveTime = 0.0;
+  this->LastSolverIterations = 0;
+  Internals& I = *this->Internal;
+
+  if (!input || input->GetNumberOfCells() == 0 || !input->GetPoints())
+  {
+    vtkErrorMacro("The input mesh is empty (no cells).");
+    I.Built = false;
+    return 0;
+  }
+  if (!this->CheckProperties())
+  {
+    I.Built = false;
+    return 0;
+  }
+  const vtkIdType nc = input->GetNumberOfCells();
+  const vtkIdType np = input->GetNumberOfPoints();
+
+  if (!I.Built || input->GetMTime() > I.BuildTime || this->GetMTime() > I.BuildTime)
+  {
+    I.Built = false;
+    I.StaticDone = false;
+    // Cells: all VTK_QUADRATIC_TETRA or all VTK_TETRA.
+    const int type0 = input->GetCellType(0);
+    if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
+    {
+      vtkErrorMacro("Unsupported cell type " << type0 << " (cell 0): the stepper needs "
+                                                         "VTK_QUADRATIC_TETRA or VTK_TETRA cells.");
+      return 0;
+    }
+    const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
+    std::vector<long long> conn(static_cast<size_t>(nc) * npc);
+    std::vector<double> rest(3 * static_cast<size_t>(np));
+    for (vtkIdType p = 0; p < np; ++p)
+    {
+      input->GetPoint(p, &rest[3 * p]);
+    }
+    vtkNew<vtkIdList> ids;
+    double xe[30];
+    for (vtkIdType c = 0; c < nc; ++c)
+    {
+      if (input->GetCellType(c) != type0)
+      {
+        vtkErrorMacro("Unsupported cell " << c << " of type " << input->GetCellType(c)
+                                          << ": all cells must be "
+                                          << (npc == 10 ? "VTK_QUADRATIC_TETRA" : "VTK_TETRA")
+                                          << " (mixed or other cell types are not supported).");
+        return 0;
+      }
+      input->GetCellPoints(c, ids);
+      if (ids->GetNumberOfIds() != npc)
+      {
+        vtkErrorMacro("Cell " << c << " has " << ids->GetNumberOfIds() << " points, expected "
+                              << npc << ".");
+        return 0;
+      }
+      for (int a = 0; a < npc; ++a)
+      {
+        conn[c * npc + a] = ids->GetId(a);
+        for (int i = 0; i < 3; ++i)
+        {
+          xe[3 * a + i] = rest[3 * ids->GetId(a) + i];
+        }
+      }
+      const bool valid =
+        npc == 10 ? hoembed::Tet10IsValid(xe) : hoembed::Tet4JacobianDeterminant(xe) > 0.0;
+      if (!valid)
+      {
+        vtkErrorMacro("Rest cell " << c << " is inverted or has zero volume (det J <= 0).");
+        return 0;
+      }
+    }
+    std::string error;
+    long long bad = -1;
+    if (!I.Solver.Initialize(npc, nc, conn.data(), np, rest.data(), this->YoungModulus,
+          this->PoissonRatio, this->Density, this->LumpedMass, error, bad))
+    {
+      if (bad >= 0)
+      {
+        vtkErrorMacro("Cell " << bad << ": " << error << ".");
+      }
+      else
+      {
+        vtkErrorMacro(<< error << ".");
+      }
+      return 0;
+    }
+    // Clamps.
+    std::vector<unsigned char> fixed(np, 0);
+    vtkDataArray* fixedArray = (this->FixedArrayName && *this->FixedArrayName)
+      ? input->GetPointData()->GetArray(this->FixedArrayName)
+      : nullptr;
+    if (!fixedArray && this->FixedArrayName && *this->FixedArrayName &&
+      std::string(this->FixedArrayName) != "Fixed")
+    {
+      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                       << "' is not a point-data array of the input.");
+      return 0;
+    }
+    double bounds[6];
+    input->GetBounds(bounds);
+    const double diag = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+      (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+      (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+    const double tol = 1e-9 * diag;
+    double nrm[3] = { this->ClampPlaneNormal[0], this->ClampPlaneNormal[1],
+      this->ClampPlaneNormal[2] };
+    const double nlen = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    if (this->UseClampPlane && !(nlen > 0.0))
+    {
+      vtkErrorMacro("ClampPlaneNormal must be a nonzero vector.");
+      return 0;
+    }
+    for (vtkIdType p = 0; p < np; ++p)
+    {
+      const double* x = &rest[3 * p];
+      bool f = fixedArray && fixedArray->GetComponent(p, 0) != 0.0;
+      if (this->UseClampPlane)
+      {
+        double d = 0.0;
+        for (int i = 0; i < 3; ++i)
+        {
+          d += (x[i] - this->ClampPlaneOrigin[i]) * nrm[i] / nlen;
+        }
+        f = f || d <= tol;
+      }
+      if (this->UseClampBox)
+      {
+        const double* b = this->ClampBox;
+        f = f ||
+          (x[0] >= b[0] - tol && x[0] <= b[1] + tol && x[1] >= b[2] - tol && x[1] <= b[3] + tol &&
+            x[2] >= b[4] - tol && x[2] <= b[5] + tol);
+      }
+      fixed[p] = f ? 1 : 0;
+    }
+    I.Solver.SetFixed(fixed.data());
+    // Loads.
+    bool bad3 = false;
+    vtkDataArray* forceArray = GetVectorArray(input, this->ExternalForceArrayName, bad3);
+    if (bad3)
+    {
+      vtkErrorMacro("ExternalForceArrayName '" << this->ExternalForceArrayName
+                                               << "' is not a 3-component point-data array.");
+      return 0;
+    }
+    std::vector<double> forces;
+    if (forceArray)
+    {
+      forces.resize(3 * np);
+      for (vtkIdType p = 0; p < np; ++p)
+      {
+        forceArray->GetTuple(p, &forces[3 * p]);
+      }
+    }
+    I.Solver.SetExternalForces(this->Gravity, forceArray ? forces.data() : nullptr);
+    // Initial state.
+    vtkDataArray* u0 = GetVectorArray(input, this->InitialDisplacementArrayName, bad3);
+    if (bad3)
+    {
+      vtkErrorMacro("InitialDisplacementArrayName '" << this->InitialDisplacementArrayName
+                                                     << "' is not a 3-component point-data array.");
+      return 0;
+    }
+    vtkDataArray* v0 = GetVectorArray(input, this->InitialVelocityArrayName, bad3);
+    if (bad3)
+    {
+      vtkErrorMacro("InitialVelocityArrayName '" << this->InitialVelocityArrayName
+                                                 << "' is not a 3-component point-data array.");
+      return 0;
+    }
+    I.InitialX = rest;
+    I.InitialV.assign(3 * np, 0.0);
+    for (vtkIdType p = 0; p < np; ++p)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        if (u0)
+        {
+          I.InitialX[3 * p + i] += u0->GetComponent(p, i);
+        }
+        if (v0)
+        {
+          I.InitialV[3 * p + i] = v0->GetComponent(p, i);
+        }
+      }
+    }
+    I.Solver.SetTimeStep(this->TimeStep);
+    I.Solver.SetRayleighDamping(this->RayleighMass, this->RayleighStiffness);
+    I.Solver.SetSolverControls(this->SolverTolerance, this->MaxSolverIterations);
+    I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
+    I.CurrentStep = 0;
+    I.Built = true;
+    I.BuildTime.Modified();
+  }
+
+  // Requested step.
+  double t = 0.0;
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  }
+  long long k = std::llround(t / this->TimeStep);
+  k = std::max(0LL, std::min<long long>(k, this->NumberOfTimeSteps));
+  const double tk = static_cast<double>(k) * this->TimeStep;
+
+  I.Solver.ResetTimings();
+  if (this->StaticSolve)
+  {
+    if (!I.StaticDone)
+    {
+      I.Solver.SetState(I.InitialX.data(), nullptr);
+      std::string error;
+      if (!I.Solver.SolveStatic(100, 1e-10, error))
+      {
+        vtkErrorMacro("StaticSolve failed: " << error << ".");
+        I.Built = false;
+        return 0;
+      }
+      I.StaticDone = true;
+    }
+  }
+  else
+  {
+    if (k < I.CurrentStep)
+    {
+      I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
+      I.CurrentStep = 0;
+    }
+    const long long todo = k - I.CurrentStep;
+    for (long long s = 0; s < todo; ++s)
+    {
+      if (!I.Solver.Step())
+      {
+        vtkErrorMacro("Non-finite state at time step " << I.CurrentStep + 1 << " (t = "
+                                                       << (I.CurrentStep + 1) * this->TimeStep
+                                                       << "): reduce TimeStep or the loads.");
+        I.Built = false; // restart from the initial state next time
+        output->Initialize();
+        return 0;
+      }
+      ++I.CurrentStep;
+      if (todo > 1 && (s % 16 == 0 || s + 1 == todo))
+      {
+        this->UpdateProgress(static_cast<double>(s + 1) / static_cast<double>(todo));
+      }
+    }
+  }
+  const auto& T = I.Solver.GetTimings();
+  this->LastNumberOfSteps = static_cast<int>(T.Steps);
+  this->LastRotationTime = T.Rotation;
+  this->LastAssemblyTime = T.Assembly;
+  this->LastSolveTime = T.Solve;
+  this->LastSolverIterations = static_cast<int>(T.Iterations);
+
+  // Output.
+  output->CopyStructure(input);
+  output->GetPointData()->PassData(input->GetPointData());
+  output->GetCellData()->PassData(input->GetCellData());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(np);
+  const double* x = I.Solver.GetPositions();
+  const double* v = I.Solver.GetVelocities();
+  const double* X = I.Solver.GetRestPositions();
+  vtkNew<vtkDoubleArray> disp, vel, rot, vm;
+  disp->SetName("Displacement");
+  disp->SetNumberOfComponents(3);
+  disp->SetNumberOfTuples(np);
+  vel->SetName("Velocity");
+  vel->SetNumberOfComponents(3);
+  vel->SetNumberOfTuples(np);
+  rot->SetName("NodalRotation");
+  rot->SetNumberOfComponents(9);
+  rot->SetNumberOfTuples(np);
+  vm->SetName("VonMisesStress");
+  vm->SetNumberOfTuples(nc);
+  for (vtkIdType p = 0; p < np; ++p)
+  {
+    points->SetPoint(p, x + 3 * p);
+    for (int i = 0; i < 3; ++i)
+    {
+      disp->SetValue(3 * p + i, x[3 * p + i] - X[3 * p + i]);
+      vel->SetValue(3 * p + i, v[3 * p + i]);
+    }
+  }
+  I.Solver.ComputeNodalRotations(rot->GetPointer(0));
+  I.Solver.ComputeVonMises(vm->GetPointer(0));
+  output->SetPoints(points);
+  output->GetPointData()->AddArray(disp);
+  output->GetPointData()->AddArray(vel);
+  output->GetPointData()->AddArray(rot);
+  output->GetCellData()->AddArray(vm);
+  auto addField = [&](const char* name, double value)
+  {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->InsertNextValue(value);
+    output->GetFieldData()->AddArray(a);
+  };
+  addField("KineticEnergy", I.Solver.KineticEnergy());
+  addField("StrainEnergy", I.Solver.StrainEnergy());
+  addField("SolverIterations", I.Solver.GetLastIterations());
+  output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), tk);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  auto str = [](const char* s) { return s ? s : "(none)"; };
+  os << indent << "YoungModulus: " << this->YoungModulus << "\n";
+  os << indent << "PoissonRatio: " << this->PoissonRatio << "\n";
+  os << indent << "Density: " << this->Density << "\n";
+  os << indent << "Gravity: (" << this->Gravity[0] << ", " << this->Gravity[1] << ", "
+     << this->Gravity[2] << ")\n";
+  os << indent << "ExternalForceArrayName: " << str(this->ExternalForceArrayName) << "\n";
+  os << indent << "InitialDisplacementArrayName: " << str(this->InitialDisplacementArrayName)
+     << "\n";
+  os << indent << "InitialVelocityArrayName: " << str(this->InitialVelocityArrayName) << "\n";
+  os << indent << "FixedArrayName: " << str(this->FixedArrayName) << "\n";
+  os << indent << "RayleighMass: " << this->RayleighMass << "\n";
+  os << indent << "RayleighStiffness: " << this->RayleighStiffness << "\n";
+  os << indent << "TimeStep: " << this->TimeStep << "\n";
+  os << indent << "NumberOfTimeSteps: " << this->NumberOfTimeSteps << "\n";
+  os << indent << "StaticSolve: " << this->StaticSolve << "\n";
+  os << indent << "LumpedMass: " << this->LumpedMass << "\n";
+  os << indent << "UseClampPlane: " << this->UseClampPlane << "\n";
+  os << indent << "ClampPlaneOrigin: (" << this->ClampPlaneOrigin[0] << ", "
+     << this->ClampPlaneOrigin[1] << ", " << this->ClampPlaneOrigin[2] << ")\n";
+  os << indent << "ClampPlaneNormal: (" << this->ClampPlaneNormal[0] << ", "
+     << this->ClampPlaneNormal[1] << ", " << this->ClampPlaneNormal[2] << ")\n";
+  os << indent << "UseClampBox: " << this->UseClampBox << "\n";
+  os << indent << "ClampBox: (" << this->ClampBox[0] << ", " << this->ClampBox[1] << ", "
+     << this->ClampBox[2] << ", " << this->ClampBox[3] << ", " << this->ClampBox[4] << ", "
+     << this->ClampBox[5] << ")\n";
+  os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
+  os << indent << "MaxSolverIterations: " << this->MaxSolverIterations << "\n";
+  os << indent << "LastNumberOfSteps: " << this->LastNumberOfSteps << "\n";
+  os << indent << "LastRotationTime: " << this->LastRotationTime << "\n";
+  os << indent << "LastAssemblyTime: " << this->LastAssemblyTime << "\n";
+  os << indent << "LastSolveTime: " << this->LastSolveTime << "\n";
+  os << indent << "LastSolverIterations: " << this->LastSolverIterations << "\n";
+}

@@ -1,0 +1,217 @@
+/**
+ * @class   vtkCorotationalFEMStepper
+ * @brief   co-rotated linear elasticity of a tet10 / tet4 mesh, stepped in time
+ *
+ * Input: the rest FE mesh, a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (or
+ * VTK_TETRA cells, the linear baseline; not mixed). Optional input point data:
+ * - `Fixed` (any numeric type, nonzero = clamped node; the name is FixedArrayName);
+ * - ExternalForceArrayName: 3-component nodal forces (N), added to gravity;
+ * - InitialDisplacementArrayName / InitialVelocityArrayName: 3-component initial state
+ *   (default: the body starts at rest with zero velocity).
+ * Nodes can also be clamped without arrays: every node on the negative side of (or on)
+ * the plane ClampPlaneOrigin/ClampPlaneNormal when UseClampPlane is on, and every node
+ * inside ClampBox when UseClampBox is on (a tolerance of 1e-9 of the mesh size applies).
+ *
+ * Output: the deformed mesh (same points order and cells as the input) with point data
+ * `Displacement` (x - X), `Velocity`, `NodalRotation` (9 doubles, row-major: the polar
+ * projection of the average of the element rotations around the node) and cell data
+ * `VonMisesStress` (co-rotated small-strain stress at the centroid); field data
+ * `KineticEnergy`, `StrainEnergy` and `SolverIterations` (of the last step). Input point
+ * and cell data are passed.
+ *
+ * Mechanics (see hoembedCorotationalSolver.h): isotropic linear elasticity, element
+ * rotations by polar decomposition of the centroid deformation gradient (SVD with sign
+ * fix, stable for inverted elements), rotated stiffness R K R^T, consistent mass
+ * (or HRZ-lumped with LumpedMass on) and consistent body force, Rayleigh damping
+ * C = RayleighMass * M + RayleighStiffness * K, backward Euler with one linearised solve
+ * per step (conjugate gradients with matrix-free products, preconditioned by a rotated
+ * sparse Cholesky factor that is reused across steps and refreshed when that pays; the
+ * factor is Eigen's SimplicialLLT, or SuiteSparse CHOLMOD for systems of 6000 DOF or
+ * more when the build found it).
+ *
+ * Time: RequestInformation advertises TIME_STEPS t_k = k * TimeStep, k = 0..
+ * NumberOfTimeSteps, and TIME_RANGE. RequestData integrates from the cached state to the
+ * requested UPDATE_TIME_STEP (rounded to a step): sequential frames cost one step each, a
+ * request for an earlier time restarts from the initial state. With StaticSolve on, the
+ * output is the static equilibrium under the loads (the same for every time); it needs
+ * clamped nodes.
+ *
+ * Defaults: YoungModulus 1e5 (Pa), PoissonRatio 0.49, Density 1000 (kg/m^3), Gravity
+ * (0, 0, -9.81), RayleighMass 0.1 (1/s), RayleighStiffness 0.01 (s), TimeStep 0.01 (s),
+ * NumberOfTimeSteps 100, StaticSolve off, LumpedMass off, SolverTolerance 1e-8 (CG stops
+ * at |r| <= tol * max(|b|, dt |f_ext|)), MaxSolverIterations 200, FixedArrayName "Fixed"
+ * (a missing "Fixed" array means no clamps; a missing array of another name is an error),
+ * no force / initial arrays, no clamp plane or box.
+ *
+ * Errors (vtkErrorMacro, empty output): PoissonRatio >= 0.5 or <= -1, YoungModulus <= 0,
+ * Density <= 0, TimeStep <= 0, negative damping, unsupported or mixed cell types, an
+ * inverted or zero-volume rest element (named by cell id), missing or wrongly sized
+ * arrays, a singular static problem, a non-finite state during integration (named by the
+ * step).
+ *
+ * Threading: element loops use vtkSMPTools.
+ *
+ * @warning The tangent ignores the derivative of the rotations (the usual co-rotational
+ * approximation) and each step makes one linearised solve: very large time steps stay
+ * stable and dissipate, but a step that rotates parts of the body through tens of degrees
+ * at once overshoots the strain energy transiently (seen: 8x for ~50 degrees in one step).
+ * Clamped nodes stay where the initial state puts them (their velocity is zeroed).
+ * @warning CHOLMOD's supernodal module is GPL-2.0-or-later: a build that links it (the
+ * CMake option HOEMBED_USE_CHOLMOD, on when found) is bound by that licence.
+ *
+ * @sa vtkDeformationTransferFilter vtkTimeSeriesWriter
+ */
+#ifndef vtkCorotationalFEMStepper_h
+#define vtkCorotationalFEMStepper_h
+
+#include "hoembedFiltersSimulationModule.h"
+#include "vtkUnstructuredGridAlgorithm.h"
+
+class HOEMBEDFILTERSSIMULATION_EXPORT vtkCorotationalFEMStepper : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkCorotationalFEMStepper* New();
+  vtkTypeMacro(vtkCorotationalFEMStepper, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Material: Young's modulus (> 0), Poisson's ratio (in (-1, 0.5)), density (> 0).
+  vtkSetMacro(YoungModulus, double);
+  vtkGetMacro(YoungModulus, double);
+  vtkSetMacro(PoissonRatio, double);
+  vtkGetMacro(PoissonRatio, double);
+  vtkSetMacro(Density, double);
+  vtkGetMacro(Density, double);
+  ///@}
+
+  ///@{
+  /// Gravity acceleration (body force density * g). Default (0, 0, -9.81).
+  vtkSetVector3Macro(Gravity, double);
+  vtkGetVector3Macro(Gravity, double);
+  ///@}
+
+  ///@{
+  /// Optional point-data array names (nullptr or "" = not used).
+  vtkSetStringMacro(ExternalForceArrayName);
+  vtkGetStringMacro(ExternalForceArrayName);
+  vtkSetStringMacro(InitialDisplacementArrayName);
+  vtkGetStringMacro(InitialDisplacementArrayName);
+  vtkSetStringMacro(InitialVelocityArrayName);
+  vtkGetStringMacro(InitialVelocityArrayName);
+  vtkSetStringMacro(FixedArrayName);
+  vtkGetStringMacro(FixedArrayName);
+  ///@}
+
+  ///@{
+  /// Rayleigh damping C = RayleighMass * M + RayleighStiffness * K (both >= 0).
+  vtkSetMacro(RayleighMass, double);
+  vtkGetMacro(RayleighMass, double);
+  vtkSetMacro(RayleighStiffness, double);
+  vtkGetMacro(RayleighStiffness, double);
+  ///@}
+
+  ///@{
+  /// Time step (> 0) and number of advertised steps.
+  vtkSetMacro(TimeStep, double);
+  vtkGetMacro(TimeStep, double);
+  vtkSetClampMacro(NumberOfTimeSteps, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfTimeSteps, int);
+  ///@}
+
+  ///@{
+  /// Output the static equilibrium instead of integrating in time.
+  vtkSetMacro(StaticSolve, bool);
+  vtkGetMacro(StaticSolve, bool);
+  vtkBooleanMacro(StaticSolve, bool);
+  ///@}
+
+  ///@{
+  /// HRZ-lumped (diagonal) mass instead of the consistent mass.
+  vtkSetMacro(LumpedMass, bool);
+  vtkGetMacro(LumpedMass, bool);
+  vtkBooleanMacro(LumpedMass, bool);
+  ///@}
+
+  ///@{
+  /// Clamp every node with (x - origin) . normal <= 0.
+  vtkSetMacro(UseClampPlane, bool);
+  vtkGetMacro(UseClampPlane, bool);
+  vtkBooleanMacro(UseClampPlane, bool);
+  vtkSetVector3Macro(ClampPlaneOrigin, double);
+  vtkGetVector3Macro(ClampPlaneOrigin, double);
+  vtkSetVector3Macro(ClampPlaneNormal, double);
+  vtkGetVector3Macro(ClampPlaneNormal, double);
+  ///@}
+
+  ///@{
+  /// Clamp every node inside the box (xmin, xmax, ymin, ymax, zmin, zmax).
+  vtkSetMacro(UseClampBox, bool);
+  vtkGetMacro(UseClampBox, bool);
+  vtkBooleanMacro(UseClampBox, bool);
+  vtkSetVector6Macro(ClampBox, double);
+  vtkGetVector6Macro(ClampBox, double);
+  ///@}
+
+  ///@{
+  /// Conjugate-gradient controls: relative residual and iteration cap per step.
+  vtkSetClampMacro(SolverTolerance, double, 1e-16, 1.0);
+  vtkGetMacro(SolverTolerance, double);
+  vtkSetClampMacro(MaxSolverIterations, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MaxSolverIterations, int);
+  ///@}
+
+  ///@{
+  /// Measurements of the last RequestData: steps taken, seconds spent in rotation
+  /// extraction, assembly and the linear solve, and CG iterations in total.
+  vtkGetMacro(LastNumberOfSteps, int);
+  vtkGetMacro(LastRotationTime, double);
+  vtkGetMacro(LastAssemblyTime, double);
+  vtkGetMacro(LastSolveTime, double);
+  vtkGetMacro(LastSolverIterations, int);
+  ///@}
+
+protected:
+  vtkCorotationalFEMStepper();
+  ~vtkCorotationalFEMStepper() override;
+
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double YoungModulus = 1.0e5;
+  double PoissonRatio = 0.49;
+  double Density = 1000.0;
+  double Gravity[3] = { 0.0, 0.0, -9.81 };
+  char* ExternalForceArrayName = nullptr;
+  char* InitialDisplacementArrayName = nullptr;
+  char* InitialVelocityArrayName = nullptr;
+  char* FixedArrayName = nullptr;
+  double RayleighMass = 0.1;
+  double RayleighStiffness = 0.01;
+  double TimeStep = 0.01;
+  int NumberOfTimeSteps = 100;
+  bool StaticSolve = false;
+  bool LumpedMass = false;
+  bool UseClampPlane = false;
+  double ClampPlaneOrigin[3] = { 0.0, 0.0, 0.0 };
+  double ClampPlaneNormal[3] = { 1.0, 0.0, 0.0 };
+  bool UseClampBox = false;
+  double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
+  double SolverTolerance = 1e-8;
+  int MaxSolverIterations = 200;
+
+  int LastNumberOfSteps = 0;
+  double LastRotationTime = 0.0;
+  double LastAssemblyTime = 0.0;
+  double LastSolveTime = 0.0;
+  int LastSolverIterations = 0;
+
+private:
+  vtkCorotationalFEMStepper(const vtkCorotationalFEMStepper&) = delete;
+  void operator=(const vtkCorotationalFEMStepper&) = delete;
+
+  bool CheckProperties();
+  struct Internals;
+  Internals* Internal;
+};
+
+#endif

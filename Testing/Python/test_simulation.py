@@ -1,0 +1,204 @@
+"""hoembed.simulate / vtkCorotationalFEMStepper against scikit-fem and invariants."""
+import numpy as np
+import pytest
+import pyvista as pv
+
+import hoembed
+from conftest import box_tet_mesh
+
+skfem = pytest.importorskip("skfem")
+from skfem import Basis, ElementTetP2, ElementTetP1, ElementVector, LinearForm  # noqa: E402
+from skfem import MeshTet, MeshTet2  # noqa: E402
+from skfem import asm, condense, solve  # noqa: E402
+from skfem.models.elasticity import lame_parameters, linear_elasticity  # noqa: E402
+
+VTK_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]  # VTK tet10 mid-node order
+
+
+def skfem_static(mesh, E, nu, rho, g, order):
+    """Small-strain linear elasticity by scikit-fem (P2 or P1), clamped at x = 0, with the
+    consistent body force rho * g; returned per VTK point (DOF map built from skfem's
+    vertex / edge numbering, not from coordinates)."""
+    ctype = pv.CellType.QUADRATIC_TETRA if order == 2 else pv.CellType.TETRA
+    cells = mesh.cells_dict[ctype]
+    corners = np.unique(cells[:, :4])
+    assert corners.max() + 1 == len(corners)  # corner points come first in box_tet_mesh
+    nv = len(corners)
+    pts = np.asarray(mesh.points)
+    sk = MeshTet(pts[:nv].T.copy(), cells[:, :4].T.copy())
+    if order == 2:
+        # isoparametric P2 geometry: skfem's edge order, mid-node coordinates from VTK's
+        edge_index = {tuple(sorted(e)): i for i, e in enumerate(sk.edges.T)}
+        vtk_mid = np.full(sk.edges.shape[1], -1)
+        for c in cells:
+            for k, (a, b) in enumerate(VTK_EDGES):
+                vtk_mid[edge_index[tuple(sorted((c[a], c[b])))]] = c[4 + k]
+        assert (vtk_mid >= 0).all()
+        sk = MeshTet2(np.hstack([pts[:nv].T, pts[vtk_mid].T]), cells[:, :4].T.copy())
+        assert np.array_equal(sk.edges, MeshTet(pts[:nv].T.copy(), cells[:, :4].T.copy()).edges)
+        basis = Basis(sk, ElementVector(ElementTetP2()), intorder=8)
+    else:
+        basis = Basis(sk, ElementVector(ElementTetP1()))
+    K = asm(linear_elasticity(*lame_parameters(E, nu)), basis)
+
+    @LinearForm
+    def body(v, w):
+        return rho * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2])
+
+    f = asm(body, basis)
+    D = basis.get_dofs(lambda x: x[0] <= 1e-9).all()
+    u = solve(*condense(K, f, D=D))
+    out = np.zeros((mesh.n_points, 3))
+    out[:nv] = u[basis.nodal_dofs].T
+    if order == 2:
+        out[vtk_mid] = u[basis.edge_dofs].T
+    return out
+
+
+def _curve(p):
+    return p + np.c_[0 * p[:, 0], 0.05 * np.sin(p[:, 0]), 0.03 * np.cos(2 * p[:, 1])]
+
+
+@pytest.mark.parametrize("nu, curved", [(0.3, False), (0.49, False), (0.499, False),
+                                        (0.49, True)])
+def test_static_matches_skfem_p2(nu, curved):
+    # small load: the co-rotated equilibrium equals linear elasticity up to O(|u| / L)
+    E, rho, g = 1e13, 1000.0, (0.0, -3.0, -9.81)
+    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2, mapping=_curve if curved else None)
+    ref = skfem_static(mesh, E, nu, rho, g, 2)
+    frames = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
+                              fixed={"plane": ((0, 0, 0), (1, 0, 0))}, static=True)
+    u = frames[0].point_data["Displacement"]
+    rel = np.linalg.norm(u - ref) / np.linalg.norm(ref)
+    assert rel < 1e-6, rel
+    assert np.linalg.norm(ref) > 0
+
+
+def test_static_matches_skfem_p1_tet4():
+    E, nu, rho, g = 1e13, 0.3, 1000.0, (0.0, 0.0, -9.81)
+    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 1)
+    ref = skfem_static(mesh, E, nu, rho, g, 1)
+    u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
+                         fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+                         static=True)[0].point_data["Displacement"]
+    assert np.linalg.norm(u - ref) / np.linalg.norm(ref) < 1e-6
+
+
+def test_frames_time_and_arrays():
+    mesh = box_tet_mesh((4, 1, 1), (4.0, 1.0, 1.0), 2)
+    frames = hoembed.simulate(mesh, steps=10, dt=0.02, young=1e6,
+                              fixed={"plane": ((0, 0, 0), (1, 0, 0))}, every=5)
+    assert [f.field_data["TimeValue"][0] for f in frames] == pytest.approx([0.0, 0.1, 0.2])
+    last = frames[-1]
+    assert last.n_points == mesh.n_points and last.n_cells == mesh.n_cells
+    np.testing.assert_allclose(last.points - mesh.points, last.point_data["Displacement"],
+                               atol=1e-12)
+    assert last.point_data["NodalRotation"].shape == (mesh.n_points, 9)
+    R = last.point_data["NodalRotation"].reshape(-1, 3, 3)
+    np.testing.assert_allclose(R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape),
+                               atol=1e-12)
+    assert np.all(np.linalg.det(R) > 0.999)
+    assert last.cell_data["VonMisesStress"].shape == (mesh.n_cells,)
+    assert last.point_data["Displacement"][:, 2].min() < 0
+    assert np.all(np.isfinite(last.point_data["Velocity"]))
+    # clamped nodes did not move
+    clamped = np.isclose(mesh.points[:, 0], 0.0)
+    assert np.abs(last.point_data["Displacement"][clamped]).max() == 0.0
+
+
+def test_clamp_mask_plane_box_agree():
+    mesh = box_tet_mesh((4, 1, 1), (4.0, 1.0, 1.0), 2)
+    mask = np.isclose(mesh.points[:, 0], 0.0)
+    kw = dict(steps=5, dt=0.01, young=1e6)
+    a = hoembed.simulate(mesh, fixed=mask, **kw)[-1].point_data["Displacement"]
+    b = hoembed.simulate(mesh, fixed={"plane": ((0, 0, 0), (1, 0, 0))}, **kw)[-1]
+    c = hoembed.simulate(mesh, fixed={"box": (-1, 0.0, -1, 2, -1, 2)}, **kw)[-1]
+    m2 = mesh.copy()
+    m2.point_data["Fixed"] = mask.astype(np.int32)
+    d = hoembed.simulate(m2, **kw)[-1].point_data["Displacement"]
+    np.testing.assert_allclose(a, b.point_data["Displacement"], atol=1e-14)
+    np.testing.assert_allclose(a, c.point_data["Displacement"], atol=1e-14)
+    np.testing.assert_allclose(a, d, atol=1e-14)
+
+
+def test_rigid_rotation_no_stress_no_drift():
+    mesh = box_tet_mesh((3, 2, 2), (3.0, 1.0, 1.0), 2)
+    th = 2.0
+    Q = np.array([[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1]])
+    u0 = mesh.points @ Q.T - mesh.points
+    frames = hoembed.simulate(mesh, steps=30, dt=0.01, young=1e6, gravity=(0, 0, 0),
+                              initial_displacement=u0, every=10)
+    for f in frames:
+        np.testing.assert_allclose(f.point_data["Displacement"], u0, atol=1e-9)
+        assert f.cell_data["VonMisesStress"].max() < 1e-6
+        np.testing.assert_allclose(f.point_data["NodalRotation"].reshape(-1, 3, 3),
+                                   np.broadcast_to(Q, (mesh.n_points, 3, 3)), atol=1e-9)
+
+
+def test_progress_and_tet10_beats_tet4_locking():
+    calls = []
+    tips = {}
+    for order in (1, 2):
+        mesh = box_tet_mesh((8, 2, 2), (8.0, 1.0, 1.0), order)
+        f = hoembed.simulate(mesh, young=1e9, poisson=0.49, static=True,
+                             fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+                             progress=lambda i, n: calls.append((i, n)))[0]
+        tips[order] = -f.point_data["Displacement"][:, 2].min()
+    assert calls == [(1, 1), (1, 1)]
+    assert tips[2] > 1.5 * tips[1]
+
+
+@pytest.mark.parametrize("kwargs, needle", [
+    (dict(poisson=0.5), "PoissonRatio"),
+    (dict(poisson=-1.0), "PoissonRatio"),
+    (dict(young=0.0), "YoungModulus"),
+    (dict(density=0.0), "Density"),
+    (dict(dt=0.0), "TimeStep"),
+    (dict(dt=-1.0), "TimeStep"),
+])
+def test_bad_properties_raise(kwargs, needle):
+    mesh = box_tet_mesh((2, 1, 1), (2.0, 1.0, 1.0), 2)
+    with pytest.raises(hoembed.HOEmbedError, match=needle):
+        hoembed.simulate(mesh, steps=2, **kwargs)
+
+
+def test_bad_mesh_and_state_raise():
+    mesh = box_tet_mesh((2, 1, 1), (2.0, 1.0, 1.0), 2)
+    cells = mesh.cells.reshape(-1, 11).copy()
+    cells[3, [2, 3]] = cells[3, [3, 2]]  # swap two corners of cell 3 (and their mids)
+    cells[3, [5, 7]] = cells[3, [7, 5]]
+    cells[3, [9, 10]] = cells[3, [10, 9]]
+    bad = pv.UnstructuredGrid(cells.ravel(), mesh.celltypes, mesh.points)
+    with pytest.raises(hoembed.HOEmbedError, match="cell 3"):
+        hoembed.simulate(bad, steps=1)
+    hexa = pv.ImageData(dimensions=(3, 3, 3)).cast_to_unstructured_grid()
+    with pytest.raises(hoembed.HOEmbedError, match="Unsupported cell"):
+        hoembed.simulate(hexa, steps=1)
+    with pytest.raises(hoembed.HOEmbedError, match="time step 1"):
+        hoembed.simulate(mesh, steps=3, fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+                         external_force=np.full((mesh.n_points, 3), 1e300))
+    with pytest.raises(hoembed.HOEmbedError, match="clamped"):
+        hoembed.simulate(mesh, static=True)
+    with pytest.raises(hoembed.HOEmbedError, match="FixedArrayName"):
+        hoembed.simulate(mesh, steps=1, fixed="NoSuchArray")
+
+
+def test_real_mesh_bunny_frames(data_dir, tmp_path):
+    surf = pv.read(str(data_dir / "bunny_lowres.obj"))
+    mesh = hoembed.tet10_mesh(surf, n_elements=90)
+    ymin = mesh.bounds[2]
+    frames = hoembed.simulate(mesh, steps=20, dt=0.01, young=5e4, gravity=(0, -9.81, 0),
+                              fixed={"plane": ((0, ymin + 0.01, 0), (0, 1, 0))}, every=10)
+    last = frames[-1]
+    u = last.point_data["Displacement"]
+    assert np.all(np.isfinite(u))
+    clamped = mesh.points[:, 1] <= ymin + 0.01
+    assert clamped.any() and np.abs(u[clamped]).max() == 0.0
+    assert u[~clamped, 1].mean() < 0  # sags under gravity
+    assert np.abs(u).max() < 0.5 * (mesh.bounds[3] - mesh.bounds[2])
+    R = last.point_data["NodalRotation"].reshape(-1, 3, 3)
+    np.testing.assert_allclose(R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape),
+                               atol=1e-10)
+    path = hoembed.write_series(frames, tmp_path, "bunny")
+    reader = pv.get_reader(path)
+    assert len(reader.time_values) == len(frames)
