@@ -11,3 +11,10 @@ site = candidates[0].parent.parent
 pth = pathlib.Path(sysconfig.get_paths()["purelib"]) / "hoembed-build.pth"
 if not pth.exists() or pth.read_text().strip() != str(site):
     pth.write_text(str(site) + "\n")
+
+# The `hoembed` command in the venv.
+script = pathlib.Path(sys.executable).parent / "hoembed"
+body = f"#!{sys.executable}\nimport sys\nfrom hoembed.cli import main\nsys.exit(main())\n"
+if not script.exists() or script.read_text() != body:
+    script.write_text(body)
+    script.chmod(0o755)

@@ -50,8 +50,11 @@ def check_mesh(surface, mesh, on_surface_fraction):
     d = distances_to_surface(surface, mesh.points[mids])
     frac = float(np.mean(d <= 1e-6 * diag))
     assert frac >= on_surface_fraction, f"only {frac:.3f} of boundary mid-edge nodes on the surface"
+    # Every node off the surface is counted as relaxed (a relaxed node may still happen to
+    # lie within the tolerance of the surface).
     relaxed = int(mesh.field_data["RelaxedNodeCount"][0])
-    assert relaxed == int(np.sum(d > 1e-6 * diag)), "RelaxedNodeCount disagrees with distances"
+    off = int(np.sum(d > 1e-6 * diag))
+    assert off <= relaxed <= off + max(3, 0.01 * len(mids)), (relaxed, off)
     # Curving brings the volume closer to the surface's.
     v_fine = surface_volume(surface)
     v_curved = tet10_volumes(mesh).sum()

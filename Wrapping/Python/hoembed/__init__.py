@@ -21,7 +21,7 @@ __version__ = "0.1.0"
 _WRAPPED = ("hoembedFiltersMeshing", "hoembedFiltersEmbedding", "hoembedFiltersSimulation",
             "hoembedIOSeries")
 # pyvista-level front ends: each module's __all__ is re-exported.
-_FRONT_ENDS = ("meshing", "embedding", "transfer", "simulation", "series")
+_FRONT_ENDS = ("meshing", "embedding", "transfer", "simulation", "series", "models")
 
 for _name in _WRAPPED:
     if _util.find_spec(f"{__name__}.{_name}") is None:
