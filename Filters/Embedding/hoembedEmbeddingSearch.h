@@ -1,0 +1,94 @@
+/**
+ * @file hoembedEmbeddingSearch.h
+ * @brief Embedding of one surface vertex in a prepared FE mesh (paper Algorithm 1 and
+ * section 5): exact closest point, inside/outside, normal-offset correction.
+ *
+ * Per vertex v, from a hint (the result of a neighbouring vertex, paper Algorithm 2):
+ * 1. If the hint was inside the mesh: walk from the hint cell through face neighbours
+ *    (Algorithm 1 over cells: constrained closest point in the cell, then the neighbour
+ *    across the face the solution lies on; visited set, explicit queue).
+ * 2. Otherwise the closest boundary point: Algorithm 1 over boundary faces from the hint
+ *    face (tri6 closest point; on an edge go to the face across it, at a corner to all
+ *    faces around the node), then certification with the face box tree: every face whose
+ *    control-point box is nearer than the best distance is solved too, so the result is
+ *    the global minimum over the boundary.
+ * 3. Inside/outside from the pseudo-normal at the closest point (face normal, sum of the
+ *    two face normals on an edge, angle-weighted node normal at a corner); points that
+ *    may be inside are located in a cell (walk, then the cell box tree); points within
+ *    1e-11 of the mesh diagonal of the boundary count as inside.
+ * 4. Outside points, normal-offset: Newton on (u, v, d) with x(u, v) + d n(u, v) = v,
+ *    n the normalised interpolated nodal normal (eq. 7-9), walking across boundary edges
+ *    when the iteration leaves the face. Barycentric: the owning cell of the closest face
+ *    with extrapolated (unconstrained) parametric coordinates.
+ */
+#ifndef hoembedEmbeddingSearch_h
+#define hoembedEmbeddingSearch_h
+
+#include "hoembedEmbeddingMesh.h"
+#include "hoembedFiltersEmbeddingModule.h"
+
+#include <vector>
+
+namespace hoembed
+{
+enum EmbeddingMethodType
+{
+  EMBED_NORMAL_OFFSET = 0,
+  EMBED_BARYCENTRIC = 1
+};
+
+struct VertexHint
+{
+  EmbeddingMesh::Id Face = -1; ///< boundary face
+  double UV[2] = { 1.0 / 3.0, 1.0 / 3.0 };
+  EmbeddingMesh::Id Cell = -1;
+  bool Inside = false;
+};
+
+struct VertexEmbedding
+{
+  EmbeddingMesh::Id Cell = -1;
+  double PC[3] = { 0, 0, 0 };
+  double Distance = 0.0;        ///< signed offset along the smooth normal (0 inside)
+  double ClosestDistance = 0.0; ///< distance to the mesh (0 inside)
+  double Residual = 0.0;        ///< |v - (p + d n)| of the reconstruction
+  signed char Face = -1;        ///< local face of Cell the point p lies on, -1 inside
+  int Iterations = 0;
+  int Visited = 0;
+  bool Inside = false;
+  EmbeddingMesh::Id BoundaryFace = -1; ///< closest boundary face (-1 if not computed)
+  double UV[2] = { 0, 0 };
+
+  VertexHint AsHint() const;
+};
+
+/// Per-thread scratch space (visited stamps, queues).
+struct SearchScratch
+{
+  std::vector<unsigned> FaceStamp, CellStamp;
+  unsigned Stamp = 0;
+  std::vector<EmbeddingMesh::Id> Queue, Candidates;
+  void Prepare(const EmbeddingMesh& mesh);
+  unsigned NextStamp();
+};
+
+/// Embed one vertex (see the file comment).
+HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedVertex(const EmbeddingMesh& mesh, int method,
+  const double v[3], const VertexHint& hint, VertexEmbedding& out, SearchScratch& scratch);
+
+/**
+ * Reference for tests: the distance from v to the mesh by exhaustive search, every
+ * boundary face from 7 starts and every cell from 5 starts (0 when some cell contains v
+ * within 1e-11 of the diagonal). `face`, `uv` receive the best boundary face.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT double BruteForceDistance(
+  const EmbeddingMesh& mesh, const double v[3], EmbeddingMesh::Id* face = nullptr,
+  double* uv = nullptr);
+
+/// |v - (p + d n)| with p the tet map at (cell, pc) and n the smooth normal of local face
+/// `face` of the cell at the matching (u, v) (n = 0 when face < 0).
+HOEMBEDFILTERSEMBEDDING_EXPORT double ReconstructionResidual(const EmbeddingMesh& mesh,
+  const double v[3], EmbeddingMesh::Id cell, const double pc[3], int face, double d);
+} // namespace hoembed
+
+#endif
