@@ -835,6 +835,11 @@ int SolveNormalOffset(const QuadraticMap& xm, const QuadraticMap& sm, const doub
     }
     if (!Solve3(A, b, delta))
       return -1;
+    // converged to round-off: the remaining Newton step is below the resolution of the
+    // coordinates (happens on an edge, where the normal field has a kink)
+    if (std::fabs(delta[0]) + std::fabs(delta[1]) <= 1e-13 && std::fabs(delta[2]) <= tol &&
+      fn <= 100.0 * tol)
+      return 0;
     // ratio test: where does the step leave the triangle?
     double amax = 1.0;
     int edge = -1;

@@ -13,7 +13,7 @@ namespace
 using Id = EmbeddingMesh::Id;
 
 constexpr double InsideTolerance = 1e-11;    // of the diagonal
-constexpr double CorrectionTolerance = 1e-13; // of the diagonal
+constexpr double CorrectionTolerance = 1e-12; // of the diagonal
 constexpr int MaxWalk = 64;
 
 const double CornerUV[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
@@ -384,45 +384,46 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
   }
   // 4. normal-offset correction (eq. 8-9), walking across boundary edges
   const double tolF = CorrectionTolerance * M.Diagonal;
+  auto correct = [&](Id& f, double uv[2], double& d) {
+    int status = -1;
+    for (int sw = 0; sw < 16; ++sw)
+    {
+      status = SolveNormalOffset(M.FaceMaps[f], M.NormalMaps[f], v, uv, d, tolF, out.Iterations);
+      if (status <= 0)
+        break;
+      const int e = status - 1;
+      const Id g = T.BoundaryFaceNeighbor[3 * f + e];
+      double uvg[2];
+      if (g < 0 || !MapAcrossEdge(M, f, e, uv, g, uvg))
+        return false;
+      f = g;
+      uv[0] = uvg[0];
+      uv[1] = uvg[1];
+      ++out.Visited;
+    }
+    return status == 0;
+  };
   Id f = hit.Face;
   double uv[2] = { hit.UV[0], hit.UV[1] };
   double d = dist;
-  int status = -1;
-  for (int sw = 0; sw < 16; ++sw)
-  {
-    status = SolveNormalOffset(M.FaceMaps[f], M.NormalMaps[f], v, uv, d, tolF, out.Iterations);
-    if (status <= 0)
-      break;
-    const int e = status - 1;
-    const Id g = T.BoundaryFaceNeighbor[3 * f + e];
-    double uvg[2];
-    if (g < 0 || !MapAcrossEdge(M, f, e, uv, g, uvg))
-    {
-      status = -1;
-      break;
-    }
-    f = g;
-    uv[0] = uvg[0];
-    uv[1] = uvg[1];
-    ++out.Visited;
-  }
-  if (status != 0)
+  bool ok = correct(f, uv, d);
+  if (!ok)
   {
     // fallback: every face around the corners of the closest face, from its centroid
     const int npf = T.GetNodesPerFace();
-    for (int a = 0; a < 3 && status != 0; ++a)
+    for (int a = 0; a < 3 && !ok; ++a)
     {
       const Id node = T.BoundaryFaceNodes[npf * hit.Face + a];
-      for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1] && status != 0; ++i)
+      for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1] && !ok; ++i)
       {
         f = T.NodeFaces[i];
         uv[0] = uv[1] = 1.0 / 3.0;
         d = dist;
         ++out.Visited;
-        status = SolveNormalOffset(M.FaceMaps[f], M.NormalMaps[f], v, uv, d, tolF, out.Iterations);
+        ok = correct(f, uv, d);
       }
     }
-    if (status != 0)
+    if (!ok)
     {
       f = hit.Face; // keep the closest point; the residual tells
       uv[0] = hit.UV[0];
