@@ -4,6 +4,7 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <atomic>
 #include <deque>
 #include <limits>
@@ -27,10 +28,10 @@ struct FloodContext
   int Method;
   const double* Points;
   const std::vector<Id>* Triangles;
-  std::vector<Id> VertexTriOffsets, VertexTris;
-  std::vector<Id> Order;       // triangles, breadth first
-  std::vector<Id> PartitionOf; // per triangle
-  std::vector<Id> Owner;       // per vertex: partition, -1 for isolated vertices
+  std::vector<Id> VertexTriOffsets;
+  std::vector<std::int32_t> VertexTris; // triangle ids (< 2^31 triangles)
+  Id NumberOfTriangles = 0;
+  std::vector<int> Owner; // per vertex: partition, -1 for isolated vertices
   std::vector<char> TriangleState;
   std::vector<char> Done;
   Id NumberOfPartitions = 1;
@@ -55,7 +56,7 @@ struct FloodContext
   void FloodPartition(Id p)
   {
     SearchScratch& s = this->LocalScratch();
-    const Id ntri = static_cast<Id>(this->Order.size());
+    const Id ntri = this->NumberOfTriangles;
     const Id b = p * ntri / this->NumberOfPartitions;
     const Id e = (p + 1) * ntri / this->NumberOfPartitions;
     const std::vector<Id>& tri = *this->Triangles;
@@ -64,7 +65,7 @@ struct FloodContext
     std::vector<Entry> deferred;
     for (Id k = b; k < e; ++k)
     {
-      const Id t0 = this->Order[k];
+      const Id t0 = k;
       if (this->TriangleState[t0])
         continue;
       ++this->Seeds;
@@ -92,7 +93,7 @@ struct FloodContext
         for (int j = 0; j < 3; ++j)
         {
           const Id w = tri[3 * t + j];
-          if (this->Owner[w] != p)
+          if (this->Owner[w] != static_cast<int>(p))
             continue;
           if (!this->Done[w])
             this->Embed(w, h, s);
@@ -116,7 +117,7 @@ struct FloodContext
           for (Id i = this->VertexTriOffsets[w]; i < this->VertexTriOffsets[w + 1]; ++i)
           {
             const Id n = this->VertexTris[i];
-            if (this->PartitionOf[n] == p && !this->TriangleState[n])
+            if (n >= b && n < e && !this->TriangleState[n])
             {
               this->TriangleState[n] = 1;
               queue.push_back({ n, h, 0.0 });
@@ -153,57 +154,24 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
     std::vector<Id> fill(ctx.VertexTriOffsets.begin(), ctx.VertexTriOffsets.end() - 1);
     for (Id t = 0; t < ntri; ++t)
       for (int j = 0; j < 3; ++j)
-        ctx.VertexTris[fill[triangles[3 * t + j]]++] = t;
+        ctx.VertexTris[fill[triangles[3 * t + j]]++] = static_cast<std::int32_t>(t);
   }
 
-  // breadth-first triangle order, component by component
-  ctx.Order.reserve(ntri);
-  {
-    std::vector<char> seen(ntri, 0);
-    for (Id t0 = 0; t0 < ntri; ++t0)
-    {
-      if (seen[t0])
-        continue;
-      seen[t0] = 1;
-      size_t head = ctx.Order.size();
-      ctx.Order.push_back(t0);
-      while (head < ctx.Order.size())
-      {
-        const Id t = ctx.Order[head++];
-        for (int j = 0; j < 3; ++j)
-        {
-          const Id w = triangles[3 * t + j];
-          for (Id i = ctx.VertexTriOffsets[w]; i < ctx.VertexTriOffsets[w + 1]; ++i)
-          {
-            const Id n = ctx.VertexTris[i];
-            if (!seen[n])
-            {
-              seen[n] = 1;
-              ctx.Order.push_back(n);
-            }
-          }
-        }
-      }
-    }
-  }
+  // partitions: contiguous ranges of triangle ids (input order is usually spatially
+  // coherent; a partition that is not connected just gets more seeds)
   Id P = numberOfPartitions > 0 ? numberOfPartitions : std::min<Id>(256, ntri / 1000);
   P = std::max<Id>(1, std::min<Id>(P, std::max<Id>(ntri, 1)));
   ctx.NumberOfPartitions = P;
-  ctx.PartitionOf.assign(ntri, 0);
-  for (Id p = 0; p < P; ++p)
-    for (Id k = p * ntri / P; k < (p + 1) * ntri / P; ++k)
-      ctx.PartitionOf[ctx.Order[k]] = p;
+  ctx.NumberOfTriangles = ntri;
   ctx.Owner.assign(numberOfPoints, -1);
-  for (Id k = 0; k < ntri; ++k)
-  {
-    const Id t = ctx.Order[k];
-    for (int j = 0; j < 3; ++j)
-    {
-      const Id w = triangles[3 * t + j];
-      if (ctx.Owner[w] < 0)
-        ctx.Owner[w] = ctx.PartitionOf[t];
-    }
-  }
+  for (Id p = 0; p < P; ++p)
+    for (Id t = p * ntri / P; t < (p + 1) * ntri / P; ++t)
+      for (int j = 0; j < 3; ++j)
+      {
+        const Id w = triangles[3 * t + j];
+        if (ctx.Owner[w] < 0)
+          ctx.Owner[w] = static_cast<int>(p);
+      }
   ctx.TriangleState.assign(ntri, 0);
   ctx.Done.assign(numberOfPoints, 0);
 

@@ -4,9 +4,8 @@
  * triangles, each vertex starting from the result of an already mapped neighbour.
  *
  * Unrolled into loops with explicit queues (no recursion):
- * 1. Triangles are ordered breadth-first over shared vertices, component by component,
- *    and the order is cut into contiguous partitions (patches of the surface). Each
- *    vertex belongs to the partition of its first triangle in that order.
+ * 1. The triangles are cut into contiguous id ranges (partitions; input order is usually
+ *    spatially coherent). Each vertex belongs to the partition of its first triangle.
  * 2. Partitions run in parallel (vtkSMPTools). In each, a seed triangle per connected
  *    piece starts a flood: a triangle is mapped when all its vertices are within the
  *    distance threshold d_t; only then are its neighbours queued, with the last mapped

@@ -209,6 +209,21 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   auto test = [&](Id c) {
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
+    // fast path: plain Newton inversion; accepted only when it lands inside the cell
+    double pc[3] = { start[0], start[1], start[2] };
+    int its = 0;
+    const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
+    out.Iterations += its;
+    if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
+      pc[0] + pc[1] + pc[2] <= 1.0)
+    {
+      ++out.Visited;
+      out.Cell = c;
+      for (int i = 0; i < 3; ++i)
+        out.PC[i] = pc[i];
+      out.Residual = res;
+      return true;
+    }
     ClosestPointOnMap(M.CellMaps[c], v, start, r);
     out.Iterations += r.Iterations;
     ++out.Visited;
