@@ -96,6 +96,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
 
   const int npf = this->Topology.GetNodesPerFace();
   this->FaceMaps.resize(nbf);
+  this->FaceSlabs.assign(6 * nbf, 0.0);
   this->NormalMaps.resize(nbf);
   boxes.assign(6 * nbf, 0.0);
   for (Id f = 0; f < nbf; ++f)
@@ -111,9 +112,59 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     MakeTriangleMap(x, npf, this->FaceMaps[f]);
     MakeTriangleMap(nx, npf, this->NormalMaps[f]);
     ControlBox(points, ids, 3, TriEdges, 3, quadratic, &boxes[6 * f]);
+    // slab of the corner plane
+    double* slab = &this->FaceSlabs[6 * f];
+    const double* a = x;
+    const double* b = x + 3;
+    const double* c = x + 6;
+    double e1[3], e2[3], n[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      e1[d] = b[d] - a[d];
+      e2[d] = c[d] - a[d];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(ln > 0.0))
+    {
+      slab[0] = slab[1] = slab[2] = 0.0; // no bound from a degenerate plane
+      slab[3] = slab[4] = slab[5] = 0.0;
+      continue;
+    }
+    for (int d = 0; d < 3; ++d)
+      slab[d] = n[d] / ln;
+    slab[3] = slab[0] * a[0] + slab[1] * a[1] + slab[2] * a[2];
+    double lo = 0.0, hi = 0.0;
+    if (quadratic)
+    {
+      for (int e = 0; e < 3; ++e)
+      {
+        const double* p = x + 3 * TriEdges[e][0];
+        const double* q = x + 3 * TriEdges[e][1];
+        const double* m = x + 3 * (3 + e);
+        double h = -slab[3];
+        for (int d = 0; d < 3; ++d)
+          h += slab[d] * (2.0 * m[d] - 0.5 * (p[d] + q[d]));
+        lo = std::min(lo, h);
+        hi = std::max(hi, h);
+      }
+    }
+    const double pad = 1e-12 * this->Diagonal;
+    slab[4] = lo - pad;
+    slab[5] = hi + pad;
   }
   this->FaceTree.Build(boxes);
   return std::string();
+}
+
+double EmbeddingMesh::FaceLowerBound2(Id f, const double v[3]) const
+{
+  const double* s = &this->FaceSlabs[6 * f];
+  const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
+  const double out = h > s[5] ? h - s[5] : (h < s[4] ? s[4] - h : 0.0);
+  return out * out;
 }
 
 void EmbeddingMesh::CellPoint(Id c, const double pc[3], double x[3]) const

@@ -39,11 +39,18 @@ public:
   std::vector<QuadraticMap> CellMaps;
   std::vector<QuadraticMap> FaceMaps;   ///< per boundary face, Dim 2
   std::vector<QuadraticMap> NormalMaps; ///< per boundary face: sum_I N_I(u, v) nbar_I
+  /// Per boundary face: unit normal n of the corner plane, offset c = n . x_a, and the
+  /// range [lo, hi] of n . x - c over the face's Bezier control points (the face lies in
+  /// that slab): 6 doubles n, c, lo, hi.
+  std::vector<double> FaceSlabs;
   AabbTree FaceTree;
   AabbTree CellTree;
   double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
 
   int NodesPerCell() const { return this->Topology.NodesPerCell; }
+
+  /// Lower bound of the squared distance from v to boundary face f (box and slab).
+  double FaceLowerBound2(Id f, const double v[3]) const;
 
   /// Tet map of cell c at pc (tet4/tet10 shape functions over the cell's nodes).
   void CellPoint(Id c, const double pc[3], double x[3]) const;

@@ -190,8 +190,10 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     }
   }
   // certification: every face whose box is nearer than the best distance
+  // (a face whose lower bound is within 1e-10 relative of the best cannot improve it by
+  // more than that, far below the 1e-8 of the diagonal that matters)
   M.FaceTree.VisitNearer(v, best.Dist2, [&](Id f) {
-    if (S.FaceStamp[f] == stamp)
+    if (S.FaceStamp[f] == stamp || M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
       return;
     S.FaceStamp[f] = stamp;
     SolveFace(M, v, f, nullptr, best, out);
@@ -200,13 +202,13 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
 
 // Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.
 bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTree,
-  VertexEmbedding& out, SearchScratch& S)
+  VertexEmbedding& out, SearchScratch& S, int maxWalk = MaxWalk)
 {
   const double tol = InsideTolerance * M.Diagonal;
   const double tol2 = tol * tol;
   const unsigned stamp = S.NextStamp();
   ClosestPointResult r;
-  auto test = [&](Id c) {
+  auto test = [&](Id c, bool fastOnly) {
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
     // fast path: plain Newton inversion; accepted only when it lands inside the cell
@@ -224,6 +226,8 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       out.Residual = res;
       return true;
     }
+    if (fastOnly)
+      return false;
     ClosestPointOnMap(M.CellMaps[c], v, start, r);
     out.Iterations += r.Iterations;
     ++out.Visited;
@@ -243,10 +247,12 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     S.Queue.push_back(start);
     S.CellStamp[start] = stamp;
   }
-  for (size_t q = 0; q < S.Queue.size() && q < static_cast<size_t>(MaxWalk); ++q)
+  if (maxWalk == 0)
+    return start >= 0 && test(start, true);
+  for (size_t q = 0; q < S.Queue.size() && q < static_cast<size_t>(maxWalk); ++q)
   {
     const Id c = S.Queue[q];
-    if (test(c))
+    if (test(c, false))
       return true;
     for (int b = 0; b < 4; ++b)
     {
@@ -269,7 +275,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     if (S.CellStamp[c] == stamp)
       continue;
     S.CellStamp[c] = stamp;
-    if (test(c))
+    if (test(c, false))
       return true;
   }
   return false;
@@ -340,8 +346,9 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
 {
   out = VertexEmbedding();
   const TetMeshTopology& T = M.Topology;
-  // 1. inside, from an inside neighbour: walk through the cells
-  if (hint.Inside && hint.Cell >= 0 && LocateCell(M, v, hint.Cell, false, out, S))
+  // 1. inside, from an inside neighbour: walk through a few cells; otherwise try the
+  // hint cell alone (one Newton inversion)
+  if (hint.Cell >= 0 && LocateCell(M, v, hint.Cell, false, out, S, hint.Inside ? 8 : 0))
   {
     SetInside(out);
     out.BoundaryFace = hint.Face;
