@@ -64,7 +64,8 @@ def time_probe(surface, grid4):
     best = np.inf
     for _ in range(REPEATS):
         p = vtkProbeFilter()
-        p.SetInputData(pv.PolyData(np.asarray(surface.points, dtype=float)))
+        probe = pv.PolyData(np.array(surface.points, dtype=float), deep=True)
+        p.SetInputData(probe)
         p.SetSourceData(grid4)
         p.SetCellLocatorPrototype(vtkStaticCellLocator())
         t = time.perf_counter()
@@ -101,7 +102,8 @@ def exact_tet4(grid4, points):
         to_b[i] = np.sqrt(float(d2))
     sel = vtkSelectEnclosedPoints()
     sel.SetSurfaceData(boundary)
-    sel.SetInputData(pv.PolyData(np.asarray(points, dtype=float)))
+    probe = pv.PolyData(np.array(points, dtype=float), deep=True)  # kept alive until Update
+    sel.SetInputData(probe)
     sel.Update()
     inside = vtk_to_numpy(sel.GetOutput().GetPointData().GetArray("SelectedPoints")) > 0
     return np.where(inside, 0.0, to_b), to_b

@@ -34,6 +34,7 @@ struct FloodContext
   std::vector<int> Owner; // per vertex: partition, -1 for isolated vertices
   std::vector<char> TriangleState;
   std::vector<char> Done;
+  std::vector<char> Expanded;
   Id NumberOfPartitions = 1;
   std::vector<VertexEmbedding>* Out;
   std::atomic<Id> Seeds{ 0 }, Raises{ 0 };
@@ -111,9 +112,14 @@ struct FloodContext
           deferred.push_back({ t, h, maxd });
           continue;
         }
+        // queue the triangles around this triangle's vertices; each vertex of this
+        // partition is expanded once (its triangles are queued by its first mapped triangle)
         for (int j = 0; j < 3; ++j)
         {
           const Id w = tri[3 * t + j];
+          if (this->Owner[w] != static_cast<int>(p) || this->Expanded[w])
+            continue;
+          this->Expanded[w] = 1;
           for (Id i = this->VertexTriOffsets[w]; i < this->VertexTriOffsets[w + 1]; ++i)
           {
             const Id n = this->VertexTris[i];
@@ -174,6 +180,7 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
       }
   ctx.TriangleState.assign(ntri, 0);
   ctx.Done.assign(numberOfPoints, 0);
+  ctx.Expanded.assign(numberOfPoints, 0);
 
   std::vector<Id> isolated;
   for (Id i = 0; i < numberOfPoints; ++i)

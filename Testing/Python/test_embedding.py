@@ -46,7 +46,7 @@ def surface():
     s = (a + b + c).clean(tolerance=0.0)
     lone = np.array([[0.5, 0.5, 0.5], [-0.8, 0.3, 0.2], [5.0, 5.0, 5.0]])
     pts = np.vstack([s.points, lone])
-    out = pv.PolyData(pts, faces=s.faces)
+    out = pv.PolyData(pts, faces=s.faces, deep=True)
     return out
 
 
@@ -67,7 +67,8 @@ def vtk_distance(grid, points):
         to_boundary[i] = np.sqrt(float(d2))
     sel = vtkSelectEnclosedPoints()
     sel.SetSurfaceData(boundary)
-    sel.SetInputData(pv.PolyData(np.asarray(points, dtype=float)))
+    probe = pv.PolyData(np.array(points, dtype=float), deep=True)  # kept alive until Update
+    sel.SetInputData(probe)
     sel.Update()
     inside = vtk_to_numpy(sel.GetOutput().GetPointData().GetArray("SelectedPoints")) > 0
     return np.where(inside, 0.0, to_boundary), to_boundary

@@ -19,7 +19,8 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 def _inside(surface, points):
     sel = vtkSelectEnclosedPoints()
     sel.SetSurfaceData(surface)
-    sel.SetInputData(pv.PolyData(points))
+    probe = pv.PolyData(np.array(points, dtype=float), deep=True)  # kept alive until Update
+    sel.SetInputData(probe)
     sel.SetTolerance(1e-9)
     sel.Update()
     return vtk_to_numpy(sel.GetOutput().GetPointData().GetArray("SelectedPoints")).astype(bool)
@@ -29,7 +30,7 @@ def _valid(grid):
     """True when hoembed accepts every element (det J > 0 everywhere, Bernstein bound)."""
     import hoembed
     try:
-        hoembed.embed(pv.PolyData(np.asarray(grid.points[:1], dtype=float)), grid)
+        hoembed.embed(pv.PolyData(np.array(grid.points[:1], dtype=float), deep=True), grid)
         return True
     except hoembed.HOEmbedError:
         return False
