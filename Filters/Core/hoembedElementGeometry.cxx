@@ -82,6 +82,16 @@ bool SubTetCoefficients(const double* x, const double c[4][3], double coef[20])
   return sampledNonPositive;
 }
 
+// 1e-12 of the largest coefficient: far above the round-off of computing the 20
+// coefficients from sampled det J values, far below any element worth keeping.
+double RoundOffAllowance(const double coef[20])
+{
+  double m = 0.0;
+  for (int q = 0; q < 20; ++q)
+    m = std::max(m, std::abs(coef[q]));
+  return 1e-12 * m;
+}
+
 void Mid(const double a[3], const double b[3], double m[3])
 {
   for (int d = 0; d < 3; ++d)
@@ -93,7 +103,9 @@ double SubTetLowerBound(const double* x, const double c[4][3], int depth)
 {
   double coef[20];
   const bool certainlyInvalid = SubTetCoefficients(x, c, coef);
-  const double lo = *std::min_element(coef, coef + 20);
+  // Allow for the round-off of the samples and of the basis change, so that a bound that
+  // is positive is positive for the exact polynomial too.
+  const double lo = *std::min_element(coef, coef + 20) - RoundOffAllowance(coef);
   if (lo > 0.0 || certainlyInvalid || depth <= 0)
   {
     if (certainlyInvalid)
@@ -134,6 +146,41 @@ void Cross(const double a[3], const double b[3], double c[3])
   c[0] = a[1] * b[2] - a[2] * b[1];
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+double Det3(const double J[3][3])
+{
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+    J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+    J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+// Scaled Jacobian at a point with Jacobian J (columns dx/dr, dx/ds, dx/dt), as Verdict
+// defines it for a tet, independent of the node numbering: the six reference edges are
+// mapped by J, and sqrt(2) det J is divided by the largest product of the three mapped
+// edge lengths at a corner (every corner is tried, not only corner 0). For a straight tet
+// this equals vtkMeshQuality's tet scaled Jacobian; a regular tet scores 1.
+double ScaledJacobianOf(const double J[3][3])
+{
+  static const int edgeDir[6][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { -1, 1, 0 },
+    { -1, 0, 1 }, { 0, -1, 1 } }; // edges 01, 02, 03, 12, 13, 23
+  double len[6];
+  for (int e = 0; e < 6; ++e)
+  {
+    double v[3];
+    for (int i = 0; i < 3; ++i)
+      v[i] = J[i][0] * edgeDir[e][0] + J[i][1] * edgeDir[e][1] + J[i][2] * edgeDir[e][2];
+    len[e] = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  const double det = Det3(J);
+  // Corners 0..3 and their incident edges.
+  const double prod = std::max(std::max(len[0] * len[1] * len[2], len[0] * len[3] * len[4]),
+    std::max(len[1] * len[3] * len[5], len[2] * len[4] * len[5]));
+  if (!(prod > 0.0))
+  {
+    return -1.0; // degenerate
+  }
+  return std::sqrt(2.0) * det / std::max(prod, std::abs(det));
 }
 } // namespace
 
@@ -183,15 +230,15 @@ void Tet10JacobianBounds(const double* x, double& minBound, double& maxBound, in
   static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
   double coef[20];
   SubTetCoefficients(x, corners, coef);
-  maxBound = *std::max_element(coef, coef + 20);
+  maxBound = *std::max_element(coef, coef + 20) + RoundOffAllowance(coef);
   minBound = SubTetLowerBound(x, corners, depth);
 }
 
 bool Tet10IsValid(const double* x, int depth)
 {
-  double lo, hi;
-  Tet10JacobianBounds(x, lo, hi, depth);
-  return lo > 0.0;
+  // The lower bound alone (Tet10JacobianBounds also computes the upper one).
+  static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  return SubTetLowerBound(x, corners, depth) > 0.0;
 }
 
 double Tet10MinScaledJacobian(const double* x)
@@ -204,11 +251,7 @@ double Tet10MinScaledJacobian(const double* x)
     double pc[3], J[3][3];
     LatticePoint(lat, p, corners, pc);
     Tet10Jacobian(x, pc, J);
-    double len = 1.0;
-    for (int j = 0; j < 3; ++j)
-      len *= std::sqrt(J[0][j] * J[0][j] + J[1][j] * J[1][j] + J[2][j] * J[2][j]);
-    const double sj = len > 0.0 ? std::sqrt(2.0) * Determinant3(J) / len : -1.0;
-    best = std::min(best, sj);
+    best = std::min(best, ScaledJacobianOf(J));
   }
   if (best > 0.0 && !Tet10IsValid(x))
   {
@@ -219,15 +262,11 @@ double Tet10MinScaledJacobian(const double* x)
 
 double Tet4ScaledJacobian(const double* x)
 {
-  double e[3][3];
-  double len = 1.0;
-  for (int j = 0; j < 3; ++j)
-  {
-    for (int d = 0; d < 3; ++d)
-      e[j][d] = x[3 * (j + 1) + d] - x[d];
-    len *= std::sqrt(e[j][0] * e[j][0] + e[j][1] * e[j][1] + e[j][2] * e[j][2]);
-  }
-  return len > 0.0 ? std::min(1.0, std::sqrt(2.0) * Tet4JacobianDeterminant(x) / len) : -1.0;
+  double J[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      J[i][j] = x[3 * (j + 1) + i] - x[i];
+  return std::min(1.0, ScaledJacobianOf(J));
 }
 
 double Tet10Volume(const double* x)

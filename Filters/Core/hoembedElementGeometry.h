@@ -9,7 +9,8 @@
  * barycentric coordinates. It is represented exactly by its 20 coefficients in the cubic
  * Bernstein basis; their minimum is a lower bound of det J over the whole element
  * (Bernstein polynomials are non-negative and sum to one), and the bound is sharp at the
- * corners. `Tet10JacobianBounds` computes that bound, refined by de Casteljau subdivision
+ * corners (up to a round-off allowance of 1e-12 of the largest coefficient, subtracted so
+ * that a positive bound is positive for the exact polynomial too). `Tet10JacobianBounds` computes that bound, refined by de Casteljau subdivision
  * where it is not conclusive, so `Tet10IsValid` never accepts an element whose det J
  * reaches zero anywhere inside it.
  */
@@ -46,15 +47,19 @@ HOEMBEDFILTERSCORE_EXPORT void Tet10JacobianBounds(
 HOEMBEDFILTERSCORE_EXPORT bool Tet10IsValid(const double* x, int depth = 3);
 
 /**
- * Scaled Jacobian of a tet10: min over the element of det J / (|J_r| |J_s| |J_t|),
- * times sqrt(2) so that a regular straight tet scores 1. The minimum is taken over the
- * 20 nodes of the cubic lattice and the 4 corners' Bernstein bound is used to return a
- * value <= 0 whenever the element is not provably valid.
+ * Scaled Jacobian of a tet10, Verdict's definition applied pointwise: at a point with
+ * Jacobian J, sqrt(2) det J divided by the largest product, over the 4 corners, of the
+ * lengths of the 3 reference edges at that corner mapped by J (so the value does not
+ * depend on the node numbering, and a regular straight tet scores 1). The minimum is
+ * taken over the 20 nodes of the cubic lattice; the result is at most 0 whenever the
+ * element is not provably valid (Tet10IsValid), and at most 1.
+ * For a straight tet10 this equals vtkMeshQuality's tet scaled Jacobian.
  */
 HOEMBEDFILTERSCORE_EXPORT double Tet10MinScaledJacobian(const double* x);
-/// Scaled Jacobian of a straight tet4 (sqrt(2) normalised, 1 for a regular tet).
+/// Scaled Jacobian of a straight tet4, as vtkMeshQuality / Verdict computes it (min over
+/// the 4 corners, sqrt(2) normalised: 1 for a regular tet; -1 for a zero-length edge).
 HOEMBEDFILTERSCORE_EXPORT double Tet4ScaledJacobian(const double* x);
-/// Volume of a tet10 (exact: 4-point-free, uses the cubic Bernstein mean of det J).
+/// Volume of a tet10 (exact: the mean of the cubic Bernstein coefficients of det J / 6).
 HOEMBEDFILTERSCORE_EXPORT double Tet10Volume(const double* x);
 HOEMBEDFILTERSCORE_EXPORT double Tet4Volume(const double* x);
 } // namespace hoembed

@@ -33,14 +33,62 @@ void BucketByFirst(std::vector<Keyed<K>>& items, Id numberOfPoints, std::vector<
   for (const auto& it : items)
     sorted[fill[it.Key[0]]++] = it;
 }
+
+// Whether local faces fa and fb (items 4 * cell + face) of two tet10 cells with the same
+// corners also have the same mid-edge node on each edge.
+bool SameFaceMids(const Id* conn, Id fa, Id fb)
+{
+  const Id* ca = conn + (fa / 4) * 10;
+  const Id* cb = conn + (fb / 4) * 10;
+  const int* na = TetFaceNodes[fa % 4];
+  const int* nb = TetFaceNodes[fb % 4];
+  for (int e = 0; e < 3; ++e)
+  {
+    const Id p = ca[na[e]], q = ca[na[(e + 1) % 3]];
+    bool found = false;
+    for (int e2 = 0; e2 < 3 && !found; ++e2)
+    {
+      const Id p2 = cb[nb[e2]], q2 = cb[nb[(e2 + 1) % 3]];
+      if ((p == p2 && q == q2) || (p == q2 && q == p2))
+      {
+        found = ca[na[3 + e]] == cb[nb[3 + e2]];
+        if (!found)
+          return false;
+      }
+    }
+    if (!found)
+      return false;
+  }
+  return true;
+}
 } // namespace
 
 std::string TetMeshTopology::Build(
   const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints)
 {
+  std::string err = this->BuildImpl(conn, numberOfCells, nodesPerCell, numberOfPoints);
+  if (!err.empty())
+  {
+    // Leave an empty topology behind, not a half-built one.
+    *this = TetMeshTopology();
+  }
+  return err;
+}
+
+std::string TetMeshTopology::BuildImpl(
+  const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints)
+{
   if (nodesPerCell != 4 && nodesPerCell != 10)
   {
     return "cells must have 4 (tet4) or 10 (tet10) nodes";
+  }
+  if (numberOfCells < 0 || numberOfPoints < 0)
+  {
+    return "negative number of cells or points";
+  }
+  if (numberOfCells > 0 && !conn)
+  {
+    return "no connectivity given";
   }
   this->NodesPerCell = nodesPerCell;
   this->NumberOfCells = numberOfCells;
@@ -92,24 +140,42 @@ std::string TetMeshTopology::Build(
   this->FaceNeighbor.assign(4 * numberOfCells, -1);
   for (Id p = 0; p < numberOfPoints; ++p)
   {
-    for (Id i = offsets[p]; i < offsets[p + 1]; ++i)
+    // Sort the bucket (faces whose smallest node is p) by the other two nodes, then walk
+    // the runs of equal faces: O(k log k) for k faces in the bucket, not O(k^2) (a node
+    // shared by many cells makes a large bucket).
+    Keyed<3>* first = sorted.data() + offsets[p];
+    Keyed<3>* last = sorted.data() + offsets[p + 1];
+    std::sort(first, last, [](const Keyed<3>& a, const Keyed<3>& b) {
+      return a.Key[1] != b.Key[1] ? a.Key[1] < b.Key[1]
+                                  : (a.Key[2] != b.Key[2] ? a.Key[2] < b.Key[2] : a.Item < b.Item);
+    });
+    for (Keyed<3>* run = first; run != last;)
     {
-      int matches = 0;
-      for (Id j = offsets[p]; j < offsets[p + 1]; ++j)
-      {
-        if (i != j && sorted[i].Key[1] == sorted[j].Key[1] && sorted[i].Key[2] == sorted[j].Key[2])
-        {
-          ++matches;
-          this->FaceNeighbor[sorted[i].Item] = sorted[j].Item / 4;
-        }
-      }
-      if (matches > 1)
+      Keyed<3>* end = run + 1;
+      while (end != last && end->Key[1] == run->Key[1] && end->Key[2] == run->Key[2])
+        ++end;
+      if (end - run > 2)
       {
         std::ostringstream os;
-        os << "face (" << sorted[i].Key[0] << ", " << sorted[i].Key[1] << ", " << sorted[i].Key[2]
+        os << "face (" << run->Key[0] << ", " << run->Key[1] << ", " << run->Key[2]
            << ") is shared by more than two cells";
         return os.str();
       }
+      if (end - run == 2)
+      {
+        if (nodesPerCell == 10 && !SameFaceMids(conn, run[0].Item, run[1].Item))
+        {
+          // Conforming tet10 neighbours share the face's mid-edge nodes too.
+          std::ostringstream os;
+          os << "cells " << run[0].Item / 4 << " and " << run[1].Item / 4 << " share the face ("
+             << run->Key[0] << ", " << run->Key[1] << ", " << run->Key[2]
+             << ") but not its mid-edge nodes (non-conforming tet10 mesh)";
+          return os.str();
+        }
+        this->FaceNeighbor[run[0].Item] = run[1].Item / 4;
+        this->FaceNeighbor[run[1].Item] = run[0].Item / 4;
+      }
+      run = end;
     }
   }
 
@@ -154,35 +220,32 @@ std::string TetMeshTopology::Build(
   this->NumberOfNonManifoldBoundaryEdges = 0;
   for (Id p = 0; p < numberOfPoints; ++p)
   {
-    for (Id i = offsets[p]; i < offsets[p + 1]; ++i)
+    Keyed<2>* first = sortedEdges.data() + offsets[p];
+    Keyed<2>* last = sortedEdges.data() + offsets[p + 1];
+    std::sort(first, last, [](const Keyed<2>& a, const Keyed<2>& b) {
+      return a.Key[1] != b.Key[1] ? a.Key[1] < b.Key[1] : a.Item < b.Item;
+    });
+    for (Keyed<2>* run = first; run != last;)
     {
-      int count = 0;
-      Id other = -1;
-      bool first = true;
-      for (Id j = offsets[p]; j < offsets[p + 1]; ++j)
+      Keyed<2>* end = run + 1;
+      while (end != last && end->Key[1] == run->Key[1])
+        ++end;
+      const Id count = static_cast<Id>(end - run); // boundary faces on this edge
+      if (count == 2)
       {
-        if (sortedEdges[j].Key[1] != sortedEdges[i].Key[1])
-          continue;
-        if (j < i)
-          first = false;
-        if (j != i)
-        {
-          ++count;
-          other = sortedEdges[j].Item / 3;
-        }
+        this->BoundaryFaceNeighbor[run[0].Item] = run[1].Item / 3;
+        this->BoundaryFaceNeighbor[run[1].Item] = run[0].Item / 3;
       }
-      const Id item = sortedEdges[i].Item;
-      this->BoundaryFaceNeighbor[item] = count == 1 ? other : -1;
-      if (first)
+      else if (count > 2)
       {
-        const Id b = item / 3;
-        const int e = static_cast<int>(item % 3);
-        this->BoundaryEdgeNodes.push_back(sortedEdges[i].Key[0]);
-        this->BoundaryEdgeNodes.push_back(sortedEdges[i].Key[1]);
-        this->BoundaryEdgeNodes.push_back(npf == 6 ? this->BoundaryFaceNodes[b * npf + 3 + e] : -1);
-        if (count > 1)
-          ++this->NumberOfNonManifoldBoundaryEdges;
+        ++this->NumberOfNonManifoldBoundaryEdges;
       }
+      const Id b = run->Item / 3;
+      const int e = static_cast<int>(run->Item % 3);
+      this->BoundaryEdgeNodes.push_back(run->Key[0]);
+      this->BoundaryEdgeNodes.push_back(run->Key[1]);
+      this->BoundaryEdgeNodes.push_back(npf == 6 ? this->BoundaryFaceNodes[b * npf + 3 + e] : -1);
+      run = end;
     }
   }
 

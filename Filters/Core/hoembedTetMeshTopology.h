@@ -3,8 +3,9 @@
  * @brief Adjacency of a tet4 / tet10 mesh: face neighbours, boundary faces (tri3 / tri6
  * patches), boundary-edge neighbours and the boundary faces around each node.
  *
- * Plain C++ kernel. Built in time linear in the mesh size (faces and edges are bucketed
- * by their smallest node id, no global sort and no hashing).
+ * Plain C++ kernel. Built in time linear in the mesh size for bounded node valence
+ * (faces and edges are bucketed by their smallest node id, each bucket sorted: a node
+ * shared by k cells costs O(k log k), no global sort and no hashing).
  */
 #ifndef hoembedTetMeshTopology_h
 #define hoembedTetMeshTopology_h
@@ -26,7 +27,10 @@ public:
    * Build the adjacency of `numberOfCells` cells of `nodesPerCell` (4 or 10) nodes each,
    * connectivity flattened in `conn` (VTK node order), node ids in [0, numberOfPoints).
    * Returns an empty string on success, otherwise a description of the problem (node id
-   * out of range, a face shared by more than two cells, repeated nodes in a cell).
+   * out of range, a face shared by more than two cells, repeated nodes in a cell,
+   * negative counts, tet10 neighbours sharing a face's corners but not its mid-edge
+   * nodes). On failure the topology is left empty. Cells are expected positively
+   * oriented: boundary faces then point outward.
    */
   std::string Build(const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints);
 
@@ -62,6 +66,9 @@ public:
   std::vector<Id> NodeFaceOffsets;
   std::vector<Id> NodeFaces;
   bool IsBoundaryNode(Id i) const { return NodeFaceOffsets[i + 1] > NodeFaceOffsets[i]; }
+
+private:
+  std::string BuildImpl(const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints);
 };
 } // namespace hoembed
 

@@ -115,6 +115,16 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Curved elements must keep at least this fraction of the minimum scaled Jacobian of
+   * their straight shape (default 0.1); below it their mid-edge nodes are pulled back.
+   * 0 asks only for validity (det J > 0 everywhere).
+   */
+  vtkSetClampMacro(CurvedQualityRatio, double, 0.0, 1.0);
+  vtkGetMacro(CurvedQualityRatio, double);
+  ///@}
+
+  ///@{
   /** Statistics of the last run (also in field data). */
   vtkGetMacro(RelaxedNodeCount, vtkIdType);
   vtkGetMacro(CurvedNodeCount, vtkIdType);
@@ -136,6 +146,7 @@ protected:
   double RadiusEdgeRatio = 1.5;
   double MinDihedralAngle = 10.0;
   double SurfaceDeviationWarning = 0.05;
+  double CurvedQualityRatio = 0.1;
 
   vtkIdType RelaxedNodeCount = 0;
   vtkIdType CurvedNodeCount = 0;

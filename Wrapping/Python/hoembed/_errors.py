@@ -40,26 +40,48 @@ def _clean(messages):
     return "\n".join(own or executive)
 
 
+def _pipeline(algorithm):
+    """``algorithm`` and every algorithm upstream of it (each once)."""
+    seen, order, todo = set(), [], [algorithm]
+    while todo:
+        alg = todo.pop()
+        key = alg.GetAddressAsString("vtkAlgorithm")
+        if key in seen:
+            continue
+        seen.add(key)
+        order.append(alg)
+        for port in range(alg.GetNumberOfInputPorts()):
+            for conn in range(alg.GetNumberOfInputConnections(port)):
+                up = alg.GetInputAlgorithm(port, conn)
+                if up is not None:
+                    todo.append(up)
+    return order
+
+
 def run_filter(algorithm, warnings=None):
-    """Update ``algorithm``; raise HOEmbedError with VTK's message if it reports an error.
+    """Update ``algorithm``; raise HOEmbedError with VTK's message if it, or an algorithm
+    upstream of it, reports an error (or the pipeline update fails).
 
     Warnings are appended to the list ``warnings`` when one is given.
     """
     obs = _ErrorObserver()
     callback = _attach_calldata(lambda o, e, c=None: obs(o, e, c))
-    ids = [algorithm.AddObserver(vtkCommand.ErrorEvent, callback),
-           algorithm.AddObserver(vtkCommand.WarningEvent, callback)]
-    executive = algorithm.GetExecutive()
-    ids_exec = [executive.AddObserver(vtkCommand.ErrorEvent, callback)]
+    attached = []
+    for alg in _pipeline(algorithm):
+        for target, events in ((alg, (vtkCommand.ErrorEvent, vtkCommand.WarningEvent)),
+                               (alg.GetExecutive(), (vtkCommand.ErrorEvent,))):
+            for event in events:
+                attached.append((target, target.AddObserver(event, callback)))
     try:
-        ok = algorithm.Update()
+        # vtkAlgorithm.Update() returns None in Python (VTK 9.1); the executive's Update
+        # returns 0 when this or an upstream request failed.
+        port = 0 if algorithm.GetNumberOfOutputPorts() else -1
+        ok = algorithm.GetExecutive().Update(port)
     finally:
-        for i in ids:
-            algorithm.RemoveObserver(i)
-        for i in ids_exec:
-            executive.RemoveObserver(i)
+        for target, i in attached:
+            target.RemoveObserver(i)
     if warnings is not None:
         warnings.extend(obs.warnings)
-    if obs.errors or ok == 0:
+    if obs.errors or not ok:
         raise HOEmbedError(_clean(obs.errors) or f"{algorithm.GetClassName()} failed")
     return algorithm.GetOutputDataObject(0)

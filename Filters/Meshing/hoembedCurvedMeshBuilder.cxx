@@ -1,0 +1,456 @@
+#include "hoembedCurvedMeshBuilder.h"
+
+#include "hoembedCurvedBoundary.h"
+#include "hoembedElementGeometry.h"
+#include "hoembedShapeFunctions.h"
+#include "hoembedTetMeshTopology.h"
+
+#include "vtkMath.h"
+#include "vtkType.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_map>
+
+namespace hoembed
+{
+namespace
+{
+using Id = std::int64_t;
+
+double TetDet(const std::vector<double>& p, const Id* t)
+{
+  double x[12];
+  for (int a = 0; a < 4; ++a)
+    for (int d = 0; d < 3; ++d)
+      x[3 * a + d] = p[3 * t[a] + d];
+  return Tet4JacobianDeterminant(x);
+}
+
+double TetQuality(const std::vector<double>& p, const Id* t)
+{
+  double x[12];
+  for (int a = 0; a < 4; ++a)
+    for (int d = 0; d < 3; ++d)
+      x[3 * a + d] = p[3 * t[a] + d];
+  return Tet4ScaledJacobian(x);
+}
+
+// Remove flat boundary tets: a tet with exactly two boundary faces and a poor shape is
+// deleted when the edge shared by its two interior faces is not already a boundary edge
+// (the boundary stays a closed manifold; it only flips an edge). Returns how many went.
+Id RemoveBoundarySlivers(
+  const std::vector<double>& p, std::vector<Id>& tets, Id nPts, double qualityThreshold)
+{
+  Id removed = 0;
+  for (int pass = 0; pass < 4; ++pass)
+  {
+    const Id nt = static_cast<Id>(tets.size() / 4);
+    TetMeshTopology topo;
+    if (!topo.Build(tets.data(), nt, 4, nPts).empty())
+      break;
+    std::unordered_map<std::uint64_t, char> boundaryEdges;
+    for (Id e = 0; e < topo.GetNumberOfBoundaryEdges(); ++e)
+      boundaryEdges[static_cast<std::uint64_t>(topo.BoundaryEdgeNodes[3 * e]) * nPts +
+        topo.BoundaryEdgeNodes[3 * e + 1]] = 1;
+    std::vector<char> drop(nt, 0);
+    Id dropped = 0;
+    for (Id t = 0; t < nt; ++t)
+    {
+      int nb = 0;
+      bool neighbourDropped = false;
+      int interior[2], ni = 0;
+      for (int f = 0; f < 4; ++f)
+      {
+        const Id nbr = topo.FaceNeighbor[4 * t + f];
+        if (nbr < 0)
+          ++nb;
+        else
+        {
+          neighbourDropped |= drop[nbr] != 0;
+          if (ni < 2)
+            interior[ni++] = f;
+        }
+      }
+      if (nb != 2 || neighbourDropped || TetQuality(p, &tets[4 * t]) >= qualityThreshold)
+        continue;
+      // The edge shared by the two interior faces becomes a boundary edge.
+      Id common[3];
+      int nc = 0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          if (TetFaceNodes[interior[0]][a] == TetFaceNodes[interior[1]][b])
+            common[nc++] = tets[4 * t + TetFaceNodes[interior[0]][a]];
+      if (nc != 2)
+        continue;
+      const Id u = std::min(common[0], common[1]), v = std::max(common[0], common[1]);
+      if (boundaryEdges.count(static_cast<std::uint64_t>(u) * nPts + v))
+        continue;
+      drop[t] = 1;
+      ++dropped;
+    }
+    if (dropped == 0)
+      break;
+    std::vector<Id> kept;
+    kept.reserve(tets.size());
+    for (Id t = 0; t < nt; ++t)
+      if (!drop[t])
+        kept.insert(kept.end(), tets.begin() + 4 * t, tets.begin() + 4 * t + 4);
+    tets.swap(kept);
+    removed += dropped;
+  }
+  return removed;
+}
+// Unit normal of boundary edge e of the linear mesh: the mean of its faces' normals.
+bool BoundaryEdgeNormal(
+  const std::vector<double>& pts, const TetMeshTopology& topo4, Id e, double n[3])
+{
+  const Id u = topo4.BoundaryEdgeNodes[3 * e], v = topo4.BoundaryEdgeNodes[3 * e + 1];
+  n[0] = n[1] = n[2] = 0.0;
+  for (Id k = topo4.NodeFaceOffsets[u]; k < topo4.NodeFaceOffsets[u + 1]; ++k)
+  {
+    const Id* f = &topo4.BoundaryFaceNodes[3 * topo4.NodeFaces[k]];
+    if (f[0] != v && f[1] != v && f[2] != v)
+      continue;
+    double a[3], b[3], fn[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      a[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
+      b[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
+    }
+    vtkMath::Cross(a, b, fn);
+    vtkMath::Normalize(fn);
+    for (int d = 0; d < 3; ++d)
+      n[d] += fn[d];
+  }
+  return vtkMath::Normalize(n) > 0.0;
+}
+
+// Target of the mid-edge node of boundary edge e on the fine surface: where the edge's
+// normal line through its midpoint S first meets the surface (within half the edge
+// length), else the closest point to S.
+void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4, Id e,
+  const SurfaceQueries& surface, bool rayFirst, double target[3])
+{
+  const Id u = topo4.BoundaryEdgeNodes[3 * e], v = topo4.BoundaryEdgeNodes[3 * e + 1];
+  double S[3], n[3];
+  for (int d = 0; d < 3; ++d)
+    S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
+  double closest[3];
+  surface.Closest(S, closest);
+  const double dist = std::sqrt(vtkMath::Distance2BetweenPoints(S, closest));
+  if (rayFirst && BoundaryEdgeNormal(pts, topo4, e, n))
+  {
+    const double L = std::sqrt(vtkMath::Distance2BetweenPoints(&pts[3 * u], &pts[3 * v]));
+    double best = VTK_DOUBLE_MAX;
+    for (double sgn : { 1.0, -1.0 })
+    {
+      double end[3], hit[3];
+      for (int d = 0; d < 3; ++d)
+        end[d] = S[d] + sgn * 0.5 * L * n[d];
+      if (surface.Ray(S, end, hit))
+      {
+        const double dh = std::sqrt(vtkMath::Distance2BetweenPoints(hit, S));
+        if (dh < best && dh < 3.0 * dist + 1e-12 * L)
+        {
+          best = dh;
+          target[0] = hit[0];
+          target[1] = hit[1];
+          target[2] = hit[2];
+        }
+      }
+    }
+    if (best < VTK_DOUBLE_MAX)
+      return;
+  }
+  target[0] = closest[0];
+  target[1] = closest[1];
+  target[2] = closest[2];
+}
+
+// A boundary mid-edge node pulled back from its closest point gets a second chance: other
+// points of the fine surface near its straight position (along the edge's normal, and
+// the closest points to a ring of points around it), nearest first; the first that keeps
+// every element around the node acceptable is taken (alpha becomes 1).
+void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& conn,
+  const TetMeshTopology& topo4, const std::vector<Id>& nodes, std::vector<double>& alpha,
+  Id nbe, const SurfaceQueries& surface, double qualityRatio)
+{
+  const Id nc = static_cast<Id>(conn.size() / 10);
+  std::unordered_map<Id, std::vector<Id>> cellsOf;
+  for (Id e = 0; e < nbe; ++e)
+    if (alpha[e] < 1.0)
+      cellsOf[nodes[e]];
+  if (cellsOf.empty())
+    return;
+  for (Id c = 0; c < nc; ++c)
+    for (int a = 4; a < 10; ++a)
+    {
+      auto it = cellsOf.find(conn[10 * c + a]);
+      if (it != cellsOf.end())
+        it->second.push_back(c);
+    }
+  auto acceptable = [&](Id m) {
+    for (Id c : cellsOf[m])
+    {
+      double x[30];
+      for (int a = 0; a < 10; ++a)
+        for (int d = 0; d < 3; ++d)
+          x[3 * a + d] = pts[3 * conn[10 * c + a] + d];
+      if (!Tet10Acceptable(x, qualityRatio))
+        return false;
+    }
+    return true;
+  };
+  for (Id e = 0; e < nbe; ++e)
+  {
+    if (alpha[e] >= 1.0)
+      continue;
+    const Id m = nodes[e];
+    const Id u = topo4.BoundaryEdgeNodes[3 * e], v = topo4.BoundaryEdgeNodes[3 * e + 1];
+    double S[3], n[3], t1[3], t2[3];
+    for (int d = 0; d < 3; ++d)
+      S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
+    const double L = std::sqrt(vtkMath::Distance2BetweenPoints(&pts[3 * u], &pts[3 * v]));
+    if (!BoundaryEdgeNormal(pts, topo4, e, n))
+      continue;
+    vtkMath::Perpendiculars(n, t1, t2, 0.0);
+    std::vector<std::array<double, 4>> candidates; // distance to S, point
+    auto add = [&](const double p[3]) {
+      candidates.push_back({ std::sqrt(vtkMath::Distance2BetweenPoints(p, S)), p[0], p[1], p[2] });
+    };
+    for (double sgn : { 1.0, -1.0 })
+    {
+      double end[3], hit[3];
+      for (int d = 0; d < 3; ++d)
+        end[d] = S[d] + sgn * 0.5 * L * n[d];
+      if (surface.Ray(S, end, hit))
+        add(hit);
+    }
+    for (double r : { 0.05, 0.1, 0.2, 0.35, 0.5 })
+      for (int k = 0; k < 12; ++k)
+      {
+        const double th = 2.0 * vtkMath::Pi() * k / 12.0;
+        double q[3], cp[3];
+        for (int d = 0; d < 3; ++d)
+          q[d] = S[d] + r * L * (std::cos(th) * t1[d] + std::sin(th) * t2[d]);
+        surface.Closest(q, cp);
+        add(cp);
+      }
+    std::sort(candidates.begin(), candidates.end());
+    double keep[3] = { pts[3 * m], pts[3 * m + 1], pts[3 * m + 2] };
+    bool placed = false;
+    for (const auto& c : candidates)
+    {
+      for (int d = 0; d < 3; ++d)
+        pts[3 * m + d] = c[1 + d];
+      if (acceptable(m))
+      {
+        placed = true;
+        break;
+      }
+    }
+    if (placed)
+      alpha[e] = 1.0;
+    else
+      for (int d = 0; d < 3; ++d)
+        pts[3 * m + d] = keep[d];
+  }
+}
+
+// Boundary corners onto the surface, where their tets stay valid and keep half their
+// quality (full move, else a half, a quarter, else none).
+void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
+  const TetMeshTopology& topo, const SurfaceQueries& surface)
+{
+  const Id nPts = static_cast<Id>(pts.size() / 3);
+  const Id nTets = static_cast<Id>(tets.size() / 4);
+  std::vector<Id> off(nPts + 1, 0), around(4 * nTets);
+  for (Id t = 0; t < nTets; ++t)
+    for (int a = 0; a < 4; ++a)
+      ++off[tets[4 * t + a] + 1];
+  for (Id i = 0; i < nPts; ++i)
+    off[i + 1] += off[i];
+  {
+    std::vector<Id> fill(off.begin(), off.end() - 1);
+    for (Id t = 0; t < nTets; ++t)
+      for (int a = 0; a < 4; ++a)
+        around[fill[tets[4 * t + a]]++] = t;
+  }
+  std::vector<double> before;
+  for (Id i = 0; i < nPts; ++i)
+  {
+    if (!topo.IsBoundaryNode(i))
+      continue;
+    double x0[3] = { pts[3 * i], pts[3 * i + 1], pts[3 * i + 2] }, target[3];
+    surface.Closest(x0, target);
+    before.clear();
+    for (Id k = off[i]; k < off[i + 1]; ++k)
+      before.push_back(TetQuality(pts, &tets[4 * around[k]]));
+    for (double a : { 1.0, 0.5, 0.25, 0.0 })
+    {
+      for (int d = 0; d < 3; ++d)
+        pts[3 * i + d] = x0[d] + a * (target[d] - x0[d]);
+      bool ok = true;
+      for (Id k = off[i]; ok && k < off[i + 1]; ++k)
+      {
+        const Id* t = &tets[4 * around[k]];
+        ok = TetDet(pts, t) > 0.0 && TetQuality(pts, t) >= 0.5 * before[k - off[i]];
+      }
+      if (ok)
+        break;
+    }
+  }
+}
+
+struct QuadraticNodes
+{
+  std::vector<Id> Conn;      // 10 per cell
+  std::vector<Id> EdgeMid;   // boundary edge e -> its mid-edge node
+  Id NumberOfCorners = 0;
+};
+
+QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& tets,
+  const TetMeshTopology& topo)
+{
+  QuadraticNodes q;
+  const Id nTets = static_cast<Id>(tets.size() / 4);
+  q.NumberOfCorners = static_cast<Id>(pts.size() / 3);
+  const auto nc = static_cast<std::uint64_t>(q.NumberOfCorners);
+  std::unordered_map<std::uint64_t, Id> mids;
+  mids.reserve(static_cast<size_t>(8 * nTets));
+  q.Conn.resize(10 * nTets);
+  for (Id t = 0; t < nTets; ++t)
+  {
+    const Id* c = &tets[4 * t];
+    for (int a = 0; a < 4; ++a)
+      q.Conn[10 * t + a] = c[a];
+    for (int e = 0; e < 6; ++e)
+    {
+      const Id u = std::min(c[TetEdgeCorners[e][0]], c[TetEdgeCorners[e][1]]);
+      const Id v = std::max(c[TetEdgeCorners[e][0]], c[TetEdgeCorners[e][1]]);
+      auto it = mids.find(static_cast<std::uint64_t>(u) * nc + static_cast<std::uint64_t>(v));
+      if (it == mids.end())
+      {
+        it = mids.emplace(static_cast<std::uint64_t>(u) * nc + static_cast<std::uint64_t>(v),
+                   static_cast<Id>(pts.size() / 3))
+               .first;
+        for (int d = 0; d < 3; ++d)
+          pts.push_back(0.5 * (pts[3 * u + d] + pts[3 * v + d]));
+      }
+      q.Conn[10 * t + 4 + e] = it->second;
+    }
+  }
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  q.EdgeMid.resize(nbe);
+  for (Id e = 0; e < nbe; ++e)
+  {
+    const auto u = static_cast<std::uint64_t>(topo.BoundaryEdgeNodes[3 * e]);
+    const auto v = static_cast<std::uint64_t>(topo.BoundaryEdgeNodes[3 * e + 1]);
+    q.EdgeMid[e] = mids.at(u * nc + v);
+  }
+  return q;
+}
+} // namespace
+
+CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
+  const SurfaceQueries& surface, const CurvedMeshOptions& options,
+  const std::function<void(double)>& progress)
+{
+  CurvedMesh out;
+  auto report = [&](double f) {
+    if (progress)
+      progress(f);
+  };
+  {
+    const int round = 0;
+    out.RemovedSlivers +=
+      RemoveBoundarySlivers(pts, tets, static_cast<Id>(pts.size() / 3), options.SliverQuality);
+    const Id nTets = static_cast<Id>(tets.size() / 4);
+    TetMeshTopology topo;
+    const std::string err = topo.Build(tets.data(), nTets, 4, static_cast<Id>(pts.size() / 3));
+    if (!err.empty())
+    {
+      out.Error = "the linear mesh is inconsistent: " + err;
+      return out;
+    }
+    if (options.ProjectCorners)
+      ProjectCorners(pts, tets, topo, surface);
+    report(0.3);
+
+    out.LinearPoints = pts;
+    out.LinearBoundary.assign(
+      topo.BoundaryFaceNodes.begin(), topo.BoundaryFaceNodes.begin() + 3 * topo.GetNumberOfBoundaryFaces());
+    out.Points = pts;
+    out.BoundaryNode.assign(pts.size() / 3, 0);
+    for (Id i = 0; i < static_cast<Id>(pts.size() / 3); ++i)
+      out.BoundaryNode[i] = topo.IsBoundaryNode(i) ? 1 : 0;
+    out.CurvedNodes = out.RelaxedNodes = 0;
+    if (options.Order == 1)
+    {
+      out.Conn = tets;
+      return out;
+    }
+
+    QuadraticNodes quad = AddMidEdgeNodes(out.Points, tets, topo);
+    out.Conn = quad.Conn;
+    const Id nPts = static_cast<Id>(out.Points.size() / 3);
+    out.BoundaryNode.resize(nPts, 0);
+    const Id nbe = topo.GetNumberOfBoundaryEdges();
+    for (Id e = 0; e < nbe; ++e)
+      out.BoundaryNode[quad.EdgeMid[e]] = 1;
+    if (!options.CurveBoundary)
+      return out;
+
+    std::vector<Id> nodes(quad.EdgeMid);
+    std::vector<double> targets(3 * nbe);
+    std::vector<double> disp(3 * nPts, 0.0);
+    std::vector<char> fixed(nPts, 0);
+    for (Id e = 0; e < nbe; ++e)
+    {
+      MidEdgeTarget(out.Points, topo, e, surface, true, &targets[3 * e]);
+      fixed[nodes[e]] = 1;
+      for (int d = 0; d < 3; ++d)
+        disp[3 * nodes[e] + d] = targets[3 * e + d] - out.Points[3 * nodes[e] + d];
+    }
+    disp = ExtendMidNodeDisplacement(out.Points, out.Conn, disp, fixed, 20);
+    for (Id i = quad.NumberOfCorners; i < nPts; ++i)
+    {
+      const double* di = &disp[3 * i];
+      if (fixed[i] || (di[0] == 0.0 && di[1] == 0.0 && di[2] == 0.0))
+        continue;
+      nodes.push_back(i);
+      for (int d = 0; d < 3; ++d)
+        targets.push_back(out.Points[3 * i + d] + di[d]);
+    }
+    CurvingResult curving =
+      CurveMidEdgeNodes(out.Points, out.Conn, nodes, targets, options.QualityRatio);
+    report(0.7);
+    for (int pass = 0; pass < 2; ++pass) // a node placed can free its neighbours
+      RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
+        surface, options.QualityRatio);
+    std::vector<char> relaxedNode(nPts, 0);
+    for (Id e = 0; e < nbe; ++e)
+    {
+      const bool relaxed = curving.Alpha[e] < 1.0;
+      (relaxed ? out.RelaxedNodes : out.CurvedNodes)++;
+      relaxedNode[quad.EdgeMid[e]] = relaxed ? 1 : 0;
+    }
+    for (Id e = 0; e < nbe; ++e)
+    {
+      if (curving.Alpha[e] < 1.0)
+      {
+        out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e]);
+        out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e + 1]);
+        out.RelaxedEdgeTargets.insert(
+          out.RelaxedEdgeTargets.end(), &targets[3 * e], &targets[3 * e] + 3);
+      }
+    }
+    report(1.0);
+    return out;
+  }
+}
+
+
+} // namespace hoembed

@@ -1,0 +1,68 @@
+/**
+ * @file hoembedCurvedMeshBuilder.h
+ * @brief From a linear tet mesh inside a fine surface to a valid curved tet10 (or tet4)
+ *        mesh whose boundary nodes lie on that surface (plain C++, no pipeline code).
+ *
+ * Steps (see vtkTet10Mesher for the user-level description):
+ * 1. flat boundary tets (two boundary faces, poor shape) are removed;
+ * 2. boundary corner nodes move to their closest surface point where their tets stay
+ *    valid and keep half their quality;
+ * 3. mid-edge nodes are added; boundary ones target the surface (where the edge's normal
+ *    line meets it, else the closest point), interior ones follow by harmonic extension;
+ * 4. nodes are pulled back where elements would be invalid (hoembed::CurveMidEdgeNodes),
+ *    and pulled-back boundary nodes get a second chance at other nearby surface points;
+ * The boundary edges whose mid-edge nodes stay pulled back are returned with their
+ * surface targets (for diagnostics).
+ */
+#ifndef hoembedCurvedMeshBuilder_h
+#define hoembedCurvedMeshBuilder_h
+
+#include "hoembedFiltersMeshingModule.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hoembed
+{
+/// Queries on the fine surface.
+struct HOEMBEDFILTERSMESHING_EXPORT SurfaceQueries
+{
+  /// closest point of the surface to x
+  std::function<void(const double x[3], double closest[3])> Closest;
+  /// first crossing of segment a-b with the surface; false if none
+  std::function<bool(const double a[3], const double b[3], double hit[3])> Ray;
+};
+
+struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
+{
+  int Order = 2;
+  bool CurveBoundary = true;
+  bool ProjectCorners = true;
+  double QualityRatio = 0.1;  ///< see hoembed::Tet10Acceptable
+  double SliverQuality = 0.2; ///< scaled Jacobian below which flat boundary tets go
+};
+
+struct HOEMBEDFILTERSMESHING_EXPORT CurvedMesh
+{
+  std::vector<double> Points;              ///< 3 per node
+  std::vector<std::int64_t> Conn;          ///< 10 (Order 2) or 4 per cell
+  std::vector<unsigned char> BoundaryNode; ///< per node
+  std::vector<double> LinearPoints;        ///< the straight mesh's corner nodes
+  std::vector<std::int64_t> LinearBoundary; ///< its boundary triangles (3 ids each)
+  std::int64_t CurvedNodes = 0;   ///< boundary mid-edge nodes on the surface
+  std::int64_t RelaxedNodes = 0;  ///< boundary mid-edge nodes pulled back
+  std::int64_t RemovedSlivers = 0;
+  std::vector<std::int64_t> RelaxedEdges;   ///< corner pairs of the pulled-back boundary edges
+  std::vector<double> RelaxedEdgeTargets;   ///< their mid-edge nodes' surface targets
+
+  std::string Error; ///< empty on success
+};
+
+HOEMBEDFILTERSMESHING_EXPORT CurvedMesh BuildCurvedMesh(std::vector<double> points,
+  std::vector<std::int64_t> tets, const SurfaceQueries& surface, const CurvedMeshOptions& options,
+  const std::function<void(double)>& progress = std::function<void(double)>());
+} // namespace hoembed
+
+#endif
