@@ -640,11 +640,73 @@ void EvaluateMap(const QuadraticMap& m, const double* xi, double x[3], double (*
         J[i][d] = Jl[i][d];
 }
 
+namespace
+{
+// Fast path for a patch: plain Newton from an interior start. Accepted only when every
+// iterate stays strictly inside, the Hessian stays positive definite, the step becomes
+// negligible and f did not grow: then the result is an interior local minimum (KKT with
+// no active constraint). Otherwise the caller runs the active-set solver.
+bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* start,
+  ClosestPointResult& res)
+{
+  double xi[2] = { start[0], start[1] };
+  if (!(xi[0] > 0.0 && xi[1] > 0.0 && xi[0] + xi[1] < 1.0))
+    return false;
+  double x[3], J[2][3], r[3];
+  double f0 = -1.0;
+  for (int it = 0; it < 8; ++it)
+  {
+    Eval<2>(m, xi, x, J);
+    for (int d = 0; d < 3; ++d)
+      r[d] = x[d] - v[d];
+    if (f0 < 0.0)
+      f0 = Dot3(r, r);
+    const double g0 = Dot3(J[0], r), g1 = Dot3(J[1], r);
+    const double h00 = Dot3(J[0], J[0]) + Dot3(r, m.Q[0][0]);
+    const double h01 = Dot3(J[0], J[1]) + Dot3(r, m.Q[0][1]);
+    const double h11 = Dot3(J[1], J[1]) + Dot3(r, m.Q[1][1]);
+    const double det = h00 * h11 - h01 * h01;
+    if (!(h00 > 0.0) || !(det > 1e-14 * h00 * h11))
+      return false;
+    const double p0 = -(h11 * g0 - h01 * g1) / det;
+    const double p1 = -(h00 * g1 - h01 * g0) / det;
+    xi[0] += p0;
+    xi[1] += p1;
+    if (!(xi[0] > 0.0 && xi[1] > 0.0 && xi[0] + xi[1] < 1.0))
+      return false;
+    if (std::fabs(p0) + std::fabs(p1) <= 1e-12)
+    {
+      Eval<2>(m, xi, x, J);
+      for (int d = 0; d < 3; ++d)
+        r[d] = x[d] - v[d];
+      const double f = Dot3(r, r);
+      if (f > f0)
+        return false;
+      res.Param[0] = xi[0];
+      res.Param[1] = xi[1];
+      res.Param[2] = 0.0;
+      for (int d = 0; d < 3; ++d)
+        res.Point[d] = x[d];
+      res.Distance2 = f;
+      res.Active = 0;
+      res.Iterations = it + 1;
+      res.Converged = true;
+      return true;
+    }
+  }
+  return false;
+}
+} // namespace
+
 void ClosestPointOnMap(const QuadraticMap& m, const double v[3], const double* start,
   ClosestPointResult& res, int maxIterations)
 {
   if (m.Dim == 2)
+  {
+    if (start && InteriorNewton2(m, v, start, res))
+      return;
     Solve<2>(m, v, start, res, maxIterations);
+  }
   else
     Solve<3>(m, v, start, res, maxIterations);
 }

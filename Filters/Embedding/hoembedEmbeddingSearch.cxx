@@ -208,18 +208,22 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   const double tol2 = tol * tol;
   const unsigned stamp = S.NextStamp();
   ClosestPointResult r;
+  // exit face of the walk when the fast test fails: opposite the most negative
+  // barycentric coordinate of the (extrapolated) parametric point
+  int exitFace = -1;
   auto test = [&](Id c, bool fastOnly) {
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
-    // fast path: plain Newton inversion; accepted only when it lands inside the cell
+    // fast path: plain Newton inversion from the straight tet's coordinates; accepted only
+    // when it lands inside the cell
     double pc[3] = { start[0], start[1], start[2] };
     int its = 0;
     const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
     out.Iterations += its;
+    ++out.Visited;
     if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
       pc[0] + pc[1] + pc[2] <= 1.0)
     {
-      ++out.Visited;
       out.Cell = c;
       for (int i = 0; i < 3; ++i)
         out.PC[i] = pc[i];
@@ -227,10 +231,21 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       return true;
     }
     if (fastOnly)
+    {
+      const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
+      int k = 0;
+      for (int a = 1; a < 4; ++a)
+        if (L[a] < L[k])
+          k = a;
+      // the face opposite corner k: TetFaceOpposite maps face -> corner
+      exitFace = -1;
+      for (int fc = 0; fc < 4; ++fc)
+        if (TetFaceOpposite[fc] == k)
+          exitFace = fc;
       return false;
+    }
     ClosestPointOnMap(M.CellMaps[c], v, start, r);
     out.Iterations += r.Iterations;
-    ++out.Visited;
     if (r.Distance2 <= tol2)
     {
       out.Cell = c;
@@ -249,6 +264,18 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   }
   if (maxWalk == 0)
     return start >= 0 && test(start, true);
+  if (!useTree)
+  {
+    // short walk from a hint: cheap tests, leave through the face the point is beyond
+    Id c = start;
+    for (int step = 0; step < maxWalk && c >= 0; ++step)
+    {
+      if (test(c, true))
+        return true;
+      c = exitFace >= 0 ? M.Topology.FaceNeighbor[4 * c + exitFace] : -1;
+    }
+    return false;
+  }
   for (size_t q = 0; q < S.Queue.size() && q < static_cast<size_t>(maxWalk); ++q)
   {
     const Id c = S.Queue[q];
