@@ -474,6 +474,41 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     }
     if (!ok)
     {
+      // wider fallback: every face within twice the distance, keep the smallest |d|
+      S.Candidates.clear();
+      const double reach = 2.0 * dist + 1e-6 * M.Diagonal;
+      const double reach2 = reach * reach;
+      M.FaceTree.VisitNearer(v, reach2, [&](Id g) { S.Candidates.push_back(g); });
+      double bestD = std::numeric_limits<double>::infinity();
+      Id bestF = -1;
+      double bestUV[2] = { 0, 0 };
+      const double starts[4][2] = { { 1.0 / 3.0, 1.0 / 3.0 }, { 0.8, 0.1 }, { 0.1, 0.8 },
+        { 0.1, 0.1 } };
+      for (size_t k = 0; k < 4 * S.Candidates.size(); ++k)
+      {
+        Id fg = S.Candidates[k / 4];
+        double w[2] = { starts[k % 4][0], starts[k % 4][1] };
+        double dg = dist;
+        ++out.Visited;
+        if (correct(fg, w, dg) && std::fabs(dg) < bestD)
+        {
+          bestD = std::fabs(dg);
+          bestF = fg;
+          bestUV[0] = w[0];
+          bestUV[1] = w[1];
+          d = dg;
+        }
+      }
+      if (bestF >= 0)
+      {
+        ok = true;
+        f = bestF;
+        uv[0] = bestUV[0];
+        uv[1] = bestUV[1];
+      }
+    }
+    if (!ok)
+    {
       f = hit.Face; // keep the closest point; the residual tells
       uv[0] = hit.UV[0];
       uv[1] = hit.UV[1];
