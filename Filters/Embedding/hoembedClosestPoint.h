@@ -83,7 +83,9 @@ HOEMBEDFILTERSEMBEDDING_EXPORT double InvertTetMap(
  * Normal-offset solve in one boundary face (paper eq. 8-9 with the normalised normal of
  * eq. 7): find (u, v, d) with x(u, v) + d * s(u, v) / |s(u, v)| = p, where `x` is the
  * face map and `s` the interpolated nodal-normal field (both QuadraticMap, Dim 2).
- * Newton from (uv, d). Returns 0 when converged inside the face (|F| <= tol), 1 + e when
+ * Newton from (uv, d). Returns 0 when converged inside the face (|F| <= tol, or the
+ * Newton step is below 1e-13 in (u, v) and tol in d with |F| <= 100 tol: on an edge,
+ * where the normal field has a kink), 1 + e when
  * the iteration left the face through edge e (0: ab, 1: bc, 2: ca); uv then lies on that
  * edge), -1 when it failed (singular or no progress). `iterations` is incremented.
  */

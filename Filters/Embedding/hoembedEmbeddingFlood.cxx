@@ -189,7 +189,9 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   const Id nIso = static_cast<Id>(isolated.size());
 
   // parallel floods, in batches so that progress is reported from this thread
-  const Id batches = std::min<Id>(P, 10);
+  // at least ~8 partitions per thread in each batch, so that threads stay balanced
+  const Id threads = std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads());
+  const Id batches = std::max<Id>(1, std::min<Id>(10, P / (8 * threads)));
   const double triShare = numberOfPoints > 0 ? double(numberOfPoints - nIso) / numberOfPoints : 0.0;
   for (Id bt = 0; bt < batches; ++bt)
   {

@@ -247,6 +247,11 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
       }
     }
   }
+  if (tris.size() / 3 > static_cast<size_t>(VTK_INT_MAX))
+  {
+    vtkErrorMacro("The surface has more than 2^31 triangles, which is not supported.");
+    return 0;
+  }
   for (Id id : tris)
   {
     if (id < 0 || id >= ns)

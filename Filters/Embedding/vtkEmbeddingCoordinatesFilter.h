@@ -27,7 +27,7 @@
  * `EmbeddingMeshFingerprint` (vtkStringArray: hoembed::MeshFingerprint of the rest mesh).
  *
  * Normal-offset (default): p is the closest point of the mesh to v. Outside the mesh, p
- * is corrected (paper eq. 8-9) so that v = p + d n holds to round-off with
+ * is corrected (paper eq. 8-9) so that v = p + d n holds to 1e-12 of the mesh diagonal with
  * n = hoembed::InterpolateBoundaryNormal on the boundary face (normalised, eq. 7) at p
  * and nodal normals from hoembed::ComputeBoundaryNodeNormals. Barycentric: inside points
  * get their containing cell; outside points the cell of the closest boundary point with
@@ -42,6 +42,10 @@
  *
  * Defaults: Method normal-offset, NumberOfPartitions 0 (automatic), ValidateElements on.
  *
+ * @warning The normal-offset representation need not exist everywhere (the smooth normal
+ * field can fold in concave regions); when the correction finds no solution near the
+ * closest point, p stays the closest point, d its distance, and EmbeddingResidual shows
+ * the mismatch.
  * @warning Bad input (empty surface or mesh, non-finite coordinates, cells other than
  * tet4/tet10, inverted or degenerate elements, broken topology) is reported with
  * vtkErrorMacro and leaves the output empty. A surface far from the mesh is valid.

@@ -97,6 +97,20 @@ vtkSmartPointer<vtkPolyData> MakeSurface(bool withFarComponent, bool withIsolate
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->DeepCopy(app->GetOutput());
   out->GetPointData()->Initialize(); // the isolated points below have no normals
+  // duplicate vertices (same coordinates, own triangle) and a degenerate triangle
+  {
+    const vtkIdType n = out->GetNumberOfPoints();
+    double p[3];
+    vtkIdType dup[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      out->GetPoint(100 + 7 * k, p);
+      dup[k] = out->GetPoints()->InsertNextPoint(p);
+    }
+    out->GetPolys()->InsertNextCell(3, dup);
+    const vtkIdType degenerate[3] = { 5, 5, n - 1 };
+    out->GetPolys()->InsertNextCell(3, degenerate);
+  }
   if (withIsolated)
   {
     // points in no triangle: two inside, two outside, one on a boundary corner
