@@ -217,17 +217,38 @@ def test_errors(meshes, surface):
         hoembed.embed(surface, m10, method="nearest")
 
 
-def test_real_mesh_bunny(data_dir):
-    """bunny_watertight on a voxel tet mesh of ~1000 elements (no mesher on this branch):
-    tet4 distances against VTK's cell locator, tet10 residuals, on 3000 sampled vertices."""
+@pytest.mark.parametrize("name", ["bunny_watertight", "rocker-arm"])
+def test_real_mesh(data_dir, name):
+    """A real surface on hoembed.tet10_mesh meshes of ~1000 elements: tet4 distances
+    against VTK on 3000 sampled vertices, tet10 and tet4 residuals on all vertices, the
+    tet10 reconstruction with VTK's vtkQuadraticTetra on the sample."""
+    s = pv.read(data_dir / f"{name}.obj")
+    g10 = hoembed.tet10_mesh(s, n_elements=1000)
+    g4 = hoembed.tet10_mesh(s, n_elements=1000, order=1)
+    rng = np.random.default_rng(0)
+    sample = np.sort(rng.choice(s.n_points, min(3000, s.n_points), replace=False))
+    out4 = hoembed.embed(s, g4)
+    check_distances(out4["EmbeddingClosestDistance"][sample], g4, s.points[sample])
+    assert out4["EmbeddingResidual"].max() <= 1e-10 * g4.length
+    out10 = hoembed.embed(s, g10)
+    assert out10["EmbeddingResidual"].max() <= 1e-10 * g10.length
+    sub = out10.extract_points(sample, adjacent_cells=False, include_cells=False)
+    p = reconstruct(g10, sub)
+    d = np.asarray(sub["EmbeddingDistance"])
+    gap = np.linalg.norm(np.asarray(sub.points) - p, axis=1)
+    assert np.abs(gap - d).max() <= 1e-10 * g10.length
+
+
+def test_voxel_mesh_bunny(data_dir):
+    """The same on a voxel tet mesh (staircase boundary: large distances, many vertices
+    closest to edges and corners)."""
     s = pv.read(data_dir / "bunny_watertight.obj")
     g10 = voxel_tet_mesh(s, 1000)
     g4 = linear_copy(g10)
     rng = np.random.default_rng(0)
     sample = np.sort(rng.choice(s.n_points, 3000, replace=False))
-    diag = g10.length
     out4 = hoembed.embed(s, g4)
     check_distances(out4["EmbeddingClosestDistance"][sample], g4, s.points[sample])
     out10 = hoembed.embed(s, g10)
-    assert out10["EmbeddingResidual"].max() <= 1e-10 * diag
+    assert out10["EmbeddingResidual"].max() <= 1e-10 * g10.length
     assert np.all(np.isfinite(out10["EmbeddingParametricCoords"]))
