@@ -11,7 +11,9 @@
  * before a constraint is kept) and a backtracking line search with a ratio test, so
  * every iterate stays inside the simplex exactly (no constraint is ever violated) and the
  * objective decreases monotonically. This converges where plain Newton does not (points
- * far from a strongly curved element).
+ * far from a strongly curved element). For patches a plain Newton iteration from an
+ * interior start is tried first and kept only when it stays inside with a positive
+ * definite Hessian and converges (an interior local minimum).
  *
  * Constraint bits (ClosestPointResult::Active):
  * - 2 variables (u, v): bit 0: u = 0 (edge ca), bit 1: v = 0 (edge ab), bit 2: u + v = 1

@@ -4,9 +4,10 @@
  * section 5): exact closest point, inside/outside, normal-offset correction.
  *
  * Per vertex v, from a hint (the result of a neighbouring vertex, paper Algorithm 2):
- * 1. If the hint was inside the mesh: walk from the hint cell through face neighbours
- *    (Algorithm 1 over cells: constrained closest point in the cell, then the neighbour
- *    across the face the solution lies on; visited set, explicit queue).
+ * 1. Try the hint cell (Newton inversion of the tet map from the straight tet's
+ *    coordinates, accepted only inside the cell); if the hint was inside the mesh, walk up
+ *    to 8 cells, each time across the face beyond which the point lies (most negative
+ *    barycentric coordinate).
  * 2. Otherwise the closest boundary point: Algorithm 1 over boundary faces from the hint
  *    face (tri6 closest point; on an edge go to the face across it, at a corner to all
  *    faces around the node), then certification with the face box tree: every face whose
@@ -14,11 +15,16 @@
  *    the global minimum over the boundary.
  * 3. Inside/outside from the pseudo-normal at the closest point (face normal, sum of the
  *    two face normals on an edge, angle-weighted node normal at a corner); points that
- *    may be inside are located in a cell (walk, then the cell box tree); points within
- *    1e-11 of the mesh diagonal of the boundary count as inside.
+ *    may be inside are located in a cell: Algorithm 1 over cells from the closest face's
+ *    cell (constrained closest point in the cell, then the neighbour across the face the
+ *    solution lies on; visited stamps, explicit queue), then every cell whose box holds
+ *    the point. Points within 1e-11 of the mesh diagonal of the boundary count as inside.
+ *    Points classified outside keep the exact boundary distance.
  * 4. Outside points, normal-offset: Newton on (u, v, d) with x(u, v) + d n(u, v) = v,
  *    n the normalised interpolated nodal normal (eq. 7-9), walking across boundary edges
- *    when the iteration leaves the face. Barycentric: the owning cell of the closest face
+ *    when the iteration leaves the face; if that fails, the faces around the closest
+ *    face's corners, then every face within twice the distance (4 starts each; smallest
+ *    |d| wins). Barycentric: the owning cell of the closest face
  *    with extrapolated (unconstrained) parametric coordinates.
  */
 #ifndef hoembedEmbeddingSearch_h
