@@ -216,8 +216,11 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   // surface points and triangles
   const vtkIdType ns = surface->GetNumberOfPoints();
   std::vector<double> sp(3 * static_cast<size_t>(ns));
-  for (vtkIdType i = 0; i < ns; ++i)
-    surface->GetPoints()->GetPoint(i, &sp[3 * i]);
+  vtkPoints* surfacePoints = surface->GetPoints();
+  vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+      surfacePoints->GetPoint(i, &sp[3 * i]);
+  });
   std::vector<Id> tris;
   {
     auto it = vtk::TakeSmartPointer(surface->GetPolys()->NewIterator());
@@ -292,23 +295,35 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   vtkNew<vtkIntArray> visited;
   visited->SetName("EmbeddingElementsVisited");
   visited->SetNumberOfTuples(ns);
-  for (vtkIdType i = 0; i < ns; ++i)
-  {
-    const hoembed::VertexEmbedding& r = res[i];
-    if (!std::isfinite(r.PC[0]) || !std::isfinite(r.PC[1]) || !std::isfinite(r.PC[2]) ||
-      !std::isfinite(r.Distance) || !std::isfinite(r.Residual) || r.Cell < 0)
+  std::atomic<vtkIdType> firstFailed(ns);
+  vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
     {
-      vtkErrorMacro("Surface point " << i << " could not be embedded (non-finite result).");
-      return 0;
+      const hoembed::VertexEmbedding& r = res[i];
+      if (!std::isfinite(r.PC[0]) || !std::isfinite(r.PC[1]) || !std::isfinite(r.PC[2]) ||
+        !std::isfinite(r.Distance) || !std::isfinite(r.Residual) || r.Cell < 0)
+      {
+        vtkIdType cur = firstFailed.load();
+        while (i < cur && !firstFailed.compare_exchange_weak(cur, i))
+        {
+        }
+        continue;
+      }
+      cellId->SetValue(i, r.Cell);
+      pcoords->SetTypedTuple(i, r.PC);
+      dist->SetValue(i, r.Distance);
+      residual->SetValue(i, r.Residual);
+      closest->SetValue(i, r.ClosestDistance);
+      face->SetValue(i, method == hoembed::EMBED_BARYCENTRIC ? -1 : r.Face);
+      iters->SetValue(i, r.Iterations);
+      visited->SetValue(i, r.Visited);
     }
-    cellId->SetValue(i, r.Cell);
-    pcoords->SetTypedTuple(i, r.PC);
-    dist->SetValue(i, r.Distance);
-    residual->SetValue(i, r.Residual);
-    closest->SetValue(i, r.ClosestDistance);
-    face->SetValue(i, method == hoembed::EMBED_BARYCENTRIC ? -1 : r.Face);
-    iters->SetValue(i, r.Iterations);
-    visited->SetValue(i, r.Visited);
+  });
+  if (firstFailed.load() < ns)
+  {
+    vtkErrorMacro("Surface point " << firstFailed.load()
+                                   << " could not be embedded (non-finite result).");
+    return 0;
   }
 
   output->ShallowCopy(surface);
