@@ -103,7 +103,7 @@ struct FloodContext
             dt = std::max(2.0 * dw, floor);
           maxd = std::max(maxd, dw);
           if (dw < dt)
-            h = (*this->Out)[w].AsHint();
+            h = (*this->Out)[w].AsHint(this->Points + 3 * w);
           else
             mapped = false;
         }
@@ -215,7 +215,7 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
         for (Id k = c * chunk; k < std::min(nIso, (c + 1) * chunk); ++k)
         {
           ctx.Embed(isolated[k], h, s);
-          h = out[isolated[k]].AsHint();
+          h = out[isolated[k]].AsHint(points + 3 * isolated[k]);
         }
       }
     });

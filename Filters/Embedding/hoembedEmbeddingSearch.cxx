@@ -317,9 +317,13 @@ void SetInside(VertexEmbedding& out)
 }
 } // namespace
 
-VertexHint VertexEmbedding::AsHint() const
+VertexHint VertexEmbedding::AsHint(const double v[3]) const
 {
   VertexHint h;
+  h.Point[0] = v[0];
+  h.Point[1] = v[1];
+  h.Point[2] = v[2];
+  h.Distance = this->ClosestDistance;
   h.Face = this->BoundaryFace;
   h.UV[0] = this->UV[0];
   h.UV[1] = this->UV[1];
@@ -373,9 +377,17 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
 {
   out = VertexEmbedding();
   const TetMeshTopology& T = M.Topology;
+  // a neighbour farther from the mesh than from v proves v outside (1-Lipschitz distance)
+  bool provenOutside = false;
+  if (hint.Distance > 0.0)
+  {
+    double e[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1], v[2] - hint.Point[2] };
+    provenOutside = hint.Distance - std::sqrt(Dot(e, e)) > InsideTolerance * M.Diagonal;
+  }
   // 1. inside, from an inside neighbour: walk through a few cells; otherwise try the
   // hint cell alone (one Newton inversion)
-  if (hint.Cell >= 0 && LocateCell(M, v, hint.Cell, false, out, S, hint.Inside ? 8 : 0))
+  if (!provenOutside && hint.Cell >= 0 &&
+    LocateCell(M, v, hint.Cell, false, out, S, hint.Inside ? 8 : 0))
   {
     SetInside(out);
     out.BoundaryFace = hint.Face;
@@ -399,7 +411,7 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
   const double dist = std::sqrt(hit.Dist2);
   const Id owner = T.BoundaryFaceCell[hit.Face];
   const int local = T.BoundaryFaceLocal[hit.Face];
-  if (dist <= InsideTolerance * M.Diagonal)
+  if (dist <= InsideTolerance * M.Diagonal && !provenOutside)
   {
     out.Cell = owner;
     TetFaceToTetParametric(local, hit.UV, out.PC);
@@ -408,16 +420,19 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     return;
   }
   // 3. inside or outside
-  double n[3], w[3];
-  PseudoNormal(M, hit, n);
-  for (int k = 0; k < 3; ++k)
-    w[k] = v[k] - hit.Point[k];
-  const double side = Dot(w, n);
-  const double margin = 0.2 * dist * std::sqrt(Dot(n, n));
-  if (side <= margin && LocateCell(M, v, owner, true, out, S))
+  if (!provenOutside)
   {
-    SetInside(out);
-    return;
+    double n[3], w[3];
+    PseudoNormal(M, hit, n);
+    for (int k = 0; k < 3; ++k)
+      w[k] = v[k] - hit.Point[k];
+    const double side = Dot(w, n);
+    const double margin = 0.2 * dist * std::sqrt(Dot(n, n));
+    if (side <= margin && LocateCell(M, v, owner, true, out, S))
+    {
+      SetInside(out);
+      return;
+    }
   }
   out.Inside = false;
   out.ClosestDistance = dist;

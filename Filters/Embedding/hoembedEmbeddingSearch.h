@@ -49,6 +49,10 @@ struct VertexHint
   double UV[2] = { 1.0 / 3.0, 1.0 / 3.0 };
   EmbeddingMesh::Id Cell = -1;
   bool Inside = false;
+  /// The neighbour's position and its distance to the mesh (when Distance >= 0): the
+  /// distance is 1-Lipschitz, so Distance - |v - Point| > 0 proves v outside the mesh.
+  double Point[3] = { 0, 0, 0 };
+  double Distance = -1.0;
 };
 
 struct VertexEmbedding
@@ -65,7 +69,8 @@ struct VertexEmbedding
   EmbeddingMesh::Id BoundaryFace = -1; ///< closest boundary face (-1 if not computed)
   double UV[2] = { 0, 0 };
 
-  VertexHint AsHint() const;
+  /// The hint for a neighbour of the vertex v embedded here.
+  VertexHint AsHint(const double v[3]) const;
 };
 
 /// Per-thread scratch space (visited stamps, queues).
