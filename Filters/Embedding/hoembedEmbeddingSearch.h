@@ -3,7 +3,9 @@
  * @brief Embedding of one surface vertex in a prepared FE mesh (paper Algorithm 1 and
  * section 5): exact closest point, inside/outside, normal-offset correction.
  *
- * Per vertex v, from a hint (the result of a neighbouring vertex, paper Algorithm 2):
+ * Per vertex v, from a hint (the result of a neighbouring vertex, paper Algorithm 2).
+ * When the neighbour's distance to the mesh exceeds its distance to v, v is outside
+ * (the distance is 1-Lipschitz) and the inside tests of steps 1 and 3 are skipped.
  * 1. Try the hint cell (Newton inversion of the tet map from the straight tet's
  *    coordinates, accepted only inside the cell); if the hint was inside the mesh, walk up
  *    to 8 cells, each time across the face beyond which the point lies (most negative
