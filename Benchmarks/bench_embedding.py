@@ -1,0 +1,251 @@
+"""Benchmark of vtkEmbeddingCoordinatesFilter (paper section 6.2, Fig. 7) and of VTK's own
+tools on the same points and meshes.
+
+Measures, on the real surfaces of ../shared/data/meshes:
+- speed: surface vertices per second of the filter's Update on 1 and 2 threads
+  (vtkSMPTools.Initialize(n)), normal-offset on tet10 and barycentric on tet4;
+- scaling like Fig. 7: time against surface size (linear subdivision, x4 per level) on
+  ~1000 and ~3000 element meshes;
+- VTK: vtkProbeFilter with a vtkStaticCellLocator on the tet4 mesh (barycentric, inside
+  points only) and vtkCellLocator::FindClosestPoint on the tet10 grid (a Python loop over
+  a sample; its per-call Python overhead is included), with time ratios and the distance
+  error of VTK's closest points on curved cells against the exact ones;
+- exactness on tet4 meshes for all vertices against VTK (boundary-triangle distances and
+  vtkSelectEnclosedPoints), and the reconstruction residual on tet10.
+
+FE meshes: hoembed.tet10_mesh (vtkTet10Mesher) at ~1000 and ~3000 elements, and the tet4
+mesh on the same corner nodes; voxel tet meshes (Testing/Python/voxel_tet_mesh.py) when the mesher
+fails on a surface. Results go to
+Benchmarks/results/bench_embedding.json (+ .png when matplotlib is there). Skips cleanly
+when the data folder is absent. The machine is shared: compare ratios, not absolute times.
+"""
+import json
+import pathlib
+import sys
+import time
+
+import numpy as np
+import pyvista as pv
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import reference, vtkSMPTools
+from vtkmodules.vtkCommonDataModel import vtkCellLocator, vtkStaticCellLocator
+from vtkmodules.vtkFiltersCore import vtkProbeFilter
+from vtkmodules.vtkFiltersModeling import vtkSelectEnclosedPoints
+from vtkmodules.vtkFiltersModeling import vtkLinearSubdivisionFilter
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "Testing" / "Python"))
+import hoembed  # noqa: E402
+from voxel_tet_mesh import linear_copy, voxel_tet_mesh  # noqa: E402
+from test_embedding import inside_linear_tets  # noqa: E402
+
+DATA = ROOT.parent / "shared" / "data" / "meshes"
+SURFACES = ["bunny_watertight", "armadillo", "dragon", "fertility", "rocker-arm",
+            "scorpion_low_resolution"]
+REPEATS = 3
+
+
+def time_filter(surface, grid, method, threads, wall=False):
+    """Best time of the filter's Update over REPEATS runs: process CPU time for 1 thread
+    (less sensitive to the other jobs on this shared machine), wall time for more threads
+    or when `wall` is set."""
+    vtkSMPTools.Initialize(threads)
+    f = hoembed.vtkEmbeddingCoordinatesFilter()
+    f.SetInputData(0, surface)
+    f.SetMeshData(grid)
+    f.SetMethod(method)
+    clock = time.process_time if (threads == 1 and not wall) else time.perf_counter
+    best = np.inf
+    for _ in range(REPEATS):
+        f.Modified()
+        t = clock()
+        f.Update()
+        best = min(best, clock() - t)
+    out = pv.wrap(f.GetOutput()).copy()
+    return best, out
+
+
+def fe_meshes(surface, n_el):
+    """(tet10, tet4, how) meshes of about n_el elements."""
+    try:
+        g10 = hoembed.tet10_mesh(surface, n_elements=n_el)
+        return g10, linear_copy(g10), "vtkTet10Mesher"
+    except hoembed.HOEmbedError:
+        g10 = voxel_tet_mesh(surface, n_el)
+        return g10, linear_copy(g10), "voxel"
+
+
+def time_probe(surface, grid4):
+    vtkSMPTools.Initialize(1)
+    best = np.inf
+    for _ in range(REPEATS):
+        p = vtkProbeFilter()
+        probe = pv.PolyData(np.array(surface.points, dtype=float), deep=True)
+        p.SetInputData(probe)
+        p.SetSourceData(grid4)
+        p.SetCellLocatorPrototype(vtkStaticCellLocator())
+        t = time.process_time()
+        p.Update()
+        best = min(best, time.process_time() - t)
+    mask = vtk_to_numpy(p.GetOutput().GetPointData().GetArray("vtkValidPointMask"))
+    return best, float(mask.mean())
+
+
+def vtk_closest_tet10(grid10, points):
+    loc = vtkCellLocator()
+    loc.SetDataSet(grid10)
+    t = time.perf_counter()
+    loc.BuildLocator()
+    cp = [0.0, 0.0, 0.0]
+    cid, sub, d2 = reference(0), reference(0), reference(0.0)
+    dist = np.empty(len(points))
+    for i, p in enumerate(points):
+        loc.FindClosestPoint(p, cp, cid, sub, d2)
+        dist[i] = np.sqrt(float(d2))
+    return time.perf_counter() - t, dist
+
+
+def exact_tet4(grid4, points):
+    """0 inside a cell (exact barycentric test over all cells, numpy), else the distance to
+    the boundary triangles (VTK's locator, exact for triangles)."""
+    boundary = grid4.extract_surface().triangulate()
+    loc = vtkStaticCellLocator()
+    loc.SetDataSet(boundary)
+    loc.BuildLocator()
+    cp = [0.0, 0.0, 0.0]
+    cid, sub, d2 = reference(0), reference(0), reference(0.0)
+    to_b = np.empty(len(points))
+    for i, p in enumerate(points):
+        loc.FindClosestPoint(p, cp, cid, sub, d2)
+        to_b[i] = np.sqrt(float(d2))
+    inside = inside_linear_tets(grid4, points)
+    # VTK's own inside test, for the record: it disagrees near the boundary
+    sel = vtkSelectEnclosedPoints()
+    sel.SetSurfaceData(boundary)
+    probe = pv.PolyData(np.array(points, dtype=float), deep=True)  # kept alive until Update
+    sel.SetInputData(probe)
+    sel.Update()
+    vtk_inside = vtk_to_numpy(sel.GetOutput().GetPointData().GetArray("SelectedPoints")) > 0
+    return np.where(inside, 0.0, to_b), int((vtk_inside != inside).sum())
+
+
+def main():
+    if not DATA.is_dir():
+        print(json.dumps({"skipped": f"no data folder {DATA}"}))
+        return 0
+    results = {"machine_note": "2 shared cores; ratios matter, absolute times are noisy; "
+                               "1-thread times are process CPU times, 2-thread times wall times",
+               "fe_meshes": "hoembed.tet10_mesh (voxel meshes where it fails)",
+               "surfaces": {}, "scaling": {}}
+    rng = np.random.default_rng(1)
+    for name in SURFACES:
+        path = DATA / f"{name}.obj"
+        if not path.exists():
+            continue
+        s = pv.read(path).triangulate().clean(tolerance=0.0)
+        entry = {"vertices": int(s.n_points)}
+        for n_el in (1000, 3000):
+            g10, g4, how = fe_meshes(s, n_el)
+            diag = g10.length
+            key = f"fe{n_el}"
+            r = {"cells": int(g10.n_cells), "cells_tet4": int(g4.n_cells), "mesher": how}
+            for th in (1, 2):
+                t10, out10 = time_filter(s, g10, 0, th)
+                t4, out4 = time_filter(s, g4, 1, th)
+                r[f"normal_offset_tet10_vps_{th}thr"] = s.n_points / t10
+                r[f"barycentric_tet4_vps_{th}thr"] = s.n_points / t4
+            w1, _ = time_filter(s, g10, 0, 1, wall=True)
+            r["normal_offset_tet10_vps_1thr_wall"] = s.n_points / w1
+            r["speedup_2thr_tet10_wall"] = r["normal_offset_tet10_vps_2thr"] / r["normal_offset_tet10_vps_1thr_wall"]
+            r["inside_fraction"] = float(np.mean(out10["EmbeddingDistance"] == 0))
+            r["max_residual_over_diag"] = float(out10["EmbeddingResidual"].max() / diag)
+            r["max_distance_over_diag"] = float(out10["EmbeddingClosestDistance"].max() / diag)
+            r["mean_iterations"] = float(out10["EmbeddingIterations"].mean())
+            r["mean_elements_visited"] = float(out10["EmbeddingElementsVisited"].mean())
+            if n_el == 1000:
+                # exactness of tet4 distances against VTK, every vertex
+                ref, vtk_inside_disagrees = exact_tet4(g4, s.points)
+                _, o4 = time_filter(s, g4, 0, 1)
+                mine = np.asarray(o4["EmbeddingClosestDistance"])
+                err = np.abs(mine - ref)
+                r["tet4_exact_fraction"] = float(np.mean(err <= 1e-8 * diag))
+                r["tet4_max_error_over_diag"] = float(err.max() / diag)
+                r["vtk_select_enclosed_points_wrong_vertices"] = vtk_inside_disagrees
+                # VTK's probe (tet4, barycentric, inside points only)
+                tp, valid = time_probe(s, g4)
+                r["vtk_probe_tet4_vps"] = s.n_points / tp
+                r["vtk_probe_valid_fraction"] = valid
+                r["ratio_ours_tet4_barycentric_vs_probe"] = r["barycentric_tet4_vps_1thr"] / r["vtk_probe_tet4_vps"]
+                r["ratio_ours_tet10_vs_probe_tet4"] = r["normal_offset_tet10_vps_1thr"] / r["vtk_probe_tet4_vps"]
+                # vtkCellLocator::FindClosestPoint on the curved tet10 grid, sample
+                sample = rng.choice(s.n_points, min(3000, s.n_points), replace=False)
+                tc, dv = vtk_closest_tet10(g10, s.points[sample])
+                exact = np.asarray(out10["EmbeddingClosestDistance"])[sample]
+                e = dv - exact
+                r["vtk_celllocator_tet10_vps"] = len(sample) / tc
+                r["ratio_ours_tet10_vs_celllocator"] = r["normal_offset_tet10_vps_1thr"] / r["vtk_celllocator_tet10_vps"]
+                r["vtk_tet10_distance_error_max_over_diag"] = float(np.abs(e).max() / diag)
+                r["vtk_tet10_distance_error_mean_over_diag"] = float(np.abs(e).mean() / diag)
+                r["vtk_tet10_fraction_off_by_1e-8_diag"] = float(np.mean(np.abs(e) > 1e-8 * diag))
+                r["vtk_tet10_min_signed_error_over_diag"] = float(e.min() / diag)
+            entry[key] = r
+        entry["time_ratio_fe3000_vs_fe1000"] = (entry["fe1000"]["normal_offset_tet10_vps_1thr"]
+                                                / entry["fe3000"]["normal_offset_tet10_vps_1thr"])
+        results["surfaces"][name] = entry
+        print(name, json.dumps(entry, indent=1), flush=True)
+
+    # Fig. 7: time against surface size, two FE sizes
+    for name in ("bunny_watertight", "dragon"):
+        path = DATA / f"{name}.obj"
+        if not path.exists():
+            continue
+        base = pv.read(path).triangulate().clean(tolerance=0.0)
+        meshes = {n: fe_meshes(base, n)[0] for n in (1000, 3000)}
+        rows = []
+        surf = base
+        for level in range(3):
+            if level > 0:
+                sub = vtkLinearSubdivisionFilter()
+                sub.SetInputData(surf)
+                sub.SetNumberOfSubdivisions(1)
+                sub.Update()
+                surf = pv.wrap(sub.GetOutput()).clean(tolerance=0.0)
+            row = {"vertices": int(surf.n_points)}
+            for n, g in meshes.items():
+                t, _ = time_filter(surf, g, 0, 1)
+                row[f"seconds_fe{n}"] = t
+                row[f"cells_fe{n}"] = int(g.n_cells)
+            rows.append(row)
+        for a, b in zip(rows, rows[1:]):
+            b["time_ratio_vs_previous_fe1000"] = b["seconds_fe1000"] / a["seconds_fe1000"]
+            b["vertex_ratio_vs_previous"] = b["vertices"] / a["vertices"]
+        for row in rows:
+            row["time_ratio_fe3000_vs_fe1000"] = row["seconds_fe3000"] / row["seconds_fe1000"]
+        results["scaling"][name] = rows
+        print(name, "scaling", json.dumps(rows, indent=1), flush=True)
+
+    out_dir = ROOT / "Benchmarks" / "results"
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "bench_embedding.json").write_text(json.dumps(results, indent=1))
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(5, 4))
+        for name, rows in results["scaling"].items():
+            v = [r["vertices"] for r in rows]
+            for n, style in ((1000, "o-"), (3000, "s--")):
+                ax.plot(v, [r[f"seconds_fe{n}"] for r in rows], style, label=f"{name}, ~{n} tet10")
+        ax.set_xlabel("surface vertices")
+        ax.set_ylabel("embedding time [s] (1 thread)")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out_dir / "bench_embedding.png", dpi=120)
+    except ImportError:
+        pass
+    print(json.dumps(results))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,99 @@
+/**
+ * @file hoembedClosestPoint.h
+ * @brief Constrained closest point on a quadratic (or linear) triangle patch (2 variables)
+ * and in a quadratic (or linear) tetrahedron (3 variables), paper eq. 3.
+ *
+ * The maps are polynomials of degree <= 2 over the reference simplex, stored in monomial
+ * form (QuadraticMap): x(xi) = C + sum_i L_i xi_i + 1/2 sum_ij Q_ij xi_i xi_j. Their
+ * Jacobian and (constant) second derivatives are exact, so the solver is a full Newton
+ * method with Levenberg-Marquardt damping where the Hessian is not positive definite, an
+ * active set over the simplex constraints (faces, edges, corners; multipliers checked
+ * before a constraint is kept) and a backtracking line search with a ratio test, so
+ * every iterate stays inside the simplex exactly (no constraint is ever violated) and the
+ * objective decreases monotonically. This converges where plain Newton does not (points
+ * far from a strongly curved element). For patches a plain Newton iteration from an
+ * interior start is tried first and kept only when it stays inside with a positive
+ * definite Hessian and converges (an interior local minimum).
+ *
+ * Constraint bits (ClosestPointResult::Active):
+ * - 2 variables (u, v): bit 0: u = 0 (edge ca), bit 1: v = 0 (edge ab), bit 2: u + v = 1
+ *   (edge bc). Two bits set: a corner.
+ * - 3 variables (r, s, t): bit 0: r = 0 (tet face 2), bit 1: s = 0 (face 0), bit 2: t = 0
+ *   (face 3), bit 3: r + s + t = 1 (face 1); faces in hoembed::TetFaceNodes order.
+ *
+ * Plain C++ kernels; the solver keeps everything on the stack (thread safe).
+ */
+#ifndef hoembedClosestPoint_h
+#define hoembedClosestPoint_h
+
+#include "hoembedFiltersEmbeddingModule.h"
+
+namespace hoembed
+{
+/// A polynomial map of degree <= 2 from the reference simplex of dimension Dim (2 or 3)
+/// to R^3, in monomial form.
+struct QuadraticMap
+{
+  int Dim = 3;
+  double C[3] = { 0, 0, 0 };
+  double L[3][3] = {};    ///< L[i] = dx/dxi_i at xi = 0
+  double Q[3][3][3] = {}; ///< Q[i][j] = d2x / dxi_i dxi_j (symmetric)
+};
+
+/// Monomial form of a tri6 (n = 6) or tri3 (n = 3) patch, nodes in VTK order (3 doubles each).
+HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTriangleMap(const double* x, int n, QuadraticMap& m);
+/// Monomial form of a tet10 (n = 10) or tet4 (n = 4), nodes in VTK order.
+HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTetMap(const double* x, int n, QuadraticMap& m);
+
+/// x(xi) and, when J is not null, J[i] = dx/dxi_i (m.Dim vectors of 3).
+HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateMap(
+  const QuadraticMap& m, const double* xi, double x[3], double (*J)[3] = nullptr);
+
+struct ClosestPointResult
+{
+  double Param[3] = { 0, 0, 0 }; ///< (u, v) or (r, s, t), inside the simplex
+  double Point[3] = { 0, 0, 0 };
+  double Distance2 = 0.0;        ///< squared distance |x(Param) - v|^2
+  int Active = 0;                ///< constraint bits, see the file comment
+  int Iterations = 0;
+  bool Converged = false;
+};
+
+/**
+ * Closest point of `v` on the patch / in the element `m` (m.Dim = 2 or 3), starting
+ * from `start` (projected into the simplex; null: the centroid). At most `maxIterations`
+ * Newton iterations.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void ClosestPointOnMap(const QuadraticMap& m, const double v[3],
+  const double* start, ClosestPointResult& res, int maxIterations = 60);
+
+/**
+ * A start for ClosestPointOnMap from the straight simplex through the map's corners:
+ * Dim 2, the closest point of v on the flat triangle; Dim 3, the linear tet's
+ * barycentric coordinates of v, clamped into the simplex.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void LinearStart(const QuadraticMap& m, const double v[3], double* start);
+
+/**
+ * Unconstrained inverse of a tet map: find pc with x(pc) = v (pc may leave the element:
+ * extrapolated coordinates), damped Newton from `pc` (in/out). Returns |x(pc) - v|.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT double InvertTetMap(
+  const QuadraticMap& m, const double v[3], double pc[3], int& iterations, int maxIterations = 60);
+
+/**
+ * Normal-offset solve in one boundary face (paper eq. 8-9 with the normalised normal of
+ * eq. 7): find (u, v, d) with x(u, v) + d * s(u, v) / |s(u, v)| = p, where `x` is the
+ * face map and `s` the interpolated nodal-normal field (both QuadraticMap, Dim 2).
+ * Newton from (uv, d). Returns 0 when converged inside the face (|F| <= tol, or the
+ * Newton step is below 1e-13 in (u, v) and tol in d with |F| <= 100 tol: on an edge,
+ * where the normal field has a kink), 1 + e when
+ * the iteration left the face through edge e (0: ab, 1: bc, 2: ca); uv then lies on that
+ * edge), -1 when it failed (singular or no progress). `iterations` is incremented.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT int SolveNormalOffset(const QuadraticMap& x,
+  const QuadraticMap& s, const double p[3], double uv[2], double& d, double tol,
+  int& iterations, int maxIterations = 40);
+} // namespace hoembed
+
+#endif

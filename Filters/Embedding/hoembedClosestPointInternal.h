@@ -1,0 +1,73 @@
+/**
+ * @file hoembedClosestPointInternal.h
+ * @brief Small inline helpers shared by the closest-point kernels (not a public API).
+ */
+#ifndef hoembedClosestPointInternal_h
+#define hoembedClosestPointInternal_h
+
+#include "hoembedClosestPoint.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hoembed
+{
+namespace detail
+{
+/// a . b for 3-vectors.
+inline double Dot3(const double a[3], const double b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/// x(xi) and J[i] = dx/dxi_i of a map of dimension N (monomial form).
+template <int N>
+inline void Eval(const QuadraticMap& m, const double* xi, double x[3], double J[][3])
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    double acc = m.C[d];
+    for (int i = 0; i < N; ++i)
+    {
+      double ji = m.L[i][d];
+      for (int j = 0; j < N; ++j)
+      {
+        ji += m.Q[i][j][d] * xi[j];
+      }
+      J[i][d] = ji;
+      acc += 0.5 * xi[i] * (m.L[i][d] + ji);
+    }
+    x[d] = acc;
+  }
+}
+
+/// Solve A x = b (3x3) by Cramer's rule; false when A is (nearly) singular.
+inline bool Solve3(const double A[3][3], const double b[3], double x[3])
+{
+  const double c00 = A[1][1] * A[2][2] - A[1][2] * A[2][1];
+  const double c01 = A[1][2] * A[2][0] - A[1][0] * A[2][2];
+  const double c02 = A[1][0] * A[2][1] - A[1][1] * A[2][0];
+  const double det = A[0][0] * c00 + A[0][1] * c01 + A[0][2] * c02;
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      scale = std::max(scale, std::fabs(A[i][j]));
+  if (!(std::fabs(det) > 1e-300) || std::fabs(det) < 1e-14 * scale * scale * scale)
+    return false;
+  const double inv = 1.0 / det;
+  const double c10 = A[0][2] * A[2][1] - A[0][1] * A[2][2];
+  const double c11 = A[0][0] * A[2][2] - A[0][2] * A[2][0];
+  const double c12 = A[0][1] * A[2][0] - A[0][0] * A[2][1];
+  const double c20 = A[0][1] * A[1][2] - A[0][2] * A[1][1];
+  const double c21 = A[0][2] * A[1][0] - A[0][0] * A[1][2];
+  const double c22 = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+  x[0] = (c00 * b[0] + c10 * b[1] + c20 * b[2]) * inv;
+  x[1] = (c01 * b[0] + c11 * b[1] + c21 * b[2]) * inv;
+  x[2] = (c02 * b[0] + c12 * b[1] + c22 * b[2]) * inv;
+  return true;
+}
+
+} // namespace detail
+} // namespace hoembed
+
+#endif

@@ -1,0 +1,233 @@
+#include "hoembedEmbeddingFlood.h"
+
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <atomic>
+#include <deque>
+#include <limits>
+
+namespace hoembed
+{
+namespace
+{
+using Id = EmbeddingMesh::Id;
+
+struct Entry
+{
+  Id Triangle;
+  VertexHint Hint;
+  double MaxDistance;
+};
+
+struct FloodContext
+{
+  const EmbeddingMesh* Mesh;
+  int Method;
+  const double* Points;
+  const std::vector<Id>* Triangles;
+  std::vector<Id> VertexTriOffsets;
+  std::vector<std::int32_t> VertexTris; // triangle ids (< 2^31 triangles)
+  Id NumberOfTriangles = 0;
+  std::vector<int> Owner; // per vertex: partition, -1 for isolated vertices
+  std::vector<char> TriangleState;
+  std::vector<char> Done;
+  std::vector<char> Expanded;
+  Id NumberOfPartitions = 1;
+  std::vector<VertexEmbedding>* Out;
+  std::atomic<Id> Seeds{ 0 }, Raises{ 0 };
+  vtkSMPThreadLocal<SearchScratch> Scratch;
+
+  SearchScratch& LocalScratch()
+  {
+    SearchScratch& s = this->Scratch.Local();
+    if (s.FaceStamp.size() != static_cast<size_t>(this->Mesh->Topology.GetNumberOfBoundaryFaces()))
+      s.Prepare(*this->Mesh);
+    return s;
+  }
+
+  void Embed(Id w, const VertexHint& h, SearchScratch& s)
+  {
+    EmbedVertex(*this->Mesh, this->Method, this->Points + 3 * w, h, (*this->Out)[w], s);
+    this->Done[w] = 1;
+  }
+
+  void FloodPartition(Id p)
+  {
+    SearchScratch& s = this->LocalScratch();
+    const Id ntri = this->NumberOfTriangles;
+    const Id b = p * ntri / this->NumberOfPartitions;
+    const Id e = (p + 1) * ntri / this->NumberOfPartitions;
+    const std::vector<Id>& tri = *this->Triangles;
+    const double floor = 1e-3 * this->Mesh->Diagonal;
+    std::deque<Entry> queue;
+    std::vector<Entry> deferred;
+    for (Id k = b; k < e; ++k)
+    {
+      const Id t0 = k;
+      if (this->TriangleState[t0])
+        continue;
+      ++this->Seeds;
+      this->TriangleState[t0] = 1;
+      queue.push_back({ t0, VertexHint(), 0.0 });
+      double dt = -1.0;
+      while (!queue.empty() || !deferred.empty())
+      {
+        if (queue.empty())
+        {
+          double dmin = std::numeric_limits<double>::max();
+          for (const Entry& en : deferred)
+            dmin = std::min(dmin, en.MaxDistance);
+          dt = std::max(2.0 * dt, dmin * (1.0 + 1e-12) + 1e-300);
+          ++this->Raises;
+          queue.insert(queue.end(), deferred.begin(), deferred.end());
+          deferred.clear();
+        }
+        Entry en = queue.front();
+        queue.pop_front();
+        const Id t = en.Triangle;
+        VertexHint h = en.Hint;
+        bool mapped = true;
+        double maxd = 0.0;
+        for (int j = 0; j < 3; ++j)
+        {
+          const Id w = tri[3 * t + j];
+          if (this->Owner[w] != static_cast<int>(p))
+            continue;
+          if (!this->Done[w])
+            this->Embed(w, h, s);
+          const double dw = (*this->Out)[w].ClosestDistance;
+          if (dt < 0.0)
+            dt = std::max(2.0 * dw, floor);
+          maxd = std::max(maxd, dw);
+          if (dw < dt)
+            h = (*this->Out)[w].AsHint(this->Points + 3 * w);
+          else
+            mapped = false;
+        }
+        if (!mapped)
+        {
+          deferred.push_back({ t, h, maxd });
+          continue;
+        }
+        // queue the triangles around this triangle's vertices; each vertex of this
+        // partition is expanded once (its triangles are queued by its first mapped triangle)
+        for (int j = 0; j < 3; ++j)
+        {
+          const Id w = tri[3 * t + j];
+          if (this->Owner[w] != static_cast<int>(p) || this->Expanded[w])
+            continue;
+          this->Expanded[w] = 1;
+          for (Id i = this->VertexTriOffsets[w]; i < this->VertexTriOffsets[w + 1]; ++i)
+          {
+            const Id n = this->VertexTris[i];
+            if (n >= b && n < e && !this->TriangleState[n])
+            {
+              this->TriangleState[n] = 1;
+              queue.push_back({ n, h, 0.0 });
+            }
+          }
+        }
+      }
+    }
+  }
+};
+} // namespace
+
+void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
+  Id numberOfPoints, const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out,
+  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats)
+{
+  out.assign(numberOfPoints, VertexEmbedding());
+  FloodContext ctx;
+  ctx.Mesh = &mesh;
+  ctx.Method = method;
+  ctx.Points = points;
+  ctx.Triangles = &triangles;
+  ctx.Out = &out;
+  const Id ntri = static_cast<Id>(triangles.size() / 3);
+
+  // vertex -> triangles (CSR)
+  ctx.VertexTriOffsets.assign(numberOfPoints + 1, 0);
+  for (Id i = 0; i < 3 * ntri; ++i)
+    ++ctx.VertexTriOffsets[triangles[i] + 1];
+  for (Id i = 0; i < numberOfPoints; ++i)
+    ctx.VertexTriOffsets[i + 1] += ctx.VertexTriOffsets[i];
+  ctx.VertexTris.resize(3 * ntri);
+  {
+    std::vector<Id> fill(ctx.VertexTriOffsets.begin(), ctx.VertexTriOffsets.end() - 1);
+    for (Id t = 0; t < ntri; ++t)
+      for (int j = 0; j < 3; ++j)
+        ctx.VertexTris[fill[triangles[3 * t + j]]++] = static_cast<std::int32_t>(t);
+  }
+
+  // partitions: contiguous ranges of triangle ids (input order is usually spatially
+  // coherent; a partition that is not connected just gets more seeds)
+  Id P = numberOfPartitions > 0 ? numberOfPartitions : std::min<Id>(256, ntri / 1000);
+  P = std::max<Id>(1, std::min<Id>(P, std::max<Id>(ntri, 1)));
+  ctx.NumberOfPartitions = P;
+  ctx.NumberOfTriangles = ntri;
+  ctx.Owner.assign(numberOfPoints, -1);
+  for (Id p = 0; p < P; ++p)
+    for (Id t = p * ntri / P; t < (p + 1) * ntri / P; ++t)
+      for (int j = 0; j < 3; ++j)
+      {
+        const Id w = triangles[3 * t + j];
+        if (ctx.Owner[w] < 0)
+          ctx.Owner[w] = static_cast<int>(p);
+      }
+  ctx.TriangleState.assign(ntri, 0);
+  ctx.Done.assign(numberOfPoints, 0);
+  ctx.Expanded.assign(numberOfPoints, 0);
+
+  std::vector<Id> isolated;
+  for (Id i = 0; i < numberOfPoints; ++i)
+    if (ctx.Owner[i] < 0)
+      isolated.push_back(i);
+  const Id nIso = static_cast<Id>(isolated.size());
+
+  // parallel floods, in batches so that progress is reported from this thread
+  // at least ~8 partitions per thread in each batch, so that threads stay balanced
+  const Id threads = std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads());
+  const Id batches = std::max<Id>(1, std::min<Id>(10, P / (8 * threads)));
+  const double triShare = numberOfPoints > 0 ? double(numberOfPoints - nIso) / numberOfPoints : 0.0;
+  for (Id bt = 0; bt < batches; ++bt)
+  {
+    const Id pb = bt * P / batches, pe = (bt + 1) * P / batches;
+    vtkSMPTools::For(pb, pe, 1, [&ctx](Id begin, Id end) {
+      for (Id p = begin; p < end; ++p)
+        ctx.FloodPartition(p);
+    });
+    if (progress)
+      progress(triShare * double(bt + 1) / batches);
+  }
+  // isolated vertices: chunks, each vertex from the previous one
+  if (nIso > 0)
+  {
+    const Id chunk = 256;
+    vtkSMPTools::For(0, (nIso + chunk - 1) / chunk, 1, [&](Id begin, Id end) {
+      SearchScratch& s = ctx.LocalScratch();
+      for (Id c = begin; c < end; ++c)
+      {
+        VertexHint h;
+        for (Id k = c * chunk; k < std::min(nIso, (c + 1) * chunk); ++k)
+        {
+          ctx.Embed(isolated[k], h, s);
+          h = out[isolated[k]].AsHint(points + 3 * isolated[k]);
+        }
+      }
+    });
+  }
+  if (progress)
+    progress(1.0);
+  if (stats)
+  {
+    stats->Partitions = P;
+    stats->Seeds = ctx.Seeds.load();
+    stats->ThresholdRaises = ctx.Raises.load();
+    stats->IsolatedVertices = nIso;
+  }
+}
+} // namespace hoembed

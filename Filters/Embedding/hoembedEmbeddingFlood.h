@@ -1,0 +1,50 @@
+/**
+ * @file hoembedEmbeddingFlood.h
+ * @brief Paper Algorithm 2: map every vertex of a triangle surface by flooding over its
+ * triangles, each vertex starting from the result of an already mapped neighbour.
+ *
+ * Unrolled into loops with explicit queues (no recursion):
+ * 1. The triangles are cut into contiguous id ranges (partitions; input order is usually
+ *    spatially coherent). Each vertex belongs to the partition of its first triangle.
+ * 2. Partitions run in parallel (vtkSMPTools). In each, a seed triangle per connected
+ *    piece starts a flood: a triangle is mapped when all its vertices are within the
+ *    distance threshold d_t; only then are its neighbours queued, with the last mapped
+ *    vertex's result as their initial guess. Deferred triangles are retried after the
+ *    queue empties, with d_t raised (doubled, at least to the nearest deferred distance).
+ * 3. Vertices in no triangle are mapped afterwards, each from the previous one.
+ * Every vertex result is exact on its own (hoembedEmbeddingSearch certifies the global
+ * minimum), so the flood order only makes the search fast.
+ */
+#ifndef hoembedEmbeddingFlood_h
+#define hoembedEmbeddingFlood_h
+
+#include "hoembedEmbeddingSearch.h"
+#include "hoembedFiltersEmbeddingModule.h"
+
+#include <functional>
+#include <vector>
+
+namespace hoembed
+{
+struct FloodStatistics
+{
+  EmbeddingMesh::Id Partitions = 0;
+  EmbeddingMesh::Id Seeds = 0;          ///< floods started (>= connected components)
+  EmbeddingMesh::Id ThresholdRaises = 0; ///< times d_t was raised
+  EmbeddingMesh::Id IsolatedVertices = 0;
+};
+
+/**
+ * Embed `numberOfPoints` points (3 doubles each) whose triangles are `triangles`
+ * (3 ids each; other cells are the caller's business). `numberOfPartitions` <= 0 picks
+ * one per ~1000 triangles (at most 256). `progress` (may be empty) is called from the
+ * calling thread with values in [0, 1].
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedSurface(const EmbeddingMesh& mesh, int method,
+  const double* points, EmbeddingMesh::Id numberOfPoints,
+  const std::vector<EmbeddingMesh::Id>& triangles, std::vector<VertexEmbedding>& out,
+  int numberOfPartitions = 0, const std::function<void(double)>& progress = {},
+  FloodStatistics* stats = nullptr);
+} // namespace hoembed
+
+#endif

@@ -1,0 +1,188 @@
+#include "hoembedEmbeddingMesh.h"
+#include "hoembedBoundaryNormals.h"
+#include "hoembedShapeFunctions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hoembed
+{
+namespace
+{
+// Box of the Bezier control points of a quadratic Lagrange simplex: corners as they are,
+// edge controls 2 m - (a + b) / 2.
+void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner,
+  const int (*edges)[2], int nedges, bool quadratic, double* box)
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    box[d] = std::numeric_limits<double>::max();
+    box[d + 3] = -std::numeric_limits<double>::max();
+  }
+  auto add = [&](const double* x) {
+    for (int d = 0; d < 3; ++d)
+    {
+      box[d] = std::min(box[d], x[d]);
+      box[d + 3] = std::max(box[d + 3], x[d]);
+    }
+  };
+  for (int a = 0; a < ncorner; ++a)
+    add(pts + 3 * ids[a]);
+  if (!quadratic)
+    return;
+  for (int e = 0; e < nedges; ++e)
+  {
+    const double* a = pts + 3 * ids[edges[e][0]];
+    const double* b = pts + 3 * ids[edges[e][1]];
+    const double* m = pts + 3 * ids[ncorner + e];
+    double c[3];
+    for (int d = 0; d < 3; ++d)
+      c[d] = 2.0 * m[d] - 0.5 * (a[d] + b[d]);
+    add(c);
+  }
+  // a hair of slack for round-off in the callers' distance comparisons
+  const double pad = 1e-12 * std::max({ box[3] - box[0], box[4] - box[1], box[5] - box[2], 1e-300 });
+  for (int d = 0; d < 3; ++d)
+  {
+    box[d] -= pad;
+    box[d + 3] += pad;
+  }
+}
+
+const int TriEdges[3][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 } };
+} // namespace
+
+std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
+  Id numberOfCells, int nodesPerCell)
+{
+  std::string err = this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
+  if (!err.empty())
+    return err;
+  const Id nbf = this->Topology.GetNumberOfBoundaryFaces();
+  if (nbf == 0)
+    return "the mesh has no boundary faces";
+  this->Points.assign(points, points + 3 * numberOfPoints);
+  this->Connectivity.assign(conn, conn + nodesPerCell * numberOfCells);
+  this->NodalNormals.assign(3 * numberOfPoints, 0.0);
+  ComputeBoundaryNodeNormals(this->Topology, this->Points.data(), this->NodalNormals.data());
+
+  double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max() };
+  double hi[3] = { -lo[0], -lo[1], -lo[2] };
+  for (Id i = 0; i < numberOfPoints; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::min(lo[d], points[3 * i + d]);
+      hi[d] = std::max(hi[d], points[3 * i + d]);
+    }
+  this->Diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+
+  const bool quadratic = nodesPerCell == 10;
+  this->CellMaps.resize(numberOfCells);
+  std::vector<double> boxes(6 * numberOfCells);
+  double x[30];
+  for (Id c = 0; c < numberOfCells; ++c)
+  {
+    const Id* ids = conn + nodesPerCell * c;
+    for (int a = 0; a < nodesPerCell; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = points[3 * ids[a] + d];
+    MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
+    ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
+  }
+  this->CellTree.Build(boxes);
+
+  const int npf = this->Topology.GetNodesPerFace();
+  this->FaceMaps.resize(nbf);
+  this->FaceSlabs.assign(6 * nbf, 0.0);
+  this->NormalMaps.resize(nbf);
+  boxes.assign(6 * nbf, 0.0);
+  for (Id f = 0; f < nbf; ++f)
+  {
+    const Id* ids = &this->Topology.BoundaryFaceNodes[npf * f];
+    double nx[18];
+    for (int a = 0; a < npf; ++a)
+      for (int d = 0; d < 3; ++d)
+      {
+        x[3 * a + d] = points[3 * ids[a] + d];
+        nx[3 * a + d] = this->NodalNormals[3 * ids[a] + d];
+      }
+    MakeTriangleMap(x, npf, this->FaceMaps[f]);
+    MakeTriangleMap(nx, npf, this->NormalMaps[f]);
+    ControlBox(points, ids, 3, TriEdges, 3, quadratic, &boxes[6 * f]);
+    // slab of the corner plane
+    double* slab = &this->FaceSlabs[6 * f];
+    const double* a = x;
+    const double* b = x + 3;
+    const double* c = x + 6;
+    double e1[3], e2[3], n[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      e1[d] = b[d] - a[d];
+      e2[d] = c[d] - a[d];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(ln > 0.0))
+    {
+      slab[0] = slab[1] = slab[2] = 0.0; // no bound from a degenerate plane
+      slab[3] = slab[4] = slab[5] = 0.0;
+      continue;
+    }
+    for (int d = 0; d < 3; ++d)
+      slab[d] = n[d] / ln;
+    slab[3] = slab[0] * a[0] + slab[1] * a[1] + slab[2] * a[2];
+    double lo = 0.0, hi = 0.0;
+    if (quadratic)
+    {
+      for (int e = 0; e < 3; ++e)
+      {
+        const double* p = x + 3 * TriEdges[e][0];
+        const double* q = x + 3 * TriEdges[e][1];
+        const double* m = x + 3 * (3 + e);
+        double h = -slab[3];
+        for (int d = 0; d < 3; ++d)
+          h += slab[d] * (2.0 * m[d] - 0.5 * (p[d] + q[d]));
+        lo = std::min(lo, h);
+        hi = std::max(hi, h);
+      }
+    }
+    const double pad = 1e-12 * this->Diagonal;
+    slab[4] = lo - pad;
+    slab[5] = hi + pad;
+  }
+  this->FaceTree.Build(boxes);
+  return std::string();
+}
+
+double EmbeddingMesh::FaceLowerBound2(Id f, const double v[3]) const
+{
+  const double* s = &this->FaceSlabs[6 * f];
+  const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
+  const double out = h > s[5] ? h - s[5] : (h < s[4] ? s[4] - h : 0.0);
+  return out * out;
+}
+
+void EmbeddingMesh::CellPoint(Id c, const double pc[3], double x[3]) const
+{
+  const int npc = this->NodesPerCell();
+  double N[10];
+  if (npc == 10)
+    Tet10Shape(pc, N);
+  else
+    Tet4Shape(pc, N);
+  const Id* ids = &this->Connectivity[npc * c];
+  x[0] = x[1] = x[2] = 0.0;
+  for (int a = 0; a < npc; ++a)
+  {
+    const double* p = &this->Points[3 * ids[a]];
+    x[0] += N[a] * p[0];
+    x[1] += N[a] * p[1];
+    x[2] += N[a] * p[2];
+  }
+}
+} // namespace hoembed

@@ -1,0 +1,60 @@
+/**
+ * @file hoembedEmbeddingMesh.h
+ * @brief The rest FE mesh prepared for embedding: topology, smooth nodal normals, the
+ * monomial maps of every cell and boundary face (and of the interpolated normal field on
+ * each boundary face), and box trees over boundary faces and cells.
+ *
+ * Plain C++ kernel; read-only after Build, so any number of threads may query it.
+ */
+#ifndef hoembedEmbeddingMesh_h
+#define hoembedEmbeddingMesh_h
+
+#include "hoembedClosestPoint.h"
+#include "hoembedEmbeddingTree.h"
+#include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedTetMeshTopology.h"
+
+#include <string>
+#include <vector>
+
+namespace hoembed
+{
+class HOEMBEDFILTERSEMBEDDING_EXPORT EmbeddingMesh
+{
+public:
+  using Id = TetMeshTopology::Id;
+
+  /**
+   * Prepare a tet4 (nodesPerCell 4) or tet10 (10) mesh: `points` 3 doubles per node,
+   * `conn` nodesPerCell ids per cell in VTK order. Returns "" or a description of the
+   * problem (topology errors of TetMeshTopology::Build, no boundary).
+   */
+  std::string Build(const double* points, Id numberOfPoints, const Id* conn,
+    Id numberOfCells, int nodesPerCell);
+
+  TetMeshTopology Topology;
+  std::vector<double> Points;       ///< 3 per node
+  std::vector<Id> Connectivity;     ///< nodesPerCell per cell
+  std::vector<double> NodalNormals; ///< 3 per node (ComputeBoundaryNodeNormals)
+  std::vector<QuadraticMap> CellMaps;
+  std::vector<QuadraticMap> FaceMaps;   ///< per boundary face, Dim 2
+  std::vector<QuadraticMap> NormalMaps; ///< per boundary face: sum_I N_I(u, v) nbar_I
+  /// Per boundary face: unit normal n of the corner plane, offset c = n . x_a, and the
+  /// range [lo, hi] of n . x - c over the face's Bezier control points (the face lies in
+  /// that slab): 6 doubles n, c, lo, hi.
+  std::vector<double> FaceSlabs;
+  AabbTree FaceTree;
+  AabbTree CellTree;
+  double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
+
+  int NodesPerCell() const { return this->Topology.NodesPerCell; }
+
+  /// Lower bound of the squared distance from v to boundary face f (box and slab).
+  double FaceLowerBound2(Id f, const double v[3]) const;
+
+  /// Tet map of cell c at pc (tet4/tet10 shape functions over the cell's nodes).
+  void CellPoint(Id c, const double pc[3], double x[3]) const;
+};
+} // namespace hoembed
+
+#endif

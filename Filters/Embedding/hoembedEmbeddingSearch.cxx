@@ -1,0 +1,574 @@
+#include "hoembedEmbeddingSearch.h"
+#include "hoembedBoundaryNormals.h"
+#include "hoembedShapeFunctions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hoembed
+{
+namespace
+{
+using Id = EmbeddingMesh::Id;
+
+constexpr double InsideTolerance = 1e-11;    // of the diagonal
+constexpr double CorrectionTolerance = 1e-12; // of the diagonal
+constexpr int MaxWalk = 64;
+
+const double CornerUV[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+
+inline double Dot(const double a[3], const double b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+inline void Cross(const double a[3], const double b[3], double c[3])
+{
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+inline int PopCount(int b)
+{
+  int n = 0;
+  for (; b; b &= b - 1)
+    ++n;
+  return n;
+}
+
+// Patch constraint bits -> the edge (0 ab, 1 bc, 2 ca) of a single active bit.
+inline int EdgeOfBit(int bits)
+{
+  return bits == 2 ? 0 : (bits == 4 ? 1 : 2);
+}
+// Two active bits -> the corner (0 a, 1 b, 2 c).
+inline int CornerOfBits(int bits)
+{
+  if ((bits & 3) == 3)
+    return 0; // u = 0, v = 0
+  if ((bits & 6) == 6)
+    return 1; // v = 0, u + v = 1
+  return 2;   // u = 0, u + v = 1
+}
+// Tet constraint bit k -> local face (TetFaceNodes order).
+const int FaceOfTetBit[4] = { 2, 0, 3, 1 };
+
+struct BoundaryHit
+{
+  Id Face = -1;
+  double UV[2] = { 0, 0 };
+  double Point[3] = { 0, 0, 0 };
+  double Dist2 = std::numeric_limits<double>::infinity();
+  int Active = 0;
+};
+
+// Map a point on edge e of face f (given by uv) to the uv of face g sharing that edge.
+bool MapAcrossEdge(const EmbeddingMesh& M, Id f, int e, const double uv[2], Id g, double out[2])
+{
+  const int npf = M.Topology.GetNodesPerFace();
+  const Id* fn = &M.Topology.BoundaryFaceNodes[npf * f];
+  const Id* gn = &M.Topology.BoundaryFaceNodes[npf * g];
+  const int ia = e, ib = (e + 1) % 3;
+  double t = e == 0 ? uv[0] : (e == 1 ? uv[1] : 1.0 - uv[1]);
+  int ja = -1, jb = -1;
+  for (int k = 0; k < 3; ++k)
+  {
+    if (gn[k] == fn[ia])
+      ja = k;
+    if (gn[k] == fn[ib])
+      jb = k;
+  }
+  if (ja < 0 || jb < 0)
+    return false;
+  out[0] = (1.0 - t) * CornerUV[ja][0] + t * CornerUV[jb][0];
+  out[1] = (1.0 - t) * CornerUV[ja][1] + t * CornerUV[jb][1];
+  return true;
+}
+
+void FaceNormal(const EmbeddingMesh& M, Id f, const double uv[2], double n[3])
+{
+  double x[3], J[2][3];
+  EvaluateMap(M.FaceMaps[f], uv, x, J);
+  Cross(J[0], J[1], n);
+  const double l = std::sqrt(Dot(n, n));
+  if (l > 0.0)
+    for (int d = 0; d < 3; ++d)
+      n[d] /= l;
+}
+
+// Pseudo-normal of the boundary at the closest point.
+void PseudoNormal(const EmbeddingMesh& M, const BoundaryHit& hit, double n[3])
+{
+  const int k = PopCount(hit.Active & 7);
+  if (k >= 2)
+  {
+    const int corner = CornerOfBits(hit.Active);
+    const Id node = M.Topology.BoundaryFaceNodes[M.Topology.GetNodesPerFace() * hit.Face + corner];
+    for (int d = 0; d < 3; ++d)
+      n[d] = M.NodalNormals[3 * node + d];
+    return;
+  }
+  FaceNormal(M, hit.Face, hit.UV, n);
+  if (k == 1)
+  {
+    const int e = EdgeOfBit(hit.Active & 7);
+    const Id g = M.Topology.BoundaryFaceNeighbor[3 * hit.Face + e];
+    double uvg[2], ng[3];
+    if (g >= 0 && MapAcrossEdge(M, hit.Face, e, hit.UV, g, uvg))
+    {
+      FaceNormal(M, g, uvg, ng);
+      for (int d = 0; d < 3; ++d)
+        n[d] += ng[d];
+    }
+  }
+}
+
+void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start,
+  BoundaryHit& best, VertexEmbedding& out, int* activeOut = nullptr)
+{
+  ClosestPointResult r;
+  double linear[2];
+  if (!start)
+  {
+    LinearStart(M.FaceMaps[f], v, linear);
+    start = linear;
+  }
+  ClosestPointOnMap(M.FaceMaps[f], v, start, r);
+  out.Iterations += r.Iterations;
+  ++out.Visited;
+  if (activeOut)
+    *activeOut = r.Active;
+  if (r.Distance2 < best.Dist2)
+  {
+    best.Dist2 = r.Distance2;
+    best.Face = f;
+    best.UV[0] = r.Param[0];
+    best.UV[1] = r.Param[1];
+    best.Active = r.Active;
+    for (int d = 0; d < 3; ++d)
+      best.Point[d] = r.Point[d];
+  }
+}
+
+void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint& hint,
+  BoundaryHit& best, VertexEmbedding& out, SearchScratch& S)
+{
+  const unsigned stamp = S.NextStamp();
+  const TetMeshTopology& T = M.Topology;
+  if (hint.Face >= 0)
+  {
+    // Algorithm 1 on the boundary surface, explicit queue and visited stamps
+    S.Queue.clear();
+    S.Queue.push_back(hint.Face);
+    S.FaceStamp[hint.Face] = stamp;
+    for (size_t q = 0; q < S.Queue.size() && q < static_cast<size_t>(MaxWalk); ++q)
+    {
+      const Id f = S.Queue[q];
+      int active = 0;
+      const double before = best.Dist2;
+      SolveFace(M, v, f, f == hint.Face ? hint.UV : nullptr, best, out, &active);
+      if (!(best.Dist2 < before) && q > 0)
+        continue; // no improvement: do not walk further from here
+      const int k = PopCount(active & 7);
+      auto push = [&](Id g) {
+        if (g >= 0 && S.FaceStamp[g] != stamp)
+        {
+          S.FaceStamp[g] = stamp;
+          S.Queue.push_back(g);
+        }
+      };
+      if (k == 1)
+      {
+        push(T.BoundaryFaceNeighbor[3 * f + EdgeOfBit(active & 7)]);
+      }
+      else if (k >= 2)
+      {
+        const Id node = T.BoundaryFaceNodes[T.GetNodesPerFace() * f + CornerOfBits(active)];
+        for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1]; ++i)
+          push(T.NodeFaces[i]);
+      }
+    }
+  }
+  // certification: every face whose box is nearer than the best distance
+  // (a face whose lower bound is within 1e-10 relative of the best cannot improve it by
+  // more than that, far below the 1e-8 of the diagonal that matters)
+  M.FaceTree.VisitNearer(v, best.Dist2, [&](Id f) {
+    if (S.FaceStamp[f] == stamp || M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
+      return;
+    S.FaceStamp[f] = stamp;
+    SolveFace(M, v, f, nullptr, best, out);
+  });
+}
+
+// Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.
+bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTree,
+  VertexEmbedding& out, SearchScratch& S, int maxWalk = MaxWalk)
+{
+  const double tol = InsideTolerance * M.Diagonal;
+  const double tol2 = tol * tol;
+  const unsigned stamp = S.NextStamp();
+  ClosestPointResult r;
+  // exit face of the walk when the fast test fails: opposite the most negative
+  // barycentric coordinate of the (extrapolated) parametric point
+  int exitFace = -1;
+  auto test = [&](Id c, bool fastOnly) {
+    double start[3];
+    LinearStart(M.CellMaps[c], v, start);
+    // fast path: plain Newton inversion from the straight tet's coordinates; accepted only
+    // when it lands inside the cell
+    double pc[3] = { start[0], start[1], start[2] };
+    int its = 0;
+    const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
+    out.Iterations += its;
+    ++out.Visited;
+    if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
+      pc[0] + pc[1] + pc[2] <= 1.0)
+    {
+      out.Cell = c;
+      for (int i = 0; i < 3; ++i)
+        out.PC[i] = pc[i];
+      out.Residual = res;
+      return true;
+    }
+    if (fastOnly)
+    {
+      const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
+      int k = 0;
+      for (int a = 1; a < 4; ++a)
+        if (L[a] < L[k])
+          k = a;
+      // the face opposite corner k: TetFaceOpposite maps face -> corner
+      exitFace = -1;
+      for (int fc = 0; fc < 4; ++fc)
+        if (TetFaceOpposite[fc] == k)
+          exitFace = fc;
+      return false;
+    }
+    ClosestPointOnMap(M.CellMaps[c], v, start, r);
+    out.Iterations += r.Iterations;
+    if (r.Distance2 <= tol2)
+    {
+      out.Cell = c;
+      for (int i = 0; i < 3; ++i)
+        out.PC[i] = r.Param[i];
+      out.Residual = std::sqrt(r.Distance2);
+      return true;
+    }
+    return false;
+  };
+  S.Queue.clear();
+  if (start >= 0)
+  {
+    S.Queue.push_back(start);
+    S.CellStamp[start] = stamp;
+  }
+  if (maxWalk == 0)
+    return start >= 0 && test(start, true);
+  if (!useTree)
+  {
+    // short walk from a hint: cheap tests, leave through the face the point is beyond
+    Id c = start;
+    for (int step = 0; step < maxWalk && c >= 0; ++step)
+    {
+      if (test(c, true))
+        return true;
+      c = exitFace >= 0 ? M.Topology.FaceNeighbor[4 * c + exitFace] : -1;
+    }
+    return false;
+  }
+  for (size_t q = 0; q < S.Queue.size() && q < static_cast<size_t>(maxWalk); ++q)
+  {
+    const Id c = S.Queue[q];
+    if (test(c, false))
+      return true;
+    for (int b = 0; b < 4; ++b)
+    {
+      if (!(r.Active & (1 << b)))
+        continue;
+      const Id nb = M.Topology.FaceNeighbor[4 * c + FaceOfTetBit[b]];
+      if (nb >= 0 && S.CellStamp[nb] != stamp)
+      {
+        S.CellStamp[nb] = stamp;
+        S.Queue.push_back(nb);
+      }
+    }
+  }
+  if (!useTree)
+    return false;
+  S.Candidates.clear();
+  M.CellTree.Containing(v, tol, S.Candidates);
+  for (Id c : S.Candidates)
+  {
+    if (S.CellStamp[c] == stamp)
+      continue;
+    S.CellStamp[c] = stamp;
+    if (test(c, false))
+      return true;
+  }
+  return false;
+}
+
+void SetInside(VertexEmbedding& out)
+{
+  out.Inside = true;
+  out.Distance = 0.0;
+  out.ClosestDistance = 0.0;
+  out.Face = -1;
+}
+} // namespace
+
+VertexHint VertexEmbedding::AsHint(const double v[3]) const
+{
+  VertexHint h;
+  h.Point[0] = v[0];
+  h.Point[1] = v[1];
+  h.Point[2] = v[2];
+  h.Distance = this->ClosestDistance;
+  h.Face = this->BoundaryFace;
+  h.UV[0] = this->UV[0];
+  h.UV[1] = this->UV[1];
+  h.Cell = this->Cell;
+  h.Inside = this->Inside;
+  return h;
+}
+
+void SearchScratch::Prepare(const EmbeddingMesh& mesh)
+{
+  this->FaceStamp.assign(mesh.Topology.GetNumberOfBoundaryFaces(), 0u);
+  this->CellStamp.assign(mesh.Topology.NumberOfCells, 0u);
+  this->Stamp = 0;
+}
+
+unsigned SearchScratch::NextStamp()
+{
+  if (++this->Stamp == 0)
+  {
+    std::fill(this->FaceStamp.begin(), this->FaceStamp.end(), 0u);
+    std::fill(this->CellStamp.begin(), this->CellStamp.end(), 0u);
+    this->Stamp = 1;
+  }
+  return this->Stamp;
+}
+
+double ReconstructionResidual(const EmbeddingMesh& M, const double v[3], Id cell,
+  const double pc[3], int face, double d)
+{
+  double p[3];
+  M.CellPoint(cell, pc, p);
+  double n[3] = { 0, 0, 0 };
+  if (face >= 0)
+  {
+    const Id bf = M.Topology.CellBoundaryFace[4 * cell + face];
+    if (bf >= 0)
+    {
+      const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
+      const double uv[2] = { L[TetFaceNodes[face][1]], L[TetFaceNodes[face][2]] };
+      InterpolateBoundaryNormal(M.Topology, M.NodalNormals.data(), bf, uv, n);
+    }
+  }
+  double r[3];
+  for (int k = 0; k < 3; ++k)
+    r[k] = v[k] - p[k] - d * n[k];
+  return std::sqrt(Dot(r, r));
+}
+
+void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
+  const VertexHint& hint, VertexEmbedding& out, SearchScratch& S)
+{
+  out = VertexEmbedding();
+  const TetMeshTopology& T = M.Topology;
+  // a neighbour farther from the mesh than from v proves v outside (1-Lipschitz distance)
+  bool provenOutside = false;
+  if (hint.Distance > 0.0)
+  {
+    double e[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1], v[2] - hint.Point[2] };
+    provenOutside = hint.Distance - std::sqrt(Dot(e, e)) > InsideTolerance * M.Diagonal;
+  }
+  // 1. inside, from an inside neighbour: walk through a few cells; otherwise try the
+  // hint cell alone (one Newton inversion)
+  if (!provenOutside && hint.Cell >= 0 &&
+    LocateCell(M, v, hint.Cell, false, out, S, hint.Inside ? 8 : 0))
+  {
+    SetInside(out);
+    out.BoundaryFace = hint.Face;
+    out.UV[0] = hint.UV[0];
+    out.UV[1] = hint.UV[1];
+    return;
+  }
+  VertexHint h = hint;
+  if (h.Face < 0 && h.Cell >= 0)
+  {
+    for (int k = 0; k < 4 && h.Face < 0; ++k)
+      h.Face = T.CellBoundaryFace[4 * h.Cell + k];
+    h.UV[0] = h.UV[1] = 1.0 / 3.0;
+  }
+  // 2. closest boundary point (walk + certification)
+  BoundaryHit hit;
+  ClosestBoundary(M, v, h, hit, out, S);
+  out.BoundaryFace = hit.Face;
+  out.UV[0] = hit.UV[0];
+  out.UV[1] = hit.UV[1];
+  const double dist = std::sqrt(hit.Dist2);
+  const Id owner = T.BoundaryFaceCell[hit.Face];
+  const int local = T.BoundaryFaceLocal[hit.Face];
+  if (dist <= InsideTolerance * M.Diagonal && !provenOutside)
+  {
+    out.Cell = owner;
+    TetFaceToTetParametric(local, hit.UV, out.PC);
+    SetInside(out);
+    out.Residual = ReconstructionResidual(M, v, out.Cell, out.PC, -1, 0.0);
+    return;
+  }
+  // 3. inside or outside
+  if (!provenOutside)
+  {
+    double n[3], w[3];
+    PseudoNormal(M, hit, n);
+    for (int k = 0; k < 3; ++k)
+      w[k] = v[k] - hit.Point[k];
+    const double side = Dot(w, n);
+    const double margin = 0.2 * dist * std::sqrt(Dot(n, n));
+    if (side <= margin && LocateCell(M, v, owner, true, out, S))
+    {
+      SetInside(out);
+      return;
+    }
+  }
+  out.Inside = false;
+  out.ClosestDistance = dist;
+  out.Cell = owner;
+  if (method == EMBED_BARYCENTRIC)
+  {
+    TetFaceToTetParametric(local, hit.UV, out.PC);
+    InvertTetMap(M.CellMaps[owner], v, out.PC, out.Iterations);
+    out.Distance = 0.0;
+    out.Face = -1;
+    out.Residual = ReconstructionResidual(M, v, out.Cell, out.PC, -1, 0.0);
+    return;
+  }
+  // 4. normal-offset correction (eq. 8-9), walking across boundary edges
+  const double tolF = CorrectionTolerance * M.Diagonal;
+  auto correct = [&](Id& f, double uv[2], double& d) {
+    int status = -1;
+    for (int sw = 0; sw < 16; ++sw)
+    {
+      status = SolveNormalOffset(M.FaceMaps[f], M.NormalMaps[f], v, uv, d, tolF, out.Iterations);
+      if (status <= 0)
+        break;
+      const int e = status - 1;
+      const Id g = T.BoundaryFaceNeighbor[3 * f + e];
+      double uvg[2];
+      if (g < 0 || !MapAcrossEdge(M, f, e, uv, g, uvg))
+        return false;
+      f = g;
+      uv[0] = uvg[0];
+      uv[1] = uvg[1];
+      ++out.Visited;
+    }
+    return status == 0;
+  };
+  Id f = hit.Face;
+  double uv[2] = { hit.UV[0], hit.UV[1] };
+  double d = dist;
+  bool ok = correct(f, uv, d);
+  if (!ok)
+  {
+    // fallback: every face around the corners of the closest face, from its centroid
+    const int npf = T.GetNodesPerFace();
+    for (int a = 0; a < 3 && !ok; ++a)
+    {
+      const Id node = T.BoundaryFaceNodes[npf * hit.Face + a];
+      for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1] && !ok; ++i)
+      {
+        f = T.NodeFaces[i];
+        uv[0] = uv[1] = 1.0 / 3.0;
+        d = dist;
+        ++out.Visited;
+        ok = correct(f, uv, d);
+      }
+    }
+    if (!ok)
+    {
+      // wider fallback: every face within twice the distance, keep the smallest |d|
+      S.Candidates.clear();
+      const double reach = 2.0 * dist + 1e-6 * M.Diagonal;
+      const double reach2 = reach * reach;
+      M.FaceTree.VisitNearer(v, reach2, [&](Id g) { S.Candidates.push_back(g); });
+      double bestD = std::numeric_limits<double>::infinity();
+      Id bestF = -1;
+      double bestUV[2] = { 0, 0 };
+      const double starts[4][2] = { { 1.0 / 3.0, 1.0 / 3.0 }, { 0.8, 0.1 }, { 0.1, 0.8 },
+        { 0.1, 0.1 } };
+      for (size_t k = 0; k < 4 * S.Candidates.size(); ++k)
+      {
+        Id fg = S.Candidates[k / 4];
+        double w[2] = { starts[k % 4][0], starts[k % 4][1] };
+        double dg = dist;
+        ++out.Visited;
+        if (correct(fg, w, dg) && std::fabs(dg) < bestD)
+        {
+          bestD = std::fabs(dg);
+          bestF = fg;
+          bestUV[0] = w[0];
+          bestUV[1] = w[1];
+          d = dg;
+        }
+      }
+      if (bestF >= 0)
+      {
+        ok = true;
+        f = bestF;
+        uv[0] = bestUV[0];
+        uv[1] = bestUV[1];
+      }
+    }
+    if (!ok)
+    {
+      f = hit.Face; // keep the closest point; the residual tells
+      uv[0] = hit.UV[0];
+      uv[1] = hit.UV[1];
+      d = dist;
+    }
+  }
+  out.Cell = T.BoundaryFaceCell[f];
+  out.Face = static_cast<signed char>(T.BoundaryFaceLocal[f]);
+  TetFaceToTetParametric(out.Face, uv, out.PC);
+  out.Distance = d;
+  out.Residual = ReconstructionResidual(M, v, out.Cell, out.PC, out.Face, d);
+}
+
+double BruteForceDistance(const EmbeddingMesh& M, const double v[3], Id* face, double* uv)
+{
+  const double faceStarts[7][2] = { { 1.0 / 3, 1.0 / 3 }, { 0.8, 0.1 }, { 0.1, 0.8 },
+    { 0.1, 0.1 }, { 0.45, 0.45 }, { 0.45, 0.1 }, { 0.1, 0.45 } };
+  const double cellStarts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 },
+    { 0.1, 0.7, 0.1 }, { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
+  double best = std::numeric_limits<double>::infinity();
+  ClosestPointResult r;
+  for (Id f = 0; f < M.Topology.GetNumberOfBoundaryFaces(); ++f)
+    for (const auto& s : faceStarts)
+    {
+      ClosestPointOnMap(M.FaceMaps[f], v, s, r, 200);
+      if (r.Distance2 < best)
+      {
+        best = r.Distance2;
+        if (face)
+          *face = f;
+        if (uv)
+        {
+          uv[0] = r.Param[0];
+          uv[1] = r.Param[1];
+        }
+      }
+    }
+  const double tol = InsideTolerance * M.Diagonal;
+  for (Id c = 0; c < M.Topology.NumberOfCells; ++c)
+    for (const auto& s : cellStarts)
+    {
+      ClosestPointOnMap(M.CellMaps[c], v, s, r, 200);
+      if (r.Distance2 <= tol * tol)
+        return 0.0;
+    }
+  return std::sqrt(best);
+}
+} // namespace hoembed

@@ -1,0 +1,107 @@
+/**
+ * @file hoembedEmbeddingSearch.h
+ * @brief Embedding of one surface vertex in a prepared FE mesh (paper Algorithm 1 and
+ * section 5): exact closest point, inside/outside, normal-offset correction.
+ *
+ * Per vertex v, from a hint (the result of a neighbouring vertex, paper Algorithm 2).
+ * When the neighbour's distance to the mesh exceeds its distance to v, v is outside
+ * (the distance is 1-Lipschitz) and the inside tests of steps 1 and 3 are skipped.
+ * 1. Try the hint cell (Newton inversion of the tet map from the straight tet's
+ *    coordinates, accepted only inside the cell); if the hint was inside the mesh, walk up
+ *    to 8 cells, each time across the face beyond which the point lies (most negative
+ *    barycentric coordinate).
+ * 2. Otherwise the closest boundary point: Algorithm 1 over boundary faces from the hint
+ *    face (tri6 closest point; on an edge go to the face across it, at a corner to all
+ *    faces around the node), then certification with the face box tree: every face whose
+ *    control-point box is nearer than the best distance is solved too, so the result is
+ *    the global minimum over the boundary.
+ * 3. Inside/outside from the pseudo-normal at the closest point (face normal, sum of the
+ *    two face normals on an edge, angle-weighted node normal at a corner); points that
+ *    may be inside are located in a cell: Algorithm 1 over cells from the closest face's
+ *    cell (constrained closest point in the cell, then the neighbour across the face the
+ *    solution lies on; visited stamps, explicit queue), then every cell whose box holds
+ *    the point. Points within 1e-11 of the mesh diagonal of the boundary count as inside.
+ *    Points classified outside keep the exact boundary distance.
+ * 4. Outside points, normal-offset: Newton on (u, v, d) with x(u, v) + d n(u, v) = v,
+ *    n the normalised interpolated nodal normal (eq. 7-9), walking across boundary edges
+ *    when the iteration leaves the face; if that fails, the faces around the closest
+ *    face's corners, then every face within twice the distance (4 starts each; smallest
+ *    |d| wins). Barycentric: the owning cell of the closest face
+ *    with extrapolated (unconstrained) parametric coordinates.
+ */
+#ifndef hoembedEmbeddingSearch_h
+#define hoembedEmbeddingSearch_h
+
+#include "hoembedEmbeddingMesh.h"
+#include "hoembedFiltersEmbeddingModule.h"
+
+#include <vector>
+
+namespace hoembed
+{
+enum EmbeddingMethodType
+{
+  EMBED_NORMAL_OFFSET = 0,
+  EMBED_BARYCENTRIC = 1
+};
+
+struct VertexHint
+{
+  EmbeddingMesh::Id Face = -1; ///< boundary face
+  double UV[2] = { 1.0 / 3.0, 1.0 / 3.0 };
+  EmbeddingMesh::Id Cell = -1;
+  bool Inside = false;
+  /// The neighbour's position and its distance to the mesh (when Distance >= 0): the
+  /// distance is 1-Lipschitz, so Distance - |v - Point| > 0 proves v outside the mesh.
+  double Point[3] = { 0, 0, 0 };
+  double Distance = -1.0;
+};
+
+struct VertexEmbedding
+{
+  EmbeddingMesh::Id Cell = -1;
+  double PC[3] = { 0, 0, 0 };
+  double Distance = 0.0;        ///< signed offset along the smooth normal (0 inside)
+  double ClosestDistance = 0.0; ///< distance to the mesh (0 inside)
+  double Residual = 0.0;        ///< |v - (p + d n)| of the reconstruction
+  signed char Face = -1;        ///< local face of Cell the point p lies on, -1 inside
+  int Iterations = 0;
+  int Visited = 0;
+  bool Inside = false;
+  EmbeddingMesh::Id BoundaryFace = -1; ///< closest boundary face (-1 if not computed)
+  double UV[2] = { 0, 0 };
+
+  /// The hint for a neighbour of the vertex v embedded here.
+  VertexHint AsHint(const double v[3]) const;
+};
+
+/// Per-thread scratch space (visited stamps, queues).
+struct SearchScratch
+{
+  std::vector<unsigned> FaceStamp, CellStamp;
+  unsigned Stamp = 0;
+  std::vector<EmbeddingMesh::Id> Queue, Candidates;
+  void Prepare(const EmbeddingMesh& mesh);
+  unsigned NextStamp();
+};
+
+/// Embed one vertex (see the file comment).
+HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedVertex(const EmbeddingMesh& mesh, int method,
+  const double v[3], const VertexHint& hint, VertexEmbedding& out, SearchScratch& scratch);
+
+/**
+ * Reference for tests: the distance from v to the mesh by exhaustive search, every
+ * boundary face from 7 starts and every cell from 5 starts (0 when some cell contains v
+ * within 1e-11 of the diagonal). `face`, `uv` receive the best boundary face.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT double BruteForceDistance(
+  const EmbeddingMesh& mesh, const double v[3], EmbeddingMesh::Id* face = nullptr,
+  double* uv = nullptr);
+
+/// |v - (p + d n)| with p the tet map at (cell, pc) and n the smooth normal of local face
+/// `face` of the cell at the matching (u, v) (n = 0 when face < 0).
+HOEMBEDFILTERSEMBEDDING_EXPORT double ReconstructionResidual(const EmbeddingMesh& mesh,
+  const double v[3], EmbeddingMesh::Id cell, const double pc[3], int face, double d);
+} // namespace hoembed
+
+#endif

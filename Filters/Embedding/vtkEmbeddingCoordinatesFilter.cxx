@@ -1,0 +1,362 @@
+#include "vtkEmbeddingCoordinatesFilter.h"
+
+#include "hoembedElementGeometry.h"
+#include "hoembedEmbeddingFlood.h"
+#include "hoembedMeshFingerprint.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkSignedCharArray.h"
+#include "vtkStringArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <atomic>
+#include <cmath>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkEmbeddingCoordinatesFilter);
+
+namespace
+{
+using Id = hoembed::EmbeddingMesh::Id;
+
+bool AllFinite(vtkPoints* pts, vtkIdType& bad)
+{
+  const vtkIdType n = pts->GetNumberOfPoints();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double x[3];
+    pts->GetPoint(i, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    {
+      bad = i;
+      return false;
+    }
+  }
+  return true;
+}
+} // namespace
+
+vtkEmbeddingCoordinatesFilter::vtkEmbeddingCoordinatesFilter()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+const char* vtkEmbeddingCoordinatesFilter::GetMethodAsString()
+{
+  return this->Method == BARYCENTRIC ? "barycentric" : "normal-offset";
+}
+
+void vtkEmbeddingCoordinatesFilter::SetMeshData(vtkUnstructuredGrid* mesh)
+{
+  this->SetInputData(1, mesh);
+}
+
+void vtkEmbeddingCoordinatesFilter::SetMeshConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+
+int vtkEmbeddingCoordinatesFilter::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 0)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  }
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
+  }
+  return 1;
+}
+
+int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* surface = vtkPolyData::GetData(inputVector[0], 0);
+  vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(inputVector[1], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  if (!surface || surface->GetNumberOfPoints() == 0)
+  {
+    vtkErrorMacro("The surface (input port 0) is empty: it has no points.");
+    return 0;
+  }
+  if (!mesh || mesh->GetNumberOfPoints() == 0 || mesh->GetNumberOfCells() == 0)
+  {
+    vtkErrorMacro("The FE mesh (input port 1) is empty: it needs points and tet4 or tet10 cells.");
+    return 0;
+  }
+  vtkIdType bad = -1;
+  if (!AllFinite(surface->GetPoints(), bad))
+  {
+    vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
+    return 0;
+  }
+  if (!AllFinite(mesh->GetPoints(), bad))
+  {
+    vtkErrorMacro("The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".");
+    return 0;
+  }
+
+  // cells: all tet10 or all tet4
+  const vtkIdType ncells = mesh->GetNumberOfCells();
+  const int type0 = mesh->GetCellType(0);
+  if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
+  {
+    vtkErrorMacro("The FE mesh has a cell of type " << type0 << " (cell 0): only VTK_TETRA (10) "
+                  "and VTK_QUADRATIC_TETRA (24) cells are supported.");
+    return 0;
+  }
+  const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
+  std::vector<Id> conn(static_cast<size_t>(npc) * ncells);
+  const vtkIdType npts = mesh->GetNumberOfPoints();
+  hoembed::MeshFingerprint fingerprint(npts, ncells);
+  {
+    vtkNew<vtkIdList> ids;
+    std::vector<std::int64_t> ids64;
+    for (vtkIdType c = 0; c < ncells; ++c)
+    {
+      const int type = mesh->GetCellType(c);
+      if (type != type0)
+      {
+        vtkErrorMacro("The FE mesh mixes cell types: cell " << c << " has type " << type
+                                                             << ", cell 0 has type " << type0
+                                                             << "; use only tet4 or only tet10 cells.");
+        return 0;
+      }
+      mesh->GetCellPoints(c, ids);
+      if (ids->GetNumberOfIds() != npc)
+      {
+        vtkErrorMacro("Cell " << c << " has " << ids->GetNumberOfIds() << " points, expected " << npc << ".");
+        return 0;
+      }
+      ids64.assign(ids->begin(), ids->end());
+      fingerprint.AddCell(type, ids64.data(), npc);
+      for (int a = 0; a < npc; ++a)
+        conn[static_cast<size_t>(npc) * c + a] = ids->GetId(a);
+    }
+  }
+  std::vector<double> meshPts(3 * static_cast<size_t>(npts));
+  for (vtkIdType i = 0; i < npts; ++i)
+    mesh->GetPoints()->GetPoint(i, &meshPts[3 * i]);
+  for (vtkIdType i = 0; i < npc * ncells; ++i)
+  {
+    if (conn[i] < 0 || conn[i] >= npts)
+    {
+      vtkErrorMacro("Cell " << i / npc << " refers to node " << conn[i] << ", out of range [0, " << npts << ").");
+      return 0;
+    }
+  }
+  if (this->ValidateElements)
+  {
+    std::atomic<vtkIdType> firstBad(ncells);
+    vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
+      double x[30];
+      for (vtkIdType c = b; c < e; ++c)
+      {
+        for (int a = 0; a < npc; ++a)
+          for (int d = 0; d < 3; ++d)
+            x[3 * a + d] = meshPts[3 * conn[npc * c + a] + d];
+        bool ok;
+        if (npc == 10)
+        {
+          ok = hoembed::Tet10IsValid(x);
+        }
+        else
+        {
+          double l2 = 0.0;
+          for (int a = 1; a < 4; ++a)
+            for (int d = 0; d < 3; ++d)
+              l2 = std::max(l2, std::fabs(x[3 * a + d] - x[d]));
+          ok = hoembed::Tet4JacobianDeterminant(x) > 1e-12 * l2 * l2 * l2;
+        }
+        if (!ok)
+        {
+          vtkIdType cur = firstBad.load();
+          while (c < cur && !firstBad.compare_exchange_weak(cur, c))
+          {
+          }
+        }
+      }
+    });
+    if (firstBad.load() < ncells)
+    {
+      vtkErrorMacro("The FE mesh has an inverted or degenerate element: cell "
+        << firstBad.load() << " has a non-positive Jacobian determinant"
+        << (npc == 10 ? " somewhere inside it." : "."));
+      return 0;
+    }
+  }
+  this->UpdateProgress(0.05);
+
+  hoembed::EmbeddingMesh em;
+  const std::string err = em.Build(meshPts.data(), npts, conn.data(), ncells, npc);
+  if (!err.empty())
+  {
+    vtkErrorMacro("The FE mesh topology is not usable: " << err);
+    return 0;
+  }
+  this->UpdateProgress(0.1);
+
+  // surface points and triangles
+  const vtkIdType ns = surface->GetNumberOfPoints();
+  std::vector<double> sp(3 * static_cast<size_t>(ns));
+  vtkPoints* surfacePoints = surface->GetPoints();
+  vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+      surfacePoints->GetPoint(i, &sp[3 * i]);
+  });
+  std::vector<Id> tris;
+  {
+    auto it = vtk::TakeSmartPointer(surface->GetPolys()->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType n;
+      const vtkIdType* p;
+      it->GetCurrentCell(n, p);
+      for (vtkIdType k = 1; k + 1 < n; ++k)
+      {
+        tris.push_back(p[0]);
+        tris.push_back(p[k]);
+        tris.push_back(p[k + 1]);
+      }
+    }
+    auto st = vtk::TakeSmartPointer(surface->GetStrips()->NewIterator());
+    for (st->GoToFirstCell(); !st->IsDoneWithTraversal(); st->GoToNextCell())
+    {
+      vtkIdType n;
+      const vtkIdType* p;
+      st->GetCurrentCell(n, p);
+      for (vtkIdType k = 0; k + 2 < n; ++k)
+      {
+        tris.push_back(p[k]);
+        tris.push_back(p[k + 1]);
+        tris.push_back(p[k + 2]);
+      }
+    }
+  }
+  if (tris.size() / 3 > static_cast<size_t>(VTK_INT_MAX))
+  {
+    vtkErrorMacro("The surface has more than 2^31 triangles, which is not supported.");
+    return 0;
+  }
+  for (Id id : tris)
+  {
+    if (id < 0 || id >= ns)
+    {
+      vtkErrorMacro("A surface polygon refers to point " << id << ", out of range [0, " << ns << ").");
+      return 0;
+    }
+  }
+
+  std::vector<hoembed::VertexEmbedding> res;
+  const int method =
+    this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
+  hoembed::EmbedSurface(em, method, sp.data(), ns, tris, res, this->NumberOfPartitions,
+    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); });
+
+  vtkNew<vtkIdTypeArray> cellId;
+  cellId->SetName("EmbeddingCellId");
+  cellId->SetNumberOfTuples(ns);
+  vtkNew<vtkDoubleArray> pcoords;
+  pcoords->SetName("EmbeddingParametricCoords");
+  pcoords->SetNumberOfComponents(3);
+  pcoords->SetNumberOfTuples(ns);
+  vtkNew<vtkDoubleArray> dist;
+  dist->SetName("EmbeddingDistance");
+  dist->SetNumberOfTuples(ns);
+  vtkNew<vtkDoubleArray> residual;
+  residual->SetName("EmbeddingResidual");
+  residual->SetNumberOfTuples(ns);
+  vtkNew<vtkDoubleArray> closest;
+  closest->SetName("EmbeddingClosestDistance");
+  closest->SetNumberOfTuples(ns);
+  vtkNew<vtkSignedCharArray> face;
+  face->SetName("EmbeddingFace");
+  face->SetNumberOfTuples(ns);
+  vtkNew<vtkIntArray> iters;
+  iters->SetName("EmbeddingIterations");
+  iters->SetNumberOfTuples(ns);
+  vtkNew<vtkIntArray> visited;
+  visited->SetName("EmbeddingElementsVisited");
+  visited->SetNumberOfTuples(ns);
+  std::atomic<vtkIdType> firstFailed(ns);
+  vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      const hoembed::VertexEmbedding& r = res[i];
+      if (!std::isfinite(r.PC[0]) || !std::isfinite(r.PC[1]) || !std::isfinite(r.PC[2]) ||
+        !std::isfinite(r.Distance) || !std::isfinite(r.Residual) || r.Cell < 0)
+      {
+        vtkIdType cur = firstFailed.load();
+        while (i < cur && !firstFailed.compare_exchange_weak(cur, i))
+        {
+        }
+        continue;
+      }
+      cellId->SetValue(i, r.Cell);
+      pcoords->SetTypedTuple(i, r.PC);
+      dist->SetValue(i, r.Distance);
+      residual->SetValue(i, r.Residual);
+      closest->SetValue(i, r.ClosestDistance);
+      face->SetValue(i, method == hoembed::EMBED_BARYCENTRIC ? -1 : r.Face);
+      iters->SetValue(i, r.Iterations);
+      visited->SetValue(i, r.Visited);
+    }
+  });
+  if (firstFailed.load() < ns)
+  {
+    vtkErrorMacro("Surface point " << firstFailed.load()
+                                   << " could not be embedded (non-finite result).");
+    return 0;
+  }
+
+  output->ShallowCopy(surface);
+  vtkPointData* pd = output->GetPointData();
+  pd->AddArray(cellId);
+  pd->AddArray(pcoords);
+  pd->AddArray(dist);
+  pd->AddArray(residual);
+  pd->AddArray(face);
+  pd->AddArray(iters);
+  pd->AddArray(visited);
+  pd->AddArray(closest);
+
+  vtkNew<vtkFieldData> fd;
+  if (surface->GetFieldData())
+    fd->DeepCopy(surface->GetFieldData());
+  vtkNew<vtkStringArray> methodName;
+  methodName->SetName("EmbeddingMethod");
+  methodName->InsertNextValue(this->GetMethodAsString());
+  vtkNew<vtkStringArray> fp;
+  fp->SetName("EmbeddingMeshFingerprint");
+  fp->InsertNextValue(fingerprint.Hex());
+  fd->AddArray(methodName);
+  fd->AddArray(fp);
+  output->SetFieldData(fd);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Method: " << this->GetMethodAsString() << "\n";
+  os << indent << "NumberOfPartitions: " << this->NumberOfPartitions << "\n";
+  os << indent << "ValidateElements: " << (this->ValidateElements ? "On" : "Off") << "\n";
+}

@@ -1,0 +1,129 @@
+/**
+ * @class   vtkEmbeddingCoordinatesFilter
+ * @brief   Embedding coordinates of a fine triangle surface in a curved tet10 (or tet4)
+ *          FE mesh: exact closest points and the normal-offset representation
+ *          v = p + d n of Suwelack et al. 2013.
+ *
+ * Inputs: port 0, the fine surface (vtkPolyData; its triangles drive the flood of the
+ * paper's Algorithm 2; polygons are fanned, strips split, vertices in no triangle and
+ * several connected components are fine). Port 1, the rest FE mesh
+ * (vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells, or VTK_TETRA for the baseline; not
+ * mixed).
+ *
+ * Output: a shallow copy of the surface with point data
+ * - `EmbeddingCellId` (vtkIdTypeArray): the cell holding the point p;
+ * - `EmbeddingParametricCoords` (vtkDoubleArray, 3 components): VTK parametric
+ *   (r, s, t) of p in that cell;
+ * - `EmbeddingDistance` (vtkDoubleArray): the signed offset d along the smooth normal
+ *   (0 inside the mesh and for Method barycentric);
+ * - `EmbeddingResidual` (vtkDoubleArray): |v - (p + d n)| at rest, recomputed from the
+ *   stored coordinates exactly as vtkDeformationTransferFilter rebuilds v;
+ * - `EmbeddingFace` (vtkSignedCharArray): the local face (hoembed::TetFaceNodes order) of
+ *   the cell on which p lies, -1 inside the mesh (and always for barycentric);
+ * - diagnostics `EmbeddingIterations`, `EmbeddingElementsVisited` (vtkIntArray: solver
+ *   iterations and faces/cells solved for the vertex) and `EmbeddingClosestDistance`
+ *   (vtkDoubleArray: the exact distance to the mesh, 0 inside);
+ * and field data `EmbeddingMethod` (vtkStringArray: "normal-offset" or "barycentric") and
+ * `EmbeddingMeshFingerprint` (vtkStringArray: hoembed::MeshFingerprint of the rest mesh).
+ *
+ * Normal-offset (default): p is the closest point of the mesh to v. Outside the mesh, p
+ * is corrected (paper eq. 8-9) so that v = p + d n holds to 1e-12 of the mesh diagonal with
+ * n = hoembed::InterpolateBoundaryNormal on the boundary face (normalised, eq. 7) at p
+ * and nodal normals from hoembed::ComputeBoundaryNodeNormals. Barycentric: inside points
+ * get their containing cell; outside points the cell of the closest boundary point with
+ * extrapolated parametric coordinates (the tet map reproduces v; d = 0).
+ *
+ * The closest point is the global one: the flood gives each vertex a start (paper
+ * Algorithm 2), the walk across faces/edges refines it (Algorithm 1), and a box tree over
+ * the boundary faces certifies it. See hoembedEmbeddingSearch.h and hoembedEmbeddingFlood.h.
+ *
+ * Threading: the flood runs in patches of the surface in parallel with vtkSMPTools.
+ * Progress events are fired.
+ *
+ * Defaults: Method normal-offset, NumberOfPartitions 0 (automatic), ValidateElements on.
+ *
+ * @warning The normal-offset representation need not exist everywhere (the smooth normal
+ * field can fold in concave regions); when the correction finds no solution near the
+ * closest point, p stays the closest point, d its distance, and EmbeddingResidual shows
+ * the mismatch.
+ * @warning Bad input (empty surface or mesh, non-finite coordinates, cells other than
+ * tet4/tet10, inverted or degenerate elements, broken topology) is reported with
+ * vtkErrorMacro and leaves the output empty. A surface far from the mesh is valid.
+ * @sa vtkDeformationTransferFilter, vtkTet10Mesher
+ */
+#ifndef vtkEmbeddingCoordinatesFilter_h
+#define vtkEmbeddingCoordinatesFilter_h
+
+#include "hoembedFiltersEmbeddingModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class vtkUnstructuredGrid;
+
+class HOEMBEDFILTERSEMBEDDING_EXPORT vtkEmbeddingCoordinatesFilter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkEmbeddingCoordinatesFilter* New();
+  vtkTypeMacro(vtkEmbeddingCoordinatesFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum MethodType
+  {
+    NORMAL_OFFSET = 0,
+    BARYCENTRIC = 1
+  };
+
+  ///@{
+  /**
+   * NORMAL_OFFSET (0, default, the paper's scheme) or BARYCENTRIC (1, the baseline).
+   */
+  vtkSetClampMacro(Method, int, NORMAL_OFFSET, BARYCENTRIC);
+  vtkGetMacro(Method, int);
+  void SetMethodToNormalOffset() { this->SetMethod(NORMAL_OFFSET); }
+  void SetMethodToBarycentric() { this->SetMethod(BARYCENTRIC); }
+  const char* GetMethodAsString();
+  ///@}
+
+  ///@{
+  /**
+   * Number of surface patches flooded independently (in parallel); 0 (default) picks
+   * about one per 1000 triangles, at most 256.
+   */
+  vtkSetClampMacro(NumberOfPartitions, int, 0, 1 << 20);
+  vtkGetMacro(NumberOfPartitions, int);
+  ///@}
+
+  ///@{
+  /**
+   * Refuse meshes with inverted or degenerate elements (default on): tet10 by
+   * hoembed::Tet10IsValid (det J > 0 over the whole element), tet4 by its determinant.
+   */
+  vtkSetMacro(ValidateElements, bool);
+  vtkGetMacro(ValidateElements, bool);
+  vtkBooleanMacro(ValidateElements, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The rest FE mesh on port 1.
+   */
+  void SetMeshData(vtkUnstructuredGrid* mesh);
+  void SetMeshConnection(vtkAlgorithmOutput* output);
+  ///@}
+
+protected:
+  vtkEmbeddingCoordinatesFilter();
+  ~vtkEmbeddingCoordinatesFilter() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Method = NORMAL_OFFSET;
+  int NumberOfPartitions = 0;
+  bool ValidateElements = true;
+
+private:
+  vtkEmbeddingCoordinatesFilter(const vtkEmbeddingCoordinatesFilter&) = delete;
+  void operator=(const vtkEmbeddingCoordinatesFilter&) = delete;
+};
+
+#endif

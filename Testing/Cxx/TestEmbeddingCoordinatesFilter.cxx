@@ -1,0 +1,596 @@
+// vtkEmbeddingCoordinatesFilter and its kernels against references nobody here wrote:
+// dense sampling of curved elements, exhaustive (brute-force) search over every boundary
+// face and every cell from several starts, VTK's own vtkQuadraticTetra / vtkTetra
+// interpolation for the reconstruction v = p + d n, and VTK's XML writer/reader.
+#include "hoembedTestUtilities.h"
+
+#include "hoembedBoundaryNormals.h"
+#include "hoembedClosestPoint.h"
+#include "hoembedEmbeddingSearch.h"
+#include "hoembedShapeFunctions.h"
+#include "vtkEmbeddingCoordinatesFilter.h"
+#include "vtkTet10Mesher.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkOBJReader.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkQuadraticTetra.h"
+#include "vtkSMPTools.h"
+#include "vtkSignedCharArray.h"
+#include "vtkSphereSource.h"
+#include "vtkStringArray.h"
+#include "vtkTetra.h"
+#include "vtkTransform.h"
+#include "vtkTransformPolyDataFilter.h"
+#include "vtkXMLPolyDataReader.h"
+#include "vtkXMLPolyDataWriter.h"
+
+#include <cmath>
+#include <random>
+#include <string>
+
+using hoembed_test::MakeBoxTetMesh;
+
+namespace
+{
+// Bends and bulges the box [0,2]x[0,1]x[0,1] (keeps elements valid).
+void CurveMap(double x[3])
+{
+  const double X = x[0], Y = x[1], Z = x[2];
+  x[0] = X + 0.05 * std::sin(M_PI * Y);
+  x[1] = Y + 0.12 * std::sin(0.5 * M_PI * X) + 0.04 * std::sin(M_PI * Z);
+  x[2] = Z + 0.08 * std::cos(M_PI * X) * Y;
+}
+
+struct ErrorCatcher
+{
+  std::string Text;
+  int Count = 0;
+  static void Callback(vtkObject*, unsigned long, void* cd, void* calldata)
+  {
+    auto* self = static_cast<ErrorCatcher*>(cd);
+    ++self->Count;
+    if (calldata)
+      self->Text += static_cast<const char*>(calldata);
+  }
+};
+
+// Sphere surfaces: one through the curved beam (inside and outside points), one far away.
+vtkSmartPointer<vtkPolyData> MakeSurface(bool withFarComponent, bool withIsolated)
+{
+  vtkNew<vtkSphereSource> s1;
+  s1->SetThetaResolution(48);
+  s1->SetPhiResolution(36);
+  vtkNew<vtkTransform> t1;
+  t1->Translate(1.0, 0.55, 0.5);
+  t1->Scale(2.3, 1.05, 1.0);
+  vtkNew<vtkTransformPolyDataFilter> f1;
+  f1->SetInputConnection(s1->GetOutputPort());
+  f1->SetTransform(t1);
+  vtkNew<vtkAppendPolyData> app;
+  app->AddInputConnection(f1->GetOutputPort());
+  vtkNew<vtkSphereSource> s2;
+  s2->SetThetaResolution(16);
+  s2->SetPhiResolution(12);
+  s2->SetCenter(1.0, 0.5, 0.5);
+  s2->SetRadius(0.3); // fully inside the beam
+  app->AddInputConnection(s2->GetOutputPort());
+  vtkNew<vtkSphereSource> s3;
+  s3->SetThetaResolution(12);
+  s3->SetPhiResolution(10);
+  s3->SetCenter(30.0, -20.0, 12.0);
+  s3->SetRadius(3.0);
+  if (withFarComponent)
+    app->AddInputConnection(s3->GetOutputPort());
+  app->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->DeepCopy(app->GetOutput());
+  out->GetPointData()->Initialize(); // the isolated points below have no normals
+  // duplicate vertices (same coordinates, own triangle) and a degenerate triangle
+  {
+    const vtkIdType n = out->GetNumberOfPoints();
+    double p[3];
+    vtkIdType dup[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      out->GetPoint(100 + 7 * k, p);
+      dup[k] = out->GetPoints()->InsertNextPoint(p);
+    }
+    out->GetPolys()->InsertNextCell(3, dup);
+    const vtkIdType degenerate[3] = { 5, 5, n - 1 };
+    out->GetPolys()->InsertNextCell(3, degenerate);
+  }
+  if (withIsolated)
+  {
+    // points in no triangle: two inside, two outside, one on a boundary corner
+    const double extra[5][3] = { { 0.5, 0.5, 0.5 }, { 1.5, 0.4, 0.6 }, { -0.7, 0.2, 0.3 },
+      { 1.0, 3.0, -2.0 }, { 0.0, 0.0, 0.0 } };
+    for (const auto& e : extra)
+    {
+      double p[3] = { e[0], e[1], e[2] };
+      CurveMap(p);
+      out->GetPoints()->InsertNextPoint(p);
+    }
+  }
+  return out;
+}
+
+void TestKernels()
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  // tri6 patches: a flat triangle with perturbed mid-edge nodes
+  int worse = 0, outside = 0;
+  for (int trial = 0; trial < 40; ++trial)
+  {
+    double x[18] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.5, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0 };
+    for (int a = 3; a < 6; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] += 0.2 * U(rng);
+    hoembed::QuadraticMap m;
+    hoembed::MakeTriangleMap(x, 6, m);
+    for (int q = 0; q < 10; ++q)
+    {
+      const double v[3] = { 0.5 + 1.2 * U(rng), 0.5 + 1.2 * U(rng), 0.8 * U(rng) };
+      // best of the linear start and three starts near the corners (one start can end
+      // in a local minimum of a strongly curved patch)
+      const double starts[4][2] = { { 0, 0 }, { 0.8, 0.1 }, { 0.1, 0.8 }, { 0.1, 0.1 } };
+      hoembed::ClosestPointResult r, rs;
+      for (int k = 0; k < 4; ++k)
+      {
+        double st[2] = { starts[k][0], starts[k][1] };
+        if (k == 0)
+          hoembed::LinearStart(m, v, st);
+        hoembed::ClosestPointOnMap(m, v, st, rs);
+        if (rs.Param[0] < 0 || rs.Param[1] < 0 || rs.Param[0] + rs.Param[1] > 1.0 || !rs.Converged)
+          ++outside;
+        if (k == 0 || rs.Distance2 < r.Distance2)
+          r = rs;
+      }
+      // dense sampling with the shared shape functions
+      double best = 1e300;
+      const int n = 200;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+        {
+          const double uv[2] = { double(i) / n, double(j) / n };
+          double N[6], p[3];
+          hoembed::Tri6Shape(uv, N);
+          hoembed::Interpolate(6, N, x, p);
+          const double d2 = (p[0] - v[0]) * (p[0] - v[0]) + (p[1] - v[1]) * (p[1] - v[1]) +
+            (p[2] - v[2]) * (p[2] - v[2]);
+          best = std::min(best, d2);
+        }
+      if (std::sqrt(r.Distance2) > std::sqrt(best) + 1e-12)
+        ++worse;
+    }
+  }
+  HOEMBED_CHECK(worse == 0, "tri6 closest point worse than dense sampling for %d queries", worse);
+  HOEMBED_CHECK(outside == 0, "tri6 closest point left the triangle or did not converge %d times", outside);
+
+  // tet10: the monomial map matches VTK's vtkQuadraticTetra; inside points are recovered;
+  // outside points are no worse than dense sampling
+  vtkNew<vtkQuadraticTetra> qt;
+  int mapErr = 0, insideErr = 0, tetWorse = 0;
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+    {
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = hoembed::Tet10NodeParametric[a][d] + (a >= 4 ? 0.06 * U(rng) : 0.0);
+      qt->GetPoints()->SetPoint(a, x + 3 * a);
+      qt->GetPointIds()->SetId(a, a);
+    }
+    hoembed::QuadraticMap m;
+    hoembed::MakeTetMap(x, 10, m);
+    for (int q = 0; q < 20; ++q)
+    {
+      double pc[3] = { 0.5 * (1 + U(rng)), 0.5 * (1 + U(rng)), 0.5 * (1 + U(rng)) };
+      if (pc[0] + pc[1] + pc[2] > 0.999)
+      {
+        const double s = 0.999 / (pc[0] + pc[1] + pc[2]);
+        pc[0] *= s;
+        pc[1] *= s;
+        pc[2] *= s;
+      }
+      double a[3], b[3], w[10];
+      int sub;
+      hoembed::EvaluateMap(m, pc, a);
+      qt->EvaluateLocation(sub, pc, b, w);
+      if (std::fabs(a[0] - b[0]) + std::fabs(a[1] - b[1]) + std::fabs(a[2] - b[2]) > 1e-13)
+        ++mapErr;
+      hoembed::ClosestPointResult r;
+      hoembed::ClosestPointOnMap(m, a, nullptr, r);
+      if (r.Distance2 > 1e-26 || std::fabs(r.Param[0] - pc[0]) > 1e-9)
+        ++insideErr;
+      const double v[3] = { 0.3 + 1.5 * U(rng), 0.3 + 1.5 * U(rng), 0.3 + 1.5 * U(rng) };
+      hoembed::ClosestPointOnMap(m, v, nullptr, r);
+      if (!r.Converged)
+        ++tetWorse;
+      double best = 1e300;
+      const int n = 40;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+          for (int k = 0; i + j + k <= n; ++k)
+          {
+            const double p[3] = { double(i) / n, double(j) / n, double(k) / n };
+            double y[3];
+            hoembed::EvaluateMap(m, p, y);
+            best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+                (y[2] - v[2]) * (y[2] - v[2]));
+          }
+      if (std::sqrt(r.Distance2) > std::sqrt(best) + 1e-12)
+        ++tetWorse;
+    }
+  }
+  HOEMBED_CHECK(mapErr == 0, "tet10 monomial map differs from vtkQuadraticTetra %d times", mapErr);
+  HOEMBED_CHECK(insideErr == 0, "inside points not recovered %d times", insideErr);
+  HOEMBED_CHECK(tetWorse == 0, "tet10 closest point worse than sampling %d times", tetWorse);
+}
+
+vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* surface, vtkUnstructuredGrid* mesh,
+  int method, ErrorCatcher* errors = nullptr)
+{
+  vtkNew<vtkEmbeddingCoordinatesFilter> f;
+  f->SetInputData(0, surface);
+  f->SetMeshData(mesh);
+  f->SetMethod(method);
+  vtkNew<vtkCallbackCommand> cb;
+  ErrorCatcher local;
+  cb->SetClientData(errors ? errors : &local);
+  cb->SetCallback(ErrorCatcher::Callback);
+  f->AddObserver(vtkCommand::ErrorEvent, cb);
+  f->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, cb);
+  f->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(f->GetOutput());
+  return out;
+}
+
+// Checks one embedding against brute force and VTK's interpolation of the mesh.
+void CheckEmbedding(const char* label, vtkPolyData* surface, vtkUnstructuredGrid* grid,
+  vtkPolyData* out, int method, bool checkAllResiduals, vtkIdType stride = 1)
+{
+  const int npc = grid->GetCellType(0) == VTK_QUADRATIC_TETRA ? 10 : 4;
+  hoembed::EmbeddingMesh em;
+  std::vector<double> pts(3 * grid->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+    grid->GetPoint(i, &pts[3 * i]);
+  std::vector<hoembed::EmbeddingMesh::Id> conn;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    grid->GetCellPoints(c, ids);
+    for (int a = 0; a < npc; ++a)
+      conn.push_back(ids->GetId(a));
+  }
+  const std::string err =
+    em.Build(pts.data(), grid->GetNumberOfPoints(), conn.data(), grid->GetNumberOfCells(), npc);
+  HOEMBED_CHECK(err.empty(), "%s: mesh build: %s", label, err.c_str());
+  const double diag = em.Diagonal;
+
+  vtkPointData* pd = out->GetPointData();
+  auto* cellId = vtkIdTypeArray::SafeDownCast(pd->GetArray("EmbeddingCellId"));
+  auto* pc = vtkDoubleArray::SafeDownCast(pd->GetArray("EmbeddingParametricCoords"));
+  auto* dist = vtkDoubleArray::SafeDownCast(pd->GetArray("EmbeddingDistance"));
+  auto* res = vtkDoubleArray::SafeDownCast(pd->GetArray("EmbeddingResidual"));
+  auto* face = vtkSignedCharArray::SafeDownCast(pd->GetArray("EmbeddingFace"));
+  auto* closest = vtkDoubleArray::SafeDownCast(pd->GetArray("EmbeddingClosestDistance"));
+  auto* iters = vtkIntArray::SafeDownCast(pd->GetArray("EmbeddingIterations"));
+  auto* visited = vtkIntArray::SafeDownCast(pd->GetArray("EmbeddingElementsVisited"));
+  HOEMBED_CHECK(cellId && pc && dist && res && face && closest && iters && visited,
+    "%s: missing output arrays", label);
+  if (!(cellId && pc && dist && res && face && closest && iters && visited))
+    return;
+  auto* m = vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("EmbeddingMethod"));
+  auto* fp = vtkStringArray::SafeDownCast(
+    out->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
+  HOEMBED_CHECK(m && m->GetValue(0) == (method ? "barycentric" : "normal-offset"),
+    "%s: EmbeddingMethod field data", label);
+  HOEMBED_CHECK(fp && fp->GetValue(0).size() == 16, "%s: fingerprint", label);
+
+  vtkNew<vtkQuadraticTetra> qt;
+  vtkNew<vtkTetra> t4;
+  vtkCell* cell = npc == 10 ? static_cast<vtkCell*>(qt) : static_cast<vtkCell*>(t4);
+  int badDist = 0, badRes = 0, badFace = 0, badPc = 0, nInside = 0, nOutside = 0;
+  double maxDistErr = 0, maxRes = 0;
+  int checked = 0;
+  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); i += stride)
+  {
+    ++checked;
+    double v[3];
+    surface->GetPoint(i, v);
+    const double ref = hoembed::BruteForceDistance(em, v);
+    const double e = std::fabs(closest->GetValue(i) - ref);
+    maxDistErr = std::max(maxDistErr, e / diag);
+    if (e > 1e-8 * diag)
+    {
+      if (badDist < 5)
+        std::fprintf(stderr, "%s: vertex %lld distance %.17g, brute force %.17g\n", label,
+          static_cast<long long>(i), closest->GetValue(i), ref);
+      ++badDist;
+    }
+    (ref == 0.0 ? nInside : nOutside)++;
+    // reconstruction with VTK's own cell interpolation and the shared normal field
+    const vtkIdType c = cellId->GetValue(i);
+    grid->GetCellPoints(c, ids);
+    for (int a = 0; a < npc; ++a)
+    {
+      cell->GetPoints()->SetPoint(a, grid->GetPoint(ids->GetId(a)));
+      cell->GetPointIds()->SetId(a, a);
+    }
+    double r[3], p[3], w[10];
+    pc->GetTypedTuple(i, r);
+    int sub;
+    cell->EvaluateLocation(sub, r, p, w);
+    const int fc = face->GetValue(i);
+    double n[3] = { 0, 0, 0 };
+    const double d = dist->GetValue(i);
+    if (fc >= 0)
+    {
+      const hoembed::EmbeddingMesh::Id bf = em.Topology.CellBoundaryFace[4 * c + fc];
+      const double L[4] = { 1 - r[0] - r[1] - r[2], r[0], r[1], r[2] };
+      const double uv[2] = { L[hoembed::TetFaceNodes[fc][1]], L[hoembed::TetFaceNodes[fc][2]] };
+      const double onFace = L[hoembed::TetFaceOpposite[fc]];
+      if (bf < 0 || std::fabs(onFace) > 1e-12)
+        ++badFace;
+      else
+        hoembed::InterpolateBoundaryNormal(em.Topology, em.NodalNormals.data(), bf, uv, n);
+    }
+    if ((fc < 0) != (d == 0.0) || (method == 1 && fc != -1))
+      ++badFace;
+    if (method == 0 && (r[0] < -1e-12 || r[1] < -1e-12 || r[2] < -1e-12 || r[0] + r[1] + r[2] > 1 + 1e-12))
+      ++badPc;
+    double q[3];
+    for (int k = 0; k < 3; ++k)
+      q[k] = v[k] - p[k] - d * n[k];
+    const double rr = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    const bool mustHold = checkAllResiduals || ref <= 0.5;
+    if (mustHold)
+    {
+      maxRes = std::max(maxRes, rr / diag);
+      if (rr > 1e-10 * diag || std::fabs(rr - res->GetValue(i)) > 1e-10 * diag)
+        ++badRes;
+    }
+  }
+  double maxAll = 0.0;
+  for (vtkIdType i = 0; i < res->GetNumberOfTuples(); ++i)
+    maxAll = std::max(maxAll, res->GetValue(i));
+  if (checkAllResiduals)
+    HOEMBED_CHECK(maxAll <= 1e-10 * diag, "%s: EmbeddingResidual max %.3g diag", label, maxAll / diag);
+  std::printf("%s: %d of %lld vertices checked (%d inside, %d outside), max |distance - brute "
+              "force| = %.3g diag, max residual = %.3g diag (all vertices: %.3g)\n",
+    label, checked, static_cast<long long>(surface->GetNumberOfPoints()), nInside, nOutside,
+    maxDistErr, maxRes, maxAll / diag);
+  HOEMBED_CHECK(badDist == 0, "%s: %d vertices differ from brute force", label, badDist);
+  HOEMBED_CHECK(badRes == 0, "%s: %d vertices with reconstruction residual > 1e-10 diag", label, badRes);
+  HOEMBED_CHECK(badFace == 0, "%s: %d vertices with inconsistent EmbeddingFace", label, badFace);
+  HOEMBED_CHECK(badPc == 0, "%s: %d parametric coordinates outside the cell", label, badPc);
+  HOEMBED_CHECK(nInside > 0 && nOutside > 0, "%s: want both inside and outside points", label);
+}
+
+void TestErrors(vtkPolyData* surface, vtkUnstructuredGrid* grid)
+{
+  auto expectError = [&](const char* what, vtkPolyData* s, vtkUnstructuredGrid* g,
+                       const char* needle) {
+    ErrorCatcher ec;
+    auto out = RunFilter(s, g, 0, &ec);
+    HOEMBED_CHECK(ec.Count > 0, "%s: no error reported", what);
+    HOEMBED_CHECK(ec.Text.find(needle) != std::string::npos, "%s: message lacks '%s': %s", what,
+      needle, ec.Text.c_str());
+    HOEMBED_CHECK(out->GetNumberOfPoints() == 0, "%s: output not empty", what);
+  };
+  vtkNew<vtkPolyData> empty;
+  expectError("empty surface", empty, grid, "surface (input port 0) is empty");
+  vtkNew<vtkUnstructuredGrid> emptyGrid;
+  expectError("empty mesh", surface, emptyGrid, "FE mesh (input port 1) is empty");
+
+  vtkNew<vtkPolyData> nanSurface;
+  nanSurface->DeepCopy(surface);
+  nanSurface->GetPoints()->SetPoint(3, std::nan(""), 0, 0);
+  expectError("NaN surface", nanSurface, grid, "non-finite");
+  vtkNew<vtkUnstructuredGrid> nanGrid;
+  nanGrid->DeepCopy(grid);
+  nanGrid->GetPoints()->SetPoint(1, 0, std::nan(""), 0);
+  expectError("NaN mesh", surface, nanGrid, "non-finite");
+
+  // inverted element: swap two corners of cell 0
+  vtkNew<vtkUnstructuredGrid> inv;
+  inv->DeepCopy(grid);
+  {
+    vtkNew<vtkIdList> ids;
+    inv->GetCellPoints(0, ids);
+    std::vector<vtkIdType> v(ids->begin(), ids->end());
+    std::swap(v[1], v[2]);
+    if (v.size() == 10)
+    {
+      std::swap(v[4], v[6]); // edges 01 <-> 20 follow the swap 1 <-> 2
+      std::swap(v[8], v[9]);
+    }
+    inv->ReplaceCell(0, static_cast<int>(v.size()), v.data());
+  }
+  expectError("inverted element", surface, inv, "inverted or degenerate");
+
+  // degenerate (flat) element: collapse a corner onto another one's position
+  vtkNew<vtkUnstructuredGrid> flat;
+  flat->DeepCopy(grid);
+  {
+    vtkNew<vtkIdList> ids;
+    flat->GetCellPoints(0, ids);
+    vtkNew<vtkPoints> p;
+    p->DeepCopy(flat->GetPoints());
+    double a[3], b[3], c[3];
+    p->GetPoint(ids->GetId(0), a);
+    p->GetPoint(ids->GetId(1), b);
+    p->GetPoint(ids->GetId(2), c);
+    // put node 3 into the plane of 0, 1, 2
+    p->SetPoint(ids->GetId(3), (a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3);
+    flat->SetPoints(p);
+  }
+  expectError("degenerate element", surface, flat, "inverted or degenerate");
+
+  // a cell type other than tet4/tet10
+  vtkNew<vtkUnstructuredGrid> hex;
+  {
+    vtkNew<vtkPoints> p;
+    for (int k = 0; k < 8; ++k)
+      p->InsertNextPoint(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    hex->SetPoints(p);
+    vtkIdType ids[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+    hex->InsertNextCell(VTK_HEXAHEDRON, 8, ids);
+  }
+  expectError("hexahedron", surface, hex, "only VTK_TETRA");
+  // mixed tet4 and tet10
+  vtkNew<vtkUnstructuredGrid> mixed;
+  mixed->SetPoints(grid->GetPoints());
+  mixed->Allocate(grid->GetNumberOfCells() + 1);
+  {
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      grid->GetCellPoints(c, ids);
+      mixed->InsertNextCell(grid->GetCellType(c), ids);
+    }
+    grid->GetCellPoints(0, ids);
+    // a cell of the other type on the corners of cell 0 (the mid nodes: any nodes)
+    vtkIdType ten[10] = { ids->GetId(0), ids->GetId(1), ids->GetId(2), ids->GetId(3), 4, 5, 6,
+      7, 8, 9 };
+    const bool is10 = grid->GetCellType(0) == VTK_QUADRATIC_TETRA;
+    mixed->InsertNextCell(is10 ? VTK_TETRA : VTK_QUADRATIC_TETRA, is10 ? 4 : 10, ten);
+  }
+  expectError("mixed cells", surface, mixed, "mixes cell types");
+}
+
+void TestSaveLoad(vtkPolyData* out)
+{
+  const std::string file = "TestEmbeddingCoordinatesFilter.vtp";
+  vtkNew<vtkXMLPolyDataWriter> w;
+  w->SetFileName(file.c_str());
+  w->SetInputData(out);
+  HOEMBED_CHECK(w->Write() == 1, "writing %s", file.c_str());
+  vtkNew<vtkXMLPolyDataReader> r;
+  r->SetFileName(file.c_str());
+  r->Update();
+  vtkPolyData* back = r->GetOutput();
+  int diff = 0;
+  for (const char* name : { "EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance",
+         "EmbeddingResidual", "EmbeddingFace" })
+  {
+    vtkDataArray* a = out->GetPointData()->GetArray(name);
+    vtkDataArray* b = back->GetPointData()->GetArray(name);
+    if (!a || !b || a->GetDataType() != b->GetDataType() ||
+      a->GetNumberOfTuples() != b->GetNumberOfTuples())
+    {
+      ++diff;
+      continue;
+    }
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+      for (int c = 0; c < a->GetNumberOfComponents(); ++c)
+        if (a->GetComponent(i, c) != b->GetComponent(i, c))
+          ++diff;
+  }
+  auto* fa = vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
+  auto* fb = vtkStringArray::SafeDownCast(back->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
+  HOEMBED_CHECK(fa && fb && fa->GetValue(0) == fb->GetValue(0), "fingerprint lost in .vtp");
+  HOEMBED_CHECK(diff == 0, "%d values differ after .vtp round trip", diff);
+  std::remove(file.c_str());
+}
+// Real surfaces on vtkTet10Mesher meshes of ~1000 elements, tet10 and tet4: brute force
+// on every k-th vertex (about 1500 per surface), residuals on all of them.
+void TestRealMeshes(const std::string& dir)
+{
+  for (const char* name : { "bunny_watertight", "fertility", "rocker-arm" })
+  {
+    const std::string file = dir + "/" + name + ".obj";
+    struct stat st;
+    if (stat(file.c_str(), &st) != 0)
+      continue;
+    vtkNew<vtkOBJReader> reader;
+    reader->SetFileName(file.c_str());
+    reader->Update();
+    vtkNew<vtkPolyData> surface;
+    surface->SetPoints(reader->GetOutput()->GetPoints());
+    surface->SetPolys(reader->GetOutput()->GetPolys());
+    for (int order : { 2, 1 })
+    {
+      vtkNew<vtkTet10Mesher> mesher;
+      mesher->SetInputData(surface);
+      mesher->SetTargetNumberOfElements(1000);
+      mesher->SetElementOrder(order);
+      mesher->Update();
+      vtkUnstructuredGrid* grid = mesher->GetOutput();
+      HOEMBED_CHECK(grid->GetNumberOfCells() > 500, "%s: mesher gave %lld cells", name,
+        static_cast<long long>(grid->GetNumberOfCells()));
+      if (grid->GetNumberOfCells() == 0)
+        continue;
+      auto out = RunFilter(surface, grid, 0);
+      const vtkIdType stride = std::max<vtkIdType>(1, surface->GetNumberOfPoints() / 700);
+      const std::string label = std::string(name) + (order == 2 ? " tet10" : " tet4");
+      CheckEmbedding(label.c_str(), surface, grid, out, 0, true, stride);
+    }
+  }
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  const std::string dataDir = hoembed_test::DataDir(argc, argv);
+  TestKernels();
+
+  auto surface = MakeSurface(true, true);
+  auto grid10 = MakeBoxTetMesh(4, 2, 2, 2.0, 1.0, 1.0, 2, CurveMap);
+  auto grid4 = MakeBoxTetMesh(4, 2, 2, 2.0, 1.0, 1.0, 1, CurveMap);
+
+  auto out10 = RunFilter(surface, grid10, 0);
+  HOEMBED_CHECK(out10->GetNumberOfPoints() == surface->GetNumberOfPoints(), "tet10 output size");
+  CheckEmbedding("tet10 normal-offset", surface, grid10, out10, 0, true);
+  auto bary10 = RunFilter(surface, grid10, 1);
+  CheckEmbedding("tet10 barycentric", surface, grid10, bary10, 1, false);
+  auto out4 = RunFilter(surface, grid4, 0);
+  CheckEmbedding("tet4 normal-offset", surface, grid4, out4, 0, true);
+  auto bary4 = RunFilter(surface, grid4, 1);
+  CheckEmbedding("tet4 barycentric", surface, grid4, bary4, 1, true);
+
+  // one thread and two threads, many partitions: identical distances
+  vtkSMPTools::Initialize(1);
+  auto seq = RunFilter(surface, grid10, 0);
+  vtkSMPTools::Initialize(2);
+  {
+    vtkNew<vtkEmbeddingCoordinatesFilter> f;
+    f->SetInputData(0, surface);
+    f->SetMeshData(grid10);
+    f->SetNumberOfPartitions(37);
+    f->Update();
+    auto* a = vtkDoubleArray::SafeDownCast(seq->GetPointData()->GetArray("EmbeddingClosestDistance"));
+    auto* b = vtkDoubleArray::SafeDownCast(f->GetOutput()->GetPointData()->GetArray("EmbeddingClosestDistance"));
+    int diff = 0;
+    for (vtkIdType i = 0; a && b && i < a->GetNumberOfTuples(); ++i)
+      if (std::fabs(a->GetValue(i) - b->GetValue(i)) > 1e-12)
+        ++diff;
+    HOEMBED_CHECK(a && b && diff == 0, "1 vs 2 threads / 37 partitions: %d distances differ", diff);
+  }
+
+  TestErrors(surface, grid10);
+  {
+    auto s4 = MakeSurface(false, false);
+    TestErrors(s4, grid4);
+  }
+  TestSaveLoad(out10);
+  if (!dataDir.empty())
+    TestRealMeshes(dataDir);
+  else
+    std::printf("real meshes skipped: no data folder\n");
+  return hoembed_test::Report("TestEmbeddingCoordinatesFilter");
+}

@@ -1,0 +1,58 @@
+"""pyvista-level front end of vtkEmbeddingCoordinatesFilter."""
+
+import pyvista
+
+__all__ = ["embed"]
+
+from ._errors import run_filter
+from .hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter
+
+_METHODS = {"normal-offset": vtkEmbeddingCoordinatesFilter.NORMAL_OFFSET,
+            "barycentric": vtkEmbeddingCoordinatesFilter.BARYCENTRIC}
+
+
+def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=None):
+    """Embedding coordinates of a fine triangle surface in a (curved) tet FE mesh.
+
+    Parameters
+    ----------
+    surface : pyvista.PolyData or vtkPolyData
+        The fine surface; its triangles drive the flood (vertices in no triangle and
+        several components are fine).
+    fe_mesh : pyvista.UnstructuredGrid or vtkUnstructuredGrid
+        The rest mesh: VTK_QUADRATIC_TETRA cells, or VTK_TETRA (not mixed).
+    method : str
+        ``"normal-offset"`` (default; the paper's v = p + d n) or ``"barycentric"``.
+    n_partitions : int
+        Surface patches flooded in parallel (0: automatic).
+    progress : callable, optional
+        Called with a float in [0, 1] on the filter's progress events.
+
+    Returns
+    -------
+    pyvista.PolyData
+        A copy of the surface with point data ``EmbeddingCellId``,
+        ``EmbeddingParametricCoords``, ``EmbeddingDistance``, ``EmbeddingResidual``,
+        ``EmbeddingFace``, ``EmbeddingIterations``, ``EmbeddingElementsVisited``,
+        ``EmbeddingClosestDistance`` and field data ``EmbeddingMethod``,
+        ``EmbeddingMeshFingerprint``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``method``.
+    hoembed.HOEmbedError
+        On bad input (empty surface or mesh, NaN coordinates, cells other than tet4/tet10,
+        inverted or degenerate elements).
+    """
+    if method not in _METHODS:
+        raise ValueError(f"method must be one of {sorted(_METHODS)}, not {method!r}")
+    alg = vtkEmbeddingCoordinatesFilter()
+    alg.SetInputData(0, surface)
+    alg.SetMeshData(fe_mesh)
+    alg.SetMethod(_METHODS[method])
+    alg.SetNumberOfPartitions(int(n_partitions))
+    if progress is not None:
+        alg.AddObserver("ProgressEvent", lambda o, e: progress(o.GetProgress()))
+    out = run_filter(alg)
+    return pyvista.wrap(out).copy()
