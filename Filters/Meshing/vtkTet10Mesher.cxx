@@ -30,6 +30,7 @@
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkWindowedSincPolyDataFilter.h"
 
 #include <algorithm>
 #include <array>
@@ -253,8 +254,27 @@ int vtkTet10Mesher::RequestData(
   double bestMismatch = VTK_DOUBLE_MAX;
   std::string lastError;
   double triFactor = 1.0;
-  for (int attempt = 0; attempt < 8; ++attempt)
+  // Fine detail (thorns, noise) can make the decimated surface fold onto itself; after a
+  // failed attempt the surface is low-pass filtered (windowed sinc, which keeps the
+  // volume) before decimation. Only the coarse boundary comes from the filtered surface:
+  // curved nodes still go onto the original one.
+  vtkSmartPointer<vtkPolyData> toDecimate = fine;
+  for (int attempt = 0; attempt < 10; ++attempt)
   {
+    if (attempt == 2)
+    {
+      vtkNew<vtkWindowedSincPolyDataFilter> smooth;
+      smooth->SetInputData(fine);
+      smooth->SetNumberOfIterations(30);
+      smooth->SetPassBand(0.01);
+      smooth->NormalizeCoordinatesOn();
+      smooth->BoundarySmoothingOff();
+      smooth->FeatureEdgeSmoothingOff();
+      smooth->NonManifoldSmoothingOff();
+      smooth->Update();
+      toDecimate = smooth->GetOutput();
+      triFactor = 1.0;
+    }
     this->UpdateProgress(0.1 + 0.05 * attempt);
     // Boundary triangles of edge h: equilateral area sqrt(3)/4 h^2.
     const double nTri = std::max(8.0, triFactor * check.Area / (std::sqrt(3.0) / 4.0 * h * h));
@@ -262,7 +282,7 @@ int vtkTet10Mesher::RequestData(
     if (nTri < 0.9 * nFine)
     {
       vtkNew<vtkQuadricDecimation> decimate;
-      decimate->SetInputData(fine);
+      decimate->SetInputData(toDecimate);
       decimate->SetTargetReduction(1.0 - nTri / nFine);
       decimate->VolumePreservationOff();
       decimate->AttributeErrorMetricOff();

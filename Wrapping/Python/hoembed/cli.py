@@ -42,7 +42,7 @@ def _parser():
     run = sub.add_parser("run", help="run the pipeline on a surface file",
                          formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     run.add_argument("surface", help="closed triangle surface (.obj .stl .ply .vtp .vtk ...)")
-    for sp, defaults in ((demo, dict(steps=40, dt=0.02, young=3e4, gravity=(0.0, 0.0, -9.81),
+    for sp, defaults in ((demo, dict(steps=40, dt=0.02, young=1e7, gravity=(0.0, 0.0, -9.81),
                                      elements=1000)),
                          (run, dict(steps=40, dt=0.02, young=1e5, gravity=(0.0, 0.0, -9.81),
                                     elements=1000))):
@@ -173,7 +173,9 @@ def _picture(path, tet10_surface, tet4_surface, rest_surface, tet10_mesh, tet4_m
         pl.add_mesh(rest_surface, color="white", opacity=0.15)
         pl.add_mesh(surf, color="tan", smooth_shading=True, specular=0.3)
         pl.add_mesh(mesh.extract_all_edges(), color="steelblue", opacity=0.25, line_width=1)
-        pl.view_isometric()
+        pl.view_xz()
+        pl.camera.elevation = 25
+        pl.camera.azimuth = -20
     pl.link_views()
     pl.screenshot(str(path))
     pl.close()

@@ -1,0 +1,66 @@
+"""The hoembed command line: a small end-to-end run and clear errors for bad input."""
+import json
+import subprocess
+import sys
+
+import pyvista as pv
+import pytest
+
+
+def run_cli(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "hoembed", *args], capture_output=True,
+                          text=True, cwd=cwd, timeout=600)
+
+
+def test_help_explains_options():
+    out = run_cli("run", "--help")
+    assert out.returncode == 0
+    for opt in ("--elements", "--young", "--poisson", "--clamp-axis", "--steps", "--output"):
+        assert opt in out.stdout
+
+
+def test_missing_file(tmp_path):
+    out = run_cli("run", str(tmp_path / "nope.obj"), "--output", str(tmp_path / "o"))
+    assert out.returncode == 2
+    assert "no such file" in out.stderr
+
+
+def test_unreadable_file(tmp_path):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("this is not a mesh\n")
+    out = run_cli("run", str(bad), "--output", str(tmp_path / "o"))
+    assert out.returncode == 2
+    assert "hoembed: error:" in out.stderr
+
+
+def test_bad_option_values(tmp_path):
+    s = tmp_path / "s.vtp"
+    pv.Sphere().save(s)
+    out = run_cli("run", str(s), "--steps", "0", "--output", str(tmp_path / "o"))
+    assert out.returncode == 2 and "--steps must be positive" in out.stderr
+    out = run_cli("run", str(s), "--poisson", "0.5", "--steps", "2", "--no-tet4",
+                  "--output", str(tmp_path / "o"))
+    assert out.returncode == 2 and "PoissonRatio" in out.stderr
+
+
+def test_open_surface_is_refused(tmp_path):
+    s = tmp_path / "open.vtp"
+    pv.Sphere().remove_cells([0, 1]).save(s)
+    out = run_cli("run", str(s), "--steps", "2", "--output", str(tmp_path / "o"))
+    assert out.returncode == 2 and "open" in out.stderr
+
+
+def test_small_run_writes_series(tmp_path):
+    s = tmp_path / "sphere.vtp"
+    pv.Sphere(radius=1.0, theta_resolution=60, phi_resolution=60).save(s)
+    outdir = tmp_path / "out"
+    out = run_cli("run", str(s), "--elements", "200", "--steps", "3", "--clamp-axis", "z",
+                  "--no-tet4", "--output", str(outdir))
+    assert out.returncode == 0, out.stderr
+    summary = json.loads((outdir / "summary.json").read_text())
+    assert summary["frames"] == 4
+    series = pv.read(str(outdir / "surface.pvd"))
+    assert series.n_blocks == 4
+    assert series[0].n_points == pv.read(s).n_points
+    fe = pv.get_reader(str(outdir / "fe_mesh.pvd"))
+    assert len(fe.time_values) == 4
