@@ -2,6 +2,7 @@
 #include "hoembedShapeFunctions.h"
 
 #include <cmath>
+#include <vector>
 
 namespace hoembed
 {
@@ -72,6 +73,7 @@ void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* point
   }
   const int npf = topo.GetNodesPerFace();
   const Id nbf = topo.GetNumberOfBoundaryFaces();
+  std::vector<double> weight(np, 0.0);
   for (Id b = 0; b < nbf; ++b)
   {
     const Id* fn = &topo.BoundaryFaceNodes[b * npf];
@@ -112,6 +114,7 @@ void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* point
         angle = std::atan2(Norm(c), Dot(t1, t2));
       }
       double* out = normals + 3 * fn[a];
+      weight[fn[a]] += std::fabs(angle);
       for (int d = 0; d < 3; ++d)
       {
         out[d] += angle * n[d] / len;
@@ -122,6 +125,13 @@ void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* point
   {
     double* n = normals + 3 * i;
     const double len = Norm(n);
+    if (len <= 1e-8 * weight[i])
+    {
+      // The faces around the node cancel (the boundary folds back on itself here): the
+      // direction would be round-off, different in every frame. No normal at this node.
+      n[0] = n[1] = n[2] = 0.0;
+      continue;
+    }
     if (len > 0.0)
     {
       n[0] /= len;

@@ -21,7 +21,10 @@ namespace hoembed
 /**
  * Angle-weighted nodal normals of the boundary. `normals` receives 3 doubles per mesh
  * node (topo.NumberOfPoints); interior nodes get (0, 0, 0). Boundary faces with a
- * degenerate normal at a node do not contribute to it.
+ * degenerate normal at a node do not contribute to it. A node where the contributions
+ * cancel (the boundary folds back onto itself there, e.g. a knife edge) gets (0, 0, 0)
+ * too: its direction would be round-off, so the field would not move rigidly with the
+ * mesh; the interpolated field then uses the face's other nodes.
  */
 HOEMBEDFILTERSCORE_EXPORT void ComputeBoundaryNodeNormals(
   const TetMeshTopology& topo, const double* points, double* normals);
