@@ -141,8 +141,11 @@ inline vtkSmartPointer<vtkPolyData> MakeEmbeddedSurface(vtkUnstructuredGrid* mes
       hoembed::TetFaceToTetParametric(e.LocalFace, e.UV, e.PC);
       double p[3], n[3];
       ReferenceLocation(mesh, e.Cell, e.PC, p);
-      hoembed::InterpolateBoundaryNormal(topo, nodal.data(), b, e.UV, n);
-      e.Distance = offset(p);
+      const double len = hoembed::InterpolateBoundaryNormal(topo, nodal.data(), b, e.UV, n);
+      // Where the boundary folds back on itself (a knife edge; the nodal normals there
+      // are zero) the smooth normal is short and its direction ill-conditioned: no offset
+      // there (the vertex is p itself).
+      e.Distance = len > 0.5 ? offset(p) : 0.0;
       double v[3];
       for (int d = 0; d < 3; ++d)
         v[d] = p[d] + e.Distance * n[d];
