@@ -376,7 +376,7 @@ def picture(name, surface, deformed, fields, frames, out):
         pl.add_mesh(surface, color="white", opacity=0.12)
         pl.add_mesh(s, scalars="distortion", clim=clim, cmap="inferno", smooth_shading=True,
                     show_scalar_bar=(col == 2),
-                    scalar_bar_args=dict(title="local distortion / edge length\n",
+                    scalar_bar_args=dict(title="distortion / edge",
                                          n_labels=4, fmt="%.3f", position_x=0.25,
                                          width=0.5))
         pl.add_mesh(frames[kind].extract_all_edges(), color="steelblue", opacity=0.08,
