@@ -18,14 +18,20 @@
  *    length TargetEdgeLength when that is set (> 0).
  * 3. TetGen (compiled in; AGPL-3) meshes the coarse surface with the radius-edge ratio
  *    bound RadiusEdgeRatio, the dihedral-angle bound MinDihedralAngle and a volume bound
- *    from the target edge length.
+ *    from the target edge length, without Steiner points on the boundary (-Y; TetGen
+ *    splits boundary facets only if meshing fails without it), so the boundary
+ *    triangles are those of the coarse surface.
  * 4. Boundary corner nodes are moved to their closest point on the fine surface where
  *    that keeps their linear tets valid; mid-edge nodes are added at edge midpoints.
  * 5. CurveBoundary (default on): every boundary mid-edge node moves to its closest point
  *    on the fine surface. Where that would make an element's Jacobian determinant
  *    non-positive anywhere (a conservative Bernstein bound, see
  *    hoembed::Tet10IsValid), the element's curved mid-edge nodes are pulled back towards
- *    the straight position, just enough (bisection on the fraction of the move).
+ *    the straight position, just enough (bisection on the fraction of the move). Nodes
+ *    pulled back then get second chances: other points of the fine surface near them,
+ *    and moves of the corners and interior mid-edge nodes around them (a pattern search
+ *    that keeps every element acceptable; corners may leave the surface slightly, only
+ *    mid-edge nodes are put on it).
  *
  * Output arrays:
  * - cell data `MinScaledJacobian` (double): hoembed::Tet10MinScaledJacobian, or the
