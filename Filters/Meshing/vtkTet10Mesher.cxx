@@ -310,16 +310,7 @@ int vtkTet10Mesher::RequestData(
       continue;
     }
     params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
-    // No Steiner points on the boundary (-Y): TetGen would split coarse facets near small
-    // angles into many tiny triangles that lie off the fine surface by more than their
-    // size, and their mid-edge nodes could not be curved onto it. Without -Y if that fails.
-    params.PreserveBoundary = true;
     hoembed::TetGenResult run = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
-    if (!run.Error.empty())
-    {
-      params.PreserveBoundary = false;
-      run = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
-    }
     if (!run.Error.empty())
     {
       lastError = run.Error;

@@ -18,9 +18,7 @@
  *    length TargetEdgeLength when that is set (> 0).
  * 3. TetGen (compiled in; AGPL-3) meshes the coarse surface with the radius-edge ratio
  *    bound RadiusEdgeRatio, the dihedral-angle bound MinDihedralAngle and a volume bound
- *    from the target edge length, without Steiner points on the boundary (-Y; TetGen
- *    splits boundary facets only if meshing fails without it), so the boundary
- *    triangles are those of the coarse surface.
+ *    from the target edge length.
  * 4. Boundary corner nodes are moved to their closest point on the fine surface where
  *    that keeps their linear tets valid; mid-edge nodes are added at edge midpoints.
  * 5. CurveBoundary (default on): every boundary mid-edge node moves to its closest point
