@@ -199,6 +199,23 @@ def test_real_meshes(data_dir, name, n):
     print(name, n, figures)
 
 
+@pytest.mark.parametrize("n", [1000, 3000])
+def test_preserve_boundary(data_dir, n):
+    # Fertility is the hardest real mesh for boundary coverage (85% at 3000 elements by
+    # default); with PreserveBoundary the coarse facets stay whole and 98.9-99.5% of the
+    # boundary mid-edge nodes reach the surface.
+    surface = pv.read(data_dir / "fertility.obj")
+    alg = hoembed.vtkTet10Mesher()
+    alg.SetInputData(surface)
+    alg.SetTargetNumberOfElements(n)
+    alg.PreserveBoundaryOn()
+    assert "PreserveBoundary: On" in str(alg)
+    mesh = pv.wrap(hoembed._errors.run_filter(alg))
+    assert 0.7 * n < mesh.n_cells < 1.3 * n
+    figures = check_mesh(surface, mesh, on_surface_fraction=0.97)
+    print(n, figures)
+
+
 def test_open_real_mesh(data_dir):
     msg = expect_error(pv.read(data_dir / "stanford-bunny.obj"), "open")
     assert "boundary edges" in msg
