@@ -1,6 +1,7 @@
 #include "hoembedCurvedMeshBuilder.h"
 
 #include "hoembedCurvedBoundary.h"
+#include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
 #include "hoembedTetMeshTopology.h"
@@ -441,6 +442,22 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
       RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
         surface, options.QualityRatio, Tet10Check());
+    {
+      // Only boundary mid-edge nodes are meant to lie on the surface: the others, and the
+      // corners, may move to make room for the boundary ones still pulled back (corners
+      // then leave the surface a little, which the mid-edge nodes make up for); then the
+      // other surface points are tried again.
+      std::vector<char> isFree(nPts, 0);
+      for (Id i = 0; i < nPts; ++i)
+        isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
+      std::vector<double> alphaB(curving.Alpha.begin(), curving.Alpha.begin() + nbe);
+      std::vector<double> targetsB(targets.begin(), targets.begin() + 3 * nbe);
+      FitWithFreeNodes(out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree,
+        options.QualityRatio);
+      std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
+      RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
+        surface, options.QualityRatio, Tet10Check());
+    }
     if (options.ExtraCheck)
     {
       // The extra test is costly: run it once on the result, and pull back (from the

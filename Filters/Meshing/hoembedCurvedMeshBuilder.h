@@ -10,7 +10,9 @@
  * 3. mid-edge nodes are added; boundary ones target the surface (where the edge's normal
  *    line meets it, else the closest point), interior ones follow by harmonic extension;
  * 4. nodes are pulled back where elements would be invalid (hoembed::CurveMidEdgeNodes),
- *    and pulled-back boundary nodes get a second chance at other nearby surface points;
+ *    and pulled-back boundary nodes get a second chance at other nearby surface points,
+ *    and a third by moving the corners and interior mid-edge nodes around them
+ *    (hoembed::FitWithFreeNodes);
  * The boundary edges whose mid-edge nodes stay pulled back are returned with their
  * surface targets (for diagnostics).
  */

@@ -310,7 +310,13 @@ int vtkTet10Mesher::RequestData(
       continue;
     }
     params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
+    params.PreserveBoundary = this->PreserveBoundary;
     hoembed::TetGenResult run = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
+    if (!run.Error.empty() && params.PreserveBoundary)
+    {
+      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
+      run = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
+    }
     if (!run.Error.empty())
     {
       lastError = run.Error;
@@ -494,6 +500,7 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ElementOrder: " << this->ElementOrder << "\n";
   os << indent << "CurveBoundary: " << (this->CurveBoundary ? "On" : "Off") << "\n";
   os << indent << "ProjectCorners: " << (this->ProjectCorners ? "On" : "Off") << "\n";
+  os << indent << "PreserveBoundary: " << (this->PreserveBoundary ? "On" : "Off") << "\n";
   os << indent << "RadiusEdgeRatio: " << this->RadiusEdgeRatio << "\n";
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "CurvedQualityRatio: " << this->CurvedQualityRatio << "\n";
