@@ -38,6 +38,41 @@ double TetQuality(const std::vector<double>& p, const Id* t)
   return Tet4ScaledJacobian(x);
 }
 
+// Number of pieces of the tet mesh connected through faces.
+Id CountFaceComponents(const std::vector<Id>& tets, Id nPts)
+{
+  const Id nt = static_cast<Id>(tets.size() / 4);
+  TetMeshTopology topo;
+  if (!topo.Build(tets.data(), nt, 4, nPts).empty())
+    return nt; // inconsistent: as bad as it gets
+  std::vector<char> seen(nt, 0);
+  std::vector<Id> stack;
+  Id components = 0;
+  for (Id s = 0; s < nt; ++s)
+  {
+    if (seen[s])
+      continue;
+    ++components;
+    seen[s] = 1;
+    stack.push_back(s);
+    while (!stack.empty())
+    {
+      const Id t = stack.back();
+      stack.pop_back();
+      for (int f = 0; f < 4; ++f)
+      {
+        const Id n = topo.FaceNeighbor[4 * t + f];
+        if (n >= 0 && !seen[n])
+        {
+          seen[n] = 1;
+          stack.push_back(n);
+        }
+      }
+    }
+  }
+  return components;
+}
+
 // Remove flat boundary tets: a tet with exactly two boundary faces and a poor shape is
 // deleted when the edge shared by its two interior faces is not already a boundary edge
 // (the boundary stays a closed manifold; it only flips an edge). Returns how many went.
@@ -98,6 +133,10 @@ Id RemoveBoundarySlivers(
     for (Id t = 0; t < nt; ++t)
       if (!drop[t])
         kept.insert(kept.end(), tets.begin() + 4 * t, tets.begin() + 4 * t + 4);
+    // Removing a tet may leave a neighbour hanging on by an edge or a vertex only (the
+    // mesh would no longer be one face-connected piece): then keep this pass undone.
+    if (CountFaceComponents(kept, nPts) > CountFaceComponents(tets, nPts))
+      break;
     tets.swap(kept);
     removed += dropped;
   }
