@@ -56,6 +56,8 @@ public:
     double Solve = 0.0;    ///< seconds in the preconditioned CG (and factorisation)
     long long Steps = 0;
     long long Iterations = 0; ///< total CG iterations
+    long long Factorizations = 0; ///< numeric factorisations of the preconditioner
+    double Factorization = 0.0;   ///< seconds in them (part of Solve)
   };
 
   CorotationalSolver();

@@ -35,12 +35,29 @@ using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 // Small systems: Eigen's simplicial factor (low per-solve overhead). Large systems:
 // CHOLMOD's supernodal factor when available (much less time to factorise).
-using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+// The small factor is computed on a matrix permuted by a node-level AMD ordering (so that
+// the three DOFs of a node stay together and L is made of 3x3 blocks), then copied into
+// BlockFactor for the solves.
+using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::NaturalOrdering<int>>;
 #ifdef HOEMBED_HAVE_CHOLMOD
 using LargeFactorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
 #else
-using LargeFactorization = SmallFactorization;
+using LargeFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 #endif
+
+// A sparse Cholesky factor L (node-permuted DOF order) stored as 3x3 node blocks:
+// per node column J the inverse of its lower-triangular diagonal block and the blocks
+// L(I, J), I > J (row-major 3x3). Triangular solves then run on 3-vectors with one index
+// per 9 values (about 2.5x faster than the scalar simplicial solve at ~1k DOF).
+struct BlockFactor
+{
+  int NB = 0;
+  std::vector<double> DiagInv;  // 9 per node
+  std::vector<int> Ptr, Row;    // blocks of column J: Ptr[J] .. Ptr[J+1]
+  std::vector<double> Val;      // 9 per block
+  void Build(const ColMat& L);
+  void Solve(double* t) const;  // in place: t <- L^-T L^-1 t
+};
 constexpr long long LargeSystem = 6000; // DOF from which the large factorisation is used
 
 inline double Seconds(Clock::time_point a, Clock::time_point b)
@@ -64,6 +81,28 @@ void ParallelFor(vtkIdType n, vtkIdType minParallel, F&& f)
   }
 }
 constexpr vtkIdType ParallelCells = 1000;
+
+// w = K l for a symmetric element matrix K (D x D, stored either way): fixed-size Eigen
+// products (vectorised, unrolled) for tet10 (D = 30) and tet4 (D = 12).
+template <int DD>
+inline void SymmetricTimes(const double* K, const double* l, double* w)
+{
+  Eigen::Map<const Eigen::Matrix<double, DD, DD>> Km(K);
+  Eigen::Map<const Eigen::Matrix<double, DD, 1>> lm(l);
+  Eigen::Map<Eigen::Matrix<double, DD, 1>> wm(w);
+  wm.noalias() = Km * lm;
+}
+inline void SymmetricTimes(int D, const double* K, const double* l, double* w)
+{
+  if (D == 30)
+  {
+    SymmetricTimes<30>(K, l, w);
+  }
+  else
+  {
+    SymmetricTimes<12>(K, l, w);
+  }
+}
 constexpr vtkIdType ParallelValues = 1000000;
 } // namespace corotational_detail
 using namespace corotational_detail;
@@ -95,6 +134,11 @@ struct CorotationalSolver::Impl
   RowMat A, M;
   // preconditioner
   SmallFactorization SmallLLT;
+  BlockFactor SmallBlocks;
+  std::vector<int> NodeNew;   // old node -> position in the small factor's order
+  std::vector<int> PermValue; // A value index -> value index of the permuted lower part
+  ColMat SmallPermuted;       // permuted lower part (pattern fixed after the analysis)
+  Eigen::VectorXd PrecT;      // work vector of ApplyPrec
   LargeFactorization LargeLLT;
   bool Large() const { return 3 * NP >= LargeSystem; }
   bool FactorOK() const
@@ -142,7 +186,8 @@ struct CorotationalSolver::Impl
       ComputeRotations();
     }
   }
-  void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+  void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z);
+  void AnalyzeSmall();
   bool Factor(double cM, double cK);
   bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
   void UpdateRelativeRotations();

@@ -96,26 +96,36 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
       }
     }
   }
-  ColMat A0c = A0;
-  if (!Analyzed)
-  {
-    if (Large())
-    {
-      LargeLLT.analyzePattern(A0c);
-    }
-    else
-    {
-      SmallLLT.analyzePattern(A0c);
-    }
-    Analyzed = true;
-  }
   if (Large())
   {
+    ColMat A0c = A0;
+    if (!Analyzed)
+    {
+      LargeLLT.analyzePattern(A0c);
+      Analyzed = true;
+    }
     LargeLLT.factorize(A0c);
   }
   else
   {
-    SmallLLT.factorize(A0c);
+    if (!Analyzed)
+    {
+      AnalyzeSmall();
+      Analyzed = true;
+    }
+    double* pv = SmallPermuted.valuePtr();
+    for (long long k = 0; k < A0.nonZeros(); ++k)
+    {
+      if (PermValue[k] >= 0)
+      {
+        pv[PermValue[k]] = val[k];
+      }
+    }
+    SmallLLT.factorize(SmallPermuted);
+    if (SmallLLT.info() == Eigen::Success)
+    {
+      SmallBlocks.Build(SmallLLT.matrixL().nestedExpression());
+    }
   }
   JustFactored = true;
   HaveFactor = true;
@@ -134,9 +144,133 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
     FactorQ = NodeRot;
   }
   FactorSeconds = Seconds(t0, Clock::now());
+  T.Factorizations++;
+  T.Factorization += FactorSeconds;
   SolveSinceFactor = 0.0;
   IterationsSinceFactor = 0;
   return FactorOK();
+}
+
+// Node-level AMD ordering of the pattern, the permuted lower part of the DOF matrix (three
+// consecutive DOFs per node) and the map from A's values to it; symbolic analysis.
+void CorotationalSolver::Impl::AnalyzeSmall()
+{
+  ColMat nodePattern = MN;
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> newToOld;
+  Eigen::AMDOrdering<int> amd;
+  amd(nodePattern, newToOld);
+  NodeNew.assign(NP, 0);
+  for (long long k = 0; k < NP; ++k)
+  {
+    NodeNew[newToOld.indices()[k]] = static_cast<int>(k);
+  }
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(A.nonZeros() / 2 + 3 * NP);
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  for (long long r = 0; r < 3 * NP; ++r)
+  {
+    const int nr = 3 * NodeNew[r / 3] + static_cast<int>(r % 3);
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      const int c = inner[k];
+      const int nc = 3 * NodeNew[c / 3] + c % 3;
+      if (nr >= nc)
+      {
+        trip.emplace_back(nr, nc, static_cast<double>(k));
+      }
+    }
+  }
+  SmallPermuted.resize(3 * NP, 3 * NP);
+  SmallPermuted.setFromTriplets(trip.begin(), trip.end());
+  SmallPermuted.makeCompressed();
+  PermValue.assign(A.nonZeros(), -1);
+  for (long long j = 0; j < SmallPermuted.nonZeros(); ++j)
+  {
+    PermValue[static_cast<long long>(SmallPermuted.valuePtr()[j])] = static_cast<int>(j);
+  }
+  SmallLLT.analyzePattern(SmallPermuted);
+}
+
+void BlockFactor::Build(const ColMat& L)
+{
+  NB = static_cast<int>(L.cols() / 3);
+  DiagInv.assign(9 * NB, 0.0);
+  Ptr.assign(NB + 1, 0);
+  Row.clear();
+  Val.clear();
+  std::vector<int> slot(NB, -1);
+  for (int J = 0; J < NB; ++J)
+  {
+    Eigen::Matrix3d Djj = Eigen::Matrix3d::Zero();
+    for (int b = 0; b < 3; ++b)
+    {
+      for (ColMat::InnerIterator it(L, 3 * J + b); it; ++it)
+      {
+        const int I = static_cast<int>(it.row() / 3), a = static_cast<int>(it.row() % 3);
+        if (I == J)
+        {
+          Djj(a, b) = it.value();
+          continue;
+        }
+        if (slot[I] < 0)
+        {
+          slot[I] = static_cast<int>(Row.size());
+          Row.push_back(I);
+          Val.insert(Val.end(), 9, 0.0);
+        }
+        Val[9 * slot[I] + 3 * a + b] = it.value();
+      }
+    }
+    for (int k = Ptr[J]; k < static_cast<int>(Row.size()); ++k)
+    {
+      slot[Row[k]] = -1;
+    }
+    Ptr[J + 1] = static_cast<int>(Row.size());
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> inv(&DiagInv[9 * J]);
+    inv = Djj.triangularView<Eigen::Lower>().solve(Eigen::Matrix3d::Identity());
+  }
+}
+
+void BlockFactor::Solve(double* t) const
+{
+  const double* B = Val.data();
+  for (int J = 0; J < NB; ++J) // L y = t
+  {
+    const double* Di = &DiagInv[9 * J];
+    double* tj = t + 3 * J;
+    const double y0 = Di[0] * tj[0];
+    const double y1 = Di[3] * tj[0] + Di[4] * tj[1];
+    const double y2 = Di[6] * tj[0] + Di[7] * tj[1] + Di[8] * tj[2];
+    tj[0] = y0;
+    tj[1] = y1;
+    tj[2] = y2;
+    for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
+    {
+      const double* b = B + 9 * k;
+      double* ti = t + 3 * Row[k];
+      ti[0] -= b[0] * y0 + b[1] * y1 + b[2] * y2;
+      ti[1] -= b[3] * y0 + b[4] * y1 + b[5] * y2;
+      ti[2] -= b[6] * y0 + b[7] * y1 + b[8] * y2;
+    }
+  }
+  for (int J = NB - 1; J >= 0; --J) // L^T x = y
+  {
+    double* tj = t + 3 * J;
+    double s0 = tj[0], s1 = tj[1], s2 = tj[2];
+    for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
+    {
+      const double* b = B + 9 * k;
+      const double* ti = t + 3 * Row[k];
+      s0 -= b[0] * ti[0] + b[3] * ti[1] + b[6] * ti[2];
+      s1 -= b[1] * ti[0] + b[4] * ti[1] + b[7] * ti[2];
+      s2 -= b[2] * ti[0] + b[5] * ti[1] + b[8] * ti[2];
+    }
+    const double* Di = &DiagInv[9 * J];
+    tj[0] = Di[0] * s0 + Di[3] * s1 + Di[6] * s2;
+    tj[1] = Di[4] * s1 + Di[7] * s2;
+    tj[2] = Di[8] * s2;
+  }
 }
 
 void CorotationalSolver::Impl::UpdateRelativeRotations()
@@ -157,19 +291,53 @@ void CorotationalSolver::Impl::UpdateRelativeRotations()
   }
 }
 
-void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const
+void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z)
 {
-  Eigen::VectorXd t(3 * NP);
-  for (long long p = 0; p < NP; ++p)
+  Eigen::VectorXd& t = PrecT;
+  t.resize(3 * NP);
+  Eigen::VectorXd s;
+  if (Large())
   {
-    const double* Q = &RelRot[9 * p];
-    const double* rp = r.data() + 3 * p;
-    for (int i = 0; i < 3; ++i)
+    for (long long p = 0; p < NP; ++p)
     {
-      t[3 * p + i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
+      const double* Q = &RelRot[9 * p];
+      const double* rp = r.data() + 3 * p;
+      for (int i = 0; i < 3; ++i)
+      {
+        t[3 * p + i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
+      }
     }
   }
-  Eigen::VectorXd s = Large() ? Eigen::VectorXd(LargeLLT.solve(t)) : Eigen::VectorXd(SmallLLT.solve(t));
+  if (Large())
+  {
+    s = LargeLLT.solve(t);
+  }
+  else
+  {
+    // t in the factor's node order; s = t after the in-place block solve
+    for (long long p = 0; p < NP; ++p)
+    {
+      const double* Q = &RelRot[9 * p];
+      const double* rp = r.data() + 3 * p;
+      double* tp = t.data() + 3 * NodeNew[p];
+      for (int i = 0; i < 3; ++i)
+      {
+        tp[i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
+      }
+    }
+    SmallBlocks.Solve(t.data());
+    for (long long p = 0; p < NP; ++p)
+    {
+      const double* Q = &RelRot[9 * p];
+      const double* sp = t.data() + 3 * NodeNew[p];
+      for (int i = 0; i < 3; ++i)
+      {
+        z[3 * p + i] = Q[3 * i] * sp[0] + Q[3 * i + 1] * sp[1] + Q[3 * i + 2] * sp[2];
+      }
+    }
+    Mask(z);
+    return;
+  }
   for (long long p = 0; p < NP; ++p)
   {
     const double* Q = &RelRot[9 * p];
@@ -279,17 +447,7 @@ void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd&
             l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
           }
         }
-        const double* K = &Ke[e * D * D];
-        for (int r = 0; r < D; ++r)
-        {
-          double s = 0.0;
-          const double* Kr = K + r * D;
-          for (int c = 0; c < D; ++c)
-          {
-            s += Kr[c] * l[c];
-          }
-          w[r] = s;
-        }
+        SymmetricTimes(D, &Ke[e * D * D], l, w);
         double* out = &EW[e * D];
         for (int a = 0; a < N; ++a)
         {
