@@ -35,28 +35,39 @@ using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 // Small systems: Eigen's simplicial factor (low per-solve overhead). Large systems:
 // CHOLMOD's supernodal factor when available (much less time to factorise).
-// The small factor is computed on a matrix permuted by a node-level AMD ordering (so that
-// the three DOFs of a node stay together and L is made of 3x3 blocks), then copied into
-// BlockFactor for the solves.
+// Both factors are computed on the matrix permuted by a node-level fill-reducing ordering
+// (the three DOFs of a node stay together, so L is made of 3x3 blocks), then copied into
+// BlockFactor for the solves: AMD for the small one, CHOLMOD's choice (AMD / METIS) for
+// the large one.
 using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::NaturalOrdering<int>>;
 #ifdef HOEMBED_HAVE_CHOLMOD
-using LargeFactorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
+// CHOLMOD's supernodal factor, with access to the factor (copied into node blocks).
+class LargeFactorization : public Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>
+{
+public:
+  cholmod_factor* Factor() { return this->m_cholmodFactor; }
+};
 #else
 using LargeFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 #endif
 
 // A sparse Cholesky factor L (node-permuted DOF order) stored as 3x3 node blocks:
 // per node column J the inverse of its lower-triangular diagonal block and the blocks
-// L(I, J), I > J (row-major 3x3). Triangular solves then run on 3-vectors with one index
-// per 9 values (about 2.5x faster than the scalar simplicial solve at ~1k DOF).
+// L(I, J), I > J (row-major 3x3), values stored as T (double for small systems; float
+// for large ones, where the solves are memory-bound: half the traffic, arithmetic stays
+// double, so the preconditioner is still the exact inverse of a fixed SPD matrix).
+// Triangular solves then run on 3-vectors with one index per 9 values (about 4x faster
+// than Eigen's scalar simplicial solve at ~1k DOF).
+template <typename T>
 struct BlockFactor
 {
   int NB = 0;
-  std::vector<double> DiagInv;  // 9 per node
-  std::vector<int> Ptr, Row;    // blocks of column J: Ptr[J] .. Ptr[J+1]
-  std::vector<double> Val;      // 9 per block
-  void Build(const ColMat& L);
-  void Solve(double* t) const;  // in place: t <- L^-T L^-1 t
+  std::vector<double> DiagInv; // 9 per node
+  std::vector<int> Ptr, Row;   // blocks of column J: Ptr[J] .. Ptr[J+1]
+  std::vector<T> Val;          // 9 per block
+  // CSC lower factor (n = 3 NB columns, any row order within a column)
+  void Build(int n, const int* colPtr, const int* rowIdx, const double* val);
+  void Solve(double* t) const; // in place: t <- L^-T L^-1 t
 };
 constexpr long long LargeSystem = 6000; // DOF from which the large factorisation is used
 
@@ -134,10 +145,13 @@ struct CorotationalSolver::Impl
   RowMat A, M;
   // preconditioner
   SmallFactorization SmallLLT;
-  BlockFactor SmallBlocks;
+  BlockFactor<double> SmallBlocks;
+  BlockFactor<float> LargeBlocks;
+  bool UseLargeBlocks = false;
+  void BuildLargeBlocks();
   std::vector<int> NodeNew;   // old node -> position in the small factor's order
   std::vector<int> PermValue; // A value index -> value index of the permuted lower part
-  ColMat SmallPermuted;       // permuted lower part (pattern fixed after the analysis)
+  ColMat Permuted;            // permuted lower part (pattern fixed after the analysis)
   Eigen::VectorXd PrecT;      // work vector of ApplyPrec
   LargeFactorization LargeLLT;
   bool Large() const { return 3 * NP >= LargeSystem; }
@@ -187,7 +201,7 @@ struct CorotationalSolver::Impl
     }
   }
   void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z);
-  void AnalyzeSmall();
+  void Analyze();
   bool Factor(double cM, double cK);
   bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
   void UpdateRelativeRotations();

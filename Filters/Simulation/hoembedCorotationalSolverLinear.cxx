@@ -96,35 +96,32 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
       }
     }
   }
+  if (!Analyzed)
+  {
+    Analyze();
+    Analyzed = true;
+  }
+  double* pv = Permuted.valuePtr();
+  for (long long k = 0; k < A0.nonZeros(); ++k)
+  {
+    if (PermValue[k] >= 0)
+    {
+      pv[PermValue[k]] = val[k];
+    }
+  }
   if (Large())
   {
-    ColMat A0c = A0;
-    if (!Analyzed)
-    {
-      LargeLLT.analyzePattern(A0c);
-      Analyzed = true;
-    }
-    LargeLLT.factorize(A0c);
+    LargeLLT.factorize(Permuted);
+    BuildLargeBlocks();
   }
   else
   {
-    if (!Analyzed)
-    {
-      AnalyzeSmall();
-      Analyzed = true;
-    }
-    double* pv = SmallPermuted.valuePtr();
-    for (long long k = 0; k < A0.nonZeros(); ++k)
-    {
-      if (PermValue[k] >= 0)
-      {
-        pv[PermValue[k]] = val[k];
-      }
-    }
-    SmallLLT.factorize(SmallPermuted);
+    SmallLLT.factorize(Permuted);
     if (SmallLLT.info() == Eigen::Success)
     {
-      SmallBlocks.Build(SmallLLT.matrixL().nestedExpression());
+      const ColMat& L = SmallLLT.matrixL().nestedExpression();
+      SmallBlocks.Build(static_cast<int>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(),
+        L.valuePtr());
     }
   }
   JustFactored = true;
@@ -153,16 +150,41 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
 
 // Node-level AMD ordering of the pattern, the permuted lower part of the DOF matrix (three
 // consecutive DOFs per node) and the map from A's values to it; symbolic analysis.
-void CorotationalSolver::Impl::AnalyzeSmall()
+void CorotationalSolver::Impl::Analyze()
 {
   ColMat nodePattern = MN;
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> newToOld;
-  Eigen::AMDOrdering<int> amd;
-  amd(nodePattern, newToOld);
   NodeNew.assign(NP, 0);
-  for (long long k = 0; k < NP; ++k)
+  if (Large())
   {
-    NodeNew[newToOld.indices()[k]] = static_cast<int>(k);
+#ifdef HOEMBED_HAVE_CHOLMOD
+    // CHOLMOD's own choice (AMD / METIS, postordered) on the node graph
+    LargeFactorization nodeAnalysis;
+    nodeAnalysis.cholmod().nmethods = 2; // both, the one with the least fill wins
+    nodeAnalysis.cholmod().method[0].ordering = CHOLMOD_AMD;
+    nodeAnalysis.cholmod().method[1].ordering = CHOLMOD_METIS;
+    nodeAnalysis.analyzePattern(nodePattern);
+    const int* perm = nodeAnalysis.Factor() ? static_cast<const int*>(nodeAnalysis.Factor()->Perm) : nullptr;
+    for (long long k = 0; k < NP; ++k)
+    {
+      NodeNew[perm ? perm[k] : k] = static_cast<int>(k);
+    }
+    cholmod_common& c = LargeLLT.cholmod();
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_NATURAL; // the matrix comes permuted
+    c.postorder = 0;                        // keep it so (node blocks stay in order)
+#else
+    std::iota(NodeNew.begin(), NodeNew.end(), 0); // the simplicial factor orders itself
+#endif
+  }
+  else
+  {
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> newToOld;
+    Eigen::AMDOrdering<int> amd;
+    amd(nodePattern, newToOld);
+    for (long long k = 0; k < NP; ++k)
+    {
+      NodeNew[newToOld.indices()[k]] = static_cast<int>(k);
+    }
   }
   std::vector<Eigen::Triplet<double, int>> trip;
   trip.reserve(A.nonZeros() / 2 + 3 * NP);
@@ -181,20 +203,28 @@ void CorotationalSolver::Impl::AnalyzeSmall()
       }
     }
   }
-  SmallPermuted.resize(3 * NP, 3 * NP);
-  SmallPermuted.setFromTriplets(trip.begin(), trip.end());
-  SmallPermuted.makeCompressed();
+  Permuted.resize(3 * NP, 3 * NP);
+  Permuted.setFromTriplets(trip.begin(), trip.end());
+  Permuted.makeCompressed();
   PermValue.assign(A.nonZeros(), -1);
-  for (long long j = 0; j < SmallPermuted.nonZeros(); ++j)
+  for (long long j = 0; j < Permuted.nonZeros(); ++j)
   {
-    PermValue[static_cast<long long>(SmallPermuted.valuePtr()[j])] = static_cast<int>(j);
+    PermValue[static_cast<long long>(Permuted.valuePtr()[j])] = static_cast<int>(j);
   }
-  SmallLLT.analyzePattern(SmallPermuted);
+  if (Large())
+  {
+    LargeLLT.analyzePattern(Permuted);
+  }
+  else
+  {
+    SmallLLT.analyzePattern(Permuted);
+  }
 }
 
-void BlockFactor::Build(const ColMat& L)
+template <typename T>
+void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const double* val)
 {
-  NB = static_cast<int>(L.cols() / 3);
+  NB = n / 3;
   DiagInv.assign(9 * NB, 0.0);
   Ptr.assign(NB + 1, 0);
   Row.clear();
@@ -205,21 +235,21 @@ void BlockFactor::Build(const ColMat& L)
     Eigen::Matrix3d Djj = Eigen::Matrix3d::Zero();
     for (int b = 0; b < 3; ++b)
     {
-      for (ColMat::InnerIterator it(L, 3 * J + b); it; ++it)
+      for (int k = colPtr[3 * J + b]; k < colPtr[3 * J + b + 1]; ++k)
       {
-        const int I = static_cast<int>(it.row() / 3), a = static_cast<int>(it.row() % 3);
+        const int I = rowIdx[k] / 3, a = rowIdx[k] % 3;
         if (I == J)
         {
-          Djj(a, b) = it.value();
+          Djj(a, b) = val[k];
           continue;
         }
         if (slot[I] < 0)
         {
           slot[I] = static_cast<int>(Row.size());
           Row.push_back(I);
-          Val.insert(Val.end(), 9, 0.0);
+          Val.insert(Val.end(), 9, T(0));
         }
-        Val[9 * slot[I] + 3 * a + b] = it.value();
+        Val[9 * slot[I] + 3 * a + b] = static_cast<T>(val[k]);
       }
     }
     for (int k = Ptr[J]; k < static_cast<int>(Row.size()); ++k)
@@ -232,9 +262,10 @@ void BlockFactor::Build(const ColMat& L)
   }
 }
 
-void BlockFactor::Solve(double* t) const
+template <typename T>
+void BlockFactor<T>::Solve(double* t) const
 {
-  const double* B = Val.data();
+  const T* B = Val.data();
   for (int J = 0; J < NB; ++J) // L y = t
   {
     const double* Di = &DiagInv[9 * J];
@@ -247,7 +278,7 @@ void BlockFactor::Solve(double* t) const
     tj[2] = y2;
     for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
     {
-      const double* b = B + 9 * k;
+      const T* b = B + 9 * k;
       double* ti = t + 3 * Row[k];
       ti[0] -= b[0] * y0 + b[1] * y1 + b[2] * y2;
       ti[1] -= b[3] * y0 + b[4] * y1 + b[5] * y2;
@@ -260,7 +291,7 @@ void BlockFactor::Solve(double* t) const
     double s0 = tj[0], s1 = tj[1], s2 = tj[2];
     for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
     {
-      const double* b = B + 9 * k;
+      const T* b = B + 9 * k;
       const double* ti = t + 3 * Row[k];
       s0 -= b[0] * ti[0] + b[3] * ti[1] + b[6] * ti[2];
       s1 -= b[1] * ti[0] + b[4] * ti[1] + b[7] * ti[2];
@@ -271,6 +302,45 @@ void BlockFactor::Solve(double* t) const
     tj[1] = Di[4] * s1 + Di[7] * s2;
     tj[2] = Di[8] * s2;
   }
+}
+
+template struct BlockFactor<double>;
+template struct BlockFactor<float>;
+
+// Copy CHOLMOD's supernodal factor (of the node-permuted matrix, natural order) into
+// float node blocks; should CHOLMOD have reordered it anyway, the solves stay with it.
+void CorotationalSolver::Impl::BuildLargeBlocks()
+{
+  UseLargeBlocks = false;
+#ifdef HOEMBED_HAVE_CHOLMOD
+  if (LargeLLT.info() != Eigen::Success || !LargeLLT.Factor())
+  {
+    return;
+  }
+  cholmod_common& c = LargeLLT.cholmod();
+  cholmod_factor* F = cholmod_copy_factor(LargeLLT.Factor(), &c);
+  if (!F)
+  {
+    return;
+  }
+  if (cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, F, &c) && F->is_ll && !F->is_super &&
+    static_cast<long long>(F->n) == 3 * NP)
+  {
+    const int* perm = static_cast<const int*>(F->Perm);
+    bool blocked = true; // the factor is in the order of the permuted matrix
+    for (long long k = 0; perm && blocked && k < 3 * NP; ++k)
+    {
+      blocked = perm[k] == k;
+    }
+    if (blocked)
+    {
+      LargeBlocks.Build(static_cast<int>(3 * NP), static_cast<const int*>(F->p),
+        static_cast<const int*>(F->i), static_cast<const double*>(F->x));
+      UseLargeBlocks = true;
+    }
+  }
+  cholmod_free_factor(&F, &c);
+#endif
 }
 
 void CorotationalSolver::Impl::UpdateRelativeRotations()
@@ -293,55 +363,35 @@ void CorotationalSolver::Impl::UpdateRelativeRotations()
 
 void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z)
 {
+  // t = Q^T r in the factor's node order, solved in place, z = Q t back in mesh order
   Eigen::VectorXd& t = PrecT;
   t.resize(3 * NP);
-  Eigen::VectorXd s;
-  if (Large())
+  for (long long p = 0; p < NP; ++p)
   {
-    for (long long p = 0; p < NP; ++p)
+    const double* Q = &RelRot[9 * p];
+    const double* rp = r.data() + 3 * p;
+    double* tp = t.data() + 3 * NodeNew[p];
+    for (int i = 0; i < 3; ++i)
     {
-      const double* Q = &RelRot[9 * p];
-      const double* rp = r.data() + 3 * p;
-      for (int i = 0; i < 3; ++i)
-      {
-        t[3 * p + i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
-      }
+      tp[i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2];
     }
   }
-  if (Large())
+  if (!Large())
   {
-    s = LargeLLT.solve(t);
+    SmallBlocks.Solve(t.data());
+  }
+  else if (UseLargeBlocks)
+  {
+    LargeBlocks.Solve(t.data());
   }
   else
   {
-    // t in the factor's node order; s = t after the in-place block solve
-    for (long long p = 0; p < NP; ++p)
-    {
-      const double* Q = &RelRot[9 * p];
-      const double* rp = r.data() + 3 * p;
-      double* tp = t.data() + 3 * NodeNew[p];
-      for (int i = 0; i < 3; ++i)
-      {
-        tp[i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
-      }
-    }
-    SmallBlocks.Solve(t.data());
-    for (long long p = 0; p < NP; ++p)
-    {
-      const double* Q = &RelRot[9 * p];
-      const double* sp = t.data() + 3 * NodeNew[p];
-      for (int i = 0; i < 3; ++i)
-      {
-        z[3 * p + i] = Q[3 * i] * sp[0] + Q[3 * i + 1] * sp[1] + Q[3 * i + 2] * sp[2];
-      }
-    }
-    Mask(z);
-    return;
+    t = LargeLLT.solve(t).eval();
   }
   for (long long p = 0; p < NP; ++p)
   {
     const double* Q = &RelRot[9 * p];
-    const double* sp = s.data() + 3 * p;
+    const double* sp = t.data() + 3 * NodeNew[p];
     for (int i = 0; i < 3; ++i)
     {
       z[3 * p + i] = Q[3 * i] * sp[0] + Q[3 * i + 1] * sp[1] + Q[3 * i + 2] * sp[2];
