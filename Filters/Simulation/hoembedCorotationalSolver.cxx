@@ -76,6 +76,15 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
           bad[e] = 1;
           continue;
         }
+        double* K = &I.Ke[e * D * D];
+        for (int r = 0; r < D; ++r) // exactly symmetric (the products read it either way)
+        {
+          for (int q = r + 1; q < D; ++q)
+          {
+            const double m = 0.5 * (K[r * D + q] + K[q * D + r]);
+            K[r * D + q] = K[q * D + r] = m;
+          }
+        }
         ShapeGradients(N, xe.data(), c, &I.G[e * N * 3]);
         if (lumpedMass)
         {
@@ -355,16 +364,7 @@ bool CorotationalSolver::Step()
             ue[3 * a + i] = l[i] - I.X[3 * pa + i];
           }
         }
-        for (int r = 0; r < D; ++r)
-        {
-          double s = 0.0;
-          const double* Kr = K + r * D;
-          for (int c = 0; c < D; ++c)
-          {
-            s += Kr[c] * ue[c];
-          }
-          w[r] = s;
-        }
+        SymmetricTimes(D, K, ue, w);
         double* f = &I.EF[e * D];
         for (int a = 0; a < N; ++a)
         {

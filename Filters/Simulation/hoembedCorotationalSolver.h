@@ -6,7 +6,8 @@
  *
  * Mechanics: each element e keeps its rest stiffness K_e (hoembedTetElementMatrices.h)
  * and, at every step, the rotation R_e of the polar decomposition of its deformation
- * gradient at the centroid (SVD with a sign fix, stable for inverted elements). The
+ * gradient at the centroid (scaled Newton iteration; SVD with a sign fix for inverted or
+ * nearly flat elements, so it stays stable through inversion). The
  * elastic force is f_e = R_e K_e (R_e^T x_e - X_e) (zero for any rigid motion) and the
  * tangent is approximated by R_e K_e R_e^T. Damping is Rayleigh, C = alpha M + beta K~.
  *
@@ -26,9 +27,12 @@
  * [10, 500]) and the iteration count per step has grown by half, the current matrix is
  * assembled (fixed
  * pattern, element-to-CSR gather map built once) and factorised instead (symbolic
- * analysis reused), and Q becomes the rotation relative to that state. Factor: Eigen's
- * SimplicialLLT below 6000 DOF, SuiteSparse CHOLMOD (supernodal) above when the build
- * found it. The CG stops at |r| <= tol * max(|b|, dt |f_ext|).
+ * analysis reused), and Q becomes the rotation relative to that state. Factor: of the
+ * matrix permuted by a node-level fill-reducing ordering (a node's 3 DOFs stay together),
+ * Eigen's SimplicialLLT on an AMD ordering below 6000 DOF, SuiteSparse CHOLMOD
+ * (supernodal, METIS or AMD, whichever fills less) above when the build found it; the
+ * factor is then copied into 3x3 node blocks (float values above 6000 DOF, double
+ * arithmetic) for the triangular solves. The CG stops at |r| <= tol * max(|b|, dt |f_ext|).
  *
  * StaticSolve: solves f_int(x) = f_ext by repeated linearised solves (the first one is
  * exactly small-strain linear elasticity from the rest state), needs clamped nodes.
@@ -56,6 +60,8 @@ public:
     double Solve = 0.0;    ///< seconds in the preconditioned CG (and factorisation)
     long long Steps = 0;
     long long Iterations = 0; ///< total CG iterations
+    long long Factorizations = 0; ///< numeric factorisations of the preconditioner
+    double Factorization = 0.0;   ///< seconds in them (part of Solve)
   };
 
   CorotationalSolver();

@@ -35,12 +35,40 @@ using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 // Small systems: Eigen's simplicial factor (low per-solve overhead). Large systems:
 // CHOLMOD's supernodal factor when available (much less time to factorise).
-using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+// Both factors are computed on the matrix permuted by a node-level fill-reducing ordering
+// (the three DOFs of a node stay together, so L is made of 3x3 blocks), then copied into
+// BlockFactor for the solves: AMD for the small one, CHOLMOD's choice (AMD / METIS) for
+// the large one.
+using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::NaturalOrdering<int>>;
 #ifdef HOEMBED_HAVE_CHOLMOD
-using LargeFactorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
+// CHOLMOD's supernodal factor, with access to the factor (copied into node blocks).
+class LargeFactorization : public Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>
+{
+public:
+  cholmod_factor* Factor() { return this->m_cholmodFactor; }
+};
 #else
-using LargeFactorization = SmallFactorization;
+using LargeFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 #endif
+
+// A sparse Cholesky factor L (node-permuted DOF order) stored as 3x3 node blocks:
+// per node column J the inverse of its lower-triangular diagonal block and the blocks
+// L(I, J), I > J (row-major 3x3), values stored as T (double for small systems; float
+// for large ones, where the solves are memory-bound: half the traffic, arithmetic stays
+// double, so the preconditioner is still the exact inverse of a fixed SPD matrix).
+// Triangular solves then run on 3-vectors with one index per 9 values (about 4x faster
+// than Eigen's scalar simplicial solve at ~1k DOF).
+template <typename T>
+struct BlockFactor
+{
+  int NB = 0;
+  std::vector<double> DiagInv; // 9 per node
+  std::vector<int> Ptr, Row;   // blocks of column J: Ptr[J] .. Ptr[J+1]
+  std::vector<T> Val;          // 9 per block
+  // CSC lower factor (n = 3 NB columns, any row order within a column)
+  void Build(int n, const int* colPtr, const int* rowIdx, const double* val);
+  void Solve(double* t) const; // in place: t <- L^-T L^-1 t
+};
 constexpr long long LargeSystem = 6000; // DOF from which the large factorisation is used
 
 inline double Seconds(Clock::time_point a, Clock::time_point b)
@@ -64,6 +92,28 @@ void ParallelFor(vtkIdType n, vtkIdType minParallel, F&& f)
   }
 }
 constexpr vtkIdType ParallelCells = 1000;
+
+// w = K l for a symmetric element matrix K (D x D, stored either way): fixed-size Eigen
+// products (vectorised, unrolled) for tet10 (D = 30) and tet4 (D = 12).
+template <int DD>
+inline void SymmetricTimes(const double* K, const double* l, double* w)
+{
+  Eigen::Map<const Eigen::Matrix<double, DD, DD>> Km(K);
+  Eigen::Map<const Eigen::Matrix<double, DD, 1>> lm(l);
+  Eigen::Map<Eigen::Matrix<double, DD, 1>> wm(w);
+  wm.noalias() = Km * lm;
+}
+inline void SymmetricTimes(int D, const double* K, const double* l, double* w)
+{
+  if (D == 30)
+  {
+    SymmetricTimes<30>(K, l, w);
+  }
+  else
+  {
+    SymmetricTimes<12>(K, l, w);
+  }
+}
 constexpr vtkIdType ParallelValues = 1000000;
 } // namespace corotational_detail
 using namespace corotational_detail;
@@ -95,6 +145,14 @@ struct CorotationalSolver::Impl
   RowMat A, M;
   // preconditioner
   SmallFactorization SmallLLT;
+  BlockFactor<double> SmallBlocks;
+  BlockFactor<float> LargeBlocks;
+  bool UseLargeBlocks = false;
+  void BuildLargeBlocks();
+  std::vector<int> NodeNew;   // old node -> position in the small factor's order
+  std::vector<int> PermValue; // A value index -> value index of the permuted lower part
+  ColMat Permuted;            // permuted lower part (pattern fixed after the analysis)
+  Eigen::VectorXd PrecT;      // work vector of ApplyPrec
   LargeFactorization LargeLLT;
   bool Large() const { return 3 * NP >= LargeSystem; }
   bool FactorOK() const
@@ -142,7 +200,8 @@ struct CorotationalSolver::Impl
       ComputeRotations();
     }
   }
-  void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+  void ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z);
+  void Analyze();
   bool Factor(double cM, double cK);
   bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
   void UpdateRelativeRotations();

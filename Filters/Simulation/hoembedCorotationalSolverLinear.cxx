@@ -96,26 +96,33 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
       }
     }
   }
-  ColMat A0c = A0;
   if (!Analyzed)
   {
-    if (Large())
-    {
-      LargeLLT.analyzePattern(A0c);
-    }
-    else
-    {
-      SmallLLT.analyzePattern(A0c);
-    }
+    Analyze();
     Analyzed = true;
+  }
+  double* pv = Permuted.valuePtr();
+  for (long long k = 0; k < A0.nonZeros(); ++k)
+  {
+    if (PermValue[k] >= 0)
+    {
+      pv[PermValue[k]] = val[k];
+    }
   }
   if (Large())
   {
-    LargeLLT.factorize(A0c);
+    LargeLLT.factorize(Permuted);
+    BuildLargeBlocks();
   }
   else
   {
-    SmallLLT.factorize(A0c);
+    SmallLLT.factorize(Permuted);
+    if (SmallLLT.info() == Eigen::Success)
+    {
+      const ColMat& L = SmallLLT.matrixL().nestedExpression();
+      SmallBlocks.Build(static_cast<int>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(),
+        L.valuePtr());
+    }
   }
   JustFactored = true;
   HaveFactor = true;
@@ -134,9 +141,206 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
     FactorQ = NodeRot;
   }
   FactorSeconds = Seconds(t0, Clock::now());
+  T.Factorizations++;
+  T.Factorization += FactorSeconds;
   SolveSinceFactor = 0.0;
   IterationsSinceFactor = 0;
   return FactorOK();
+}
+
+// Node-level AMD ordering of the pattern, the permuted lower part of the DOF matrix (three
+// consecutive DOFs per node) and the map from A's values to it; symbolic analysis.
+void CorotationalSolver::Impl::Analyze()
+{
+  ColMat nodePattern = MN;
+  NodeNew.assign(NP, 0);
+  if (Large())
+  {
+#ifdef HOEMBED_HAVE_CHOLMOD
+    // CHOLMOD's own choice (AMD / METIS, postordered) on the node graph
+    LargeFactorization nodeAnalysis;
+    nodeAnalysis.cholmod().nmethods = 2; // both, the one with the least fill wins
+    nodeAnalysis.cholmod().method[0].ordering = CHOLMOD_AMD;
+    nodeAnalysis.cholmod().method[1].ordering = CHOLMOD_METIS;
+    nodeAnalysis.analyzePattern(nodePattern);
+    const int* perm = nodeAnalysis.Factor() ? static_cast<const int*>(nodeAnalysis.Factor()->Perm) : nullptr;
+    for (long long k = 0; k < NP; ++k)
+    {
+      NodeNew[perm ? perm[k] : k] = static_cast<int>(k);
+    }
+    cholmod_common& c = LargeLLT.cholmod();
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_NATURAL; // the matrix comes permuted
+    c.postorder = 0;                        // keep it so (node blocks stay in order)
+#else
+    std::iota(NodeNew.begin(), NodeNew.end(), 0); // the simplicial factor orders itself
+#endif
+  }
+  else
+  {
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> newToOld;
+    Eigen::AMDOrdering<int> amd;
+    amd(nodePattern, newToOld);
+    for (long long k = 0; k < NP; ++k)
+    {
+      NodeNew[newToOld.indices()[k]] = static_cast<int>(k);
+    }
+  }
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(A.nonZeros() / 2 + 3 * NP);
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  for (long long r = 0; r < 3 * NP; ++r)
+  {
+    const int nr = 3 * NodeNew[r / 3] + static_cast<int>(r % 3);
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      const int c = inner[k];
+      const int nc = 3 * NodeNew[c / 3] + c % 3;
+      if (nr >= nc)
+      {
+        trip.emplace_back(nr, nc, static_cast<double>(k));
+      }
+    }
+  }
+  Permuted.resize(3 * NP, 3 * NP);
+  Permuted.setFromTriplets(trip.begin(), trip.end());
+  Permuted.makeCompressed();
+  PermValue.assign(A.nonZeros(), -1);
+  for (long long j = 0; j < Permuted.nonZeros(); ++j)
+  {
+    PermValue[static_cast<long long>(Permuted.valuePtr()[j])] = static_cast<int>(j);
+  }
+  if (Large())
+  {
+    LargeLLT.analyzePattern(Permuted);
+  }
+  else
+  {
+    SmallLLT.analyzePattern(Permuted);
+  }
+}
+
+template <typename T>
+void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const double* val)
+{
+  NB = n / 3;
+  DiagInv.assign(9 * NB, 0.0);
+  Ptr.assign(NB + 1, 0);
+  Row.clear();
+  Val.clear();
+  std::vector<int> slot(NB, -1);
+  for (int J = 0; J < NB; ++J)
+  {
+    Eigen::Matrix3d Djj = Eigen::Matrix3d::Zero();
+    for (int b = 0; b < 3; ++b)
+    {
+      for (int k = colPtr[3 * J + b]; k < colPtr[3 * J + b + 1]; ++k)
+      {
+        const int I = rowIdx[k] / 3, a = rowIdx[k] % 3;
+        if (I == J)
+        {
+          Djj(a, b) = val[k];
+          continue;
+        }
+        if (slot[I] < 0)
+        {
+          slot[I] = static_cast<int>(Row.size());
+          Row.push_back(I);
+          Val.insert(Val.end(), 9, T(0));
+        }
+        Val[9 * slot[I] + 3 * a + b] = static_cast<T>(val[k]);
+      }
+    }
+    for (int k = Ptr[J]; k < static_cast<int>(Row.size()); ++k)
+    {
+      slot[Row[k]] = -1;
+    }
+    Ptr[J + 1] = static_cast<int>(Row.size());
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> inv(&DiagInv[9 * J]);
+    inv = Djj.triangularView<Eigen::Lower>().solve(Eigen::Matrix3d::Identity());
+  }
+}
+
+template <typename T>
+void BlockFactor<T>::Solve(double* t) const
+{
+  const T* B = Val.data();
+  for (int J = 0; J < NB; ++J) // L y = t
+  {
+    const double* Di = &DiagInv[9 * J];
+    double* tj = t + 3 * J;
+    const double y0 = Di[0] * tj[0];
+    const double y1 = Di[3] * tj[0] + Di[4] * tj[1];
+    const double y2 = Di[6] * tj[0] + Di[7] * tj[1] + Di[8] * tj[2];
+    tj[0] = y0;
+    tj[1] = y1;
+    tj[2] = y2;
+    for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
+    {
+      const T* b = B + 9 * k;
+      double* ti = t + 3 * Row[k];
+      ti[0] -= b[0] * y0 + b[1] * y1 + b[2] * y2;
+      ti[1] -= b[3] * y0 + b[4] * y1 + b[5] * y2;
+      ti[2] -= b[6] * y0 + b[7] * y1 + b[8] * y2;
+    }
+  }
+  for (int J = NB - 1; J >= 0; --J) // L^T x = y
+  {
+    double* tj = t + 3 * J;
+    double s0 = tj[0], s1 = tj[1], s2 = tj[2];
+    for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
+    {
+      const T* b = B + 9 * k;
+      const double* ti = t + 3 * Row[k];
+      s0 -= b[0] * ti[0] + b[3] * ti[1] + b[6] * ti[2];
+      s1 -= b[1] * ti[0] + b[4] * ti[1] + b[7] * ti[2];
+      s2 -= b[2] * ti[0] + b[5] * ti[1] + b[8] * ti[2];
+    }
+    const double* Di = &DiagInv[9 * J];
+    tj[0] = Di[0] * s0 + Di[3] * s1 + Di[6] * s2;
+    tj[1] = Di[4] * s1 + Di[7] * s2;
+    tj[2] = Di[8] * s2;
+  }
+}
+
+template struct BlockFactor<double>;
+template struct BlockFactor<float>;
+
+// Copy CHOLMOD's supernodal factor (of the node-permuted matrix, natural order) into
+// float node blocks; should CHOLMOD have reordered it anyway, the solves stay with it.
+void CorotationalSolver::Impl::BuildLargeBlocks()
+{
+  UseLargeBlocks = false;
+#ifdef HOEMBED_HAVE_CHOLMOD
+  if (LargeLLT.info() != Eigen::Success || !LargeLLT.Factor())
+  {
+    return;
+  }
+  cholmod_common& c = LargeLLT.cholmod();
+  cholmod_factor* F = cholmod_copy_factor(LargeLLT.Factor(), &c);
+  if (!F)
+  {
+    return;
+  }
+  if (cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, F, &c) && F->is_ll && !F->is_super &&
+    static_cast<long long>(F->n) == 3 * NP)
+  {
+    const int* perm = static_cast<const int*>(F->Perm);
+    bool blocked = true; // the factor is in the order of the permuted matrix
+    for (long long k = 0; perm && blocked && k < 3 * NP; ++k)
+    {
+      blocked = perm[k] == k;
+    }
+    if (blocked)
+    {
+      LargeBlocks.Build(static_cast<int>(3 * NP), static_cast<const int*>(F->p),
+        static_cast<const int*>(F->i), static_cast<const double*>(F->x));
+      UseLargeBlocks = true;
+    }
+  }
+  cholmod_free_factor(&F, &c);
+#endif
 }
 
 void CorotationalSolver::Impl::UpdateRelativeRotations()
@@ -157,23 +361,37 @@ void CorotationalSolver::Impl::UpdateRelativeRotations()
   }
 }
 
-void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z) const
+void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::VectorXd& z)
 {
-  Eigen::VectorXd t(3 * NP);
+  // t = Q^T r in the factor's node order, solved in place, z = Q t back in mesh order
+  Eigen::VectorXd& t = PrecT;
+  t.resize(3 * NP);
   for (long long p = 0; p < NP; ++p)
   {
     const double* Q = &RelRot[9 * p];
     const double* rp = r.data() + 3 * p;
+    double* tp = t.data() + 3 * NodeNew[p];
     for (int i = 0; i < 3; ++i)
     {
-      t[3 * p + i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2]; // Q^T r
+      tp[i] = Q[i] * rp[0] + Q[3 + i] * rp[1] + Q[6 + i] * rp[2];
     }
   }
-  Eigen::VectorXd s = Large() ? Eigen::VectorXd(LargeLLT.solve(t)) : Eigen::VectorXd(SmallLLT.solve(t));
+  if (!Large())
+  {
+    SmallBlocks.Solve(t.data());
+  }
+  else if (UseLargeBlocks)
+  {
+    LargeBlocks.Solve(t.data());
+  }
+  else
+  {
+    t = LargeLLT.solve(t).eval();
+  }
   for (long long p = 0; p < NP; ++p)
   {
     const double* Q = &RelRot[9 * p];
-    const double* sp = s.data() + 3 * p;
+    const double* sp = t.data() + 3 * NodeNew[p];
     for (int i = 0; i < 3; ++i)
     {
       z[3 * p + i] = Q[3 * i] * sp[0] + Q[3 * i + 1] * sp[1] + Q[3 * i + 2] * sp[2];
@@ -279,17 +497,7 @@ void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd&
             l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
           }
         }
-        const double* K = &Ke[e * D * D];
-        for (int r = 0; r < D; ++r)
-        {
-          double s = 0.0;
-          const double* Kr = K + r * D;
-          for (int c = 0; c < D; ++c)
-          {
-            s += Kr[c] * l[c];
-          }
-          w[r] = s;
-        }
+        SymmetricTimes(D, &Ke[e * D * D], l, w);
         double* out = &EW[e * D];
         for (int a = 0; a < N; ++a)
         {

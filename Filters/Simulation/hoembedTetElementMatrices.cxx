@@ -282,7 +282,9 @@ void ElementBodyForce(int n, const double* x, double density, const double gvec[
   }
 }
 
-void PolarRotation(const double F[9], double R[9])
+namespace
+{
+void PolarRotationSVD(const double F[9], double R[9])
 {
   const Eigen::Matrix3d Fm = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(F);
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(Fm, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -295,6 +297,68 @@ void PolarRotation(const double F[9], double R[9])
   const Eigen::Matrix3d Rm = U * V.transpose();
   Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> out(R);
   out = Rm;
+}
+}
+
+// Scaled Newton iteration for the orthogonal polar factor (Higham 1986):
+// X <- (g X + X^-T / g) / 2 with g = |det X|^(-1/3); quadratic convergence, ~4-7
+// iterations from a deformation gradient, about 10x cheaper than a 3x3 JacobiSVD. Used
+// when F is safely non-inverted (det F > 1e-6 |F|^3); otherwise (inverted, nearly
+// degenerate) and if it does not converge, the SVD with the sign fix.
+void PolarRotation(const double F[9], double R[9])
+{
+  double X[9];
+  double n2 = 0.0;
+  for (int k = 0; k < 9; ++k)
+  {
+    X[k] = F[k];
+    n2 += F[k] * F[k];
+  }
+  const double nF = std::sqrt(n2);
+  const double det0 = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+    F[2] * (F[3] * F[7] - F[4] * F[6]);
+  if (!(nF > 0.0) || !std::isfinite(nF) || !(det0 > 1e-6 * nF * nF * nF))
+  {
+    PolarRotationSVD(F, R);
+    return;
+  }
+  for (int it = 0; it < 30; ++it)
+  {
+    double C[9]; // cofactor matrix: X^-T = C / det X
+    C[0] = X[4] * X[8] - X[5] * X[7];
+    C[1] = X[5] * X[6] - X[3] * X[8];
+    C[2] = X[3] * X[7] - X[4] * X[6];
+    C[3] = X[2] * X[7] - X[1] * X[8];
+    C[4] = X[0] * X[8] - X[2] * X[6];
+    C[5] = X[1] * X[6] - X[0] * X[7];
+    C[6] = X[1] * X[5] - X[2] * X[4];
+    C[7] = X[2] * X[3] - X[0] * X[5];
+    C[8] = X[0] * X[4] - X[1] * X[3];
+    const double det = X[0] * C[0] + X[1] * C[1] + X[2] * C[2];
+    if (!(det > 0.0))
+    {
+      break;
+    }
+    const double g = it < 6 ? 1.0 / std::cbrt(det) : 1.0; // no scaling near convergence
+    const double a = 0.5 * g, b = 0.5 / (g * det);
+    double change = 0.0, size = 0.0;
+    for (int k = 0; k < 9; ++k)
+    {
+      const double y = a * X[k] + b * C[k];
+      change += (y - X[k]) * (y - X[k]);
+      size += y * y;
+      X[k] = y;
+    }
+    if (change <= 1e-26 * size) // |dX| <= 1e-13 |X|: the next step is below round-off
+    {
+      for (int k = 0; k < 9; ++k)
+      {
+        R[k] = X[k];
+      }
+      return;
+    }
+  }
+  PolarRotationSVD(F, R);
 }
 
 double VonMisesStress(

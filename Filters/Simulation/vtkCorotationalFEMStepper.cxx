@@ -141,6 +141,8 @@ int vtkCorotationalFEMStepper::RequestData(
   this->LastNumberOfSteps = 0;
   this->LastRotationTime = this->LastAssemblyTime = this->LastSolveTime = 0.0;
   this->LastSolverIterations = 0;
+  this->LastNumberOfFactorizations = 0;
+  this->LastFactorizationTime = 0.0;
   Internals& I = *this->Internal;
 
   if (!input || input->GetNumberOfCells() == 0 || !input->GetPoints())
@@ -392,6 +394,8 @@ int vtkCorotationalFEMStepper::RequestData(
   this->LastAssemblyTime = T.Assembly;
   this->LastSolveTime = T.Solve;
   this->LastSolverIterations = static_cast<int>(T.Iterations);
+  this->LastNumberOfFactorizations = static_cast<int>(T.Factorizations);
+  this->LastFactorizationTime = T.Factorization;
 
   // Output.
   output->CopyStructure(input);
@@ -482,4 +486,6 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastAssemblyTime: " << this->LastAssemblyTime << "\n";
   os << indent << "LastSolveTime: " << this->LastSolveTime << "\n";
   os << indent << "LastSolverIterations: " << this->LastSolverIterations << "\n";
+  os << indent << "LastNumberOfFactorizations: " << this->LastNumberOfFactorizations << "\n";
+  os << indent << "LastFactorizationTime: " << this->LastFactorizationTime << "\n";
 }
