@@ -17,7 +17,7 @@ setup:
 
 $(BUILD_DIR)/build.ninja: | setup
 	cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release \
-	  -DPython3_EXECUTABLE=/usr/bin/python3 \
+	  -DPython3_EXECUTABLE=/usr/bin/python3 -DHOEMBED_SIMULATION_NATIVE=ON \
 	  -DHOEMBED_TEST_PYTHON=$(CURDIR)/.venv/bin/python \
 	  -DCMAKE_INSTALL_PREFIX=$(CURDIR)/install
 
