@@ -302,6 +302,8 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     if (S.CellStamp[c] == stamp)
       continue;
     S.CellStamp[c] = stamp;
+    if (!M.CellMayContain(c, v, tol))
+      continue;
     if (test(c, false))
       return true;
   }
@@ -428,7 +430,13 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
       w[k] = v[k] - hit.Point[k];
     const double side = Dot(w, n);
     const double margin = 0.2 * dist * std::sqrt(Dot(n, n));
-    if (side <= margin && LocateCell(M, v, owner, true, out, S))
+    // The pseudo-normal decides only where the curved boundary is an embedded surface.
+    // Curved cells may poke through a boundary face of another part of the mesh (a thin
+    // region whose two sides cross after curving): then v lies outside that face and
+    // still inside a cell. So an "outside" verdict is confirmed against every cell whose
+    // control-point box and slabs hold v (usually none or one: cheap).
+    if (side <= margin ? LocateCell(M, v, owner, true, out, S)
+                       : LocateCell(M, v, -1, true, out, S))
     {
       SetInside(out);
       return;
