@@ -140,22 +140,18 @@ void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* st
   // border (active constraint) may be a local minimum only (seen on the large boundary
   // faces of TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at
   // 0.58). When the face's lower bound leaves room for a nearer point than both this one
-  // and the best so far, solve again from interior starts and keep the nearest.
+  // and the best so far, solve again from the centroid and keep the nearer.
   if (r.Active != 0)
   {
     const double bound = M.FaceLowerBound2(f, v);
     if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
     {
-      static const double starts[4][2] = { { 1.0 / 3.0, 1.0 / 3.0 }, { 0.6, 0.2 },
-        { 0.2, 0.6 }, { 0.2, 0.2 } };
-      for (const auto& s : starts)
-      {
-        ClosestPointResult r2;
-        ClosestPointOnMap(M.FaceMaps[f], v, s, r2);
-        out.Iterations += r2.Iterations;
-        if (r2.Distance2 < r.Distance2)
-          r = r2;
-      }
+      const double centroid[2] = { 1.0 / 3.0, 1.0 / 3.0 };
+      ClosestPointResult r2;
+      ClosestPointOnMap(M.FaceMaps[f], v, centroid, r2);
+      out.Iterations += r2.Iterations;
+      if (r2.Distance2 < r.Distance2)
+        r = r2;
     }
   }
   if (activeOut)
