@@ -51,7 +51,66 @@ void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner,
 }
 
 const int TriEdges[3][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 } };
+
+// Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
+// plane through its corners, oriented away from the opposite corner, and the largest
+// signed height of the Bezier control points above it.
+void ComputeCellSlabs(const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double* out)
+{
+  double cp[10][3];
+  int n = 4;
+  for (int a = 0; a < 4; ++a)
+    for (int d = 0; d < 3; ++d)
+      cp[a][d] = pts[3 * ids[a] + d];
+  if (quadratic)
+    for (int e = 0; e < 6; ++e, ++n)
+      for (int d = 0; d < 3; ++d)
+        cp[n][d] = 2.0 * pts[3 * ids[4 + e] + d] -
+          0.5 * (pts[3 * ids[TetEdgeCorners[e][0]] + d] + pts[3 * ids[TetEdgeCorners[e][1]] + d]);
+  for (int f = 0; f < 4; ++f)
+  {
+    double* s = out + 5 * f;
+    const double* a = cp[TetFaceNodes[f][0]];
+    const double* b = cp[TetFaceNodes[f][1]];
+    const double* c = cp[TetFaceNodes[f][2]];
+    const double* o = cp[TetFaceOpposite[f]];
+    double u[3], w[3], nrm[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      u[d] = b[d] - a[d];
+      w[d] = c[d] - a[d];
+    }
+    nrm[0] = u[1] * w[2] - u[2] * w[1];
+    nrm[1] = u[2] * w[0] - u[0] * w[2];
+    nrm[2] = u[0] * w[1] - u[1] * w[0];
+    const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    for (int k = 0; k < 5; ++k)
+      s[k] = 0.0;
+    if (!(l > 0.0))
+      continue;
+    double side = 0.0;
+    for (int d = 0; d < 3; ++d)
+      side += nrm[d] / l * (o[d] - a[d]);
+    const double sign = side > 0.0 ? -1.0 : 1.0;
+    for (int d = 0; d < 3; ++d)
+      s[d] = sign * nrm[d] / l;
+    s[3] = s[0] * a[0] + s[1] * a[1] + s[2] * a[2];
+    double hi = 0.0;
+    for (int k = 0; k < n; ++k)
+      hi = std::max(hi, s[0] * cp[k][0] + s[1] * cp[k][1] + s[2] * cp[k][2] - s[3]);
+    s[4] = hi;
+  }
+}
 } // namespace
+
+bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
+{
+  const double* s = &this->CellSlabs[20 * c];
+  for (int f = 0; f < 4; ++f, s += 5)
+    if (s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3] > s[4] + tol)
+      return false;
+  return true;
+}
 
 std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
   Id numberOfCells, int nodesPerCell)
@@ -82,6 +141,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
   const bool quadratic = nodesPerCell == 10;
   this->CellMaps.resize(numberOfCells);
   std::vector<double> boxes(6 * numberOfCells);
+  this->CellSlabs.assign(20 * numberOfCells, 0.0);
   double x[30];
   for (Id c = 0; c < numberOfCells; ++c)
   {
@@ -91,6 +151,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
         x[3 * a + d] = points[3 * ids[a] + d];
     MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
     ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
+    ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
   }
   this->CellTree.Build(boxes);
 

@@ -43,6 +43,11 @@ public:
   /// range [lo, hi] of n . x - c over the face's Bezier control points (the face lies in
   /// that slab): 6 doubles n, c, lo, hi.
   std::vector<double> FaceSlabs;
+  /// Per cell, per face of its straight tet (corners only, TetFaceNodes order): the unit
+  /// normal n pointing away from the opposite corner, offset c = n . x_a, and the largest
+  /// n . x - c over the cell's Bezier control points (the curved cell lies below it):
+  /// 4 x 5 doubles. Zero normal for a degenerate face (never excludes).
+  std::vector<double> CellSlabs;
   AabbTree FaceTree;
   AabbTree CellTree;
   double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
@@ -51,6 +56,9 @@ public:
 
   /// Lower bound of the squared distance from v to boundary face f (box and slab).
   double FaceLowerBound2(Id f, const double v[3]) const;
+
+  /// False when v (with slack tol) is certainly outside cell c (CellSlabs); cheap.
+  bool CellMayContain(Id c, const double v[3], double tol) const;
 
   /// Tet map of cell c at pc (tet4/tet10 shape functions over the cell's nodes).
   void CellPoint(Id c, const double pc[3], double x[3]) const;

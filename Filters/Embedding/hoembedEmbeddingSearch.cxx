@@ -136,6 +136,24 @@ void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* st
   ClosestPointOnMap(M.FaceMaps[f], v, start, r);
   out.Iterations += r.Iterations;
   ++out.Visited;
+  // The squared distance over a curved patch is not convex: a solution on the patch's
+  // border (active constraint) may be a local minimum only (seen on the large boundary
+  // faces of TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at
+  // 0.58). When the face's lower bound leaves room for a nearer point than both this one
+  // and the best so far, solve again from the centroid and keep the nearer.
+  if (r.Active != 0)
+  {
+    const double bound = M.FaceLowerBound2(f, v);
+    if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
+    {
+      const double centroid[2] = { 1.0 / 3.0, 1.0 / 3.0 };
+      ClosestPointResult r2;
+      ClosestPointOnMap(M.FaceMaps[f], v, centroid, r2);
+      out.Iterations += r2.Iterations;
+      if (r2.Distance2 < r.Distance2)
+        r = r2;
+    }
+  }
   if (activeOut)
     *activeOut = r.Active;
   if (r.Distance2 < best.Dist2)
@@ -302,6 +320,8 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     if (S.CellStamp[c] == stamp)
       continue;
     S.CellStamp[c] = stamp;
+    if (!M.CellMayContain(c, v, tol))
+      continue;
     if (test(c, false))
       return true;
   }
@@ -428,7 +448,13 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
       w[k] = v[k] - hit.Point[k];
     const double side = Dot(w, n);
     const double margin = 0.2 * dist * std::sqrt(Dot(n, n));
-    if (side <= margin && LocateCell(M, v, owner, true, out, S))
+    // The pseudo-normal decides only where the curved boundary is an embedded surface.
+    // Curved cells may poke through a boundary face of another part of the mesh (a thin
+    // region whose two sides cross after curving): then v lies outside that face and
+    // still inside a cell. So an "outside" verdict is confirmed against every cell whose
+    // control-point box and slabs hold v (usually none or one: cheap).
+    if (side <= margin ? LocateCell(M, v, owner, true, out, S)
+                       : LocateCell(M, v, -1, true, out, S))
     {
       SetInside(out);
       return;

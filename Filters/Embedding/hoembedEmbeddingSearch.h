@@ -20,7 +20,11 @@
  *    may be inside are located in a cell: Algorithm 1 over cells from the closest face's
  *    cell (constrained closest point in the cell, then the neighbour across the face the
  *    solution lies on; visited stamps, explicit queue), then every cell whose box holds
- *    the point. Points within 1e-11 of the mesh diagonal of the boundary count as inside.
+ *    the point. A point the pseudo-normal puts outside is still tested against every
+ *    cell whose control-point box and straight-face slabs (EmbeddingMesh::CellSlabs)
+ *    hold it: a curved mesh whose boundary crosses itself (a cell poking through a
+ *    boundary face elsewhere) has inside points on the outer side of their closest face.
+ *    Points within 1e-11 of the mesh diagonal of the boundary count as inside.
  *    Points classified outside keep the exact boundary distance.
  * 4. Outside points, normal-offset: Newton on (u, v, d) with x(u, v) + d n(u, v) = v,
  *    n the normalised interpolated nodal normal (eq. 7-9), walking across boundary edges

@@ -41,6 +41,9 @@
  * The closest point is the global one: the flood gives each vertex a start (paper
  * Algorithm 2), the walk across faces/edges refines it (Algorithm 1), and a box tree over
  * the boundary faces certifies it. See hoembedEmbeddingSearch.h and hoembedEmbeddingFlood.h.
+ * "Inside the mesh" means inside some cell: where a curved cell pokes through a boundary
+ * face of another part of the mesh (close parts of a thin shape), a point in that cell
+ * is inside even though it lies on the outer side of its closest boundary face.
  *
  * Threading: the flood runs in patches of the surface in parallel with vtkSMPTools.
  * Progress events are fired.

@@ -100,11 +100,11 @@ public:
   ///@{
   /**
    * Keep the coarse surface's triangles as the mesh boundary: TetGen adds no points on
-   * it (its -Y switch; without it if TetGen fails). Default off. On, TetGen no longer
+   * it (its -Y switch; without it if TetGen fails). Default on: TetGen then no longer
    * splits coarse facets into triangles much smaller than their distance to the fine
    * surface, so more boundary mid-edge nodes reach the surface (98.6-99.7% on the real
    * meshes of Benchmarks/bench_mesher.py against 85-99% off) and thin shapes keep their
-   * element count; the boundary then has fewer, larger triangles.
+   * element count; the boundary has fewer, larger triangles.
    */
   vtkSetMacro(PreserveBoundary, bool);
   vtkGetMacro(PreserveBoundary, bool);
@@ -161,7 +161,7 @@ protected:
   int ElementOrder = 2;
   bool CurveBoundary = true;
   bool ProjectCorners = true;
-  bool PreserveBoundary = false;
+  bool PreserveBoundary = true;
   double RadiusEdgeRatio = 1.5;
   double MinDihedralAngle = 10.0;
   double SurfaceDeviationWarning = 0.05;
