@@ -30,17 +30,9 @@ struct Mesh
 
 void Load(vtkUnstructuredGrid* grid, Mesh& m)
 {
-  m.NodesPerCell = grid->GetCellType(0) == VTK_QUADRATIC_TETRA ? 10 : 4;
-  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
-  {
-    vtkIdType npts;
-    const vtkIdType* pts;
-    grid->GetCellPoints(c, npts, pts);
-    m.Conn.insert(m.Conn.end(), pts, pts + npts);
-  }
-  m.Points.resize(3 * grid->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
-    grid->GetPoint(i, &m.Points[3 * i]);
+  const auto conn = hoembed_test::MeshConnectivity(grid, m.NodesPerCell);
+  m.Conn.assign(conn.begin(), conn.end());
+  m.Points = hoembed_test::PointsOf(grid);
   const std::string err =
     m.Topo.Build(m.Conn.data(), grid->GetNumberOfCells(), m.NodesPerCell, grid->GetNumberOfPoints());
   HOEMBED_CHECK(err.empty(), "Build: %s", err.c_str());

@@ -11,6 +11,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -57,6 +58,31 @@ inline std::string DataDir(int argc, char* argv[])
   }
   struct stat st;
   return stat(argv[1], &st) == 0 && S_ISDIR(st.st_mode) ? std::string(argv[1]) : std::string();
+}
+
+/// Cell connectivity of a tet4 / tet10 grid, flattened; `npc` gets the nodes per cell.
+inline std::vector<std::int64_t> MeshConnectivity(vtkUnstructuredGrid* mesh, int& npc)
+{
+  npc = mesh->GetCellType(0) == VTK_QUADRATIC_TETRA ? 10 : 4;
+  std::vector<std::int64_t> conn;
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    mesh->GetCells()->GetCellAtId(c, n, ids);
+    for (int a = 0; a < n; ++a)
+      conn.push_back(ids[a]);
+  }
+  return conn;
+}
+
+/// Point coordinates of a grid, 3 doubles per point.
+inline std::vector<double> PointsOf(vtkUnstructuredGrid* mesh)
+{
+  std::vector<double> p(3 * mesh->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+    mesh->GetPoint(i, &p[3 * i]);
+  return p;
 }
 
 /**

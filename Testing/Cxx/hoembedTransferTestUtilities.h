@@ -4,6 +4,7 @@
 #ifndef hoembedTransferTestUtilities_h
 #define hoembedTransferTestUtilities_h
 
+#include "hoembedTestUtilities.h"
 #include "hoembedBoundaryNormals.h"
 #include "hoembedMeshFingerprint.h"
 #include "hoembedShapeFunctions.h"
@@ -43,20 +44,6 @@ struct EmbeddedVertex
   double UV[2];
 };
 
-inline std::vector<std::int64_t> MeshConnectivity(vtkUnstructuredGrid* mesh, int& npc)
-{
-  npc = mesh->GetCellType(0) == VTK_QUADRATIC_TETRA ? 10 : 4;
-  std::vector<std::int64_t> conn;
-  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    mesh->GetCells()->GetCellAtId(c, n, ids);
-    for (int a = 0; a < n; ++a)
-      conn.push_back(ids[a]);
-  }
-  return conn;
-}
 
 inline std::string Fingerprint(vtkUnstructuredGrid* mesh)
 {
@@ -68,13 +55,6 @@ inline std::string Fingerprint(vtkUnstructuredGrid* mesh)
   return fp.Hex();
 }
 
-inline std::vector<double> PointsOf(vtkUnstructuredGrid* mesh)
-{
-  std::vector<double> p(3 * mesh->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
-    mesh->GetPoint(i, &p[3 * i]);
-  return p;
-}
 
 /// Reference position: VTK's own cell interpolation of the mesh's cell at pc.
 inline void ReferenceLocation(vtkUnstructuredGrid* mesh, vtkIdType cell, const double pc[3], double x[3])
