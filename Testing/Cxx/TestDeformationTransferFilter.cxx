@@ -108,6 +108,31 @@ vtkSmartPointer<vtkPolyData> Run(vtkDeformationTransferFilter* f, vtkPolyData* s
   return f->GetOutput();
 }
 
+// Transfer `surface` onto a random rigid motion of `mesh`; returns the largest distance,
+// relative to `diag`, of the result from the same motion applied to `reference`.
+double RigidError(vtkDeformationTransferFilter* f, vtkPolyData* surface, vtkUnstructuredGrid* mesh,
+  vtkPoints* reference, std::mt19937& rng, double diag)
+{
+  double R[3][3], t[3];
+  RandomRigid(rng, R, t);
+  auto moved = Deformed(mesh, [&](const double* x, double* y) {
+    vtkMath::Multiply3x3(R, x, y);
+    for (int d = 0; d < 3; ++d)
+      y[d] += t[d];
+  });
+  auto out = Run(f, surface, moved);
+  std::vector<double> expect(3 * reference->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < reference->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    reference->GetPoint(i, x);
+    vtkMath::Multiply3x3(R, x, &expect[3 * i]);
+    for (int d = 0; d < 3; ++d)
+      expect[3 * i + d] += t[d];
+  }
+  return MaxDiff(out->GetPoints(), expect) / diag;
+}
+
 // A source of meshes over time: the rest mesh rotated by angle t about z (TIME_STEPS 0,1,2).
 class TimeRotatedMesh : public vtkUnstructuredGridAlgorithm
 {
@@ -211,24 +236,7 @@ void TestIdentityAndRigid(int order, bool barycentric)
   double worstRigid = 0.0;
   for (int trial = 0; trial < 3; ++trial)
   {
-    double R[3][3], t[3];
-    RandomRigid(rng, R, t);
-    auto moved = Deformed(mesh, [&](const double* x, double* y) {
-      vtkMath::Multiply3x3(R, x, y);
-      for (int d = 0; d < 3; ++d)
-        y[d] += t[d];
-    });
-    auto o = Run(f, surface, moved);
-    std::vector<double> expect(3 * surface->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
-    {
-      double x[3];
-      surface->GetPoint(i, x);
-      vtkMath::Multiply3x3(R, x, &expect[3 * i]);
-      for (int d = 0; d < 3; ++d)
-        expect[3 * i + d] += t[d];
-    }
-    const double err = MaxDiff(o->GetPoints(), expect) / diag;
+    const double err = RigidError(f, surface, mesh, surface->GetPoints(), rng, diag);
     worstRigid = std::max(worstRigid, err);
     HOEMBED_CHECK(err < 1e-9, "rigid (tet%d, %s): error %g of the diagonal", order == 2 ? 10 : 4, what, err);
   }
@@ -630,24 +638,7 @@ void TestRealMeshes(const std::string& dir)
         if (rest->GetNumberOfPoints() != n)
           continue;
         std::mt19937 rng(99);
-        double R[3][3], t[3];
-        RandomRigid(rng, R, t);
-        auto moved = Deformed(curved, [&](const double* x, double* y) {
-          vtkMath::Multiply3x3(R, x, y);
-          for (int d = 0; d < 3; ++d)
-            y[d] += t[d];
-        });
-        auto out = Run(f, surface, moved);
-        std::vector<double> expect(3 * n);
-        for (vtkIdType i = 0; i < n; ++i)
-        {
-          double x[3];
-          rest->GetPoint(i, x);
-          vtkMath::Multiply3x3(R, x, &expect[3 * i]);
-          for (int d = 0; d < 3; ++d)
-            expect[3 * i + d] += t[d];
-        }
-        const double err = MaxDiff(out->GetPoints(), expect) / diag;
+        const double err = RigidError(f, surface, curved, rest->GetPoints(), rng, diag);
         std::printf("real mesh %s, tet%d, %s: %lld vertices, rigid error %.3g of the diagonal\n",
           name, order == 2 ? 10 : 4, m, static_cast<long long>(n), err);
         HOEMBED_CHECK(err < 1e-9, "%s tet%d %s: rigid error %g of the diagonal", name,
@@ -686,24 +677,7 @@ void TestRealCurvedMeshes(const std::string& dir)
       const double idErr = MaxDiff(rest->GetPoints(), Coordinates(surface->GetPoints())) / diag;
       HOEMBED_CHECK(idErr < 1e-10, "%s tet%d: identity error %g", name, order == 2 ? 10 : 4, idErr);
       std::mt19937 rng(5);
-      double R[3][3], t[3];
-      RandomRigid(rng, R, t);
-      auto moved = Deformed(mesh, [&](const double* x, double* y) {
-        vtkMath::Multiply3x3(R, x, y);
-        for (int d = 0; d < 3; ++d)
-          y[d] += t[d];
-      });
-      auto out = Run(f, surface, moved);
-      std::vector<double> expect(3 * surface->GetNumberOfPoints());
-      for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
-      {
-        double x[3];
-        surface->GetPoint(i, x);
-        vtkMath::Multiply3x3(R, x, &expect[3 * i]);
-        for (int d = 0; d < 3; ++d)
-          expect[3 * i + d] += t[d];
-      }
-      const double rigidErr = MaxDiff(out->GetPoints(), expect) / diag;
+      const double rigidErr = RigidError(f, surface, mesh, surface->GetPoints(), rng, diag);
       HOEMBED_CHECK(rigidErr < 1e-9, "%s tet%d: rigid error %g", name, order == 2 ? 10 : 4, rigidErr);
       // A smooth non-rigid map (a swirl about z), against the independent reference.
       double c[3];
