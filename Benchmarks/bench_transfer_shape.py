@@ -120,7 +120,7 @@ def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
     for method, kind in variants:
         n, mesh = meshes[kind]
         if use_filter:
-            fine = pv.PolyData(v, faces=np.hstack([np.full((len(tris), 1), 3), tris]).ravel())
+            fine = pv.PolyData(v, faces=np.hstack([np.full((len(tris), 1), 3), tris]).ravel(), deep=True)
             surf = hoembed.embed(fine, mesh, method=method)
             result.setdefault("embedding_max_residual_rel_diag", {})[f"{method} {kind}"] = float(
                 np.max(surf.point_data["EmbeddingResidual"]) / diag)
@@ -179,7 +179,7 @@ def picture(v, tris, exact, outputs, folder):
     clim = [0.0, max(float(np.linalg.norm(outputs[k] - exact, axis=1)[sel].max()) for k in keys)]
     for i, k in enumerate(keys):
         pl.subplot(0, i)
-        m = pv.PolyData(outputs[k], faces=sub_faces)
+        m = pv.PolyData(outputs[k], faces=sub_faces, deep=True)
         m.point_data["error"] = np.linalg.norm(outputs[k] - exact, axis=1)
         pl.add_mesh(m, scalars="error", clim=clim, cmap="viridis", smooth_shading=False,
                     show_scalar_bar=(i == 2))

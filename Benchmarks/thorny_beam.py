@@ -57,7 +57,7 @@ def box_mesh(n, size, order):
         ctype = pv.CellType.TETRA
     k = conn.shape[1]
     cells = np.hstack([np.full((len(conn), 1), k), conn]).ravel().astype(np.int64)
-    return pv.UnstructuredGrid(cells, np.full(len(conn), ctype, np.uint8), pts.astype(float))
+    return pv.UnstructuredGrid(cells, np.full(len(conn), ctype, np.uint8), pts.astype(float), deep=True)
 
 
 def fingerprint(mesh):
@@ -188,7 +188,7 @@ def embed(mesh, n, size, v, p, normals, d, tris, method):
         pc = np.einsum("cij,cj->ci", Tinv[cells], v - x0[cells])
         face = np.full(len(p), -1, np.int8)
         dist = np.zeros(len(p))
-    surf = pv.PolyData(v, faces=np.hstack([np.full((len(tris), 1), 3), tris]).ravel())
+    surf = pv.PolyData(v, faces=np.hstack([np.full((len(tris), 1), 3), tris]).ravel(), deep=True)
     surf.point_data["EmbeddingCellId"] = cells
     surf.point_data["EmbeddingParametricCoords"] = pc
     surf.point_data["EmbeddingDistance"] = dist

@@ -61,7 +61,7 @@ def box_tet_mesh(n=(4, 2, 2), size=(4.0, 1.0, 1.0), order=2, mapping=None):
         points = np.asarray(mapping(points), dtype=float)
     ctype = pv.CellType.QUADRATIC_TETRA if order == 2 else pv.CellType.TETRA
     return pv.UnstructuredGrid(np.hstack(cells).astype(np.int64),
-                               np.full(len(cells), ctype, dtype=np.uint8), points)
+                               np.full(len(cells), ctype, dtype=np.uint8), points, deep=True)
 
 
 @pytest.fixture

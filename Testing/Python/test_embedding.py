@@ -213,7 +213,7 @@ def test_errors(meshes, surface):
     c[[4, 6]] = c[[6, 4]]
     c[[8, 9]] = c[[9, 8]]
     cells[0, 1:] = c
-    inv = pv.UnstructuredGrid(cells.ravel(), m10.celltypes, m10.points)
+    inv = pv.UnstructuredGrid(cells.ravel(), m10.celltypes, m10.points, deep=True)
     with pytest.raises(hoembed.HOEmbedError, match="inverted or degenerate"):
         hoembed.embed(surface, inv)
     with pytest.raises(ValueError):

@@ -155,7 +155,7 @@ def test_non_manifold():
     faces = np.vstack([f, [3, a, b, s.n_points]])
     # a fin on an edge of a closed sphere: that edge has three triangles; the fin's other
     # two edges are open, so both problems are there; either message names the filter.
-    msg = expect_error(pv.PolyData(extra, faces.ravel()))
+    msg = expect_error(pv.PolyData(extra, faces.ravel(), deep=True))
     assert "manifold" in msg or "open" in msg
 
 
@@ -164,7 +164,7 @@ def test_non_manifold_closed():
     pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0, -1, 0], [0, 0, -1]], float)
     tris = [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2), (0, 1, 4), (0, 5, 1), (1, 5, 4), (0, 4, 5)]
     faces = np.hstack([[3, *t] for t in tris])
-    expect_error(pv.PolyData(pts, faces), "not manifold")
+    expect_error(pv.PolyData(pts, faces, deep=True), "not manifold")
 
 
 def test_lines_only():

@@ -168,7 +168,7 @@ def test_bad_mesh_and_state_raise():
     cells[3, [2, 3]] = cells[3, [3, 2]]  # swap two corners of cell 3 (and their mids)
     cells[3, [5, 7]] = cells[3, [7, 5]]
     cells[3, [9, 10]] = cells[3, [10, 9]]
-    bad = pv.UnstructuredGrid(cells.ravel(), mesh.celltypes, mesh.points)
+    bad = pv.UnstructuredGrid(cells.ravel(), mesh.celltypes, mesh.points, deep=True)
     with pytest.raises(hoembed.HOEmbedError, match="cell 3"):
         hoembed.simulate(bad, steps=1)
     hexa = pv.ImageData(dimensions=(3, 3, 3)).cast_to_unstructured_grid()

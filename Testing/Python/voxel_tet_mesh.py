@@ -123,7 +123,7 @@ def _voxel_tet_mesh(surface, n_elements, order, curve_fraction):
         ctype = pv.CellType.TETRA
     cells = np.hstack([np.full((len(conn), 1), conn.shape[1]), conn]).ravel()
     return pv.UnstructuredGrid(cells.astype(np.int64),
-                               np.full(len(conn), ctype, dtype=np.uint8), points)
+                               np.full(len(conn), ctype, dtype=np.uint8), points, deep=True)
 
 
 def linear_copy(grid10):
@@ -133,4 +133,4 @@ def linear_copy(grid10):
     cells = np.hstack([np.full((len(conn), 1), 4), inv.reshape(-1, 4)]).ravel()
     return pv.UnstructuredGrid(cells.astype(np.int64),
                                np.full(len(conn), pv.CellType.TETRA, dtype=np.uint8),
-                               grid10.points[used])
+                               grid10.points[used], deep=True)

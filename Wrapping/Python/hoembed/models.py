@@ -87,7 +87,7 @@ def thorny_tail(rings=360, sectors=128, length=10.0, thickness=1.0, curl=0.6, th
     last = rings - 1
     faces.append(np.column_stack([np.full(sectors, 3), np.full(sectors, north), pid(last, jj),
                                   pid(last, jj + 1)]))
-    surface = pyvista.PolyData(points, np.vstack(faces).ravel())
+    surface = pyvista.PolyData(points, np.vstack(faces).ravel(), deep=True)
     if surface.volume < 0:  # make the normals point outward
         surface = surface.flip_normals()
     return surface
