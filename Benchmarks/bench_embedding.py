@@ -38,6 +38,7 @@ sys.path.insert(0, str(ROOT / "Testing" / "Python"))
 import hoembed  # noqa: E402
 from voxel_tet_mesh import linear_copy, voxel_tet_mesh  # noqa: E402
 from test_embedding import inside_linear_tets  # noqa: E402
+from mesh_checks import distances_to_surface  # noqa: E402
 
 DATA = ROOT.parent / "shared" / "data" / "meshes"
 SURFACES = ["bunny_watertight", "armadillo", "dragon", "fertility", "rocker-arm",
@@ -109,15 +110,7 @@ def exact_tet4(grid4, points):
     """0 inside a cell (exact barycentric test over all cells, numpy), else the distance to
     the boundary triangles (VTK's locator, exact for triangles)."""
     boundary = grid4.extract_surface().triangulate()
-    loc = vtkStaticCellLocator()
-    loc.SetDataSet(boundary)
-    loc.BuildLocator()
-    cp = [0.0, 0.0, 0.0]
-    cid, sub, d2 = reference(0), reference(0), reference(0.0)
-    to_b = np.empty(len(points))
-    for i, p in enumerate(points):
-        loc.FindClosestPoint(p, cp, cid, sub, d2)
-        to_b[i] = np.sqrt(float(d2))
+    to_b = distances_to_surface(boundary, points)
     inside = inside_linear_tets(grid4, points)
     # VTK's own inside test, for the record: it disagrees near the boundary
     sel = vtkSelectEnclosedPoints()

@@ -35,10 +35,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 vtkStandardNewMacro(vtkTet10Mesher);

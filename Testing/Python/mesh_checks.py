@@ -1,7 +1,7 @@
 """Independent checks of a tet10/tet4 mesh against its fine surface (VTK + numpy only)."""
 import numpy as np
 import pyvista as pv
-from vtkmodules.vtkCommonCore import vtkIdList
+from vtkmodules.vtkCommonCore import reference
 from vtkmodules.vtkCommonDataModel import vtkCellLocator, vtkGenericCell
 from vtkmodules.vtkFiltersGeneral import vtkCellValidator
 from vtkmodules.vtkFiltersCore import vtkMassProperties, vtkTriangleFilter
@@ -43,8 +43,7 @@ def distances_to_surface(surface, points):
     cell = vtkGenericCell()
     out = np.empty(len(points))
     cp = [0.0, 0.0, 0.0]
-    import vtkmodules.vtkCommonCore as cc
-    cid, sub, d2 = cc.reference(0), cc.reference(0), cc.reference(0.0)
+    cid, sub, d2 = reference(0), reference(0), reference(0.0)
     for i, p in enumerate(points):
         loc.FindClosestPoint(list(p), cp, cell, cid, sub, d2)
         out[i] = np.sqrt(float(d2))

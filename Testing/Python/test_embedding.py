@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 import pyvista as pv
 from vtkmodules.vtkCommonCore import reference
-from vtkmodules.vtkCommonDataModel import vtkCellLocator
 
 import hoembed
+from mesh_checks import distances_to_surface
 from conftest import box_tet_mesh
 from voxel_tet_mesh import linear_copy, voxel_tet_mesh
 
@@ -55,15 +55,7 @@ def vtk_distance(grid, points):
     (vtkSelectEnclosedPoints and vtkCellLocator on the tets are not exact near the
     boundary: both use tolerances.)"""
     boundary = grid.extract_surface().triangulate()
-    loc = vtkCellLocator()
-    loc.SetDataSet(boundary)
-    loc.BuildLocator()
-    cp = [0.0, 0.0, 0.0]
-    cid, sub, d2 = reference(0), reference(0), reference(0.0)
-    to_boundary = np.empty(len(points))
-    for i, p in enumerate(points):
-        loc.FindClosestPoint(p, cp, cid, sub, d2)
-        to_boundary[i] = np.sqrt(float(d2))
+    to_boundary = distances_to_surface(boundary, points)
     inside = inside_linear_tets(grid, points)
     return np.where(inside, 0.0, to_boundary), to_boundary
 
