@@ -28,6 +28,20 @@ features outside the FE mesh) add to it. The same numbers measured from the inpu
 instead (`vs_input_surface`) add the rest-state error of a mapping that does not
 reproduce the input at rest (barycentric extrapolation on curved tet10 cells).
 
+Accuracy against a finer simulation (`vs_fine_reference`): the distortion numbers above
+cannot tell mapping artifacts from real strain, and tet4 and tet10 deform differently. So
+the same body is also meshed with REFERENCE_FACTOR x as many tet10 elements, solved under
+the same load as the ~1000-element tet10 mesh, and the fine surface carried by it (its
+embedding distances are much smaller, so the mapping matters much less there) is the
+reference. Each variant's deformed surface is compared with it: vertex position error
+(RMS, p95, max, / bounding-box diagonal, and / the reference's largest displacement),
+local shape error (the one-ring measure above, from the reference deformed surface to the
+variant's) and triangle normal error. tet4 is compared twice: under the same load
+(`tet4 + barycentric, same load`: the locking error included) and with its load raised
+as above (`tet4 + barycentric`). The reference is built with both mappings
+(normal-offset and barycentric on the fine mesh); their difference is reported as the
+reference's own uncertainty (`reference_mapping_difference`).
+
 Writes Benchmarks/results/bench_shape_real.json and, under a display (xvfb-run -a),
 Benchmarks/results/bench_shape_real_<mesh>.png (tet4 + barycentric, tet10 + barycentric,
 tet10 + normal-offset side by side, coloured by the local distortion). Prints the JSON.
@@ -51,6 +65,7 @@ RESULTS = HERE / "results"
 MESH_DIR = HERE.parent.parent / "shared" / "data" / "meshes"
 
 N_ELEMENTS = 1000          # tet10 elements
+REFERENCE_FACTOR = 8       # the fine reference mesh has this many times more tet10 elements
 TARGET_DISPLACEMENT = 0.10  # largest tet10 nodal displacement / bbox diagonal
 NU, RHO, G = 0.49, 1000.0, 9.81
 FAR = 0.01                 # "far outside": closest distance to the FE mesh > FAR * diagonal
@@ -274,7 +289,7 @@ def run_case(name, case, render):
     _, u_probe = static_solve(mesh10, masks["tet10"], probe_e, 1.0, case)
     young = probe_e * u_probe / target
     frame10, u10, s10, hist10 = matched_solve(mesh10, masks["tet10"], young, case, target)
-    _, u4_same = static_solve(mesh4, masks["tet4"], young, s10, case)
+    frame4_same, u4_same = static_solve(mesh4, masks["tet4"], young, s10, case)
     frame4, u4, s4, hist4 = matched_solve(mesh4, masks["tet4"], young, case, u10,
                                           scale0=s10 * u10 / u4_same)
     sec["simulate (static, all solves)"] = time.perf_counter() - t0
@@ -351,12 +366,62 @@ def run_case(name, case, render):
                 for s in ("rms", "p95")}
         for label, v in out["variants"].items() if label != "tet10 + normal-offset"}
 
+    out["vs_fine_reference"] = fine_reference(
+        surface, case, young, s10, fe_mesh, embedded, meshes,
+        {"tet10 + normal-offset": frame10, "tet10 + barycentric": frame10,
+         "tet4 + barycentric": frame4, "tet4 + barycentric, same load": frame4_same},
+        diag, sec)
+
     if render:
         try:
             out["picture"] = str(picture(name, surface, deformed, fields, frames, out))
         except Exception as exc:  # rendering problems must not lose the numbers
             out["picture"] = f"not rendered: {exc}"
     return out
+
+
+def fine_reference(surface, case, young, gravity_scale, fe_mesh, embedded, meshes, frames,
+                   diag, sec):
+    """Compare each variant's deformed surface with the surface carried by a simulation on
+    a REFERENCE_FACTOR x finer tet10 mesh under the same load (see the module docstring)."""
+    ref_mesh, sec["mesh_reference"] = fe_mesh(REFERENCE_FACTOR * N_ELEMENTS, 2, "reference")
+    t0 = time.perf_counter()
+    ref_frame, u_ref = static_solve(ref_mesh, clamp_mask(ref_mesh, case), young, gravity_scale,
+                                    case)
+    sec["simulate reference (static)"] = time.perf_counter() - t0
+    ref_surfaces = {}
+    for method in ("normal-offset", "barycentric"):
+        emb = hoembed.embed(surface, ref_mesh, method=method)
+        ref_surfaces[method] = np.asarray(hoembed.transfer(emb, ref_frame).points, dtype=float)
+    y_ref = ref_surfaces["normal-offset"]
+    tris = triangles_of(surface)
+    shape = ShapeDistortion(y_ref, tris)
+
+    def compare(y):
+        err = np.linalg.norm(y - y_ref, axis=1)
+        vd, na = shape(y)
+        return {"position_error_rel_diag": summary(err / diag),
+                "position_error_rel_max_displacement": summary(err / u_ref),
+                "local_shape_error_rel_edge": summary(vd[shape.used]),
+                "normal_error_deg": summary(na[shape.good_tris])}
+
+    variants = {}
+    for label, frame in frames.items():
+        base = label.split(",")[0]
+        y = np.asarray(hoembed.transfer(embedded[base], frame).points, dtype=float)
+        variants[label] = compare(y)
+    return {
+        "reference_mesh": {"cells": int(ref_mesh.n_cells), "nodes": int(ref_mesh.n_points),
+                           "dof": 3 * int(ref_mesh.n_points)},
+        "reference_max_displacement_rel_diag": u_ref / diag,
+        "reference_mapping_difference": compare(ref_surfaces["barycentric"]),
+        "variants": variants,
+        "ratios_vs_tet10_normal_offset": {
+            label: {q: v[q]["rms"] / variants["tet10 + normal-offset"][q]["rms"]
+                    for q in ("position_error_rel_diag", "local_shape_error_rel_edge",
+                              "normal_error_deg")}
+            for label, v in variants.items() if label != "tet10 + normal-offset"},
+    }
 
 
 def picture(name, surface, deformed, fields, frames, out):
@@ -415,6 +480,10 @@ def main(names=None):
                                  "the rest normal rotated by the rotation fitted on its "
                                  "three vertices' one-rings",
             "vs_input_surface": "the same from the input surface (adds the rest-state error)",
+            "vs_fine_reference": f"errors against the fine surface carried by a "
+                                 f"{REFERENCE_FACTOR}x finer tet10 simulation under the "
+                                 "same load: vertex positions, one-ring shape (as above, "
+                                 "from the reference to the variant), triangle normals",
             "outside": "vertices whose closest point on their FE mesh is at a positive "
                        "distance (not inside the FE mesh); triangles with such a vertex",
             "far": f"vertices farther than {FAR} x the bounding-box diagonal from their FE "
