@@ -11,7 +11,17 @@ Variants (all on the same fine surface):
 - barycentric on the same tet10 mesh,
 - barycentric on tet4 with the same number of nodes (16x8x8 cubes: 6144 cells, 1377
   nodes),
-- normal-offset on that tet4 mesh (for reference).
+- normal-offset on that tet4 mesh (for reference),
+- normal-offset on tet10 with the other two nodal-normal modes of
+  vtkDeformationTransferFilter: "rotate" (rest normals rotated by `NodalRotation`, here the
+  polar rotation of D phi at each node, as an ideal stepper would give) and "deform" (rest
+  normals pushed forward by the nodal deformation gradient of the FE mesh).
+
+A twist shears the surface layer: phi tilts the lines that were normal to the rest
+surface, so the thorns lean. The paper's normal-offset (recomputed normals) keeps them
+normal to the deformed surface, so its error has a floor that no FE resolution removes
+(`normal_offset_model_floor`: phi(p) + d n_exact); the "deform" mode follows the material
+lines and has no such floor.
 
 The embeddings are built analytically (Benchmarks/thorny_beam.py: orthogonal projection on
 a straight box mesh, exact), or with vtkEmbeddingCoordinatesFilter (hoembed.embed) when
@@ -79,11 +89,38 @@ def normal_offset_floor(p, nrm, d, kw, eps=1e-6):
     normal-offset transfer gives. Its distance to phi(p + d n) is the part of the
     normal-offset error that comes from the model (phi moving material normal lines off
     the surface normal, e.g. the shear of a twist), not from the FE approximation."""
-    J = np.stack([(phi(p + eps * e, **kw) - phi(p - eps * e, **kw)) / (2 * eps)
-                  for e in np.eye(3)], axis=2)  # J[i] = D phi at p_i
+    J = jacobians(p, kw, eps)  # J[i] = D phi at p_i
     n_def = np.einsum("ikj,ik->ij", np.linalg.inv(J), nrm)  # rows: J^-T n
     n_def /= np.linalg.norm(n_def, axis=1)[:, None]
     return phi(p, **kw) + d[:, None] * n_def
+
+
+def jacobians(x, kw, eps=1e-6):
+    """D phi at the points x (central differences), shape (n, 3, 3)."""
+    return np.stack([(phi(x + eps * e, **kw) - phi(x - eps * e, **kw)) / (2 * eps)
+                     for e in np.eye(3)], axis=2)
+
+
+def deformed_mesh(mesh, kw):
+    """The FE mesh moved by phi, with the point data a stepper gives: Displacement and
+    NodalRotation (here the exact polar rotation of D phi at each node)."""
+    x = np.asarray(mesh.points, dtype=float)
+    out = mesh.copy()
+    out.points = phi(x, **kw)
+    U, _, Vt = np.linalg.svd(jacobians(x, kw))
+    R = U @ Vt
+    out.point_data["Displacement"] = np.asarray(out.points) - x
+    out.point_data["NodalRotation"] = R.reshape(-1, 9)
+    return out
+
+
+# (label, embedding key, normals mode of the transfer)
+TRANSFERS = [("normal-offset tet10", "normal-offset tet10", "recompute"),
+             ("barycentric tet10", "barycentric tet10", "recompute"),
+             ("barycentric tet4", "barycentric tet4", "recompute"),
+             ("normal-offset tet4", "normal-offset tet4", "recompute"),
+             ("normal-offset tet10, rotated normals", "normal-offset tet10", "rotate"),
+             ("normal-offset tet10, deformed normals", "normal-offset tet10", "deform")]
 
 
 def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
@@ -134,12 +171,15 @@ def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
     for name, kw in DEFORMATIONS.items():
         exact = phi(v, **kw)
         res = {"variants": {}}
-        for key, (mesh, surf) in surfaces.items():
-            deformed = mesh.copy()
-            deformed.points = phi(np.asarray(mesh.points), **kw)
-            out = np.asarray(hoembed.transfer(surf, deformed).points)
-            outputs[(name, key)] = out
-            res["variants"][key] = errors(out, exact, tris, thorn_vertex, thorn_tri, diag)
+        moved = {key: deformed_mesh(mesh, kw) for key, (mesh, _) in surfaces.items()}
+        for label, key, normals in TRANSFERS:
+            warn = []
+            out = np.asarray(hoembed.transfer(surfaces[key][1], moved[key], normals=normals,
+                                              warnings=warn).points)
+            if warn:
+                raise RuntimeError(f"{label}: {warn}")
+            outputs[(name, label)] = out
+            res["variants"][label] = errors(out, exact, tris, thorn_vertex, thorn_tri, diag)
         floor = normal_offset_floor(p, nrm, d, kw)
         res["normal_offset_model_floor"] = errors(floor, exact, tris, thorn_vertex, thorn_tri,
                                                   diag)

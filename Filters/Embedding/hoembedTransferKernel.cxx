@@ -299,6 +299,119 @@ void RotateNodalNormals(const double* restNormals, const double* rotations, std:
   }
 }
 
+namespace
+{
+// dx/dxi of a cell (tet10 at parametric point pc, tet4 constant), gathered from `points`.
+void CellJacobian(const std::int64_t* ids, int nodesPerCell, const double* points,
+  const double pc[3], double J[3][3])
+{
+  if (nodesPerCell == 4)
+  {
+    for (int d = 0; d < 3; ++d)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        J[d][k] = points[3 * ids[k + 1] + d] - points[3 * ids[0] + d];
+      }
+    }
+    return;
+  }
+  double x[30];
+  for (int a = 0; a < 10; ++a)
+  {
+    for (int d = 0; d < 3; ++d)
+    {
+      x[3 * a + d] = points[3 * ids[a] + d];
+    }
+  }
+  Tet10Jacobian(x, pc, J);
+}
+} // namespace
+
+void DeformNodalNormals(const TetMeshTopology& topo, const std::int64_t* conn, int nodesPerCell,
+  const double* restPoints, const double* points, const double* restNormals, std::int64_t begin,
+  std::int64_t end, double* out)
+{
+  constexpr int kMaxCells = 64; // cells remembered per node to count each once
+  for (std::int64_t i = begin; i < end; ++i)
+  {
+    double* o = out + 3 * i;
+    o[0] = o[1] = o[2] = 0.0;
+    const double* n0 = restNormals + 3 * i;
+    if (!topo.IsBoundaryNode(i) || (n0[0] == 0.0 && n0[1] == 0.0 && n0[2] == 0.0))
+    {
+      continue;
+    }
+    double Fn[3] = { 0.0, 0.0, 0.0 }; // sum over the cells of F n0
+    std::int64_t seen[kMaxCells];
+    int nseen = 0;
+    for (auto k = topo.NodeFaceOffsets[i]; k < topo.NodeFaceOffsets[i + 1]; ++k)
+    {
+      const std::int64_t cell = topo.BoundaryFaceCell[topo.NodeFaces[k]];
+      bool again = false;
+      for (int s = 0; s < nseen && !again; ++s)
+      {
+        again = seen[s] == cell;
+      }
+      if (again)
+      {
+        continue;
+      }
+      if (nseen < kMaxCells)
+      {
+        seen[nseen++] = cell;
+      }
+      const std::int64_t* ids = conn + static_cast<std::int64_t>(nodesPerCell) * cell;
+      int local = -1;
+      for (int a = 0; a < nodesPerCell && local < 0; ++a)
+      {
+        local = ids[a] == i ? a : -1;
+      }
+      if (local < 0)
+      {
+        continue;
+      }
+      const double* pc = Tet10NodeParametric[local]; // corners: the same for tet4
+      double J0[3][3], J[3][3];
+      CellJacobian(ids, nodesPerCell, restPoints, pc, J0);
+      CellJacobian(ids, nodesPerCell, points, pc, J);
+      const double det = Determinant3(J0);
+      if (!(std::fabs(det) > 0.0))
+      {
+        continue;
+      }
+      // m = J0^-1 n0 (Cramer), then F n0 = J m
+      double inv[3][3];
+      inv[0][0] = (J0[1][1] * J0[2][2] - J0[1][2] * J0[2][1]) / det;
+      inv[0][1] = (J0[0][2] * J0[2][1] - J0[0][1] * J0[2][2]) / det;
+      inv[0][2] = (J0[0][1] * J0[1][2] - J0[0][2] * J0[1][1]) / det;
+      inv[1][0] = (J0[1][2] * J0[2][0] - J0[1][0] * J0[2][2]) / det;
+      inv[1][1] = (J0[0][0] * J0[2][2] - J0[0][2] * J0[2][0]) / det;
+      inv[1][2] = (J0[0][2] * J0[1][0] - J0[0][0] * J0[1][2]) / det;
+      inv[2][0] = (J0[1][0] * J0[2][1] - J0[1][1] * J0[2][0]) / det;
+      inv[2][1] = (J0[0][1] * J0[2][0] - J0[0][0] * J0[2][1]) / det;
+      inv[2][2] = (J0[0][0] * J0[1][1] - J0[0][1] * J0[1][0]) / det;
+      double m[3];
+      for (int r = 0; r < 3; ++r)
+      {
+        m[r] = inv[r][0] * n0[0] + inv[r][1] * n0[1] + inv[r][2] * n0[2];
+      }
+      for (int r = 0; r < 3; ++r)
+      {
+        Fn[r] += J[r][0] * m[0] + J[r][1] * m[1] + J[r][2] * m[2];
+      }
+    }
+    const double len = std::sqrt(Fn[0] * Fn[0] + Fn[1] * Fn[1] + Fn[2] * Fn[2]);
+    if (len > 0.0 && std::isfinite(len))
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        o[d] = Fn[d] / len;
+      }
+    }
+  }
+}
+
 std::int64_t CountInvertedCells(const std::int64_t* conn, int nodesPerCell, const double* points,
   std::int64_t begin, std::int64_t end)
 {

@@ -104,6 +104,22 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void RotateNodalNormals(const double* restNormals
   const double* rotations, std::int64_t begin, std::int64_t end, double* out);
 
 /**
+ * Nodal normals pushed forward by the deformation, as material lines: for nodes
+ * [begin, end), out_I = normalise(F_I restNormals_I), F_I = dx/dX at node I averaged over
+ * the cells of the boundary faces around I (each cell once; tet10: the isoparametric
+ * Jacobians of the deformed and the rest cell at the node's parametric point, F =
+ * J J_rest^-1; tet4: the constant F of the cell). A rigid motion F = R gives
+ * R restNormals_I exactly; a shear tilts the normal with the material, as the deformation
+ * itself tilts the lines normal to the rest surface. Interior nodes, nodes with a zero
+ * rest normal and nodes whose cells are all degenerate at rest get (0, 0, 0).
+ * `connectivity` holds nodesPerCell ids per cell, the points 3 doubles per node.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void DeformNodalNormals(const TetMeshTopology& topology,
+  const std::int64_t* connectivity, int nodesPerCell, const double* restPoints,
+  const double* points, const double* restNormals, std::int64_t begin, std::int64_t end,
+  double* out);
+
+/**
  * Number of cells in [begin, end) that are inverted or degenerate: det J <= 0 at one of the
  * corners or at the centroid (tet10), or the constant det J <= 0 (tet4).
  */

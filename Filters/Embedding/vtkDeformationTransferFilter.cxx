@@ -482,19 +482,30 @@ int vtkDeformationTransferFilter::RequestData(
   const bool offsets = I.PlanHasOffsets && I.PlanMethod == "normal-offset";
   if (offsets)
   {
-    bool rotate = this->NormalMode == ROTATE_NORMALS;
+    // ROTATE_NORMALS and DEFORM_NORMALS start from the rest normals (rest points x - u).
+    const bool rotate = this->NormalMode == ROTATE_NORMALS;
+    bool fromRest = this->NormalMode != RECOMPUTE_NORMALS;
     vtkDataArray* rot = mesh->GetPointData()->GetArray("NodalRotation");
     vtkDataArray* disp = mesh->GetPointData()->GetArray("Displacement");
-    if (rotate &&
-      (!rot || rot->GetNumberOfComponents() != 9 || rot->GetNumberOfTuples() != numMeshPoints ||
-        !disp || disp->GetNumberOfComponents() != 3 || disp->GetNumberOfTuples() != numMeshPoints))
+    const bool haveDisp =
+      disp && disp->GetNumberOfComponents() == 3 && disp->GetNumberOfTuples() == numMeshPoints;
+    const bool haveRot =
+      rot && rot->GetNumberOfComponents() == 9 && rot->GetNumberOfTuples() == numMeshPoints;
+    if (rotate && !(haveRot && haveDisp))
     {
       vtkWarningMacro("NormalMode is ROTATE_NORMALS but the FE mesh lacks point data NodalRotation "
                       "(9 components) or Displacement (3 components): recomputing the normals "
                       "from the deformed boundary");
-      rotate = false;
+      fromRest = false;
     }
-    if (!rotate)
+    else if (fromRest && !haveDisp)
+    {
+      vtkWarningMacro("NormalMode is DEFORM_NORMALS but the FE mesh lacks point data "
+                      "Displacement (3 components): recomputing the normals from the deformed "
+                      "boundary");
+      fromRest = false;
+    }
+    if (!fromRest)
     {
       hoembed::ComputeBoundaryNodeNormals(I.Topology, pts, I.NodalNormals.data());
     }
@@ -542,6 +553,19 @@ int vtkDeformationTransferFilter::RequestData(
         hoembed::ComputeBoundaryNodeNormals(I.Topology, I.RestPoints.data(), I.RestNormals.data());
         I.RestValid = true;
       }
+      if (!rotate) // DEFORM_NORMALS
+      {
+        const double* rest = I.RestNormals.data();
+        const double* restPts = I.RestPoints.data();
+        const std::int64_t* conn = I.Conn.data();
+        double* nn = I.NodalNormals.data();
+        vtkSMPTools::For(0, numMeshPoints, 1024, [&](vtkIdType b, vtkIdType e) {
+          hoembed::DeformNodalNormals(I.Topology, conn, npc, restPts, pts, rest, b, e, nn);
+        });
+      }
+    }
+    if (fromRest && rotate)
+    {
       // Rotations as contiguous doubles (copied into a reused buffer if stored otherwise).
       const double* rotations = nullptr;
       auto* rotDouble = vtkDoubleArray::SafeDownCast(rot);
@@ -696,7 +720,10 @@ void vtkDeformationTransferFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "NormalMode: "
-     << (this->NormalMode == ROTATE_NORMALS ? "ROTATE_NORMALS" : "RECOMPUTE_NORMALS") << "\n";
+     << (this->NormalMode == ROTATE_NORMALS
+            ? "ROTATE_NORMALS"
+            : (this->NormalMode == DEFORM_NORMALS ? "DEFORM_NORMALS" : "RECOMPUTE_NORMALS"))
+     << "\n";
   os << indent << "ComputePointNormals: " << (this->ComputePointNormals ? "On" : "Off") << "\n";
   os << indent << "CheckInvertedElements: " << (this->CheckInvertedElements ? "On" : "Off")
      << "\n";

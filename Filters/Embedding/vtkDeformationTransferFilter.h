@@ -20,7 +20,7 @@
  *   VTK_TETRA, the same points and cells as the rest mesh of the embedding (its
  *   fingerprint must match; coordinates may differ). Optional point data for
  *   NormalMode ROTATE_NORMALS: `NodalRotation` (9 components, row-major) and
- *   `Displacement` (3 components).
+ *   `Displacement` (3 components); for DEFORM_NORMALS: `Displacement`.
  *
  * Output: vtkPolyData with the surface's topology (shared, not copied) and point, cell and
  * field data passed through, except the point arrays named `Embedding*` (the embedding
@@ -38,6 +38,15 @@
  *     x - `Displacement` and kept between frames; they are recomputed only when those
  *     rest points change (by more than 1e-9 of the mesh size) or the topology changes.
  *     Without both arrays the filter warns and recomputes the normals.
+ *   - DEFORM_NORMALS (beyond the paper): the rest nodal normals pushed forward by the
+ *     deformation gradient F = dx/dX at the node (averaged over the cells of the boundary
+ *     faces around it, hoembed::DeformNodalNormals) and normalised: the offset follows the
+ *     material line that was normal to the rest surface. It equals the other two modes
+ *     for rigid motions and for deformations without shear at the surface (bending), and
+ *     follows a shear of the surface layer (a twist tilts the lines normal to the rest
+ *     surface; RECOMPUTE_NORMALS keeps the offsets normal to the deformed surface instead,
+ *     ROTATE_NORMALS follows only the rotation). Needs `Displacement` (rest points, as
+ *     for ROTATE_NORMALS); without it the filter warns and recomputes the normals.
  * - barycentric method: v' = p'.
  * - with ComputePointNormals on, area-weighted vertex normals of the output polygons
  *   (float array `Normals`, the active point normals) for rendering.
@@ -82,18 +91,22 @@ public:
   enum NormalModes
   {
     RECOMPUTE_NORMALS = 0,
-    ROTATE_NORMALS = 1
+    ROTATE_NORMALS = 1,
+    DEFORM_NORMALS = 2
   };
 
   ///@{
   /**
    * How the deformed nodal normals are obtained: RECOMPUTE_NORMALS (default) from the
-   * deformed boundary, ROTATE_NORMALS from the rest normals and `NodalRotation`.
+   * deformed boundary, ROTATE_NORMALS from the rest normals and `NodalRotation`,
+   * DEFORM_NORMALS from the rest normals pushed forward by the nodal deformation gradient
+   * (needs `Displacement`).
    */
-  vtkSetClampMacro(NormalMode, int, RECOMPUTE_NORMALS, ROTATE_NORMALS);
+  vtkSetClampMacro(NormalMode, int, RECOMPUTE_NORMALS, DEFORM_NORMALS);
   vtkGetMacro(NormalMode, int);
   void SetNormalModeToRecompute() { this->SetNormalMode(RECOMPUTE_NORMALS); }
   void SetNormalModeToRotate() { this->SetNormalMode(ROTATE_NORMALS); }
+  void SetNormalModeToDeform() { this->SetNormalMode(DEFORM_NORMALS); }
   ///@}
 
   ///@{

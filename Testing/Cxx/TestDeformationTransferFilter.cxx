@@ -342,6 +342,99 @@ void TestAgainstReference(int order)
     "fallback does not recompute the normals");
 }
 
+// DEFORM_NORMALS: for an affine map y = A x + b the isoparametric deformation gradient is A
+// at every node, so the deformed nodal normals must be normalise(A n_rest); the reference
+// applies them with VTK's interpolation and the Core normal field. A shear A makes them
+// differ from the recomputed (surface) normals, a rotation A must give a rigid motion.
+void TestDeformNormals(int order)
+{
+  const int tet = order == 2 ? 10 : 4;
+  auto mesh = MakeBoxTetMesh(4, 2, 2, 4.0, 1.0, 1.0, order, Curve);
+  std::vector<EmbeddedVertex> truth;
+  auto surface = MakeEmbeddedSurface(
+    mesh, [](const double* p) { return 0.2 * std::cos(3.0 * p[0]) + 0.1; }, 30, truth);
+  const double diag = Diagonal(surface);
+  auto rest = PointsOf(mesh);
+  std::vector<double> restNormals(rest.size());
+  {
+    int npc;
+    auto conn = MeshConnectivity(mesh, npc);
+    hoembed::TetMeshTopology topo;
+    topo.Build(conn.data(), mesh->GetNumberOfCells(), npc, mesh->GetNumberOfPoints());
+    hoembed::ComputeBoundaryNodeNormals(topo, rest.data(), restNormals.data());
+  }
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  const double shear[3][3] = { { 1.0, 0.1, 0.35 }, { -0.05, 1.1, 0.2 }, { 0.3, 0.0, 0.9 } };
+  const double rotation[3][3] = { { c, -s, 0.0 }, { s * 0.6, c * 0.6, 0.8 }, { -s * 0.8, -c * 0.8, 0.6 } };
+  for (int which = 0; which < 2; ++which)
+  {
+    const auto& A = which == 0 ? shear : rotation;
+    auto moved = Deformed(mesh, [&](const double* x, double* y) {
+      for (int d = 0; d < 3; ++d)
+        y[d] = A[d][0] * x[0] + A[d][1] * x[1] + A[d][2] * x[2] + 0.5 * (d + 1);
+    });
+    vtkNew<vtkDoubleArray> disp;
+    disp->SetName("Displacement");
+    disp->SetNumberOfComponents(3);
+    disp->SetNumberOfTuples(mesh->GetNumberOfPoints());
+    std::vector<double> expect(rest.size(), 0.0);
+    for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+    {
+      double y[3];
+      moved->GetPoint(i, y);
+      const double u[3] = { y[0] - rest[3 * i], y[1] - rest[3 * i + 1], y[2] - rest[3 * i + 2] };
+      disp->SetTuple(i, u);
+      double m[3];
+      vtkMath::Multiply3x3(A, &restNormals[3 * i], m);
+      const double len = vtkMath::Norm(m);
+      for (int d = 0; d < 3 && len > 0.0; ++d)
+        expect[3 * i + d] = m[d] / len;
+    }
+    moved->GetPointData()->AddArray(disp);
+    vtkNew<vtkDeformationTransferFilter> f;
+    f->SetNormalModeToDeform();
+    Messages msg;
+    msg.Watch(f);
+    auto out = Run(f, surface, moved);
+    HOEMBED_CHECK(msg.Warnings.empty(), "DEFORM_NORMALS (tet%d) warned: %s", tet,
+      msg.Warnings.empty() ? "" : msg.Warnings[0].c_str());
+    const double err = MaxDiff(out->GetPoints(), ReferenceTransfer(moved, truth, expect)) / diag;
+    HOEMBED_CHECK(err < 1e-12, "deformed normals (tet%d, %s): differ from normalise(A n) by %g", tet,
+      which == 0 ? "shear" : "rotation", err);
+    vtkNew<vtkDeformationTransferFilter> g; // recomputed surface normals
+    auto surfaceNormals = Run(g, surface, moved);
+    const double diff = MaxDiff(out->GetPoints(), Coordinates(surfaceNormals->GetPoints())) / diag;
+    if (which == 0)
+    {
+      HOEMBED_CHECK(diff > 1e-3, "deformed normals (tet%d) equal the recomputed ones under a shear "
+                                 "(%g): test cannot fail", tet, diff);
+    }
+    else
+    {
+      HOEMBED_CHECK(diff < 1e-12, "deformed normals (tet%d) differ from the recomputed ones under "
+                                  "a rotation (%g)", tet, diff);
+    }
+    std::printf("DEFORM_NORMALS, tet%d, %s: %.3g from the reference, %.3g from the recomputed "
+                "normals\n", tet, which == 0 ? "shear" : "rotation", err, diff);
+  }
+  // Without Displacement: a warning naming it, and the recomputed normals.
+  auto plain = Deformed(mesh, [](const double* x, double* y) {
+    y[0] = x[0] + 0.2 * x[2];
+    y[1] = x[1];
+    y[2] = x[2];
+  });
+  vtkNew<vtkDeformationTransferFilter> k;
+  Messages msg;
+  msg.Watch(k);
+  k->SetNormalModeToDeform();
+  auto out = Run(k, surface, plain);
+  HOEMBED_CHECK(!msg.Warnings.empty() && msg.Warnings[0].find("Displacement") != std::string::npos,
+    "no warning for DEFORM_NORMALS without Displacement");
+  vtkNew<vtkDeformationTransferFilter> g;
+  HOEMBED_CHECK(MaxDiff(out->GetPoints(), Coordinates(Run(g, surface, plain)->GetPoints())) / diag < 1e-14,
+    "DEFORM_NORMALS fallback does not recompute the normals");
+}
+
 void TestTimeAndCaching()
 {
   auto mesh = MakeBoxTetMesh(3, 2, 2, 3.0, 1.0, 1.0, 2, Curve);
@@ -708,6 +801,7 @@ int main(int argc, char* argv[])
     TestIdentityAndRigid(order, false);
     TestIdentityAndRigid(order, true);
     TestAgainstReference(order);
+    TestDeformNormals(order);
   }
   TestTimeAndCaching();
   TestPointNormals();

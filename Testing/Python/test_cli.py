@@ -15,7 +15,8 @@ def run_cli(*args, cwd=None):
 def test_help_explains_options():
     out = run_cli("run", "--help")
     assert out.returncode == 0
-    for opt in ("--elements", "--young", "--poisson", "--clamp-axis", "--steps", "--output"):
+    for opt in ("--elements", "--young", "--poisson", "--clamp-axis", "--steps", "--output",
+                "--normals"):
         assert opt in out.stdout
 
 
@@ -55,7 +56,7 @@ def test_small_run_writes_series(tmp_path):
     pv.Sphere(radius=1.0, theta_resolution=60, phi_resolution=60).save(s)
     outdir = tmp_path / "out"
     out = run_cli("run", str(s), "--elements", "200", "--steps", "3", "--clamp-axis", "z",
-                  "--no-tet4", "--output", str(outdir))
+                  "--no-tet4", "--normals", "deform", "--output", str(outdir))
     assert out.returncode == 0, out.stderr
     summary = json.loads((outdir / "summary.json").read_text())
     assert summary["frames"] == 4

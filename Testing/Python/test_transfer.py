@@ -214,6 +214,37 @@ def test_rotate_normals(setup):
     assert np.abs(out.points - (surf.points @ R.T + t)).max() < 1e-9 * surf.length
 
 
+def test_deform_normals(setup):
+    """normals="deform": rigid motions stay exact; under a shear of the surface layer the
+    offsets lean with the material (unlike the recomputed surface normals); without
+    Displacement a warning and the recomputed normals (exactness against normalise(A n) is
+    checked in cxx.TestDeformationTransferFilter)."""
+    mesh, rng = setup
+    surf = embedded_box_surface(mesh, SIZE, rng)
+    R, t = random_rigid(rng)
+    m = moved(mesh, lambda x: x @ R.T + t)
+    m.point_data["Displacement"] = np.asarray(m.points) - np.asarray(mesh.points)
+    warnings = []
+    out = hoembed.transfer(surf, m, normals="deform", warnings=warnings)
+    assert not warnings
+    assert np.abs(out.points - (surf.points @ R.T + t)).max() < 1e-9 * surf.length
+    A = np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    m2 = moved(mesh, lambda x: x @ A.T)
+    m2.point_data["Displacement"] = np.asarray(m2.points) - np.asarray(mesh.points)
+    dfm = hoembed.transfer(surf, m2, normals="deform")
+    rec = hoembed.transfer(surf, m2, normals="recompute")
+    assert np.abs(dfm.points - rec.points).max() > 1e-3
+    # Closer to the material map A v than the recomputed normals are.
+    exact = np.asarray(surf.points) @ A.T
+    assert (np.linalg.norm(dfm.points - exact, axis=1).mean()
+            < np.linalg.norm(rec.points - exact, axis=1).mean())
+    warnings = []
+    out = hoembed.transfer(surf, moved(mesh, lambda x: x @ A.T), normals="deform",
+                           warnings=warnings)
+    assert any("Displacement" in w for w in warnings)
+    assert np.abs(out.points - rec.points).max() < 1e-12 * surf.length
+
+
 def test_point_normals(setup):
     mesh, rng = setup
     surf = embedded_box_surface(mesh, SIZE, rng)
@@ -260,6 +291,8 @@ def test_vtk_pipeline_class():
     assert alg.GetNormalMode() == 0 and not alg.GetComputePointNormals()
     alg.SetNormalModeToRotate()
     assert alg.GetNormalMode() == 1
+    alg.SetNormalModeToDeform()
+    assert alg.GetNormalMode() == alg.DEFORM_NORMALS == 2
 
 
 def test_saved_embedding_round_trip(setup, tmp_path):

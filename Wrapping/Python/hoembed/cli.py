@@ -64,6 +64,13 @@ def _parser():
                         help="thickness of the clamped end, as a fraction of the extent")
         sp.add_argument("--clamp-sphere", type=float, nargs=4, default=None,
                         metavar=("X", "Y", "Z", "R"), help="clamp the nodes inside a sphere")
+        sp.add_argument("--normals", choices=("recompute", "rotate", "deform"),
+                        default="recompute",
+                        help="deformed normal field of the transfer: recompute (the paper's "
+                             "smooth normals of the deformed boundary, default), rotate "
+                             "(rest normals rotated by the nodal rotations) or deform (rest "
+                             "normals pushed forward by the nodal deformation gradient: "
+                             "surface detail leans with a shear of the surface)")
         sp.add_argument("--no-picture", action="store_true", help="skip the comparison picture")
         sp.add_argument("--no-tet4", action="store_true",
                         help="skip the tet4 + barycentric baseline (and the picture)")
@@ -149,7 +156,7 @@ def _simulate_and_transfer(hoembed, mesh, embedded, args, mask, label):
     t0 = time.perf_counter()
     surfaces = []
     for f in frames:
-        s = hoembed.transfer(embedded, f)
+        s = hoembed.transfer(embedded, f, normals=args.normals)
         s.field_data["TimeValue"] = f.field_data["TimeValue"]
         surfaces.append(s)
     return frames, surfaces, t_sim, time.perf_counter() - t0

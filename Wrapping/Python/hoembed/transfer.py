@@ -7,7 +7,7 @@ __all__ = ["transfer"]
 from ._errors import run_filter
 from .hoembedFiltersEmbedding import vtkDeformationTransferFilter
 
-_NORMAL_MODES = {"recompute": 0, "rotate": 1}
+_NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
 
 
 def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False,
@@ -24,10 +24,13 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     deformed_mesh : pyvista.UnstructuredGrid or vtkUnstructuredGrid
         The FE mesh the surface was embedded in (same points and cells, tet10 or tet4),
         with deformed coordinates.
-    normals : {"recompute", "rotate"}
+    normals : {"recompute", "rotate", "deform"}
         ``"recompute"`` (default): smooth nodal normals of the deformed curved boundary.
         ``"rotate"``: rest nodal normals rotated by the mesh's ``NodalRotation`` point data
         (needs ``Displacement`` too; falls back to recompute with a warning otherwise).
+        ``"deform"``: rest nodal normals pushed forward by the nodal deformation gradient
+        (needs ``Displacement``): offsets follow the material lines that were normal to
+        the rest surface, so a shear of the surface (a twist) tilts them too.
     compute_point_normals : bool
         Add area-weighted point normals ``Normals`` for rendering (default False).
     warnings : list, optional
@@ -52,7 +55,7 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
     if normals not in _NORMAL_MODES:
-        raise ValueError(f"normals must be 'recompute' or 'rotate', not {normals!r}")
+        raise ValueError(f"normals must be 'recompute', 'rotate' or 'deform', not {normals!r}")
     alg = vtkDeformationTransferFilter()
     alg.SetInputData(0, embedded_surface)
     alg.SetInputData(1, deformed_mesh)
