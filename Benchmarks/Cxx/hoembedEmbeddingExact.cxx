@@ -221,6 +221,7 @@ int main(int argc, char* argv[])
   double maxErr = 0.0, maxRes = 0.0, maxCert = 0.0, maxResDiff = 0.0;
   long totalNodes = 0, maxNodes = 0;
   std::vector<std::pair<double, Id>> worst;
+  std::vector<Id> vtkVerdict; // vertices where VTK's inside verdict differs
   for (Id i = 0; i < nv; ++i)
   {
     const PerVertex& q = pv[i];
@@ -250,7 +251,9 @@ int main(int argc, char* argv[])
         ++insideMismatchMaterial;
     }
     vtkDis += q.VtkDisagree > 0;
-    vtkVertexDis += q.VtkDisagree > 0 && q.InsideVtk != q.Inside;
+    if (q.InsideVtk != q.Inside && vtkVerdict.size() < 5)
+      vtkVerdict.push_back(i);
+    vtkVertexDis += q.InsideVtk != q.Inside;
     vtkOnlyInside += q.InsideVtk && !q.Inside;
     depthLim += q.DepthLimited > 0;
     nodeLim += q.NodeLimited;
@@ -293,6 +296,16 @@ int main(int argc, char* argv[])
   std::printf("  \"bb_nodes_mean\": %.1f, \"bb_nodes_max\": %ld, \"vertices_depth_limited\": %ld, "
               "\"vertices_node_limited\": %ld,\n",
     double(totalNodes) / double(nv), maxNodes, depthLim, nodeLim);
+  std::printf("  \"vtk_verdict_differs\": [");
+  for (size_t k = 0; k < vtkVerdict.size(); ++k)
+  {
+    const PerVertex& q = pv[vtkVerdict[k]];
+    std::printf("%s{\"vertex\": %lld, \"inside_own\": %s, \"inside_vtk\": %s, "
+                "\"boundary_distance_rel\": %.3e}",
+      k ? ", " : "", static_cast<long long>(vtkVerdict[k]), q.Inside ? "true" : "false",
+      q.InsideVtk ? "true" : "false", q.Upper / diag);
+  }
+  std::printf("],\n");
   std::printf("  \"worst\": [");
   for (size_t k = 0; k < std::min<size_t>(8, worst.size()); ++k)
   {

@@ -16,6 +16,12 @@
 // single start misses on at least a few of its points (so it can fail), then checks the
 // filter on each point alone (an isolated vertex: no hint, the usual start) and on all
 // of them as one triangulated patch (starts from the neighbours, paper Algorithm 2).
+//
+// The same one dimension up (TestCurvedCell): a strongly curved, valid tet10 where the
+// inside test's solve from the straight tet's coordinates stops on the cell's border for
+// points inside the cell (seen on bunny_watertight at ~1000 elements: a vertex 0.083
+// inside reported outside). The points are built inside, x(pc) with VTK's own
+// vtkQuadraticTetra; the filter must report distance 0 and recover the cell.
 #include "hoembedTestUtilities.h"
 
 #include "hoembedClosestPoint.h"
@@ -90,8 +96,107 @@ double ClosestDistanceOf(vtkPolyData* out, vtkIdType i)
 }
 } // namespace
 
+// Mid-edge nodes far from the straight edges (det J >= 0.15 over the cell, checked).
+const double CurvedCell[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+  { 0.359, -0.404, -0.235 }, { 0.788, 0.748, -0.507 }, { 0.008, 0.597, -0.540 },
+  { 0.248, -0.355, 0.558 }, { 0.863, -0.270, 0.953 }, { -0.196, 0.180, 0.058 } };
+
+double MinDetJ(vtkQuadraticTetra* qt, const double (*nodes)[3])
+{
+  double minDet = 1e300;
+  const int n = 12;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j)
+      for (int k = 0; i + j + k <= n; ++k)
+      {
+        const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+        double d[30];
+        qt->InterpolationDerivs(pc, d);
+        double J[3][3] = {};
+        for (int a = 0; a < 10; ++a)
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+              J[r][c] += d[10 * c + a] * nodes[a][r];
+        minDet = std::min(minDet,
+          J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+            J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+            J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]));
+      }
+  return minDet;
+}
+
+void TestCurvedCell()
+{
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  vtkIdType ids[10];
+  vtkNew<vtkQuadraticTetra> qt;
+  for (int a = 0; a < 10; ++a)
+  {
+    ids[a] = pts->InsertNextPoint(CurvedCell[a]);
+    qt->GetPoints()->SetPoint(a, CurvedCell[a]);
+    qt->GetPointIds()->SetId(a, a);
+  }
+  grid->SetPoints(pts);
+  grid->InsertNextCell(VTK_QUADRATIC_TETRA, 10, ids);
+  const double minDet = MinDetJ(qt, CurvedCell);
+  HOEMBED_CHECK(minDet > 0.1, "curved cell not valid: min det J %g", minDet);
+
+  hoembed::EmbeddingMesh em;
+  std::vector<hoembed::EmbeddingMesh::Id> conn = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9 };
+  const std::string err = em.Build(&CurvedCell[0][0], 10, conn.data(), 1, 10);
+  HOEMBED_CHECK(err.empty(), "curved cell: mesh build: %s", err.c_str());
+  if (!err.empty())
+    return;
+  const double tol = 1e-11 * em.Diagonal;
+  int points = 0, hard = 0, wrong = 0;
+  const int n = 16;
+  for (int i = 1; i < n; ++i)
+    for (int j = 1; i + j < n; ++j)
+      for (int k = 1; i + j + k < n; ++k)
+      {
+        const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+        double v[3], w[10];
+        int sub;
+        qt->EvaluateLocation(sub, pc, v, w); // inside by construction
+        ++points;
+        // the single solves of the inside test from the straight tet's coordinates
+        double start[3];
+        hoembed::LinearStart(em.CellMaps[0], v, start);
+        double inv[3] = { start[0], start[1], start[2] };
+        int its = 0;
+        const double res = hoembed::InvertTetMap(em.CellMaps[0], v, inv, its, 8);
+        const bool invOk = res <= tol && inv[0] >= 0 && inv[1] >= 0 && inv[2] >= 0 &&
+          inv[0] + inv[1] + inv[2] <= 1;
+        hoembed::ClosestPointResult r;
+        hoembed::ClosestPointOnMap(em.CellMaps[0], v, start, r);
+        if (!invOk && r.Distance2 > tol * tol)
+          ++hard;
+        // the filter on the point alone
+        vtkNew<vtkPolyData> one;
+        vtkNew<vtkPoints> op;
+        op->SetDataTypeToDouble();
+        op->InsertNextPoint(v);
+        one->SetPoints(op);
+        auto out = RunFilter(one, grid);
+        const double d = ClosestDistanceOf(out, 0);
+        if (d != 0.0)
+        {
+          ++wrong;
+          std::fprintf(stderr, "curved cell: point at pc (%g %g %g) inside, filter distance %.12g\n",
+            pc[0], pc[1], pc[2], d);
+        }
+      }
+  std::printf("curved cell: %d inside points; the solve from the straight tet misses %d\n",
+    points, hard);
+  HOEMBED_CHECK(hard >= 3, "only %d hard points in the curved cell (test setup)", hard);
+  HOEMBED_CHECK(wrong == 0, "curved cell: %d inside points reported outside", wrong);
+}
+
 int main(int, char*[])
 {
+  TestCurvedCell();
   auto grid = MakeMesh();
   vtkNew<vtkQuadraticTetra> qt;
   for (int a = 0; a < 10; ++a)
