@@ -87,8 +87,8 @@ struct Node
   int Depth;
 };
 
-// Lower bound of the distance from v to the sub-patch, and its corners / controls.
-double LowerBound(const QuadraticMap& s, const double v[3], double X[3][3], double ctrl[3][3])
+// Lower bound of the distance from v to the sub-patch; X receives its corners.
+double LowerBound(const QuadraticMap& s, const double v[3], double X[3][3])
 {
   const double st[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
   for (int k = 0; k < 3; ++k)
@@ -97,7 +97,6 @@ double LowerBound(const QuadraticMap& s, const double v[3], double X[3][3], doub
   double dev = 0.0;
   for (int k = 0; k < 3; ++k)
   {
-    const int j = (k + 1) % 3;
     double e[3];
     for (int d = 0; d < 3; ++d)
     {
@@ -105,7 +104,6 @@ double LowerBound(const QuadraticMap& s, const double v[3], double X[3][3], doub
                               : (k == 1 ? s.Q[1][1][d] - 2.0 * s.Q[0][1][d] + s.Q[0][0][d]
                                         : s.Q[1][1][d]);
       e[d] = -0.25 * q;
-      ctrl[k][d] = 0.5 * (X[k][d] + X[j][d]) + e[d];
     }
     dev = std::max(dev, std::sqrt(Dot(e, e)));
   }
@@ -264,8 +262,8 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
   auto push = [&](const double q[3][2], int depth) {
     QuadraticMap s;
     SubMap(m, q, s);
-    double X[3][3], ctrl[3][3];
-    const double lb = LowerBound(s, v, X, ctrl);
+    double X[3][3];
+    const double lb = LowerBound(s, v, X);
     // the corners are points of the patch
     for (int k = 0; k < 3; ++k)
     {

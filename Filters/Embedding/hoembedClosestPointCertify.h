@@ -8,14 +8,15 @@
  * Testing/Cxx/TestEmbeddingNonConvexFace.cxx). This is a best-first branch and bound over
  * parametric sub-triangles of the patch. Each sub-triangle is again a quadratic patch;
  * its lower bound is the distance to the flat triangle of its corners minus the largest
- * deviation of the patch from it, (2/3) max_e |2 m_e - a_e - b_e| (the patch minus the flat
- * triangle is sum_{i<j} 2 mu_i mu_j (2 m_ij - x_i - x_j) with sum 2 mu_i mu_j <= 2/3). On a
- * sub-triangle where the squared distance is provably convex (a lower bound of the
- * smallest Hessian eigenvalue from the spread of the Jacobian and the farthest control
- * point) it is solved with ClosestPointOnMap and certified by the convexity inequality
- * f(xi) >= f(xi*) + grad f(xi*) . (xi - xi*) at the sub-triangle's corners; otherwise it
- * is split in four. Sub-triangles whose bound is within `tol` of the best distance known
- * (on this patch or elsewhere: `incumbent2`) are dropped.
+ * deviation of the patch from it, (2/3) max_e |2 m_e - a_e - b_e| (the patch minus the
+ * flat triangle is sum_{i<j} 2 mu_i mu_j (2 m_ij - x_i - x_j), sum 2 mu_i mu_j <= 2/3).
+ * A sub-triangle is resolved by the second-order bound
+ * f(xi* + D) >= f(xi*) + grad f(xi*) . D + D^T A D, minimised exactly over it, with xi*
+ * its point nearest to the local solution (no solve) or, where the distance is provably
+ * convex, a solve there, and A a lower bound of (1/2) Hess |x - v|^2 = J^T J + (x - v) . Q
+ * over it (each entry is a quadratic polynomial, bounded by its Bernstein coefficients);
+ * otherwise it is split in four. Sub-triangles whose bound is within `tol` of the best
+ * distance known (on this patch or elsewhere: `incumbent2`) are dropped.
  *
  * Plain C++ kernel on the stack (fixed-size queue), thread safe.
  */

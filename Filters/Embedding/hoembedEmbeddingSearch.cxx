@@ -261,15 +261,23 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     // On a strongly curved cell the solve from the straight tet's coordinates can stop
     // at a constrained local minimum on the cell's border although v is inside (seen on
     // bunny_watertight: 1.42 away from the linear start, inside from the centroid): a
-    // second start from the centroid.
+    // second try, Newton inversion from the centroid (cheaper than a second constrained
+    // solve; TestEmbeddingNonConvexFace, TestCurvedCell).
     ClosestPointResult r2;
     if (!hit && r.Active != 0)
     {
-      const double centroid[3] = { 0.25, 0.25, 0.25 };
-      ClosestPointOnMap(M.CellMaps[c], v, centroid, r2);
-      out.Iterations += r2.Iterations;
-      if (r2.Distance2 <= tol2)
+      double pc2[3] = { 0.25, 0.25, 0.25 };
+      int its2 = 0;
+      const double res2 = InvertTetMap(M.CellMaps[c], v, pc2, its2, 20);
+      out.Iterations += its2;
+      if (res2 <= tol && pc2[0] >= 0.0 && pc2[1] >= 0.0 && pc2[2] >= 0.0 &&
+        pc2[0] + pc2[1] + pc2[2] <= 1.0)
+      {
+        for (int i = 0; i < 3; ++i)
+          r2.Param[i] = pc2[i];
+        r2.Distance2 = res2 * res2;
         hit = &r2;
+      }
     }
     if (hit)
     {
