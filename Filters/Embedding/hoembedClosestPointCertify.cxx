@@ -27,35 +27,54 @@ double SegmentDistance(const double p[3], const double a[3], const double b[3])
   return Dist(p, q);
 }
 
-// Distance from p to the flat triangle (a, b, c), degenerate triangles included.
+// Distance from p to the flat triangle (a, b, c): the closest point by Voronoi regions
+// (Ericson, Real-Time Collision Detection 5.1.5); degenerate triangles fall back to the
+// three edges.
 double TriangleDistance(const double p[3], const double a[3], const double b[3], const double c[3])
 {
   const double ab[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
   const double ac[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-  const double n[3] = { ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
-    ab[0] * ac[1] - ab[1] * ac[0] };
-  const double n2 = Dot(n, n), s = std::max(Dot(ab, ab), Dot(ac, ac));
-  if (n2 > 1e-20 * s * s)
+  const double ap[3] = { p[0] - a[0], p[1] - a[1], p[2] - a[2] };
+  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0)
+    return Dist(p, a);
+  const double bp[3] = { p[0] - b[0], p[1] - b[1], p[2] - b[2] };
+  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3)
+    return Dist(p, b);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0)
   {
-    const double* x[3] = { a, b, c };
-    bool inside = true;
-    for (int k = 0; k < 3 && inside; ++k)
-    {
-      const double* u = x[k];
-      const double* w = x[(k + 1) % 3];
-      const double e[3] = { w[0] - u[0], w[1] - u[1], w[2] - u[2] };
-      const double q[3] = { p[0] - u[0], p[1] - u[1], p[2] - u[2] };
-      const double cr[3] = { e[1] * q[2] - e[2] * q[1], e[2] * q[0] - e[0] * q[2],
-        e[0] * q[1] - e[1] * q[0] };
-      inside = Dot(cr, n) >= 0.0;
-    }
-    if (inside)
-    {
-      const double ap[3] = { p[0] - a[0], p[1] - a[1], p[2] - a[2] };
-      return std::fabs(Dot(ap, n)) / std::sqrt(n2);
-    }
+    const double t = d1 / (d1 - d3);
+    const double q[3] = { a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2] };
+    return Dist(p, q);
   }
-  return std::min({ SegmentDistance(p, a, b), SegmentDistance(p, b, c), SegmentDistance(p, c, a) });
+  const double cp[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
+  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6)
+    return Dist(p, c);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0)
+  {
+    const double t = d2 / (d2 - d6);
+    const double q[3] = { a[0] + t * ac[0], a[1] + t * ac[1], a[2] + t * ac[2] };
+    return Dist(p, q);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0)
+  {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    const double q[3] = { b[0] + t * (c[0] - b[0]), b[1] + t * (c[1] - b[1]),
+      b[2] + t * (c[2] - b[2]) };
+    return Dist(p, q);
+  }
+  const double den = va + vb + vc;
+  if (!(den > 0.0) || va < 0.0 || vb < 0.0 || vc < 0.0)
+    return std::min({ SegmentDistance(p, a, b), SegmentDistance(p, b, c), SegmentDistance(p, c, a) });
+  const double v = vb / den, w = vc / den;
+  const double q[3] = { a[0] + v * ab[0] + w * ac[0], a[1] + v * ab[1] + w * ac[1],
+    a[2] + v * ab[2] + w * ac[2] };
+  return Dist(p, q);
 }
 
 // The patch over the parametric sub-triangle q0 q1 q2 as a map of the reference (s, t).
@@ -83,31 +102,29 @@ void SubMap(const QuadraticMap& m, const double q[3][2], QuadraticMap& s)
 struct Node
 {
   double Lower;
-  double Q[3][2];
+  double Q[3][2]; // parametric corners
+  double X[3][3]; // their points
+  double Dev;     // bound of |patch - flat triangle of X|
   int Depth;
 };
 
-// Lower bound of the distance from v to the sub-patch; X receives its corners.
-double LowerBound(const QuadraticMap& s, const double v[3], double X[3][3])
+// Bound of the deviation of the patch over the sub-triangle q from the flat triangle of
+// its corners, (2/3) max_e |e_e| with e_ij = 2 m_ij - x_i - x_j = -(1/4) d^T Q d along the
+// edge direction d. Halving the sub-triangle halves d: its children deviate by a quarter.
+double Deviation(const QuadraticMap& m, const double q[3][2])
 {
-  const double st[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
-  for (int k = 0; k < 3; ++k)
-    EvaluateMap(s, st[k], X[k]);
-  // e_ij = 2 m_ij - x_i - x_j = -(1/4) (second derivative along the edge)
   double dev = 0.0;
   for (int k = 0; k < 3; ++k)
   {
+    const double d[2] = { q[(k + 1) % 3][0] - q[k][0], q[(k + 1) % 3][1] - q[k][1] };
     double e[3];
-    for (int d = 0; d < 3; ++d)
-    {
-      const double q = k == 0 ? s.Q[0][0][d]
-                              : (k == 1 ? s.Q[1][1][d] - 2.0 * s.Q[0][1][d] + s.Q[0][0][d]
-                                        : s.Q[1][1][d]);
-      e[d] = -0.25 * q;
-    }
+    for (int c = 0; c < 3; ++c)
+      e[c] = -0.25 *
+        (d[0] * (m.Q[0][0][c] * d[0] + m.Q[0][1][c] * d[1]) +
+          d[1] * (m.Q[1][0][c] * d[0] + m.Q[1][1][c] * d[1]));
     dev = std::max(dev, std::sqrt(Dot(e, e)));
   }
-  return std::max(0.0, TriangleDistance(v, X[0], X[1], X[2]) - 2.0 / 3.0 * dev);
+  return 2.0 / 3.0 * dev;
 }
 
 // Range over the reference triangle of p = a + b s + c t + d s^2 + e s t + f t^2 from
@@ -259,12 +276,8 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
   double bestUV[2] = { r.Param[0], r.Param[1] };
   bool improved = false;
   auto limit = [&]() { return std::sqrt(std::min(best2, incumbent2)) - tol; };
-  auto push = [&](const double q[3][2], int depth) {
-    QuadraticMap s;
-    SubMap(m, q, s);
-    double X[3][3];
-    const double lb = LowerBound(s, v, X);
-    // the corners are points of the patch
+  // queue a sub-triangle: its corners are points of the patch (upper bounds)
+  auto push = [&](const double q[3][2], const double X[3][3], double dev, int depth) {
     for (int k = 0; k < 3; ++k)
     {
       const double d[3] = { X[k][0] - v[0], X[k][1] - v[1], X[k][2] - v[2] };
@@ -276,6 +289,7 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
         improved = true;
       }
     }
+    const double lb = std::max(0.0, TriangleDistance(v, X[0], X[1], X[2]) - dev);
     if (lb >= limit())
       return;
     if (n == Capacity)
@@ -286,12 +300,22 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
     Node& nd = heap[n++];
     nd.Lower = lb;
     nd.Depth = depth;
+    nd.Dev = dev;
     for (int k = 0; k < 3; ++k)
+    {
       for (int j = 0; j < 2; ++j)
         nd.Q[k][j] = q[k][j];
+      for (int j = 0; j < 3; ++j)
+        nd.X[k][j] = X[k][j];
+    }
   };
-  const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
-  push(root, 0);
+  {
+    const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+    double X[3][3];
+    for (int k = 0; k < 3; ++k)
+      EvaluateMap(m, root[k], X[k]);
+    push(root, X, Deviation(m, root), 0);
+  }
   int nodes = 0;
   while (n > 0)
   {
@@ -362,17 +386,25 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
       complete = false;
       continue;
     }
-    double mid[3][2];
+    double mid[3][2], M[3][3];
     for (int e = 0; e < 3; ++e)
+    {
       for (int j = 0; j < 2; ++j)
         mid[e][j] = 0.5 * (nd.Q[e][j] + nd.Q[(e + 1) % 3][j]);
-    const double kids[4][3][2] = {
-      { { nd.Q[0][0], nd.Q[0][1] }, { mid[0][0], mid[0][1] }, { mid[2][0], mid[2][1] } },
-      { { mid[0][0], mid[0][1] }, { nd.Q[1][0], nd.Q[1][1] }, { mid[1][0], mid[1][1] } },
-      { { mid[2][0], mid[2][1] }, { mid[1][0], mid[1][1] }, { nd.Q[2][0], nd.Q[2][1] } },
-      { { mid[1][0], mid[1][1] }, { mid[2][0], mid[2][1] }, { mid[0][0], mid[0][1] } } };
-    for (const auto& q : kids)
-      push(q, nd.Depth + 1);
+      EvaluateMap(m, mid[e], M[e]);
+    }
+    const double dev = 0.25 * nd.Dev;
+    auto kid = [&](const double* qa, const double* qb, const double* qc, const double* xa,
+                 const double* xb, const double* xc) {
+      const double q[3][2] = { { qa[0], qa[1] }, { qb[0], qb[1] }, { qc[0], qc[1] } };
+      const double X[3][3] = { { xa[0], xa[1], xa[2] }, { xb[0], xb[1], xb[2] },
+        { xc[0], xc[1], xc[2] } };
+      push(q, X, dev, nd.Depth + 1);
+    };
+    kid(nd.Q[0], mid[0], mid[2], nd.X[0], M[0], M[2]);
+    kid(mid[0], nd.Q[1], mid[1], M[0], nd.X[1], M[1]);
+    kid(mid[2], mid[1], nd.Q[2], M[2], M[1], nd.X[2]);
+    kid(mid[1], mid[2], mid[0], M[1], M[2], M[0]);
   }
   if (certified)
     *certified = complete;

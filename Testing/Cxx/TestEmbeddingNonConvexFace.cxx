@@ -25,6 +25,7 @@
 #include "hoembedTestUtilities.h"
 
 #include "hoembedClosestPoint.h"
+#include "hoembedClosestPointCertify.h"
 #include "hoembedEmbeddingMesh.h"
 #include "hoembedEmbeddingSearch.h"
 #include "vtkEmbeddingCoordinatesFilter.h"
@@ -37,6 +38,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 namespace
@@ -194,8 +196,64 @@ void TestCurvedCell()
   HOEMBED_CHECK(wrong == 0, "curved cell: %d inside points reported outside", wrong);
 }
 
+// The kernel alone: strongly curved tri6 patches (mid-edge nodes moved by up to 0.45 of
+// the unit triangle) and points around them. After CertifyClosestPointOnPatch the
+// distance is never above dense sampling (a 300 x 300 grid, an upper bound of the true
+// minimum) and not below it by more than the sampling resolution; the single start alone
+// is worse on some points (so this can fail).
+void TestCertifyKernel()
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int above = 0, below = 0, uncertified = 0, singleWorse = 0, queries = 0;
+  for (int trial = 0; trial < 30; ++trial)
+  {
+    double x[18] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.5, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0 };
+    for (int a = 3; a < 6; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] += 0.45 * U(rng);
+    hoembed::QuadraticMap m;
+    hoembed::MakeTriangleMap(x, 6, m);
+    for (int q = 0; q < 10; ++q, ++queries)
+    {
+      const double v[3] = { 0.4 + 1.2 * U(rng), 0.4 + 1.2 * U(rng), 1.2 * U(rng) };
+      double start[2];
+      hoembed::LinearStart(m, v, start);
+      hoembed::ClosestPointResult r;
+      hoembed::ClosestPointOnMap(m, v, start, r);
+      const double single = std::sqrt(r.Distance2);
+      bool certified = false;
+      hoembed::CertifyClosestPointOnPatch(m, v, 1e300, 1e-12, r, &certified);
+      uncertified += !certified;
+      double sampled = 1e300;
+      const int n = 300;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+        {
+          const double uv[2] = { double(i) / n, double(j) / n };
+          double p[3];
+          hoembed::EvaluateMap(m, uv, p);
+          sampled = std::min(sampled, (p[0] - v[0]) * (p[0] - v[0]) +
+              (p[1] - v[1]) * (p[1] - v[1]) + (p[2] - v[2]) * (p[2] - v[2]));
+        }
+      sampled = std::sqrt(sampled);
+      const double d = std::sqrt(r.Distance2);
+      above += d > sampled + 1e-12;
+      below += d < sampled - 1e-4;
+      singleWorse += single > sampled + 1e-6;
+    }
+  }
+  std::printf("certify kernel: %d queries, the single start worse than sampling on %d\n",
+    queries, singleWorse);
+  HOEMBED_CHECK(singleWorse >= 3, "single start worse on only %d queries (test setup)", singleWorse);
+  HOEMBED_CHECK(above == 0, "certified distance above dense sampling on %d queries", above);
+  HOEMBED_CHECK(below == 0, "certified distance far below dense sampling on %d queries", below);
+  HOEMBED_CHECK(uncertified == 0, "%d searches ran out of nodes", uncertified);
+}
+
 int main(int, char*[])
 {
+  TestCertifyKernel();
   TestCurvedCell();
   auto grid = MakeMesh();
   vtkNew<vtkQuadraticTetra> qt;
