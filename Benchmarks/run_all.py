@@ -11,8 +11,8 @@ import sys
 import time
 
 HERE = pathlib.Path(__file__).resolve().parent
-SCRIPTS = ["bench_mesher", "bench_embedding", "bench_transfer", "bench_transfer_shape",
-           "bench_stepper", "bench_locking", "bench_shape_real"]
+SCRIPTS = ["bench_mesher", "bench_embedding", "bench_embedding_exact", "bench_transfer",
+           "bench_transfer_shape", "bench_stepper", "bench_locking", "bench_shape_real"]
 
 
 def main(names):

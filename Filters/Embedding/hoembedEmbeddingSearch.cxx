@@ -1,5 +1,6 @@
 #include "hoembedEmbeddingSearch.h"
 #include "hoembedBoundaryNormals.h"
+#include "hoembedClosestPointCertify.h"
 #include "hoembedShapeFunctions.h"
 
 #include <algorithm>
@@ -14,6 +15,7 @@ using Id = EmbeddingMesh::Id;
 
 constexpr double InsideTolerance = 1e-11;    // of the diagonal
 constexpr double CorrectionTolerance = 1e-12; // of the diagonal
+constexpr double CertifyTolerance = 1e-10;   // of the diagonal: closest point on a patch
 constexpr int MaxWalk = 64;
 
 const double CornerUV[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
@@ -136,24 +138,15 @@ void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* st
   ClosestPointOnMap(M.FaceMaps[f], v, start, r);
   out.Iterations += r.Iterations;
   ++out.Visited;
-  // The squared distance over a curved patch is not convex: a solution on the patch's
-  // border (active constraint) may be a local minimum only (seen on the large boundary
-  // faces of TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at
-  // 0.58). When the face's lower bound leaves room for a nearer point than both this one
-  // and the best so far, solve again from the centroid and keep the nearer.
-  if (r.Active != 0)
-  {
-    const double bound = M.FaceLowerBound2(f, v);
-    if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
-    {
-      const double centroid[2] = { 1.0 / 3.0, 1.0 / 3.0 };
-      ClosestPointResult r2;
-      ClosestPointOnMap(M.FaceMaps[f], v, centroid, r2);
-      out.Iterations += r2.Iterations;
-      if (r2.Distance2 < r.Distance2)
-        r = r2;
-    }
-  }
+  // The squared distance over a curved patch is not convex: a solution (on the patch's
+  // border or inside) may be a local minimum only (seen on the large boundary faces of
+  // TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at 0.58; a
+  // re-solve from the centroid is not enough either, see TestEmbeddingNonConvexFace).
+  // When the face's lower bound leaves room for a nearer point than both this one and
+  // the best so far, a branch and bound over the patch finds it or certifies there is none.
+  if (M.NodesPerCell() == 10 &&
+    M.FaceLowerBound2(f, v) < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
+    CertifyClosestPointOnPatch(M.FaceMaps[f], v, best.Dist2, CertifyTolerance * M.Diagonal, r);
   if (activeOut)
     *activeOut = r.Active;
   if (r.Distance2 < best.Dist2)
@@ -264,12 +257,34 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     }
     ClosestPointOnMap(M.CellMaps[c], v, start, r);
     out.Iterations += r.Iterations;
-    if (r.Distance2 <= tol2)
+    const ClosestPointResult* hit = r.Distance2 <= tol2 ? &r : nullptr;
+    // On a strongly curved cell the solve from the straight tet's coordinates can stop
+    // at a constrained local minimum on the cell's border although v is inside (seen on
+    // bunny_watertight: 1.42 away from the linear start, inside from the centroid): a
+    // second try, Newton inversion from the centroid (cheaper than a second constrained
+    // solve; TestEmbeddingNonConvexFace, TestCurvedCell).
+    ClosestPointResult r2;
+    if (!hit && r.Active != 0)
+    {
+      double pc2[3] = { 0.25, 0.25, 0.25 };
+      int its2 = 0;
+      const double res2 = InvertTetMap(M.CellMaps[c], v, pc2, its2, 20);
+      out.Iterations += its2;
+      if (res2 <= tol && pc2[0] >= 0.0 && pc2[1] >= 0.0 && pc2[2] >= 0.0 &&
+        pc2[0] + pc2[1] + pc2[2] <= 1.0)
+      {
+        for (int i = 0; i < 3; ++i)
+          r2.Param[i] = pc2[i];
+        r2.Distance2 = res2 * res2;
+        hit = &r2;
+      }
+    }
+    if (hit)
     {
       out.Cell = c;
       for (int i = 0; i < 3; ++i)
-        out.PC[i] = r.Param[i];
-      out.Residual = std::sqrt(r.Distance2);
+        out.PC[i] = hit->Param[i];
+      out.Residual = std::sqrt(hit->Distance2);
       return true;
     }
     return false;

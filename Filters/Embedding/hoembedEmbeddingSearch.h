@@ -13,15 +13,19 @@
  * 2. Otherwise the closest boundary point: Algorithm 1 over boundary faces from the hint
  *    face (tri6 closest point; on an edge go to the face across it, at a corner to all
  *    faces around the node), then certification with the face box tree: every face whose
- *    control-point box is nearer than the best distance is solved too, so the result is
- *    the global minimum over the boundary.
+ *    control-point box is nearer than the best distance is solved too, and each face
+ *    solve whose bound leaves room is certified on the whole face by branch and bound
+ *    (hoembedClosestPointCertify.h: the squared distance on a curved face is not
+ *    convex), so the result is the global minimum over the boundary (to 1e-10 of the
+ *    diagonal).
  * 3. Inside/outside from the pseudo-normal at the closest point (face normal, sum of the
  *    two face normals on an edge, angle-weighted node normal at a corner); points that
  *    may be inside are located in a cell: Algorithm 1 over cells from the closest face's
- *    cell (constrained closest point in the cell, then the neighbour across the face the
- *    solution lies on; visited stamps, explicit queue), then every cell whose box holds
- *    the point. A point the pseudo-normal puts outside is still tested against every
- *    cell whose control-point box and straight-face slabs (EmbeddingMesh::CellSlabs)
+ *    cell (constrained closest point in the cell, Newton inversion from the centroid when
+ *    it stops on the cell's border, then the neighbour across the face the solution
+ *    lies on; visited stamps, explicit queue), then every cell whose box holds the
+ *    point. A point the pseudo-normal puts outside is still tested against every cell
+ *    whose control-point box and straight-face slabs (EmbeddingMesh::CellSlabs)
  *    hold it: a curved mesh whose boundary crosses itself (a cell poking through a
  *    boundary face elsewhere) has inside points on the outer side of their closest face.
  *    Points within 1e-11 of the mesh diagonal of the boundary count as inside.
