@@ -123,39 +123,8 @@ void PseudoNormal(const EmbeddingMesh& M, const BoundaryHit& hit, double n[3])
   }
 }
 
-void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start,
-  BoundaryHit& best, VertexEmbedding& out, int* activeOut = nullptr)
+void Keep(const ClosestPointResult& r, Id f, BoundaryHit& best)
 {
-  ClosestPointResult r;
-  double linear[2];
-  if (!start)
-  {
-    LinearStart(M.FaceMaps[f], v, linear);
-    start = linear;
-  }
-  ClosestPointOnMap(M.FaceMaps[f], v, start, r);
-  out.Iterations += r.Iterations;
-  ++out.Visited;
-  // The squared distance over a curved patch is not convex: a solution on the patch's
-  // border (active constraint) may be a local minimum only (seen on the large boundary
-  // faces of TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at
-  // 0.58). When the face's lower bound leaves room for a nearer point than both this one
-  // and the best so far, solve again from the centroid and keep the nearer.
-  if (r.Active != 0)
-  {
-    const double bound = M.FaceLowerBound2(f, v);
-    if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
-    {
-      const double centroid[2] = { 1.0 / 3.0, 1.0 / 3.0 };
-      ClosestPointResult r2;
-      ClosestPointOnMap(M.FaceMaps[f], v, centroid, r2);
-      out.Iterations += r2.Iterations;
-      if (r2.Distance2 < r.Distance2)
-        r = r2;
-    }
-  }
-  if (activeOut)
-    *activeOut = r.Active;
   if (r.Distance2 < best.Dist2)
   {
     best.Dist2 = r.Distance2;
@@ -168,11 +137,53 @@ void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* st
   }
 }
 
+// The squared distance over a curved patch is not convex: a solution on the patch's
+// border (active constraint) may be a local minimum only (seen on the large boundary
+// faces of TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at
+// 0.58). When the face's lower bound leaves room for a nearer point than both this one
+// and the best so far, solve again from the centroid and keep the nearer. Done after the
+// walk and the certification (SearchScratch::Retry), when the best distance is final or
+// nearly so and most of these second solves are excluded by the bound.
+void RetryFace(const EmbeddingMesh& M, const double v[3], Id f, double dist2,
+  BoundaryHit& best, VertexEmbedding& out)
+{
+  const double bound = M.FaceLowerBound2(f, v);
+  if (bound < std::min(dist2, best.Dist2) * (1.0 - 1e-10))
+  {
+    const double centroid[2] = { 1.0 / 3.0, 1.0 / 3.0 };
+    ClosestPointResult r2;
+    ClosestPointOnMap(M.FaceMaps[f], v, centroid, r2);
+    out.Iterations += r2.Iterations;
+    Keep(r2, f, best);
+  }
+}
+
+void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start,
+  BoundaryHit& best, VertexEmbedding& out, SearchScratch& S, int* activeOut = nullptr)
+{
+  ClosestPointResult r;
+  double linear[2];
+  if (!start)
+  {
+    LinearStart(M.FaceMaps[f], v, linear);
+    start = linear;
+  }
+  ClosestPointOnMap(M.FaceMaps[f], v, start, r);
+  out.Iterations += r.Iterations;
+  ++out.Visited;
+  if (r.Active != 0)
+    S.Retry.push_back({ f, r.Distance2 });
+  if (activeOut)
+    *activeOut = r.Active;
+  Keep(r, f, best);
+}
+
 void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint& hint,
   BoundaryHit& best, VertexEmbedding& out, SearchScratch& S)
 {
   const unsigned stamp = S.NextStamp();
   const TetMeshTopology& T = M.Topology;
+  S.Retry.clear();
   if (hint.Face >= 0)
   {
     // Algorithm 1 on the boundary surface, explicit queue and visited stamps
@@ -184,7 +195,9 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
       const Id f = S.Queue[q];
       int active = 0;
       const double before = best.Dist2;
-      SolveFace(M, v, f, f == hint.Face ? hint.UV : nullptr, best, out, &active);
+      if (q > 0 && M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
+        continue; // cannot improve the best: neither solve nor walk on from it
+      SolveFace(M, v, f, f == hint.Face ? hint.UV : nullptr, best, out, S, &active);
       if (!(best.Dist2 < before) && q > 0)
         continue; // no improvement: do not walk further from here
       const int k = PopCount(active & 7);
@@ -214,8 +227,10 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     if (S.FaceStamp[f] == stamp || M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
       return;
     S.FaceStamp[f] = stamp;
-    SolveFace(M, v, f, nullptr, best, out);
+    SolveFace(M, v, f, nullptr, best, out, S);
   });
+  for (const auto& fr : S.Retry)
+    RetryFace(M, v, fr.first, fr.second, best, out);
 }
 
 // Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.
@@ -229,25 +244,31 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   // exit face of the walk when the fast test fails: opposite the most negative
   // barycentric coordinate of the (extrapolated) parametric point
   int exitFace = -1;
+  // v is expected outside (no start cell): the constrained solve alone decides
+  const bool expectOutside = start < 0;
   auto test = [&](Id c, bool fastOnly) {
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
     // fast path: plain Newton inversion from the straight tet's coordinates; accepted only
     // when it lands inside the cell
     double pc[3] = { start[0], start[1], start[2] };
-    int its = 0;
-    const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
-    out.Iterations += its;
-    ++out.Visited;
-    if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
-      pc[0] + pc[1] + pc[2] <= 1.0)
+    if (!expectOutside || fastOnly)
     {
-      out.Cell = c;
-      for (int i = 0; i < 3; ++i)
-        out.PC[i] = pc[i];
-      out.Residual = res;
-      return true;
+      int its = 0;
+      const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
+      out.Iterations += its;
+      if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
+        pc[0] + pc[1] + pc[2] <= 1.0)
+      {
+        ++out.Visited;
+        out.Cell = c;
+        for (int i = 0; i < 3; ++i)
+          out.PC[i] = pc[i];
+        out.Residual = res;
+        return true;
+      }
     }
+    ++out.Visited;
     if (fastOnly)
     {
       const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
@@ -404,10 +425,12 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     double e[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1], v[2] - hint.Point[2] };
     provenOutside = hint.Distance - std::sqrt(Dot(e, e)) > InsideTolerance * M.Diagonal;
   }
-  // 1. inside, from an inside neighbour: walk through a few cells; otherwise try the
-  // hint cell alone (one Newton inversion)
-  if (!provenOutside && hint.Cell >= 0 &&
-    LocateCell(M, v, hint.Cell, false, out, S, hint.Inside ? 8 : 0))
+  if (!provenOutside && hint.Cell >= 0) { }
+  // 1. inside, from an inside neighbour: walk through a few cells. (From an outside
+  // neighbour, trying its cell first found v inside in about 1 case of 10, so those go
+  // straight to the boundary search; step 3 locates the few inside ones.)
+  if (!provenOutside && hint.Cell >= 0 && hint.Inside &&
+    LocateCell(M, v, hint.Cell, false, out, S, 8))
   {
     SetInside(out);
     out.BoundaryFace = hint.Face;
