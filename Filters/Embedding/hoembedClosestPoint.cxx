@@ -573,10 +573,90 @@ void MakeTriangleMap(const double* x, int n, QuadraticMap& m)
     MakeMap<2>(x, 3, [](const double* p, double* d) { Tri3Derivs(p, d); }, m);
 }
 
+void Tet10CornerJacobians(const double* x, double G[4][3][3])
+{
+  // mid-edge node of corners a, b (VTK order: 01, 12, 02, 03, 13, 23)
+  static const int Mid[4][4] = { { -1, 4, 6, 7 }, { 4, -1, 5, 8 }, { 6, 5, -1, 9 },
+    { 7, 8, 9, -1 } };
+  for (int k = 0; k < 4; ++k)
+  {
+    // dx/dlambda_a at corner k (lambda as independent variables): 3 x_k for a = k, else
+    // 4 x_ak - x_a; then dx/dxi_i = dx/dlambda_i - dx/dlambda_0
+    double D[4][3];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        D[a][d] = a == k ? 3.0 * x[3 * k + d] : 4.0 * x[3 * Mid[a][k] + d] - x[3 * a + d];
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+        G[k][i][d] = D[i + 1][d] - D[0][d];
+  }
+}
+
+bool Tet10JacobianProvablyPositive(const double* x)
+{
+  double G[4][3][3];
+  Tet10CornerJacobians(x, G);
+  // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
+  // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
+  // over the (a, b, c) with those counts
+  double coef[64] = {};
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+    {
+      const double* u = G[a][0];
+      const double* w = G[b][1];
+      const double uw[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+        u[0] * w[1] - u[1] * w[0] };
+      for (int c = 0; c < 4; ++c)
+      {
+        int cnt[4] = { 0, 0, 0, 0 };
+        ++cnt[a];
+        ++cnt[b];
+        ++cnt[c];
+        coef[cnt[1] + 4 * cnt[2] + 16 * cnt[3]] += Dot3(uw, G[c][2]);
+      }
+    }
+  static const double Fact[4] = { 1, 1, 2, 6 };
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (int n1 = 0; n1 <= 3; ++n1)
+    for (int n2 = 0; n1 + n2 <= 3; ++n2)
+      for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3)
+      {
+        const int n0 = 3 - n1 - n2 - n3;
+        const double b =
+          coef[n1 + 4 * n2 + 16 * n3] * Fact[n0] * Fact[n1] * Fact[n2] * Fact[n3] / 6.0;
+        lo = std::min(lo, b);
+        hi = std::max(hi, std::fabs(b));
+      }
+  return lo > 1e-12 * hi;
+}
+
 void MakeTetMap(const double* x, int n, QuadraticMap& m)
 {
   if (n == 10)
-    MakeMap<3>(x, 10, [](const double* p, double* d) { Tet10Derivs(p, d); }, m);
+  {
+    // from the corner Jacobians: L_i = J_i(0), Q_ij = J_i(e_j) - J_i(0)
+    double G[4][3][3];
+    Tet10CornerJacobians(x, G);
+    m = QuadraticMap();
+    m.Dim = 3;
+    for (int d = 0; d < 3; ++d)
+      m.C[d] = x[d];
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+      {
+        m.L[i][d] = G[0][i][d];
+        for (int j = 0; j < 3; ++j)
+          m.Q[i][j][d] = G[j + 1][i][d] - G[0][i][d];
+      }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < i; ++j)
+        for (int d = 0; d < 3; ++d)
+        {
+          const double s = 0.5 * (m.Q[i][j][d] + m.Q[j][i][d]);
+          m.Q[i][j][d] = m.Q[j][i][d] = s;
+        }
+  }
   else
     MakeMap<3>(x, 4, [](const double* p, double* d) { Tet4Derivs(p, d); }, m);
 }

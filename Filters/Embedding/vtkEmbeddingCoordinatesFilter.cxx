@@ -1,6 +1,7 @@
 #include "vtkEmbeddingCoordinatesFilter.h"
 
 #include "hoembedElementGeometry.h"
+#include "hoembedClosestPoint.h"
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedMeshFingerprint.h"
 
@@ -175,7 +176,9 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
         bool ok;
         if (npc == 10)
         {
-          ok = hoembed::Tet10IsValid(x);
+          // the cubic's Bernstein coefficients from the corner Jacobians settle nearly
+          // every element; the subdividing test only the others
+          ok = hoembed::Tet10JacobianProvablyPositive(x) || hoembed::Tet10IsValid(x);
         }
         else
         {

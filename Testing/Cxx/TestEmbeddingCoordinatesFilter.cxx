@@ -6,6 +6,7 @@
 
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPoint.h"
+#include "hoembedElementGeometry.h"
 #include "hoembedEmbeddingSearch.h"
 #include "hoembedShapeFunctions.h"
 #include "vtkEmbeddingCoordinatesFilter.h"
@@ -606,6 +607,65 @@ void TestCrossingBoundary()
     static_cast<long long>(surface->GetNumberOfPoints()));
   CheckEmbedding("crossing boundary", surface, grid, out, 0, true);
 }
+// The closed-form tet10 map (MakeTetMap from the corner Jacobians) against the shape
+// functions, and the fast validity test (Bernstein coefficients of det J) against
+// hoembed::Tet10IsValid and a dense sample of det J: it may only accept valid elements.
+void TestTet10Validity()
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const double ref[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+    { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
+    { 0, 0.5, 0.5 } };
+  int accepted = 0, rejected = 0, wrongAccept = 0, notFull = 0;
+  double mapErr = 0.0;
+  for (int trial = 0; trial < 400; ++trial)
+  {
+    const double amp = 0.05 + 0.4 * (trial % 8) / 7.0;
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = ref[a][d] + (a < 4 ? 0.3 : 1.0) * amp * U(rng);
+    hoembed::QuadraticMap m;
+    hoembed::MakeTetMap(x, 10, m);
+    double minDet = std::numeric_limits<double>::infinity();
+    const int n = 12;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j)
+        for (int k = 0; i + j + k <= n; ++k)
+        {
+          const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+          double N[10], p[3] = { 0, 0, 0 }, q[3], J[3][3];
+          hoembed::Tet10Shape(pc, N);
+          for (int a = 0; a < 10; ++a)
+            for (int d = 0; d < 3; ++d)
+              p[d] += N[a] * x[3 * a + d];
+          hoembed::EvaluateMap(m, pc, q, J);
+          for (int d = 0; d < 3; ++d)
+            mapErr = std::max(mapErr, std::fabs(p[d] - q[d]));
+          const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+            J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+            J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+          minDet = std::min(minDet, det);
+        }
+    const bool fast = hoembed::Tet10JacobianProvablyPositive(x);
+    (fast ? accepted : rejected)++;
+    if (fast && !(minDet > 0.0))
+      ++wrongAccept;
+    if (fast && !hoembed::Tet10IsValid(x))
+      ++notFull;
+  }
+  HOEMBED_CHECK(mapErr <= 1e-13, "tet10 map: max deviation from the shape functions %g", mapErr);
+  HOEMBED_CHECK(wrongAccept == 0, "fast tet10 validity: %d elements with det J <= 0 accepted",
+    wrongAccept);
+  HOEMBED_CHECK(notFull == 0, "fast tet10 validity: %d accepted elements Tet10IsValid rejects",
+    notFull);
+  HOEMBED_CHECK(accepted > 50 && rejected > 50,
+    "fast tet10 validity: %d accepted, %d rejected (test setup)", accepted, rejected);
+  std::printf("tet10 validity: %d accepted, %d not proven by the fast test; map error %.2g\n",
+    accepted, rejected, mapErr);
+}
+
 // EmbeddingMesh::FaceLowerBound2 (the pruning rule of the boundary search) against the
 // distance to each curved boundary face by brute force (7 constrained solves and a dense
 // sample of the face): it must never exceed it, and must prune (be positive) often. The
@@ -739,6 +799,7 @@ int main(int argc, char* argv[])
   const std::string dataDir = hoembed_test::DataDir(argc, argv);
   TestKernels();
   TestFaceLowerBound();
+  TestTet10Validity();
 
   auto surface = MakeSurface(true, true);
   auto grid10 = MakeBoxTetMesh(4, 2, 2, 2.0, 1.0, 1.0, 2, CurveMap);
