@@ -227,13 +227,15 @@ bool CholeskySolve(const double H[3][3], double lambda, const double* b, double*
   return true;
 }
 
-bool SolveReduced(int m, const double H[3][3], const double* b, double* y)
+// Levenberg-Marquardt damping until H + lambda I is positive definite (H itself, lambda
+// = 0, was tried by SolveReduced).
+bool SolveReducedDamped(int m, const double H[3][3], const double* b, double* y)
 {
   double tr = 0.0;
   for (int i = 0; i < m; ++i)
     tr += std::fabs(H[i][i]);
-  double lambda = 0.0;
-  for (int attempt = 0; attempt < 40; ++attempt)
+  double lambda = 1e-10 * tr + 1e-300;
+  for (int attempt = 1; attempt < 40; ++attempt)
   {
     bool ok = false;
     switch (m)
@@ -253,6 +255,27 @@ bool SolveReduced(int m, const double H[3][3], const double* b, double* y)
     lambda = lambda == 0.0 ? 1e-10 * tr + 1e-300 : lambda * 10.0;
   }
   return false;
+}
+
+inline bool SolveReduced(int m, const double H[3][3], const double* b, double* y)
+{
+  // the common case first: H positive definite, no damping (inlined)
+  switch (m)
+  {
+    case 1:
+      if (CholeskySolve<1>(H, 0.0, b, y))
+        return true;
+      break;
+    case 2:
+      if (CholeskySolve<2>(H, 0.0, b, y))
+        return true;
+      break;
+    default:
+      if (CholeskySolve<3>(H, 0.0, b, y))
+        return true;
+      break;
+  }
+  return SolveReducedDamped(m, H, b, y);
 }
 
 template <int N>

@@ -2,6 +2,8 @@
 #include "hoembedBoundaryNormals.h"
 #include "hoembedShapeFunctions.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -196,17 +198,20 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
   this->CellMaps.resize(numberOfCells);
   std::vector<double> boxes(6 * numberOfCells);
   this->CellSlabs.assign(20 * numberOfCells, 0.0);
-  double x[30];
-  for (Id c = 0; c < numberOfCells; ++c)
-  {
-    const Id* ids = conn + nodesPerCell * c;
-    for (int a = 0; a < nodesPerCell; ++a)
-      for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = points[3 * ids[a] + d];
-    MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
-    ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
-    ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
-  }
+  // per cell and per face: independent, in parallel
+  vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
+    double x[30];
+    for (Id c = cb; c < ce; ++c)
+    {
+      const Id* ids = conn + nodesPerCell * c;
+      for (int a = 0; a < nodesPerCell; ++a)
+        for (int d = 0; d < 3; ++d)
+          x[3 * a + d] = points[3 * ids[a] + d];
+      MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
+      ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
+      ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
+    }
+  });
   this->CellTree.Build(boxes);
 
   const int npf = this->Topology.GetNodesPerFace();
@@ -215,8 +220,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
   this->FaceFlat.assign(10 * nbf, 0.0);
   this->NormalMaps.resize(nbf);
   boxes.assign(6 * nbf, 0.0);
-  for (Id f = 0; f < nbf; ++f)
-  {
+  auto faceData = [&](Id f, double* x) {
     const Id* ids = &this->Topology.BoundaryFaceNodes[npf * f];
     double nx[18];
     for (int a = 0; a < npf; ++a)
@@ -251,7 +255,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     {
       slab[0] = slab[1] = slab[2] = 0.0; // no bound from a degenerate plane
       slab[3] = slab[4] = slab[5] = 0.0;
-      continue;
+      return;
     }
     for (int d = 0; d < 3; ++d)
       slab[d] = n[d] / ln;
@@ -281,7 +285,12 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     slab[4] = lo - pad;
     slab[5] = hi + pad;
     flat[9] = std::sqrt(tmax2) * (1.0 + 1e-12) + pad;
-  }
+  };
+  vtkSMPTools::For(Id(0), nbf, [&](Id fb, Id fe) {
+    double x[30];
+    for (Id f = fb; f < fe; ++f)
+      faceData(f, x);
+  });
   this->FaceTree.Build(boxes);
   return std::string();
 }
