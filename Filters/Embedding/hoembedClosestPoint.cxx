@@ -615,10 +615,12 @@ void Tet10CornerJacobians(const double* x, double G[4][3][3])
   }
 }
 
-bool Tet10JacobianProvablyPositive(const double* x)
+namespace
 {
-  double G[4][3][3];
-  Tet10CornerJacobians(x, G);
+// Smallest Bernstein coefficient of det J over a tet whose corner Jacobians are G (J
+// affine over it); `hi` receives the largest magnitude.
+double BernsteinDetMin(const double G[4][3][3], double& hi)
+{
   // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
   // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
   // over the (a, b, c) with those counts
@@ -640,7 +642,8 @@ bool Tet10JacobianProvablyPositive(const double* x)
       }
     }
   static const double Fact[4] = { 1, 1, 2, 6 };
-  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  double lo = std::numeric_limits<double>::infinity();
+  hi = 0.0;
   for (int n1 = 0; n1 <= 3; ++n1)
     for (int n2 = 0; n1 + n2 <= 3; ++n2)
       for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3)
@@ -651,7 +654,51 @@ bool Tet10JacobianProvablyPositive(const double* x)
         lo = std::min(lo, b);
         hi = std::max(hi, std::fabs(b));
       }
+  return lo;
+}
+} // namespace
+
+bool Tet10JacobianProvablyPositive(const double* x)
+{
+  double G[4][3][3], hi = 0.0;
+  Tet10CornerJacobians(x, G);
+  const double lo = BernsteinDetMin(G, hi);
   return lo > 1e-12 * hi;
+}
+
+bool TetMapExcludes(const QuadraticMap& m, const double eta[3], double reach)
+{
+  // lower bound of the distance from eta to T
+  const double dT = std::max({ -eta[0], -eta[1], -eta[2],
+    (eta[0] + eta[1] + eta[2] - 1.0) / std::sqrt(3.0) });
+  if (!(dT > 0.0))
+    return false;
+  // Jacobians at the corners (e_k + eta) / 2 of S: J_i(s) = L_i + sum_j Q_ij s_j
+  double G[4][3][3], F2 = 0.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    double sk[3];
+    for (int j = 0; j < 3; ++j)
+      sk[j] = 0.5 * (eta[j] + (k == j + 1 ? 1.0 : 0.0));
+    double f2 = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+      {
+        double g = m.L[i][d];
+        for (int j = 0; j < 3; ++j)
+          g += m.Q[i][j][d] * sk[j];
+        G[k][i][d] = g;
+        f2 += g * g;
+      }
+    F2 = std::max(F2, f2);
+  }
+  double hi = 0.0;
+  const double b = BernsteinDetMin(G, hi);
+  // b well above the round-off of the coefficients (about 1e-14 of the largest), and a
+  // relative margin of 1e-6 for the rest
+  if (!(b > 1e-6 * hi) || !(F2 > 0.0))
+    return false;
+  return b / F2 * dT > reach * (1.0 + 1e-6);
 }
 
 void MakeTetMap(const double* x, int n, QuadraticMap& m)

@@ -60,6 +60,17 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void Tet10CornerJacobians(const double* x, double
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT bool Tet10JacobianProvablyPositive(const double* x);
 
+/**
+ * True when no point of the element of the tet map `m` (Dim 3, quadratic or linear) lies
+ * within `reach` of x(eta), for a parametric point eta outside the reference tet T.
+ * Proof used: for quadratic maps x(xi) - x(eta) = J((xi + eta) / 2) (xi - eta) exactly
+ * (J is affine), and over S = (T + eta) / 2, det J >= b (smallest Bernstein coefficient,
+ * from the Jacobians at S's corners) and |J|_2 <= F (largest Frobenius norm there), so
+ * |x(xi) - x(eta)| >= b / F^2 * dist(eta, T) for every xi in T. False: not proven.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT bool TetMapExcludes(
+  const QuadraticMap& m, const double eta[3], double reach);
+
 /// x(xi) and, when J is not null, J[i] = dx/dxi_i (m.Dim vectors of 3).
 HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateMap(
   const QuadraticMap& m, const double* xi, double x[3], double (*J)[3] = nullptr);

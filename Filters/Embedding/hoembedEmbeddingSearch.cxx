@@ -244,7 +244,9 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   // exit face of the walk when the fast test fails: opposite the most negative
   // barycentric coordinate of the (extrapolated) parametric point
   int exitFace = -1;
-  // v is expected outside (no start cell): the constrained solve alone decides
+  // v is expected outside (no start cell): the Newton inversion either lands inside
+  // the cell or, usually, proves v away from it (TetMapExcludes); else the constrained
+  // solve decides
   const bool expectOutside = start < 0;
   auto test = [&](Id c, bool fastOnly) {
     double start[3];
@@ -252,23 +254,21 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     // fast path: plain Newton inversion from the straight tet's coordinates; accepted only
     // when it lands inside the cell
     double pc[3] = { start[0], start[1], start[2] };
-    if (!expectOutside || fastOnly)
-    {
-      int its = 0;
-      const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
-      out.Iterations += its;
-      if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
-        pc[0] + pc[1] + pc[2] <= 1.0)
-      {
-        ++out.Visited;
-        out.Cell = c;
-        for (int i = 0; i < 3; ++i)
-          out.PC[i] = pc[i];
-        out.Residual = res;
-        return true;
-      }
-    }
+    int its = 0;
+    const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
+    out.Iterations += its;
     ++out.Visited;
+    if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
+      pc[0] + pc[1] + pc[2] <= 1.0)
+    {
+      out.Cell = c;
+      for (int i = 0; i < 3; ++i)
+        out.PC[i] = pc[i];
+      out.Residual = res;
+      return true;
+    }
+    if (expectOutside && !fastOnly && res <= tol && TetMapExcludes(M.CellMaps[c], pc, tol + res))
+      return false; // no point of the cell within tol of v
     if (fastOnly)
     {
       const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
@@ -425,7 +425,6 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     double e[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1], v[2] - hint.Point[2] };
     provenOutside = hint.Distance - std::sqrt(Dot(e, e)) > InsideTolerance * M.Diagonal;
   }
-  if (!provenOutside && hint.Cell >= 0) { }
   // 1. inside, from an inside neighbour: walk through a few cells. (From an outside
   // neighbour, trying its cell first found v inside in about 1 case of 10, so those go
   // straight to the boundary search; step 3 locates the few inside ones.)

@@ -24,8 +24,10 @@
  *    may be inside are located in a cell: Algorithm 1 over cells from the closest face's
  *    cell (constrained closest point in the cell, then the neighbour across the face the
  *    solution lies on; visited stamps, explicit queue), then every cell whose box holds
- *    the point. A point the pseudo-normal puts outside is still tested (constrained
- *    closest point in the cell, no Newton inversion first) against every
+ *    the point. A point the pseudo-normal puts outside is still tested (Newton inversion
+ *    of the cell's map; a solution outside the element excludes the cell when
+ *    TetMapExcludes proves no point of it within the tolerance, else the constrained
+ *    closest point in the cell decides) against every
  *    cell whose control-point box and straight-face slabs (EmbeddingMesh::CellSlabs)
  *    hold it: a curved mesh whose boundary crosses itself (a cell poking through a
  *    boundary face elsewhere) has inside points on the outer side of their closest face.

@@ -666,6 +666,81 @@ void TestTet10Validity()
     accepted, rejected, mapErr);
 }
 
+// hoembed::TetMapExcludes (the rule that rejects a cell for a point the pseudo-normal puts
+// outside) against the distance from x(eta) to the element by brute force (constrained
+// solves from 5 starts and a dense sample): it may only exclude when that distance exceeds
+// the reach, for reaches on both sides of it.
+void TestTetMapExcludes()
+{
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const double ref[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+    { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
+    { 0, 0.5, 0.5 } };
+  const double starts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 }, { 0.1, 0.7, 0.1 },
+    { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
+  int excluded = 0, wrong = 0, tried = 0;
+  for (int trial = 0; trial < 60; ++trial)
+  {
+    // anisotropic scales from 1/20 to 20: a rule with the wrong scaling fails here
+    double scale[3];
+    for (double& sc : scale)
+      sc = std::pow(20.0, U(rng));
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = scale[d] * (ref[a][d] + (a < 4 ? 0.05 : 0.12) * U(rng));
+    if (!hoembed::Tet10JacobianProvablyPositive(x))
+      continue;
+    hoembed::QuadraticMap m;
+    hoembed::MakeTetMap(x, 10, m);
+    for (int q = 0; q < 20; ++q)
+    {
+      // a parametric point outside the element, near one of its faces or corners
+      double eta[3] = { 0.3 + 0.6 * U(rng), 0.3 + 0.6 * U(rng), 0.3 + 0.6 * U(rng) };
+      if (eta[0] >= 0 && eta[1] >= 0 && eta[2] >= 0 && eta[0] + eta[1] + eta[2] <= 1)
+        continue;
+      double v[3];
+      hoembed::EvaluateMap(m, eta, v);
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& s0 : starts)
+      {
+        hoembed::ClosestPointResult r;
+        hoembed::ClosestPointOnMap(m, v, s0, r, 200);
+        best = std::min(best, r.Distance2);
+      }
+      const int n = 16;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+          for (int k = 0; i + j + k <= n; ++k)
+          {
+            const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+            double y[3];
+            hoembed::EvaluateMap(m, pc, y);
+            best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) +
+                (y[1] - v[1]) * (y[1] - v[1]) + (y[2] - v[2]) * (y[2] - v[2]));
+          }
+      const double dist = std::sqrt(best);
+      for (const double f : { 0.0, 0.3, 0.9, 1.1, 3.0 })
+      {
+        ++tried;
+        if (hoembed::TetMapExcludes(m, eta, f * dist))
+        {
+          ++excluded;
+          if (f * dist >= dist)
+            ++wrong;
+        }
+      }
+    }
+  }
+  HOEMBED_CHECK(wrong == 0, "TetMapExcludes: %d exclusions with a point of the element "
+    "within reach", wrong);
+  HOEMBED_CHECK(excluded > tried / 10, "TetMapExcludes: only %d of %d excluded (test setup)",
+    excluded, tried);
+  std::printf("cell exclusion: %d of %d (point, reach) pairs excluded, none wrongly\n", excluded,
+    tried);
+}
+
 // EmbeddingMesh::FaceLowerBound2 (the pruning rule of the boundary search) against the
 // distance to each curved boundary face by brute force (7 constrained solves and a dense
 // sample of the face): it must never exceed it, and must prune (be positive) often. The
@@ -800,6 +875,7 @@ int main(int argc, char* argv[])
   TestKernels();
   TestFaceLowerBound();
   TestTet10Validity();
+  TestTetMapExcludes();
 
   auto surface = MakeSurface(true, true);
   auto grid10 = MakeBoxTetMesh(4, 2, 2, 2.0, 1.0, 1.0, 2, CurveMap);
