@@ -165,9 +165,9 @@ void VertexTriangles(const std::vector<Id>& tris, Id numberOfPoints, std::vector
 
 void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   Id numberOfPoints, const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out,
-  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats)
+  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats,
+  std::vector<Id>* vertexOrder)
 {
-  out.assign(numberOfPoints, VertexEmbedding());
   const Id ntri = static_cast<Id>(triangles.size() / 3);
 
   // Breadth-first order of the triangles over the surface (neighbours through shared
@@ -304,8 +304,17 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
       }
     });
   }
-  for (Id i = 0; i < numberOfPoints; ++i)
-    out[oldId[i]] = res[i];
+  if (vertexOrder)
+  {
+    out = std::move(res);
+    *vertexOrder = std::move(oldId);
+  }
+  else
+  {
+    out.resize(numberOfPoints);
+    for (Id i = 0; i < numberOfPoints; ++i)
+      out[oldId[i]] = res[i];
+  }
   if (progress)
     progress(1.0);
   if (stats)

@@ -42,13 +42,15 @@ struct FloodStatistics
  * Embed `numberOfPoints` points (3 doubles each) whose triangles are `triangles`
  * (3 ids each; other cells are the caller's business). `numberOfPartitions` <= 0 picks
  * one per ~1000 triangles (at most 256). `progress` (may be empty) is called from the
- * calling thread with values in [0, 1].
+ * calling thread with values in [0, 1]. With `vertexOrder`, `out` is left in the flood's
+ * vertex order and (*vertexOrder)[k] is the input id of out[k] (saves a copy of the results);
+ * without it, out[i] belongs to input point i.
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedSurface(const EmbeddingMesh& mesh, int method,
   const double* points, EmbeddingMesh::Id numberOfPoints,
   const std::vector<EmbeddingMesh::Id>& triangles, std::vector<VertexEmbedding>& out,
   int numberOfPartitions = 0, const std::function<void(double)>& progress = {},
-  FloodStatistics* stats = nullptr);
+  FloodStatistics* stats = nullptr, std::vector<EmbeddingMesh::Id>* vertexOrder = nullptr);
 } // namespace hoembed
 
 #endif
