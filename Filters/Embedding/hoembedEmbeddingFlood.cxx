@@ -18,7 +18,7 @@ using Id = EmbeddingMesh::Id;
 struct Entry
 {
   Id Triangle;
-  VertexHint Hint;
+  Id HintVertex; ///< the vertex whose result is the initial guess (-1: none)
   double MaxDistance;
 };
 
@@ -71,7 +71,7 @@ struct FloodContext
         continue;
       ++this->Seeds;
       this->TriangleState[t0] = 1;
-      queue.push_back({ t0, VertexHint(), 0.0 });
+      queue.push_back({ t0, -1, 0.0 });
       double dt = -1.0;
       while (!queue.empty() || !deferred.empty())
       {
@@ -88,7 +88,9 @@ struct FloodContext
         Entry en = queue.front();
         queue.pop_front();
         const Id t = en.Triangle;
-        VertexHint h = en.Hint;
+        Id hv = en.HintVertex;
+        VertexHint h =
+          hv >= 0 ? (*this->Out)[hv].AsHint(this->Points + 3 * hv) : VertexHint();
         bool mapped = true;
         double maxd = 0.0;
         for (int j = 0; j < 3; ++j)
@@ -103,13 +105,16 @@ struct FloodContext
             dt = std::max(2.0 * dw, floor);
           maxd = std::max(maxd, dw);
           if (dw < dt)
+          {
+            hv = w;
             h = (*this->Out)[w].AsHint(this->Points + 3 * w);
+          }
           else
             mapped = false;
         }
         if (!mapped)
         {
-          deferred.push_back({ t, h, maxd });
+          deferred.push_back({ t, hv, maxd });
           continue;
         }
         // queue the triangles around this triangle's vertices; each vertex of this
@@ -133,7 +138,7 @@ struct FloodContext
             if (n >= b && n < e && !this->TriangleState[n])
             {
               this->TriangleState[n] = 1;
-              queue.push_back({ n, h, 0.0 });
+              queue.push_back({ n, hv, 0.0 });
             }
           }
         }
