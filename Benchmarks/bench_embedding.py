@@ -4,8 +4,12 @@ tools on the same points and meshes.
 Measures, on the real surfaces of ../shared/data/meshes:
 - speed: surface vertices per second of the filter's Update on 1 and 2 threads
   (vtkSMPTools.Initialize(n)), normal-offset on tet10 and barycentric on tet4;
-- scaling like Fig. 7: time against surface size (linear subdivision, x4 per level) on
-  ~1000 and ~3000 element meshes;
+- the fixed set-up cost (mesh preparation and element validation: the filter on a
+  one-triangle surface) apart from the per-vertex cost;
+- scaling like Fig. 7: time against surface size (linear subdivision, x4 per level, 4
+  sizes, up to > 1M vertices) on ~1000 and ~3000 element meshes, with the time ratio per
+  4x vertices with and without the set-up, and the mean Newton iterations and elements
+  visited per vertex at each size (finer surfaces give the flood closer starting points);
 - VTK: vtkProbeFilter with a vtkStaticCellLocator on the tet4 mesh (barycentric, inside
   points only) and vtkCellLocator::FindClosestPoint on the tet10 grid (a Python loop over
   a sample; its per-call Python overhead is included), with time ratios and the distance
@@ -46,7 +50,7 @@ SURFACES = ["bunny_watertight", "armadillo", "dragon", "fertility", "rocker-arm"
 REPEATS = 3
 
 
-def time_filter(surface, grid, method, threads, wall=False):
+def time_filter(surface, grid, method, threads, wall=False, repeats=None):
     """Best time of the filter's Update over REPEATS runs: process CPU time for 1 thread
     (less sensitive to the other jobs on this shared machine), wall time for more threads
     or when `wall` is set."""
@@ -57,13 +61,23 @@ def time_filter(surface, grid, method, threads, wall=False):
     f.SetMethod(method)
     clock = time.process_time if (threads == 1 and not wall) else time.perf_counter
     best = np.inf
-    for _ in range(REPEATS):
+    for _ in range(repeats or REPEATS):
         f.Modified()
         t = clock()
         f.Update()
         best = min(best, clock() - t)
     out = pv.wrap(f.GetOutput()).copy()
     return best, out
+
+
+def time_setup(grid, method=0):
+    """Best process time of the filter on a one-triangle surface at the mesh centre: the
+    fixed cost (mesh preparation, element validation, output) of one Update."""
+    c = np.asarray(grid.center, dtype=float)
+    h = 1e-3 * grid.length
+    tri = pv.PolyData(np.array([c, c + [h, 0, 0], c + [0, h, 0]]), faces=[3, 0, 1, 2])
+    t, _ = time_filter(tri, grid, method, 1, repeats=7)
+    return t
 
 
 def fe_meshes(surface, n_el):
@@ -147,6 +161,9 @@ def main():
                 t4, out4 = time_filter(s, g4, 1, th)
                 r[f"normal_offset_tet10_vps_{th}thr"] = s.n_points / t10
                 r[f"barycentric_tet4_vps_{th}thr"] = s.n_points / t4
+            r["setup_seconds_tet10"] = time_setup(g10)
+            r["normal_offset_tet10_vps_1thr_excluding_setup"] = s.n_points / max(
+                s.n_points / r["normal_offset_tet10_vps_1thr"] - r["setup_seconds_tet10"], 1e-9)
             w1, _ = time_filter(s, g10, 0, 1, wall=True)
             r["normal_offset_tet10_vps_1thr_wall"] = s.n_points / w1
             r["speedup_2thr_tet10_wall"] = r["normal_offset_tet10_vps_2thr"] / r["normal_offset_tet10_vps_1thr_wall"]
@@ -187,16 +204,18 @@ def main():
         results["surfaces"][name] = entry
         print(name, json.dumps(entry, indent=1), flush=True)
 
-    # Fig. 7: time against surface size, two FE sizes
+    # Fig. 7: time against surface size, two FE sizes, 4 sizes (x4 vertices per level by
+    # linear subdivision) up to > 1M vertices
     for name in ("bunny_watertight", "dragon"):
         path = DATA / f"{name}.obj"
         if not path.exists():
             continue
         base = pv.read(path).triangulate().clean(tolerance=0.0)
         meshes = {n: fe_meshes(base, n)[0] for n in (1000, 3000)}
+        setup = {n: time_setup(g) for n, g in meshes.items()}
         rows = []
         surf = base
-        for level in range(3):
+        for level in range(4):
             if level > 0:
                 sub = vtkLinearSubdivisionFilter()
                 sub.SetInputData(surf)
@@ -204,14 +223,28 @@ def main():
                 sub.Update()
                 surf = pv.wrap(sub.GetOutput()).clean(tolerance=0.0)
             row = {"vertices": int(surf.n_points)}
+            repeats = 3 if surf.n_points < 1_000_000 else 2
             for n, g in meshes.items():
-                t, _ = time_filter(surf, g, 0, 1)
+                t, out = time_filter(surf, g, 0, 1, repeats=repeats)
                 row[f"seconds_fe{n}"] = t
+                row[f"setup_seconds_fe{n}"] = setup[n]
+                row[f"per_vertex_seconds_fe{n}"] = t - setup[n]
+                row[f"vps_fe{n}"] = surf.n_points / t
                 row[f"cells_fe{n}"] = int(g.n_cells)
+                row[f"mean_iterations_fe{n}"] = float(np.mean(out["EmbeddingIterations"]))
+                row[f"mean_elements_visited_fe{n}"] = float(np.mean(out["EmbeddingElementsVisited"]))
+                row[f"inside_fraction_fe{n}"] = float(np.mean(out["EmbeddingDistance"] == 0))
+                del out
             rows.append(row)
+            print(name, "scaling", json.dumps(row), flush=True)
         for a, b in zip(rows, rows[1:]):
-            b["time_ratio_vs_previous_fe1000"] = b["seconds_fe1000"] / a["seconds_fe1000"]
             b["vertex_ratio_vs_previous"] = b["vertices"] / a["vertices"]
+            for n in (1000, 3000):
+                b[f"time_ratio_vs_previous_fe{n}"] = b[f"seconds_fe{n}"] / a[f"seconds_fe{n}"]
+                b[f"per_vertex_time_ratio_vs_previous_fe{n}"] = (
+                    b[f"per_vertex_seconds_fe{n}"] / a[f"per_vertex_seconds_fe{n}"])
+                b[f"iterations_ratio_vs_previous_fe{n}"] = (
+                    b[f"mean_iterations_fe{n}"] / a[f"mean_iterations_fe{n}"])
         for row in rows:
             row["time_ratio_fe3000_vs_fe1000"] = row["seconds_fe3000"] / row["seconds_fe1000"]
         results["scaling"][name] = rows
@@ -229,6 +262,12 @@ def main():
             v = [r["vertices"] for r in rows]
             for n, style in ((1000, "o-"), (3000, "s--")):
                 ax.plot(v, [r[f"seconds_fe{n}"] for r in rows], style, label=f"{name}, ~{n} tet10")
+        if results["scaling"]:
+            rows = next(iter(results["scaling"].values()))
+            v = np.array([r["vertices"] for r in rows], dtype=float)
+            ax.plot(v, rows[-1]["seconds_fe1000"] * v / v[-1], ":", color="gray", label="linear")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
         ax.set_xlabel("surface vertices")
         ax.set_ylabel("embedding time [s] (1 thread)")
         ax.legend(fontsize=7)

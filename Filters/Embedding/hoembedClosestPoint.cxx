@@ -227,13 +227,15 @@ bool CholeskySolve(const double H[3][3], double lambda, const double* b, double*
   return true;
 }
 
-bool SolveReduced(int m, const double H[3][3], const double* b, double* y)
+// Levenberg-Marquardt damping until H + lambda I is positive definite (H itself, lambda
+// = 0, was tried by SolveReduced).
+bool SolveReducedDamped(int m, const double H[3][3], const double* b, double* y)
 {
   double tr = 0.0;
   for (int i = 0; i < m; ++i)
     tr += std::fabs(H[i][i]);
-  double lambda = 0.0;
-  for (int attempt = 0; attempt < 40; ++attempt)
+  double lambda = 1e-10 * tr + 1e-300;
+  for (int attempt = 1; attempt < 40; ++attempt)
   {
     bool ok = false;
     switch (m)
@@ -253,6 +255,27 @@ bool SolveReduced(int m, const double H[3][3], const double* b, double* y)
     lambda = lambda == 0.0 ? 1e-10 * tr + 1e-300 : lambda * 10.0;
   }
   return false;
+}
+
+inline bool SolveReduced(int m, const double H[3][3], const double* b, double* y)
+{
+  // the common case first: H positive definite, no damping (inlined)
+  switch (m)
+  {
+    case 1:
+      if (CholeskySolve<1>(H, 0.0, b, y))
+        return true;
+      break;
+    case 2:
+      if (CholeskySolve<2>(H, 0.0, b, y))
+        return true;
+      break;
+    default:
+      if (CholeskySolve<3>(H, 0.0, b, y))
+        return true;
+      break;
+  }
+  return SolveReducedDamped(m, H, b, y);
 }
 
 template <int N>
@@ -573,10 +596,137 @@ void MakeTriangleMap(const double* x, int n, QuadraticMap& m)
     MakeMap<2>(x, 3, [](const double* p, double* d) { Tri3Derivs(p, d); }, m);
 }
 
+void Tet10CornerJacobians(const double* x, double G[4][3][3])
+{
+  // mid-edge node of corners a, b (VTK order: 01, 12, 02, 03, 13, 23)
+  static const int Mid[4][4] = { { -1, 4, 6, 7 }, { 4, -1, 5, 8 }, { 6, 5, -1, 9 },
+    { 7, 8, 9, -1 } };
+  for (int k = 0; k < 4; ++k)
+  {
+    // dx/dlambda_a at corner k (lambda as independent variables): 3 x_k for a = k, else
+    // 4 x_ak - x_a; then dx/dxi_i = dx/dlambda_i - dx/dlambda_0
+    double D[4][3];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        D[a][d] = a == k ? 3.0 * x[3 * k + d] : 4.0 * x[3 * Mid[a][k] + d] - x[3 * a + d];
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+        G[k][i][d] = D[i + 1][d] - D[0][d];
+  }
+}
+
+namespace
+{
+// Smallest Bernstein coefficient of det J over a tet whose corner Jacobians are G (J
+// affine over it); `hi` receives the largest magnitude.
+double BernsteinDetMin(const double G[4][3][3], double& hi)
+{
+  // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
+  // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
+  // over the (a, b, c) with those counts
+  double coef[64] = {};
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+    {
+      const double* u = G[a][0];
+      const double* w = G[b][1];
+      const double uw[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+        u[0] * w[1] - u[1] * w[0] };
+      for (int c = 0; c < 4; ++c)
+      {
+        int cnt[4] = { 0, 0, 0, 0 };
+        ++cnt[a];
+        ++cnt[b];
+        ++cnt[c];
+        coef[cnt[1] + 4 * cnt[2] + 16 * cnt[3]] += Dot3(uw, G[c][2]);
+      }
+    }
+  static const double Fact[4] = { 1, 1, 2, 6 };
+  double lo = std::numeric_limits<double>::infinity();
+  hi = 0.0;
+  for (int n1 = 0; n1 <= 3; ++n1)
+    for (int n2 = 0; n1 + n2 <= 3; ++n2)
+      for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3)
+      {
+        const int n0 = 3 - n1 - n2 - n3;
+        const double b =
+          coef[n1 + 4 * n2 + 16 * n3] * Fact[n0] * Fact[n1] * Fact[n2] * Fact[n3] / 6.0;
+        lo = std::min(lo, b);
+        hi = std::max(hi, std::fabs(b));
+      }
+  return lo;
+}
+} // namespace
+
+bool Tet10JacobianProvablyPositive(const double* x)
+{
+  double G[4][3][3], hi = 0.0;
+  Tet10CornerJacobians(x, G);
+  const double lo = BernsteinDetMin(G, hi);
+  return lo > 1e-12 * hi;
+}
+
+bool TetMapExcludes(const QuadraticMap& m, const double eta[3], double reach)
+{
+  // lower bound of the distance from eta to T
+  const double dT = std::max({ -eta[0], -eta[1], -eta[2],
+    (eta[0] + eta[1] + eta[2] - 1.0) / std::sqrt(3.0) });
+  if (!(dT > 0.0))
+    return false;
+  // Jacobians at the corners (e_k + eta) / 2 of S: J_i(s) = L_i + sum_j Q_ij s_j
+  double G[4][3][3], F2 = 0.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    double sk[3];
+    for (int j = 0; j < 3; ++j)
+      sk[j] = 0.5 * (eta[j] + (k == j + 1 ? 1.0 : 0.0));
+    double f2 = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+      {
+        double g = m.L[i][d];
+        for (int j = 0; j < 3; ++j)
+          g += m.Q[i][j][d] * sk[j];
+        G[k][i][d] = g;
+        f2 += g * g;
+      }
+    F2 = std::max(F2, f2);
+  }
+  double hi = 0.0;
+  const double b = BernsteinDetMin(G, hi);
+  // b well above the round-off of the coefficients (about 1e-14 of the largest), and a
+  // relative margin of 1e-6 for the rest
+  if (!(b > 1e-6 * hi) || !(F2 > 0.0))
+    return false;
+  return b / F2 * dT > reach * (1.0 + 1e-6);
+}
+
 void MakeTetMap(const double* x, int n, QuadraticMap& m)
 {
   if (n == 10)
-    MakeMap<3>(x, 10, [](const double* p, double* d) { Tet10Derivs(p, d); }, m);
+  {
+    // from the corner Jacobians: L_i = J_i(0), Q_ij = J_i(e_j) - J_i(0)
+    double G[4][3][3];
+    Tet10CornerJacobians(x, G);
+    m = QuadraticMap();
+    m.Dim = 3;
+    for (int d = 0; d < 3; ++d)
+      m.C[d] = x[d];
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+      {
+        m.L[i][d] = G[0][i][d];
+        for (int j = 0; j < 3; ++j)
+          m.Q[i][j][d] = G[j + 1][i][d] - G[0][i][d];
+      }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < i; ++j)
+        for (int d = 0; d < 3; ++d)
+        {
+          const double s = 0.5 * (m.Q[i][j][d] + m.Q[j][i][d]);
+          m.Q[i][j][d] = m.Q[j][i][d] = s;
+        }
+  }
   else
     MakeMap<3>(x, 4, [](const double* p, double* d) { Tet4Derivs(p, d); }, m);
 }
@@ -628,7 +778,9 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
     xi[1] += p1;
     if (!(xi[0] > 0.0 && xi[1] > 0.0 && xi[0] + xi[1] < 1.0))
       return false;
-    if (std::fabs(p0) + std::fabs(p1) <= 1e-12)
+    // quadratic convergence: after a step below 1e-9 the new iterate is within ~1e-18 of
+    // the minimum (parametric), so no further step is taken
+    if (std::fabs(p0) + std::fabs(p1) <= 1e-9)
     {
       Eval<2>(m, xi, x, J);
       for (int d = 0; d < 3; ++d)

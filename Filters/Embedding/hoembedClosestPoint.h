@@ -45,6 +45,32 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTriangleMap(const double* x, int n, Quad
 /// Monomial form of a tet10 (n = 10) or tet4 (n = 4), nodes in VTK order.
 HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTetMap(const double* x, int n, QuadraticMap& m);
 
+/**
+ * Jacobians of a tet10 (nodes in VTK order) at its 4 corners: G[k][i] = dx/dxi_i at
+ * corner k (xi = 0, e_1, e_2, e_3). The Jacobian is affine in xi, so it is
+ * sum_k lambda_k G[k] everywhere (lambda: barycentric coordinates).
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void Tet10CornerJacobians(const double* x, double G[4][3][3]);
+
+/**
+ * True when det J > 0 is proven over the whole tet10 (nodes in VTK order) by the cubic's
+ * Bernstein coefficients, all above 1e-12 of their largest magnitude (they come from the
+ * corner Jacobians: det(sum_k lambda_k G_k) expanded multilinearly). False means "not
+ * proven": the caller falls back to a finer test (hoembed::Tet10IsValid).
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT bool Tet10JacobianProvablyPositive(const double* x);
+
+/**
+ * True when no point of the element of the tet map `m` (Dim 3, quadratic or linear) lies
+ * within `reach` of x(eta), for a parametric point eta outside the reference tet T.
+ * Proof used: for quadratic maps x(xi) - x(eta) = J((xi + eta) / 2) (xi - eta) exactly
+ * (J is affine), and over S = (T + eta) / 2, det J >= b (smallest Bernstein coefficient,
+ * from the Jacobians at S's corners) and |J|_2 <= F (largest Frobenius norm there), so
+ * |x(xi) - x(eta)| >= b / F^2 * dist(eta, T) for every xi in T. False: not proven.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT bool TetMapExcludes(
+  const QuadraticMap& m, const double eta[3], double reach);
+
 /// x(xi) and, when J is not null, J[i] = dx/dxi_i (m.Dim vectors of 3).
 HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateMap(
   const QuadraticMap& m, const double* xi, double x[3], double (*J)[3] = nullptr);

@@ -123,6 +123,11 @@ double InvertTetMap(
     }
     if (!Solve3(A, b, dx))
       break;
+    // converged to round-off: a line search would only halve a step that cannot decrease
+    // f any more (30 evaluations)
+    if (std::max({ std::fabs(dx[0]), std::fabs(dx[1]), std::fabs(dx[2]) }) <=
+      1e-14 * (1.0 + std::fabs(pc[0]) + std::fabs(pc[1]) + std::fabs(pc[2])))
+      break;
     double alpha = 1.0;
     bool accepted = false;
     double pt[3], xt[3], Jt[3][3], Ft[3], ft = f;

@@ -18,7 +18,7 @@ using Id = EmbeddingMesh::Id;
 struct Entry
 {
   Id Triangle;
-  VertexHint Hint;
+  Id HintVertex; ///< the vertex whose result is the initial guess (-1: none)
   double MaxDistance;
 };
 
@@ -71,7 +71,7 @@ struct FloodContext
         continue;
       ++this->Seeds;
       this->TriangleState[t0] = 1;
-      queue.push_back({ t0, VertexHint(), 0.0 });
+      queue.push_back({ t0, -1, 0.0 });
       double dt = -1.0;
       while (!queue.empty() || !deferred.empty())
       {
@@ -88,7 +88,9 @@ struct FloodContext
         Entry en = queue.front();
         queue.pop_front();
         const Id t = en.Triangle;
-        VertexHint h = en.Hint;
+        Id hv = en.HintVertex;
+        VertexHint h =
+          hv >= 0 ? (*this->Out)[hv].AsHint(this->Points + 3 * hv) : VertexHint();
         bool mapped = true;
         double maxd = 0.0;
         for (int j = 0; j < 3; ++j)
@@ -103,30 +105,40 @@ struct FloodContext
             dt = std::max(2.0 * dw, floor);
           maxd = std::max(maxd, dw);
           if (dw < dt)
+          {
+            hv = w;
             h = (*this->Out)[w].AsHint(this->Points + 3 * w);
+          }
           else
             mapped = false;
         }
         if (!mapped)
         {
-          deferred.push_back({ t, h, maxd });
+          deferred.push_back({ t, hv, maxd });
           continue;
         }
         // queue the triangles around this triangle's vertices; each vertex of this
-        // partition is expanded once (its triangles are queued by its first mapped triangle)
+        // partition is expanded once (its triangles are queued by its first mapped
+        // triangle); vertices of other partitions are expanded too (the flood must cross
+        // them: a range of the breadth-first order is a band whose triangles often meet
+        // only at vertices owned by the previous range), without the flag, which belongs
+        // to their partition's thread
         for (int j = 0; j < 3; ++j)
         {
           const Id w = tri[3 * t + j];
-          if (this->Owner[w] != static_cast<int>(p) || this->Expanded[w])
-            continue;
-          this->Expanded[w] = 1;
+          if (this->Owner[w] == static_cast<int>(p))
+          {
+            if (this->Expanded[w])
+              continue;
+            this->Expanded[w] = 1;
+          }
           for (Id i = this->VertexTriOffsets[w]; i < this->VertexTriOffsets[w + 1]; ++i)
           {
             const Id n = this->VertexTris[i];
             if (n >= b && n < e && !this->TriangleState[n])
             {
               this->TriangleState[n] = 1;
-              queue.push_back({ n, h, 0.0 });
+              queue.push_back({ n, hv, 0.0 });
             }
           }
         }
@@ -136,35 +148,112 @@ struct FloodContext
 };
 } // namespace
 
+namespace
+{
+// vertex -> triangles (CSR over `tris`, 3 ids per triangle)
+void VertexTriangles(const std::vector<Id>& tris, Id numberOfPoints, std::vector<Id>& offsets,
+  std::vector<std::int32_t>& list)
+{
+  const Id ntri = static_cast<Id>(tris.size() / 3);
+  offsets.assign(numberOfPoints + 1, 0);
+  for (Id i = 0; i < 3 * ntri; ++i)
+    ++offsets[tris[i] + 1];
+  for (Id i = 0; i < numberOfPoints; ++i)
+    offsets[i + 1] += offsets[i];
+  list.resize(3 * ntri);
+  std::vector<Id> fill(offsets.begin(), offsets.end() - 1);
+  for (Id t = 0; t < ntri; ++t)
+    for (int j = 0; j < 3; ++j)
+      list[fill[tris[3 * t + j]]++] = static_cast<std::int32_t>(t);
+}
+} // namespace
+
 void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   Id numberOfPoints, const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out,
-  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats)
+  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats,
+  std::vector<Id>* vertexOrder)
 {
-  out.assign(numberOfPoints, VertexEmbedding());
+  const Id ntri = static_cast<Id>(triangles.size() / 3);
+
+  // Breadth-first order of the triangles over the surface (neighbours through shared
+  // vertices), one component after the other, and the vertices renumbered by their
+  // first appearance in it: consecutive triangles and vertices are then neighbours on the
+  // surface whatever the input order. (The real meshes' order is not spatially coherent:
+  // contiguous ranges of input triangles gave about one flood seed, i.e. one search
+  // without a hint, per triangle, and every access was a cache miss.)
+  std::vector<Id> offsets;
+  std::vector<std::int32_t> vertexTris;
+  VertexTriangles(triangles, numberOfPoints, offsets, vertexTris);
+  std::vector<std::int32_t> order(ntri);
+  {
+    std::vector<char> queued(ntri, 0), expanded(numberOfPoints, 0);
+    Id head = 0, tail = 0;
+    for (Id t0 = 0; t0 < ntri; ++t0)
+    {
+      if (queued[t0])
+        continue;
+      queued[t0] = 1;
+      order[tail++] = static_cast<std::int32_t>(t0);
+      while (head < tail)
+      {
+        const Id t = order[head++];
+        for (int j = 0; j < 3; ++j)
+        {
+          const Id w = triangles[3 * t + j];
+          if (expanded[w])
+            continue;
+          expanded[w] = 1;
+          for (Id i = offsets[w]; i < offsets[w + 1]; ++i)
+          {
+            const std::int32_t n = vertexTris[i];
+            if (!queued[n])
+            {
+              queued[n] = 1;
+              order[tail++] = n;
+            }
+          }
+        }
+      }
+    }
+  }
+  std::vector<Id> newId(numberOfPoints, -1), oldId(numberOfPoints);
+  std::vector<Id> tris(3 * ntri);
+  Id next = 0;
+  for (Id k = 0; k < ntri; ++k)
+    for (int j = 0; j < 3; ++j)
+    {
+      const Id w = triangles[3 * order[k] + j];
+      if (newId[w] < 0)
+      {
+        oldId[next] = w;
+        newId[w] = next++;
+      }
+      tris[3 * k + j] = newId[w];
+    }
+  const Id nOnTriangles = next;
+  for (Id w = 0; w < numberOfPoints; ++w)
+    if (newId[w] < 0)
+    {
+      oldId[next] = w;
+      newId[w] = next++;
+    }
+  std::vector<double> pts(3 * static_cast<size_t>(numberOfPoints));
+  for (Id i = 0; i < numberOfPoints; ++i)
+    for (int d = 0; d < 3; ++d)
+      pts[3 * i + d] = points[3 * oldId[i] + d];
+  std::vector<VertexEmbedding> res(numberOfPoints);
+
   FloodContext ctx;
   ctx.Mesh = &mesh;
   ctx.Method = method;
-  ctx.Points = points;
-  ctx.Triangles = &triangles;
-  ctx.Out = &out;
-  const Id ntri = static_cast<Id>(triangles.size() / 3);
+  ctx.Points = pts.data();
+  ctx.Triangles = &tris;
+  ctx.Out = &res;
+  VertexTriangles(tris, numberOfPoints, ctx.VertexTriOffsets, ctx.VertexTris);
 
-  // vertex -> triangles (CSR)
-  ctx.VertexTriOffsets.assign(numberOfPoints + 1, 0);
-  for (Id i = 0; i < 3 * ntri; ++i)
-    ++ctx.VertexTriOffsets[triangles[i] + 1];
-  for (Id i = 0; i < numberOfPoints; ++i)
-    ctx.VertexTriOffsets[i + 1] += ctx.VertexTriOffsets[i];
-  ctx.VertexTris.resize(3 * ntri);
-  {
-    std::vector<Id> fill(ctx.VertexTriOffsets.begin(), ctx.VertexTriOffsets.end() - 1);
-    for (Id t = 0; t < ntri; ++t)
-      for (int j = 0; j < 3; ++j)
-        ctx.VertexTris[fill[triangles[3 * t + j]]++] = static_cast<std::int32_t>(t);
-  }
-
-  // partitions: contiguous ranges of triangle ids (input order is usually spatially
-  // coherent; a partition that is not connected just gets more seeds)
+  // partitions: contiguous ranges of the breadth-first order (a range that is not
+  // connected just gets more seeds); fixed by the surface, not by the thread count, so
+  // results do not depend on the number of threads
   Id P = numberOfPartitions > 0 ? numberOfPartitions : std::min<Id>(256, ntri / 1000);
   P = std::max<Id>(1, std::min<Id>(P, std::max<Id>(ntri, 1)));
   ctx.NumberOfPartitions = P;
@@ -174,7 +263,7 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
     for (Id t = p * ntri / P; t < (p + 1) * ntri / P; ++t)
       for (int j = 0; j < 3; ++j)
       {
-        const Id w = triangles[3 * t + j];
+        const Id w = tris[3 * t + j];
         if (ctx.Owner[w] < 0)
           ctx.Owner[w] = static_cast<int>(p);
       }
@@ -182,10 +271,10 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   ctx.Done.assign(numberOfPoints, 0);
   ctx.Expanded.assign(numberOfPoints, 0);
 
+  // vertices in no triangle: numbered last
   std::vector<Id> isolated;
-  for (Id i = 0; i < numberOfPoints; ++i)
-    if (ctx.Owner[i] < 0)
-      isolated.push_back(i);
+  for (Id i = nOnTriangles; i < numberOfPoints; ++i)
+    isolated.push_back(i);
   const Id nIso = static_cast<Id>(isolated.size());
 
   // parallel floods, in batches so that progress is reported from this thread
@@ -215,10 +304,21 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
         for (Id k = c * chunk; k < std::min(nIso, (c + 1) * chunk); ++k)
         {
           ctx.Embed(isolated[k], h, s);
-          h = out[isolated[k]].AsHint(points + 3 * isolated[k]);
+          h = res[isolated[k]].AsHint(pts.data() + 3 * isolated[k]);
         }
       }
     });
+  }
+  if (vertexOrder)
+  {
+    out = std::move(res);
+    *vertexOrder = std::move(oldId);
+  }
+  else
+  {
+    out.resize(numberOfPoints);
+    for (Id i = 0; i < numberOfPoints; ++i)
+      out[oldId[i]] = res[i];
   }
   if (progress)
     progress(1.0);

@@ -4,10 +4,14 @@
  * triangles, each vertex starting from the result of an already mapped neighbour.
  *
  * Unrolled into loops with explicit queues (no recursion):
- * 1. The triangles are cut into contiguous id ranges (partitions; input order is usually
- *    spatially coherent). Each vertex belongs to the partition of its first triangle.
+ * 1. The triangles are put in breadth-first order over the surface (neighbours through
+ *    shared vertices) and the vertices renumbered by first appearance, so that
+ *    consecutive triangles and vertices are near each other whatever the input order;
+ *    the order is cut into contiguous ranges (partitions). Each vertex belongs to the
+ *    partition of its first triangle.
  * 2. Partitions run in parallel (vtkSMPTools). In each, a seed triangle per connected
- *    piece starts a flood: a triangle is mapped when all its vertices are within the
+ *    piece starts a flood (crossing vertices of other partitions, which it does not
+ *    embed): a triangle is mapped when all its vertices are within the
  *    distance threshold d_t; only then are its neighbours queued, with the last mapped
  *    vertex's result as their initial guess. Deferred triangles are retried after the
  *    queue empties, with d_t raised (doubled, at least to the nearest deferred distance).
@@ -38,13 +42,15 @@ struct FloodStatistics
  * Embed `numberOfPoints` points (3 doubles each) whose triangles are `triangles`
  * (3 ids each; other cells are the caller's business). `numberOfPartitions` <= 0 picks
  * one per ~1000 triangles (at most 256). `progress` (may be empty) is called from the
- * calling thread with values in [0, 1].
+ * calling thread with values in [0, 1]. With `vertexOrder`, `out` is left in the flood's
+ * vertex order and (*vertexOrder)[k] is the input id of out[k] (saves a copy of the results);
+ * without it, out[i] belongs to input point i.
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedSurface(const EmbeddingMesh& mesh, int method,
   const double* points, EmbeddingMesh::Id numberOfPoints,
   const std::vector<EmbeddingMesh::Id>& triangles, std::vector<VertexEmbedding>& out,
   int numberOfPartitions = 0, const std::function<void(double)>& progress = {},
-  FloodStatistics* stats = nullptr);
+  FloodStatistics* stats = nullptr, std::vector<EmbeddingMesh::Id>* vertexOrder = nullptr);
 } // namespace hoembed
 
 #endif

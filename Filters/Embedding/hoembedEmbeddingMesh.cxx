@@ -2,6 +2,8 @@
 #include "hoembedBoundaryNormals.h"
 #include "hoembedShapeFunctions.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -51,6 +53,60 @@ void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner,
 }
 
 const int TriEdges[3][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 } };
+
+inline double Dot(const double* a, const double* b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// Squared distance from p to the triangle (a, b, c) (Ericson, Real-Time Collision
+// Detection, 5.1.5).
+double PointTriangleDistance2(const double* p, const double* a, const double* b, const double* c)
+{
+  double ab[3], ac[3], ap[3], q[3];
+  for (int d = 0; d < 3; ++d)
+  {
+    ab[d] = b[d] - a[d];
+    ac[d] = c[d] - a[d];
+    ap[d] = p[d] - a[d];
+  }
+  auto at = [&](double s, double t) {
+    for (int d = 0; d < 3; ++d)
+      q[d] = a[d] + s * ab[d] + t * ac[d] - p[d];
+    return Dot(q, q);
+  };
+  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0)
+    return at(0, 0);
+  double bp[3], cp[3];
+  for (int d = 0; d < 3; ++d)
+  {
+    bp[d] = p[d] - b[d];
+    cp[d] = p[d] - c[d];
+  }
+  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3)
+    return at(1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
+    return at(d1 / (d1 - d3), 0);
+  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6)
+    return at(0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
+    return at(0, d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+  {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return at(1.0 - w, w);
+  }
+  const double den = va + vb + vc;
+  if (!(std::fabs(den) > 0.0))
+    return 0.0; // degenerate: no bound
+  return at(vb / den, vc / den);
+}
 
 // Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
 // plane through its corners, oriented away from the opposite corner, and the largest
@@ -142,26 +198,29 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
   this->CellMaps.resize(numberOfCells);
   std::vector<double> boxes(6 * numberOfCells);
   this->CellSlabs.assign(20 * numberOfCells, 0.0);
-  double x[30];
-  for (Id c = 0; c < numberOfCells; ++c)
-  {
-    const Id* ids = conn + nodesPerCell * c;
-    for (int a = 0; a < nodesPerCell; ++a)
-      for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = points[3 * ids[a] + d];
-    MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
-    ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
-    ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
-  }
+  // per cell and per face: independent, in parallel
+  vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
+    double x[30];
+    for (Id c = cb; c < ce; ++c)
+    {
+      const Id* ids = conn + nodesPerCell * c;
+      for (int a = 0; a < nodesPerCell; ++a)
+        for (int d = 0; d < 3; ++d)
+          x[3 * a + d] = points[3 * ids[a] + d];
+      MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
+      ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
+      ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
+    }
+  });
   this->CellTree.Build(boxes);
 
   const int npf = this->Topology.GetNodesPerFace();
   this->FaceMaps.resize(nbf);
   this->FaceSlabs.assign(6 * nbf, 0.0);
+  this->FaceFlat.assign(10 * nbf, 0.0);
   this->NormalMaps.resize(nbf);
   boxes.assign(6 * nbf, 0.0);
-  for (Id f = 0; f < nbf; ++f)
-  {
+  auto faceData = [&](Id f, double* x) {
     const Id* ids = &this->Topology.BoundaryFaceNodes[npf * f];
     double nx[18];
     for (int a = 0; a < npf; ++a)
@@ -188,16 +247,20 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double* flat = &this->FaceFlat[10 * f];
+    for (int k = 0; k < 9; ++k)
+      flat[k] = x[k];
+    flat[9] = std::numeric_limits<double>::infinity();
     if (!(ln > 0.0))
     {
       slab[0] = slab[1] = slab[2] = 0.0; // no bound from a degenerate plane
       slab[3] = slab[4] = slab[5] = 0.0;
-      continue;
+      return;
     }
     for (int d = 0; d < 3; ++d)
       slab[d] = n[d] / ln;
     slab[3] = slab[0] * a[0] + slab[1] * a[1] + slab[2] * a[2];
-    double lo = 0.0, hi = 0.0;
+    double lo = 0.0, hi = 0.0, tmax2 = 0.0;
     if (quadratic)
     {
       for (int e = 0; e < 3; ++e)
@@ -210,12 +273,24 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
           h += slab[d] * (2.0 * m[d] - 0.5 * (p[d] + q[d]));
         lo = std::min(lo, h);
         hi = std::max(hi, h);
+        // deviation control point 2 (m - (p + q) / 2), its in-plane part
+        double dev[3];
+        for (int d = 0; d < 3; ++d)
+          dev[d] = 2.0 * m[d] - (p[d] + q[d]);
+        const double hn = Dot(dev, slab);
+        tmax2 = std::max(tmax2, std::max(0.0, Dot(dev, dev) - hn * hn));
       }
     }
     const double pad = 1e-12 * this->Diagonal;
     slab[4] = lo - pad;
     slab[5] = hi + pad;
-  }
+    flat[9] = std::sqrt(tmax2) * (1.0 + 1e-12) + pad;
+  };
+  vtkSMPTools::For(Id(0), nbf, [&](Id fb, Id fe) {
+    double x[30];
+    for (Id f = fb; f < fe; ++f)
+      faceData(f, x);
+  });
   this->FaceTree.Build(boxes);
   return std::string();
 }
@@ -225,7 +300,14 @@ double EmbeddingMesh::FaceLowerBound2(Id f, const double v[3]) const
   const double* s = &this->FaceSlabs[6 * f];
   const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
   const double out = h > s[5] ? h - s[5] : (h < s[4] ? s[4] - h : 0.0);
-  return out * out;
+  const double* t = &this->FaceFlat[10 * f];
+  if (!(t[9] < std::numeric_limits<double>::infinity()))
+    return out * out;
+  // in-plane distance from the projection of v to the straight triangle, less the
+  // tangential deviation (round-off: relative 1e-12 of the distances kept as slack)
+  const double d2 = PointTriangleDistance2(v, t, t + 3, t + 6);
+  const double tang = std::sqrt(std::max(0.0, d2 - h * h)) * (1.0 - 1e-12) - t[9];
+  return out * out + (tang > 0.0 ? tang * tang : 0.0);
 }
 
 void EmbeddingMesh::CellPoint(Id c, const double pc[3], double x[3]) const

@@ -43,6 +43,12 @@ public:
   /// range [lo, hi] of n . x - c over the face's Bezier control points (the face lies in
   /// that slab): 6 doubles n, c, lo, hi.
   std::vector<double> FaceSlabs;
+  /// Per boundary face: the corners a, b, c of its straight triangle and the largest
+  /// in-plane (tangential) length t of the curved face's deviation from it (the
+  /// deviation x(u, v) - flat(u, v) is a quadratic with Bezier control points 0 at the
+  /// corners and 2 (m - (p + q) / 2) at the edges, so its tangential part is at most t):
+  /// 10 doubles. t = +inf for a degenerate corner plane (no tangential bound).
+  std::vector<double> FaceFlat;
   /// Per cell, per face of its straight tet (corners only, TetFaceNodes order): the unit
   /// normal n pointing away from the opposite corner, offset c = n . x_a, and the largest
   /// n . x - c over the cell's Bezier control points (the curved cell lies below it):
@@ -54,7 +60,10 @@ public:
 
   int NodesPerCell() const { return this->Topology.NodesPerCell; }
 
-  /// Lower bound of the squared distance from v to boundary face f (box and slab).
+  /// Lower bound of the squared distance from v to boundary face f: the face lies within
+  /// [lo, hi] of its corner plane (FaceSlabs) and within t of the straight triangle in
+  /// the plane (FaceFlat), so |v - y|^2 >= (dist_plane(proj v, triangle) - t)_+^2 +
+  /// dist(height of v, [lo, hi])^2 for every point y of the face.
   double FaceLowerBound2(Id f, const double v[3]) const;
 
   /// False when v (with slack tol) is certainly outside cell c (CellSlabs); cheap.

@@ -125,30 +125,8 @@ void PseudoNormal(const EmbeddingMesh& M, const BoundaryHit& hit, double n[3])
   }
 }
 
-void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start,
-  BoundaryHit& best, VertexEmbedding& out, int* activeOut = nullptr)
+void Keep(const ClosestPointResult& r, Id f, BoundaryHit& best)
 {
-  ClosestPointResult r;
-  double linear[2];
-  if (!start)
-  {
-    LinearStart(M.FaceMaps[f], v, linear);
-    start = linear;
-  }
-  ClosestPointOnMap(M.FaceMaps[f], v, start, r);
-  out.Iterations += r.Iterations;
-  ++out.Visited;
-  // The squared distance over a curved patch is not convex: a solution (on the patch's
-  // border or inside) may be a local minimum only (seen on the large boundary faces of
-  // TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at 0.58; a
-  // re-solve from the centroid is not enough either, see TestEmbeddingNonConvexFace).
-  // When the face's lower bound leaves room for a nearer point than both this one and
-  // the best so far, a branch and bound over the patch finds it or certifies there is none.
-  if (M.NodesPerCell() == 10 &&
-    M.FaceLowerBound2(f, v) < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
-    CertifyClosestPointOnPatch(M.FaceMaps[f], v, best.Dist2, CertifyTolerance * M.Diagonal, r);
-  if (activeOut)
-    *activeOut = r.Active;
   if (r.Distance2 < best.Dist2)
   {
     best.Dist2 = r.Distance2;
@@ -161,11 +139,54 @@ void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* st
   }
 }
 
+// The squared distance over a curved patch is not convex: a solution (on the patch's
+// border or inside) may be a local minimum only (seen on the large boundary faces of
+// TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at 0.58; a
+// re-solve from the centroid is not enough either, see TestEmbeddingNonConvexFace).
+// When the face's lower bound leaves room for a nearer point than both its solution and
+// the best so far, a branch and bound over the patch (hoembedClosestPointCertify.h) finds
+// it or certifies there is none. Done after the walk and the certification
+// (SearchScratch::Retry), when the best distance is final or nearly so and most of these
+// faces are excluded by the bound.
+void RetryFace(const EmbeddingMesh& M, const double v[3], Id f, const ClosestPointResult& r,
+  BoundaryHit& best)
+{
+  const double bound = M.FaceLowerBound2(f, v);
+  if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
+  {
+    ClosestPointResult nearer = r;
+    if (CertifyClosestPointOnPatch(
+          M.FaceMaps[f], v, best.Dist2, CertifyTolerance * M.Diagonal, nearer))
+      Keep(nearer, f, best);
+  }
+}
+
+void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start,
+  BoundaryHit& best, VertexEmbedding& out, SearchScratch& S, int* activeOut = nullptr)
+{
+  ClosestPointResult r;
+  double linear[2];
+  if (!start)
+  {
+    LinearStart(M.FaceMaps[f], v, linear);
+    start = linear;
+  }
+  ClosestPointOnMap(M.FaceMaps[f], v, start, r);
+  out.Iterations += r.Iterations;
+  ++out.Visited;
+  if (M.NodesPerCell() == 10) // flat tri3 faces: the distance is convex
+    S.Retry.push_back({ f, r });
+  if (activeOut)
+    *activeOut = r.Active;
+  Keep(r, f, best);
+}
+
 void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint& hint,
   BoundaryHit& best, VertexEmbedding& out, SearchScratch& S)
 {
   const unsigned stamp = S.NextStamp();
   const TetMeshTopology& T = M.Topology;
+  S.Retry.clear();
   if (hint.Face >= 0)
   {
     // Algorithm 1 on the boundary surface, explicit queue and visited stamps
@@ -177,7 +198,9 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
       const Id f = S.Queue[q];
       int active = 0;
       const double before = best.Dist2;
-      SolveFace(M, v, f, f == hint.Face ? hint.UV : nullptr, best, out, &active);
+      if (q > 0 && M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
+        continue; // cannot improve the best: neither solve nor walk on from it
+      SolveFace(M, v, f, f == hint.Face ? hint.UV : nullptr, best, out, S, &active);
       if (!(best.Dist2 < before) && q > 0)
         continue; // no improvement: do not walk further from here
       const int k = PopCount(active & 7);
@@ -207,8 +230,10 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     if (S.FaceStamp[f] == stamp || M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
       return;
     S.FaceStamp[f] = stamp;
-    SolveFace(M, v, f, nullptr, best, out);
+    SolveFace(M, v, f, nullptr, best, out, S);
   });
+  for (const auto& fr : S.Retry)
+    RetryFace(M, v, fr.first, fr.second, best);
 }
 
 // Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.
@@ -222,6 +247,10 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   // exit face of the walk when the fast test fails: opposite the most negative
   // barycentric coordinate of the (extrapolated) parametric point
   int exitFace = -1;
+  // v is expected outside (no start cell): the Newton inversion either lands inside
+  // the cell or, usually, proves v away from it (TetMapExcludes); else the constrained
+  // solve decides
+  const bool expectOutside = start < 0;
   auto test = [&](Id c, bool fastOnly) {
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
@@ -241,6 +270,8 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       out.Residual = res;
       return true;
     }
+    if (expectOutside && !fastOnly && res <= tol && TetMapExcludes(M.CellMaps[c], pc, tol + res))
+      return false; // no point of the cell within tol of v
     if (fastOnly)
     {
       const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
@@ -419,10 +450,11 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     double e[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1], v[2] - hint.Point[2] };
     provenOutside = hint.Distance - std::sqrt(Dot(e, e)) > InsideTolerance * M.Diagonal;
   }
-  // 1. inside, from an inside neighbour: walk through a few cells; otherwise try the
-  // hint cell alone (one Newton inversion)
-  if (!provenOutside && hint.Cell >= 0 &&
-    LocateCell(M, v, hint.Cell, false, out, S, hint.Inside ? 8 : 0))
+  // 1. inside, from an inside neighbour: walk through a few cells. (From an outside
+  // neighbour, trying its cell first found v inside in about 1 case of 10, so those go
+  // straight to the boundary search; step 3 locates the few inside ones.)
+  if (!provenOutside && hint.Cell >= 0 && hint.Inside &&
+    LocateCell(M, v, hint.Cell, false, out, S, 8))
   {
     SetInside(out);
     out.BoundaryFace = hint.Face;

@@ -82,11 +82,14 @@ void AabbTree::Containing(const double v[3], double tol, std::vector<Id>& out) c
         return false;
     return true;
   };
-  std::vector<Id> stack{ 0 };
-  while (!stack.empty())
+  // fixed stack (no allocation per query): the tree is balanced (median splits), so its
+  // depth is about log2(n / 4) and the stack holds at most depth + 1 entries
+  Id stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
   {
-    const Node& node = this->Nodes[stack.back()];
-    stack.pop_back();
+    const Node& node = this->Nodes[stack[--top]];
     if (!inside(node.Box))
       continue;
     if (node.Count > 0)
@@ -96,8 +99,10 @@ void AabbTree::Containing(const double v[3], double tol, std::vector<Id>& out) c
           out.push_back(this->Items[k]);
       continue;
     }
-    stack.push_back(node.First);
-    stack.push_back(node.First + 1);
+    if (top + 2 > 128)
+      continue; // cannot happen for trees of < 2^60 items
+    stack[top++] = node.First;
+    stack[top++] = node.First + 1;
   }
 }
 } // namespace hoembed

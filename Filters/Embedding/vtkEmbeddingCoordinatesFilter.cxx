@@ -1,6 +1,7 @@
 #include "vtkEmbeddingCoordinatesFilter.h"
 
 #include "hoembedElementGeometry.h"
+#include "hoembedClosestPoint.h"
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedMeshFingerprint.h"
 
@@ -175,7 +176,9 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
         bool ok;
         if (npc == 10)
         {
-          ok = hoembed::Tet10IsValid(x);
+          // the cubic's Bernstein coefficients from the corner Jacobians settle nearly
+          // every element; the subdividing test only the others
+          ok = hoembed::Tet10JacobianProvablyPositive(x) || hoembed::Tet10IsValid(x);
         }
         else
         {
@@ -267,8 +270,9 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   std::vector<hoembed::VertexEmbedding> res;
   const int method =
     this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
+  std::vector<Id> order; // res[k] belongs to surface point order[k]
   hoembed::EmbedSurface(em, method, sp.data(), ns, tris, res, this->NumberOfPartitions,
-    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); });
+    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); }, nullptr, &order);
 
   vtkNew<vtkIdTypeArray> cellId;
   cellId->SetName("EmbeddingCellId");
@@ -297,9 +301,10 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   visited->SetNumberOfTuples(ns);
   std::atomic<vtkIdType> firstFailed(ns);
   vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType i = b; i < e; ++i)
+    for (vtkIdType k = b; k < e; ++k)
     {
-      const hoembed::VertexEmbedding& r = res[i];
+      const hoembed::VertexEmbedding& r = res[k];
+      const vtkIdType i = order[k];
       if (!std::isfinite(r.PC[0]) || !std::isfinite(r.PC[1]) || !std::isfinite(r.PC[2]) ||
         !std::isfinite(r.Distance) || !std::isfinite(r.Residual) || r.Cell < 0)
       {

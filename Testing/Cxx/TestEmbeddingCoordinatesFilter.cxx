@@ -6,6 +6,7 @@
 
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPoint.h"
+#include "hoembedElementGeometry.h"
 #include "hoembedEmbeddingSearch.h"
 #include "hoembedShapeFunctions.h"
 #include "vtkEmbeddingCoordinatesFilter.h"
@@ -37,6 +38,7 @@
 #include "vtkXMLPolyDataWriter.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -605,6 +607,223 @@ void TestCrossingBoundary()
     static_cast<long long>(surface->GetNumberOfPoints()));
   CheckEmbedding("crossing boundary", surface, grid, out, 0, true);
 }
+// The closed-form tet10 map (MakeTetMap from the corner Jacobians) against the shape
+// functions, and the fast validity test (Bernstein coefficients of det J) against
+// hoembed::Tet10IsValid and a dense sample of det J: it may only accept valid elements.
+void TestTet10Validity()
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const double ref[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+    { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
+    { 0, 0.5, 0.5 } };
+  int accepted = 0, rejected = 0, wrongAccept = 0, notFull = 0;
+  double mapErr = 0.0;
+  for (int trial = 0; trial < 400; ++trial)
+  {
+    const double amp = 0.05 + 0.4 * (trial % 8) / 7.0;
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = ref[a][d] + (a < 4 ? 0.3 : 1.0) * amp * U(rng);
+    hoembed::QuadraticMap m;
+    hoembed::MakeTetMap(x, 10, m);
+    double minDet = std::numeric_limits<double>::infinity();
+    const int n = 12;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j)
+        for (int k = 0; i + j + k <= n; ++k)
+        {
+          const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+          double N[10], p[3] = { 0, 0, 0 }, q[3], J[3][3];
+          hoembed::Tet10Shape(pc, N);
+          for (int a = 0; a < 10; ++a)
+            for (int d = 0; d < 3; ++d)
+              p[d] += N[a] * x[3 * a + d];
+          hoembed::EvaluateMap(m, pc, q, J);
+          for (int d = 0; d < 3; ++d)
+            mapErr = std::max(mapErr, std::fabs(p[d] - q[d]));
+          const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+            J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+            J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+          minDet = std::min(minDet, det);
+        }
+    const bool fast = hoembed::Tet10JacobianProvablyPositive(x);
+    (fast ? accepted : rejected)++;
+    if (fast && !(minDet > 0.0))
+      ++wrongAccept;
+    if (fast && !hoembed::Tet10IsValid(x))
+      ++notFull;
+  }
+  HOEMBED_CHECK(mapErr <= 1e-13, "tet10 map: max deviation from the shape functions %g", mapErr);
+  HOEMBED_CHECK(wrongAccept == 0, "fast tet10 validity: %d elements with det J <= 0 accepted",
+    wrongAccept);
+  HOEMBED_CHECK(notFull == 0, "fast tet10 validity: %d accepted elements Tet10IsValid rejects",
+    notFull);
+  HOEMBED_CHECK(accepted > 50 && rejected > 50,
+    "fast tet10 validity: %d accepted, %d rejected (test setup)", accepted, rejected);
+  std::printf("tet10 validity: %d accepted, %d not proven by the fast test; map error %.2g\n",
+    accepted, rejected, mapErr);
+}
+
+// hoembed::TetMapExcludes (the rule that rejects a cell for a point the pseudo-normal puts
+// outside) against the distance from x(eta) to the element by brute force (constrained
+// solves from 5 starts and a dense sample): it may only exclude when that distance exceeds
+// the reach, for reaches on both sides of it.
+void TestTetMapExcludes()
+{
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const double ref[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+    { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
+    { 0, 0.5, 0.5 } };
+  const double starts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 }, { 0.1, 0.7, 0.1 },
+    { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
+  int excluded = 0, wrong = 0, tried = 0;
+  for (int trial = 0; trial < 60; ++trial)
+  {
+    // anisotropic scales from 1/20 to 20: a rule with the wrong scaling fails here
+    double scale[3];
+    for (double& sc : scale)
+      sc = std::pow(20.0, U(rng));
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = scale[d] * (ref[a][d] + (a < 4 ? 0.05 : 0.12) * U(rng));
+    if (!hoembed::Tet10JacobianProvablyPositive(x))
+      continue;
+    hoembed::QuadraticMap m;
+    hoembed::MakeTetMap(x, 10, m);
+    for (int q = 0; q < 20; ++q)
+    {
+      // a parametric point outside the element, near one of its faces or corners
+      double eta[3] = { 0.3 + 0.6 * U(rng), 0.3 + 0.6 * U(rng), 0.3 + 0.6 * U(rng) };
+      if (eta[0] >= 0 && eta[1] >= 0 && eta[2] >= 0 && eta[0] + eta[1] + eta[2] <= 1)
+        continue;
+      double v[3];
+      hoembed::EvaluateMap(m, eta, v);
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& s0 : starts)
+      {
+        hoembed::ClosestPointResult r;
+        hoembed::ClosestPointOnMap(m, v, s0, r, 200);
+        best = std::min(best, r.Distance2);
+      }
+      const int n = 16;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+          for (int k = 0; i + j + k <= n; ++k)
+          {
+            const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+            double y[3];
+            hoembed::EvaluateMap(m, pc, y);
+            best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) +
+                (y[1] - v[1]) * (y[1] - v[1]) + (y[2] - v[2]) * (y[2] - v[2]));
+          }
+      const double dist = std::sqrt(best);
+      for (const double f : { 0.0, 0.3, 0.9, 1.1, 3.0 })
+      {
+        ++tried;
+        if (hoembed::TetMapExcludes(m, eta, f * dist))
+        {
+          ++excluded;
+          if (f * dist >= dist)
+            ++wrong;
+        }
+      }
+    }
+  }
+  HOEMBED_CHECK(wrong == 0, "TetMapExcludes: %d exclusions with a point of the element "
+    "within reach", wrong);
+  HOEMBED_CHECK(excluded > tried / 10, "TetMapExcludes: only %d of %d excluded (test setup)",
+    excluded, tried);
+  std::printf("cell exclusion: %d of %d (point, reach) pairs excluded, none wrongly\n", excluded,
+    tried);
+}
+
+// EmbeddingMesh::FaceLowerBound2 (the pruning rule of the boundary search) against the
+// distance to each curved boundary face by brute force (7 constrained solves and a dense
+// sample of the face): it must never exceed it, and must prune (be positive) often. The
+// map shears the faces strongly in their own planes, so a bound that ignored the
+// tangential deviation of the curved face from its straight triangle would fail here.
+void ShearMap(double x[3])
+{
+  const double X = x[0], Y = x[1], Z = x[2];
+  x[0] = X + 0.25 * std::sin(M_PI * Y) + 0.1 * Z * Z;
+  x[1] = Y + 0.25 * std::sin(M_PI * X) - 0.1 * Z;
+  x[2] = Z + 0.15 * std::sin(M_PI * X) * std::sin(M_PI * Y);
+}
+
+void TestFaceLowerBound()
+{
+  auto grid = MakeBoxTetMesh(2, 2, 2, 1.0, 1.0, 1.0, 2, ShearMap);
+  int npc = 0;
+  const auto conn = hoembed_test::MeshConnectivity(grid, npc);
+  const auto pts = hoembed_test::PointsOf(grid);
+  hoembed::EmbeddingMesh em;
+  const std::string err = em.Build(pts.data(), grid->GetNumberOfPoints(),
+    reinterpret_cast<const hoembed::EmbeddingMesh::Id*>(conn.data()), grid->GetNumberOfCells(), npc);
+  HOEMBED_CHECK(err.empty(), "face bound: mesh build: %s", err.c_str());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const double starts[7][2] = { { 1.0 / 3, 1.0 / 3 }, { 0.8, 0.1 }, { 0.1, 0.8 }, { 0.1, 0.1 },
+    { 0.45, 0.45 }, { 0.45, 0.1 }, { 0.1, 0.45 } };
+  int over = 0, positive = 0, tight = 0, total = 0;
+  double worst = 0.0;
+  const hoembed::EmbeddingMesh::Id nbf = em.Topology.GetNumberOfBoundaryFaces();
+  for (hoembed::EmbeddingMesh::Id f = 0; f < nbf; ++f)
+  {
+    const hoembed::QuadraticMap& m = em.FaceMaps[f];
+    double c[3];
+    const double centroid[2] = { 1.0 / 3, 1.0 / 3 };
+    hoembed::EvaluateMap(m, centroid, c);
+    for (int q = 0; q < 40; ++q)
+    {
+      // points around the face at distances from 0 to ~1 (near its edges too)
+      double v[3];
+      const double r = q < 20 ? 0.15 * U(rng) : 0.8 * U(rng);
+      for (int d = 0; d < 3; ++d)
+        v[d] = c[d] + r * (2.0 * U(rng) - 1.0) + 0.3 * (U(rng) - 0.5);
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& s0 : starts)
+      {
+        hoembed::ClosestPointResult res;
+        hoembed::ClosestPointOnMap(m, v, s0, res, 200);
+        best = std::min(best, res.Distance2);
+      }
+      for (int i = 0; i <= 60; ++i)
+        for (int j = 0; i + j <= 60; ++j)
+        {
+          const double uv[2] = { i / 60.0, j / 60.0 };
+          double x[3];
+          hoembed::EvaluateMap(m, uv, x);
+          const double e2 = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
+            (x[2] - v[2]) * (x[2] - v[2]);
+          best = std::min(best, e2);
+        }
+      const double bound = em.FaceLowerBound2(f, v);
+      ++total;
+      if (bound > best * (1.0 + 1e-9) + 1e-24)
+      {
+        if (over < 5)
+          std::fprintf(stderr, "face bound: face %lld bound %.17g > distance^2 %.17g\n",
+            static_cast<long long>(f), bound, best);
+        ++over;
+      }
+      if (best > 0.0)
+        worst = std::max(worst, bound / best);
+      positive += bound > 0.0;
+      tight += bound > 0.5 * best;
+    }
+  }
+  HOEMBED_CHECK(over == 0, "face bound: %d of %d bounds exceed the distance (max ratio %.17g)",
+    over, total, worst);
+  HOEMBED_CHECK(positive > total / 2, "face bound: only %d of %d bounds positive", positive, total);
+  std::printf("face lower bound: %d samples, %d positive, %d above half the distance^2, max "
+              "bound/distance^2 %.6f\n",
+    total, positive, tight, worst);
+}
+
 // Real surfaces on vtkTet10Mesher meshes of ~1000 elements, tet10 and tet4: brute force
 // on every k-th vertex (about 1500 per surface), residuals on all of them.
 void TestRealMeshes(const std::string& dir)
@@ -654,6 +873,9 @@ int main(int argc, char* argv[])
 {
   const std::string dataDir = hoembed_test::DataDir(argc, argv);
   TestKernels();
+  TestFaceLowerBound();
+  TestTet10Validity();
+  TestTetMapExcludes();
 
   auto surface = MakeSurface(true, true);
   auto grid10 = MakeBoxTetMesh(4, 2, 2, 2.0, 1.0, 1.0, 2, CurveMap);
