@@ -1,0 +1,402 @@
+// hoembed::CorotationalSolver: the step matrix assembled in 3x3 node blocks (rotated
+// stiffness S = sum_e R_e K_e R_e^T, rebuilt every step), its products with vectors, and
+// the scalar CSR copy of cM M + cK S for the factorisation. See hoembedCorotationalSolver.h.
+#include "hoembedCorotationalSolver.h"
+#include "hoembedCorotationalSolverImpl.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace hoembed
+{
+// Block pattern = the node adjacency (the pattern of MN); per element the block index of
+// each node pair; elements grouped by a greedy colouring; per value of the scalar matrix A its block value.
+void CorotationalSolver::Impl::BuildBlocks()
+{
+  const int* outer = MN.outerIndexPtr();
+  const int* inner = MN.innerIndexPtr();
+  const long long nb = MN.nonZeros();
+  S.assign(9 * nb, 0.0);
+  BlockOf.assign(NC * N * N, 0);
+  auto block = [&](int row, int col)
+  {
+    const int* b = inner + outer[row];
+    const int* e = inner + outer[row + 1];
+    return static_cast<int>(std::lower_bound(b, e, col) - inner);
+  };
+  for (long long e = 0; e < NC; ++e)
+  {
+    for (int a = 0; a < N; ++a)
+    {
+      for (int b = 0; b < N; ++b)
+      {
+        BlockOf[(e * N + a) * N + b] = block(Conn[e * N + a], Conn[e * N + b]);
+      }
+    }
+  }
+  // greedy colouring with one 64-bit mask of used colours per node
+  std::vector<std::uint64_t> used(NP, 0);
+  std::vector<int> color(NC, 0);
+  int colors = 0;
+  ColorsOK = true;
+  for (long long e = 0; e < NC; ++e)
+  {
+    std::uint64_t mask = 0;
+    for (int a = 0; a < N; ++a)
+    {
+      mask |= used[Conn[e * N + a]];
+    }
+    if (mask == ~std::uint64_t(0))
+    {
+      ColorsOK = false; // over 64 colours: the assembly runs serially
+      break;
+    }
+    int c = 0;
+    while (mask & (std::uint64_t(1) << c))
+    {
+      ++c;
+    }
+    color[e] = c;
+    colors = std::max(colors, c + 1);
+    for (int a = 0; a < N; ++a)
+    {
+      used[Conn[e * N + a]] |= std::uint64_t(1) << c;
+    }
+  }
+  if (!ColorsOK)
+  {
+    colors = 1;
+    std::fill(color.begin(), color.end(), 0);
+  }
+  ColorStart.assign(colors + 1, 0);
+  for (long long e = 0; e < NC; ++e)
+  {
+    ColorStart[color[e] + 1]++;
+  }
+  for (int c = 0; c < colors; ++c)
+  {
+    ColorStart[c + 1] += ColorStart[c];
+  }
+  ColorCells.assign(NC, 0);
+  {
+    std::vector<int> fill(ColorStart.begin(), ColorStart.end() - 1);
+    for (long long e = 0; e < NC; ++e)
+    {
+      ColorCells[fill[color[e]]++] = static_cast<int>(e);
+    }
+  }
+  FInt.assign(3 * NP, 0.0);
+  EW.assign(Assembled() ? 0 : NC * D, 0.0);
+  const int* aOuter = A.outerIndexPtr();
+  const int* aInner = A.innerIndexPtr();
+  AFromS.assign(A.nonZeros(), 0);
+  for (long long r = 0; r < 3 * NP; ++r)
+  {
+    for (int k = aOuter[r]; k < aOuter[r + 1]; ++k)
+    {
+      const int c = aInner[k];
+      const int I = static_cast<int>(r / 3), J = c / 3;
+      if (outer[I] == outer[I + 1])
+      {
+        AFromS[k] = -1; // isolated point: no block
+        continue;
+      }
+      AFromS[k] = 9 * block(I, J) + 3 * static_cast<int>(r % 3) + c % 3;
+    }
+  }
+}
+
+// S = sum_e R_e K_e R_e^T and FInt = -sum_e R_e K_e (R_e^T y_e - X_e), y = x + vScale v
+// (every step, after the rotations). Per element, with Q = blockdiag(R, ..., R):
+// Z = Q K (rows of K mixed: vectorised), the forces -Z u, and Q K Q^T = Q Z^T (Z
+// transposed once, rows mixed again); its upper node blocks are added into S and their
+// transposes below. Elements run colour by colour (no two elements of a colour share a
+// node) on several threads, in their own order on one (better locality; the sums then
+// differ from the threaded ones in the last bits).
+void CorotationalSolver::Impl::AssembleS(double vScale)
+{
+  std::fill(S.begin(), S.end(), 0.0);
+  std::fill(FInt.begin(), FInt.end(), 0.0);
+  const bool threaded =
+    ColorsOK && NC >= ParallelCells && vtkSMPTools::GetEstimatedNumberOfThreads() >= 2;
+  auto cells = [&](vtkIdType begin, vtkIdType end)
+  {
+    alignas(32) double zbuf[900];
+    alignas(32) double ztbuf[900];
+    double u[30];
+    for (vtkIdType c = begin; c < end; ++c)
+    {
+      const long long e = threaded ? ColorCells[c] : c;
+      const double* R = &Rot[e * 9];
+      const double* K = &Ke[e * D * D];
+      // u = Q^T y - X
+      for (int a = 0; a < N; ++a)
+      {
+        const long long pa = Conn[e * N + a];
+        const double y0 = x[3 * pa] + vScale * v[3 * pa];
+        const double y1 = x[3 * pa + 1] + vScale * v[3 * pa + 1];
+        const double y2 = x[3 * pa + 2] + vScale * v[3 * pa + 2];
+        for (int i = 0; i < 3; ++i)
+        {
+          u[3 * a + i] = R[i] * y0 + R[3 + i] * y1 + R[6 + i] * y2 - X[3 * pa + i];
+        }
+      }
+      // Z = Q K (row-major), Zt its transpose
+      for (int a = 0; a < N; ++a)
+      {
+        const double* K0 = K + 3 * a * D;
+        const double* K1 = K0 + D;
+        const double* K2 = K1 + D;
+        double* Z0 = zbuf + 3 * a * D;
+        double* Z1 = Z0 + D;
+        double* Z2 = Z1 + D;
+        for (int k = 0; k < D; ++k)
+        {
+          Z0[k] = R[0] * K0[k] + R[1] * K1[k] + R[2] * K2[k];
+          Z1[k] = R[3] * K0[k] + R[4] * K1[k] + R[5] * K2[k];
+          Z2[k] = R[6] * K0[k] + R[7] * K1[k] + R[8] * K2[k];
+        }
+      }
+      for (int r = 0; r < D; ++r)
+      {
+        for (int k = 0; k < D; ++k)
+        {
+          ztbuf[k * D + r] = zbuf[r * D + k];
+        }
+      }
+      // forces -Z u into the nodes (no two elements of a colour share a node)
+      for (int a = 0; a < N; ++a)
+      {
+        double* fa = &FInt[3 * Conn[e * N + a]];
+        for (int i = 0; i < 3; ++i)
+        {
+          const double* zr = zbuf + (3 * a + i) * D;
+          double g = 0.0;
+          for (int k = 0; k < D; ++k)
+          {
+            g += zr[k] * u[k];
+          }
+          fa[i] -= g;
+        }
+      }
+      // B = Q Zt: row block a from column block a on, into S (and transposed)
+      const int* blk = &BlockOf[e * N * N];
+      for (int a = 0; a < N; ++a)
+      {
+        const double* T0 = ztbuf + 3 * a * D;
+        const double* T1 = T0 + D;
+        const double* T2 = T1 + D;
+        double Brow[3][30];
+        for (int k = 3 * a; k < D; ++k)
+        {
+          Brow[0][k] = R[0] * T0[k] + R[1] * T1[k] + R[2] * T2[k];
+          Brow[1][k] = R[3] * T0[k] + R[4] * T1[k] + R[5] * T2[k];
+          Brow[2][k] = R[6] * T0[k] + R[7] * T1[k] + R[8] * T2[k];
+        }
+        for (int b = a; b < N; ++b)
+        {
+          double* sab = &S[9 * static_cast<long long>(blk[a * N + b])];
+          for (int i = 0; i < 3; ++i)
+          {
+            for (int j = 0; j < 3; ++j)
+            {
+              sab[3 * i + j] += Brow[i][3 * b + j];
+            }
+          }
+          if (b != a)
+          {
+            double* sba = &S[9 * static_cast<long long>(blk[b * N + a])];
+            for (int i = 0; i < 3; ++i)
+            {
+              for (int j = 0; j < 3; ++j)
+              {
+                sba[3 * j + i] += Brow[i][3 * b + j];
+              }
+            }
+          }
+        }
+      }
+    }
+  };
+  if (!threaded)
+  {
+    cells(0, NC);
+    return;
+  }
+  const int colors = static_cast<int>(ColorStart.size()) - 1;
+  for (int c = 0; c < colors; ++c)
+  {
+    vtkSMPTools::For(ColorStart[c], ColorStart[c + 1], 16, cells);
+  }
+}
+
+void CorotationalSolver::Impl::MassApply(const double* p, double s, double* y) const
+{
+  const int* outer = MN.outerIndexPtr();
+  const int* inner = MN.innerIndexPtr();
+  const double* val = MN.valuePtr();
+  for (long long r = 0; r < NP; ++r)
+  {
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      const double m = val[k];
+      const double* q = p + 3 * inner[k];
+      a0 += m * q[0];
+      a1 += m * q[1];
+      a2 += m * q[2];
+    }
+    y[3 * r] += s * a0;
+    y[3 * r + 1] += s * a1;
+    y[3 * r + 2] += s * a2;
+  }
+}
+
+// y = CM M p + CK S p, block row by block row (threaded for large meshes)
+void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y)
+{
+  if (!Assembled())
+  {
+    MatVecElements(p, y);
+    return;
+  }
+  const int* outer = MN.outerIndexPtr();
+  const int* inner = MN.innerIndexPtr();
+  const double* mval = MN.valuePtr();
+  const double* sv = S.data();
+  const double* q = p.data();
+  double* out = y.data();
+  const double cM = CM, cK = CK;
+  ParallelFor(NP, ParallelNodes,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType r = begin; r < end; ++r)
+      {
+        double m0 = 0.0, m1 = 0.0, m2 = 0.0, s0 = 0.0, s1 = 0.0, s2 = 0.0;
+        for (int k = outer[r]; k < outer[r + 1]; ++k)
+        {
+          const double* pj = q + 3 * inner[k];
+          const double* b = sv + 9 * static_cast<long long>(k);
+          const double m = mval[k];
+          m0 += m * pj[0];
+          m1 += m * pj[1];
+          m2 += m * pj[2];
+          s0 += b[0] * pj[0] + b[1] * pj[1] + b[2] * pj[2];
+          s1 += b[3] * pj[0] + b[4] * pj[1] + b[5] * pj[2];
+          s2 += b[6] * pj[0] + b[7] * pj[1] + b[8] * pj[2];
+        }
+        out[3 * r] = cM * m0 + cK * s0;
+        out[3 * r + 1] = cM * m1 + cK * s1;
+        out[3 * r + 2] = cM * m2 + cK * s2;
+      }
+    });
+}
+
+// A = cM M + cK S on the scalar pattern (for a factorisation of the current system)
+void CorotationalSolver::Impl::AssembleA(double cM, double cK)
+{
+  if (!Assembled())
+  {
+    AssembleS(VScale); // S is not kept up to date on small meshes
+  }
+  double* val = A.valuePtr();
+  const long long nnz = A.nonZeros();
+  for (long long k = 0; k < nnz; ++k)
+  {
+    const int s = AFromS[k];
+    val[k] = cM * MassValues[k] + (s < 0 ? 0.0 : cK * S[s]);
+  }
+}
+// Small meshes: FInt element by element (element results, then a serial scatter).
+void CorotationalSolver::Impl::ElementForces(double vScale)
+{
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double ue[30], w[30];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const double* R = &Rot[e * 9];
+        for (int a = 0; a < N; ++a)
+        {
+          const long long pa = Conn[e * N + a];
+          const double y0 = x[3 * pa] + vScale * v[3 * pa];
+          const double y1 = x[3 * pa + 1] + vScale * v[3 * pa + 1];
+          const double y2 = x[3 * pa + 2] + vScale * v[3 * pa + 2];
+          for (int i = 0; i < 3; ++i) // R^T y - X
+          {
+            ue[3 * a + i] = R[i] * y0 + R[3 + i] * y1 + R[6 + i] * y2 - X[3 * pa + i];
+          }
+        }
+        SymmetricTimes(D, &Ke[e * D * D], ue, w);
+        double* f = &EW[e * D];
+        for (int a = 0; a < N; ++a)
+        {
+          for (int i = 0; i < 3; ++i)
+          {
+            f[3 * a + i] =
+              -(R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2]);
+          }
+        }
+      }
+    });
+  std::fill(FInt.begin(), FInt.end(), 0.0);
+  for (long long e = 0; e < NC; ++e)
+  {
+    const double* f = &EW[e * D];
+    for (int a = 0; a < N; ++a)
+    {
+      double* fa = &FInt[3 * Conn[e * N + a]];
+      fa[0] += f[3 * a];
+      fa[1] += f[3 * a + 1];
+      fa[2] += f[3 * a + 2];
+    }
+  }
+}
+
+// Small meshes: y = CM M p + CK sum_e R_e K_e R_e^T p_e, element by element.
+void CorotationalSolver::Impl::MatVecElements(const Eigen::VectorXd& p, Eigen::VectorXd& y)
+{
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double l[30], w[30];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        const double* R = &Rot[e * 9];
+        for (int a = 0; a < N; ++a)
+        {
+          const double* q = p.data() + 3 * Conn[e * N + a];
+          for (int i = 0; i < 3; ++i)
+          {
+            l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
+          }
+        }
+        SymmetricTimes(D, &Ke[e * D * D], l, w);
+        double* out = &EW[e * D];
+        for (int a = 0; a < N; ++a)
+        {
+          for (int i = 0; i < 3; ++i)
+          {
+            out[3 * a + i] =
+              R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2];
+          }
+        }
+      }
+    });
+  y.setZero();
+  MassApply(p.data(), CM, y.data());
+  for (long long e = 0; e < NC; ++e)
+  {
+    const double* out = &EW[e * D];
+    for (int a = 0; a < N; ++a)
+    {
+      double* ya = y.data() + 3 * Conn[e * N + a];
+      ya[0] += CK * out[3 * a];
+      ya[1] += CK * out[3 * a + 1];
+      ya[2] += CK * out[3 * a + 2];
+    }
+  }
+}
+} // namespace hoembed
