@@ -4,6 +4,10 @@
 #include "hoembedCorotationalSolverImpl.h"
 
 #include <algorithm>
+#include <cmath>
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#endif
 #include <vector>
 
 namespace hoembed
@@ -14,6 +18,16 @@ template <typename T>
 void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const double* val)
 {
   NB = n / 3;
+  // row scaling d_i = 1 / sqrt((L L^T)_ii): the stored factor D L has entries in [-1, 1]
+  Scale.assign(n, 0.0);
+  for (int k = 0; k < colPtr[n]; ++k)
+  {
+    Scale[rowIdx[k]] += val[k] * val[k];
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    Scale[i] = Scale[i] > 0.0 ? 1.0 / std::sqrt(Scale[i]) : 1.0;
+  }
   DiagInv.assign(9 * NB, 0.0);
   Ptr.assign(NB + 1, 0);
   Row.clear();
@@ -27,18 +41,19 @@ void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const do
       for (int k = colPtr[3 * J + b]; k < colPtr[3 * J + b + 1]; ++k)
       {
         const int I = rowIdx[k] / 3, a = rowIdx[k] % 3;
+        const double lv = val[k] * Scale[rowIdx[k]];
         if (I == J)
         {
-          Djj(a, b) = val[k];
+          Djj(a, b) = lv;
           continue;
         }
         if (slot[I] < 0)
         {
           slot[I] = static_cast<int>(Row.size());
           Row.push_back(I);
-          Val.insert(Val.end(), 9, T(0));
+          Val.insert(Val.end(), 12, T(0));
         }
-        Val[9 * slot[I] + 3 * a + b] = static_cast<T>(val[k]);
+        Val[12 * slot[I] + 4 * b + a] = static_cast<T>(lv); // column b, row a
       }
     }
     for (int k = Ptr[J]; k < static_cast<int>(Row.size()); ++k)
@@ -153,12 +168,38 @@ void BlockFactor<T>::PlanSplit()
       Group[owner[J]].push_back(J);
     }
   }
-  Buffer[0].assign(3 * Top.size(), 0.0);
-  Buffer[1].assign(3 * Top.size(), 0.0);
+  Buffer[0].assign(4 * Top.size(), 0.0);
+  Buffer[1].assign(4 * Top.size(), 0.0);
   Split = true;
 }
 
-// L y = t on the given columns (ascending); updates of top rows go to `buffer` when given
+#if defined(__AVX2__) && defined(__FMA__)
+namespace
+{
+inline __m256d Load4(const double* p)
+{
+  return _mm256_loadu_pd(p);
+}
+inline __m256d Load4(const float* p)
+{
+  return _mm256_cvtps_pd(_mm_loadu_ps(p));
+}
+#ifdef HOEMBED_HALF_FACTOR
+inline __m256d Load4(const HalfValue* p)
+{
+  return _mm256_cvtps_pd(_mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+}
+#endif
+inline double Sum4(__m256d v)
+{
+  const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+  return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
+}
+}
+#endif
+
+// L y = t on the given columns (ascending); t has 4 doubles per node (the 4th unused);
+// updates of top rows go to `buffer` (same layout, indexed by TopSlot) when given
 template <typename T>
 void BlockFactor<T>::Forward(const int* cols, std::size_t n, double* t, double* buffer) const
 {
@@ -167,26 +208,37 @@ void BlockFactor<T>::Forward(const int* cols, std::size_t n, double* t, double* 
   {
     const int J = cols[c];
     const double* Di = &DiagInv[9 * J];
-    double* tj = t + 3 * J;
+    double* tj = t + 4 * J;
     const double y0 = Di[0] * tj[0];
     const double y1 = Di[3] * tj[0] + Di[4] * tj[1];
     const double y2 = Di[6] * tj[0] + Di[7] * tj[1] + Di[8] * tj[2];
     tj[0] = y0;
     tj[1] = y1;
     tj[2] = y2;
+#if defined(__AVX2__) && defined(__FMA__)
+    const __m256d Y0 = _mm256_set1_pd(y0), Y1 = _mm256_set1_pd(y1), Y2 = _mm256_set1_pd(y2);
+#endif
     for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
     {
-      const T* b = B + 9 * k;
+      const T* b = B + 12 * k;
       const int I = Row[k];
-      double* ti = (buffer && TopSlot[I] >= 0) ? buffer + 3 * TopSlot[I] : t + 3 * I;
-      ti[0] -= b[0] * y0 + b[1] * y1 + b[2] * y2;
-      ti[1] -= b[3] * y0 + b[4] * y1 + b[5] * y2;
-      ti[2] -= b[6] * y0 + b[7] * y1 + b[8] * y2;
+      double* ti = (buffer && TopSlot[I] >= 0) ? buffer + 4 * TopSlot[I] : t + 4 * I;
+#if defined(__AVX2__) && defined(__FMA__)
+      __m256d acc = _mm256_loadu_pd(ti);
+      acc = _mm256_fnmadd_pd(Load4(b), Y0, acc);
+      acc = _mm256_fnmadd_pd(Load4(b + 4), Y1, acc);
+      acc = _mm256_fnmadd_pd(Load4(b + 8), Y2, acc);
+      _mm256_storeu_pd(ti, acc);
+#else
+      ti[0] -= b[0] * y0 + b[4] * y1 + b[8] * y2;
+      ti[1] -= b[1] * y0 + b[5] * y1 + b[9] * y2;
+      ti[2] -= b[2] * y0 + b[6] * y1 + b[10] * y2;
+#endif
     }
   }
 }
 
-// L^T x = y on the given columns (processed in descending order)
+// L^T x = y on the given columns (processed in descending order), t as in Forward
 template <typename T>
 void BlockFactor<T>::Backward(const int* cols, std::size_t n, double* t) const
 {
@@ -194,16 +246,31 @@ void BlockFactor<T>::Backward(const int* cols, std::size_t n, double* t) const
   for (std::size_t c = n; c-- > 0;)
   {
     const int J = cols[c];
-    double* tj = t + 3 * J;
+    double* tj = t + 4 * J;
     double s0 = tj[0], s1 = tj[1], s2 = tj[2];
+#if defined(__AVX2__) && defined(__FMA__)
+    __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd();
     for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
     {
-      const T* b = B + 9 * k;
-      const double* ti = t + 3 * Row[k];
-      s0 -= b[0] * ti[0] + b[3] * ti[1] + b[6] * ti[2];
-      s1 -= b[1] * ti[0] + b[4] * ti[1] + b[7] * ti[2];
-      s2 -= b[2] * ti[0] + b[5] * ti[1] + b[8] * ti[2];
+      const T* b = B + 12 * k;
+      const __m256d ti = _mm256_loadu_pd(t + 4 * Row[k]); // 4th entry: 0 * padding
+      a0 = _mm256_fmadd_pd(Load4(b), ti, a0);
+      a1 = _mm256_fmadd_pd(Load4(b + 4), ti, a1);
+      a2 = _mm256_fmadd_pd(Load4(b + 8), ti, a2);
     }
+    s0 -= Sum4(a0);
+    s1 -= Sum4(a1);
+    s2 -= Sum4(a2);
+#else
+    for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
+    {
+      const T* b = B + 12 * k;
+      const double* ti = t + 4 * Row[k];
+      s0 -= b[0] * ti[0] + b[1] * ti[1] + b[2] * ti[2];
+      s1 -= b[4] * ti[0] + b[5] * ti[1] + b[6] * ti[2];
+      s2 -= b[8] * ti[0] + b[9] * ti[1] + b[10] * ti[2];
+    }
+#endif
     const double* Di = &DiagInv[9 * J];
     tj[0] = Di[0] * s0 + Di[3] * s1 + Di[6] * s2;
     tj[1] = Di[4] * s1 + Di[7] * s2;
@@ -212,7 +279,30 @@ void BlockFactor<T>::Backward(const int* cols, std::size_t n, double* t) const
 }
 
 template <typename T>
-void BlockFactor<T>::Solve(double* t) const
+void BlockFactor<T>::Solve(double* t3) const
+{
+  // work on 4 doubles per node (vectorised blocks); the 4th entries stay 0
+  Work.resize(4 * static_cast<std::size_t>(NB));
+  double* t = Work.data();
+  // (L L^T)^-1 = D (DL (DL)^T)^-1 D
+  for (int J = 0; J < NB; ++J)
+  {
+    t[4 * J] = Scale[3 * J] * t3[3 * J];
+    t[4 * J + 1] = Scale[3 * J + 1] * t3[3 * J + 1];
+    t[4 * J + 2] = Scale[3 * J + 2] * t3[3 * J + 2];
+    t[4 * J + 3] = 0.0;
+  }
+  SolveWork(t);
+  for (int J = 0; J < NB; ++J)
+  {
+    t3[3 * J] = Scale[3 * J] * t[4 * J];
+    t3[3 * J + 1] = Scale[3 * J + 1] * t[4 * J + 1];
+    t3[3 * J + 2] = Scale[3 * J + 2] * t[4 * J + 2];
+  }
+}
+
+template <typename T>
+void BlockFactor<T>::SolveWork(double* t) const
 {
   if (!Split)
   {
@@ -252,7 +342,7 @@ void BlockFactor<T>::Solve(double* t) const
   {
     for (int i = 0; i < 3; ++i)
     {
-      t[3 * Top[s] + i] += Buffer[0][3 * s + i] + Buffer[1][3 * s + i];
+      t[4 * Top[s] + i] += Buffer[0][4 * s + i] + Buffer[1][4 * s + i];
     }
   }
   std::fill(Buffer[0].begin(), Buffer[0].end(), 0.0);
@@ -264,5 +354,8 @@ void BlockFactor<T>::Solve(double* t) const
 
 template struct BlockFactor<double>;
 template struct BlockFactor<float>;
+#ifdef HOEMBED_HALF_FACTOR
+template struct BlockFactor<HalfValue>;
+#endif
 } // namespace corotational_detail
 } // namespace hoembed

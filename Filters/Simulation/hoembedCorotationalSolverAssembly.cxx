@@ -108,10 +108,9 @@ void CorotationalSolver::Impl::BuildBlocks()
 }
 
 // S = sum_e R_e K_e R_e^T and FInt = -sum_e R_e K_e (R_e^T y_e - X_e), y = x + vScale v
-// (every step, after the rotations). Per element, with Q = blockdiag(R, ..., R):
-// Z = Q K (rows of K mixed: vectorised), the forces -Z u, and Q K Q^T = Q Z^T (Z
-// transposed once, rows mixed again); its upper node blocks are added into S and their
-// transposes below. Elements run colour by colour (no two elements of a colour share a
+// (every step, after the rotations). Per element: the forces, then the upper node blocks
+// R K_ab R^T (b >= a; R times the row block of K first, vectorised) added into S, with
+// their transposes below. Elements run colour by colour (no two elements of a colour share a
 // node) on several threads, in their own order on one (better locality; the sums then
 // differ from the threaded ones in the last bits).
 void CorotationalSolver::Impl::AssembleS(double vScale)
@@ -122,87 +121,72 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
     ColorsOK && NC >= ParallelCells && vtkSMPTools::GetEstimatedNumberOfThreads() >= 2;
   auto cells = [&](vtkIdType begin, vtkIdType end)
   {
-    alignas(32) double zbuf[900];
-    alignas(32) double ztbuf[900];
-    double u[30];
+    double u[30], w[30], T[3][30];
     for (vtkIdType c = begin; c < end; ++c)
     {
       const long long e = threaded ? ColorCells[c] : c;
       const double* R = &Rot[e * 9];
+      const double r00 = R[0], r01 = R[1], r02 = R[2], r10 = R[3], r11 = R[4], r12 = R[5],
+                   r20 = R[6], r21 = R[7], r22 = R[8];
       const double* K = &Ke[e * D * D];
-      // u = Q^T y - X
+      if (c + 1 < end)
+      {
+        // the next element's blocks lie at random places of S: fetch them early
+        const int* nb = &BlockOf[(threaded ? ColorCells[c + 1] : c + 1) * N * N];
+        for (int k = 0; k < N * N; ++k)
+        {
+          const double* q = &S[9 * static_cast<long long>(nb[k])];
+          __builtin_prefetch(q, 1);
+          __builtin_prefetch(q + 8, 1);
+        }
+      }
+      // forces -R K (R^T y - X)
       for (int a = 0; a < N; ++a)
       {
         const long long pa = Conn[e * N + a];
         const double y0 = x[3 * pa] + vScale * v[3 * pa];
         const double y1 = x[3 * pa + 1] + vScale * v[3 * pa + 1];
         const double y2 = x[3 * pa + 2] + vScale * v[3 * pa + 2];
-        for (int i = 0; i < 3; ++i)
-        {
-          u[3 * a + i] = R[i] * y0 + R[3 + i] * y1 + R[6 + i] * y2 - X[3 * pa + i];
-        }
+        u[3 * a] = r00 * y0 + r10 * y1 + r20 * y2 - X[3 * pa];
+        u[3 * a + 1] = r01 * y0 + r11 * y1 + r21 * y2 - X[3 * pa + 1];
+        u[3 * a + 2] = r02 * y0 + r12 * y1 + r22 * y2 - X[3 * pa + 2];
       }
-      // Z = Q K (row-major), Zt its transpose
+      SymmetricTimes(D, K, u, w);
+      for (int a = 0; a < N; ++a)
+      {
+        double* fa = &FInt[3 * Conn[e * N + a]];
+        const double w0 = w[3 * a], w1 = w[3 * a + 1], w2 = w[3 * a + 2];
+        fa[0] -= r00 * w0 + r01 * w1 + r02 * w2;
+        fa[1] -= r10 * w0 + r11 * w1 + r12 * w2;
+        fa[2] -= r20 * w0 + r21 * w1 + r22 * w2;
+      }
+      // blocks R K_ab R^T, b >= a: T = R K(3a:3a+3, 3a:), then T(:, 3b:3b+3) R^T
+      const int* blk = &BlockOf[e * N * N];
       for (int a = 0; a < N; ++a)
       {
         const double* K0 = K + 3 * a * D;
         const double* K1 = K0 + D;
         const double* K2 = K1 + D;
-        double* Z0 = zbuf + 3 * a * D;
-        double* Z1 = Z0 + D;
-        double* Z2 = Z1 + D;
-        for (int k = 0; k < D; ++k)
-        {
-          Z0[k] = R[0] * K0[k] + R[1] * K1[k] + R[2] * K2[k];
-          Z1[k] = R[3] * K0[k] + R[4] * K1[k] + R[5] * K2[k];
-          Z2[k] = R[6] * K0[k] + R[7] * K1[k] + R[8] * K2[k];
-        }
-      }
-      for (int r = 0; r < D; ++r)
-      {
-        for (int k = 0; k < D; ++k)
-        {
-          ztbuf[k * D + r] = zbuf[r * D + k];
-        }
-      }
-      // forces -Z u into the nodes (no two elements of a colour share a node)
-      for (int a = 0; a < N; ++a)
-      {
-        double* fa = &FInt[3 * Conn[e * N + a]];
-        for (int i = 0; i < 3; ++i)
-        {
-          const double* zr = zbuf + (3 * a + i) * D;
-          double g = 0.0;
-          for (int k = 0; k < D; ++k)
-          {
-            g += zr[k] * u[k];
-          }
-          fa[i] -= g;
-        }
-      }
-      // B = Q Zt: row block a from column block a on, into S (and transposed)
-      const int* blk = &BlockOf[e * N * N];
-      for (int a = 0; a < N; ++a)
-      {
-        const double* T0 = ztbuf + 3 * a * D;
-        const double* T1 = T0 + D;
-        const double* T2 = T1 + D;
-        double Brow[3][30];
         for (int k = 3 * a; k < D; ++k)
         {
-          Brow[0][k] = R[0] * T0[k] + R[1] * T1[k] + R[2] * T2[k];
-          Brow[1][k] = R[3] * T0[k] + R[4] * T1[k] + R[5] * T2[k];
-          Brow[2][k] = R[6] * T0[k] + R[7] * T1[k] + R[8] * T2[k];
+          T[0][k] = r00 * K0[k] + r01 * K1[k] + r02 * K2[k];
+          T[1][k] = r10 * K0[k] + r11 * K1[k] + r12 * K2[k];
+          T[2][k] = r20 * K0[k] + r21 * K1[k] + r22 * K2[k];
         }
         for (int b = a; b < N; ++b)
         {
-          double* sab = &S[9 * static_cast<long long>(blk[a * N + b])];
+          double B[9];
           for (int i = 0; i < 3; ++i)
           {
-            for (int j = 0; j < 3; ++j)
-            {
-              sab[3 * i + j] += Brow[i][3 * b + j];
-            }
+            const double s0 = T[i][3 * b], s1 = T[i][3 * b + 1], s2 = T[i][3 * b + 2];
+            B[3 * i] = s0 * r00 + s1 * r01 + s2 * r02;
+            B[3 * i + 1] = s0 * r10 + s1 * r11 + s2 * r12;
+            B[3 * i + 2] = s0 * r20 + s1 * r21 + s2 * r22;
+          }
+          double* sab = &S[9 * static_cast<long long>(blk[a * N + b])];
+          for (int k = 0; k < 9; ++k)
+          {
+            sab[k] += B[k];
           }
           if (b != a)
           {
@@ -211,7 +195,7 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
             {
               for (int j = 0; j < 3; ++j)
               {
-                sba[3 * j + i] += Brow[i][3 * b + j];
+                sba[3 * j + i] += B[3 * i + j];
               }
             }
           }

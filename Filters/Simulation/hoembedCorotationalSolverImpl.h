@@ -72,7 +72,7 @@ struct BlockFactor
   int NB = 0;
   std::vector<double> DiagInv; // 9 per node
   std::vector<int> Ptr, Row;   // blocks of column J: Ptr[J] .. Ptr[J+1]
-  std::vector<T> Val;          // 9 per block
+  std::vector<T> Val;          // 12 per block: 3 columns of 4 (row 4 = 0, for SIMD)
   // CSC lower factor (n = 3 NB columns, any row order within a column)
   void Build(int n, const int* colPtr, const int* rowIdx, const double* val);
   void Solve(double* t) const; // in place: t <- L^-T L^-1 t
@@ -83,12 +83,24 @@ struct BlockFactor
   std::vector<int> All, Group[2], Top; // columns, ascending
   std::vector<int> TopSlot;       // column -> index in Top, or -1
   mutable std::vector<double> Buffer[2];
+  mutable std::vector<double> Work; // 4 doubles per node
+  std::vector<double> Scale;        // per row: 1 / sqrt(diagonal of L L^T)
   static constexpr int SplitNodes = 2000;
 
 private:
+  void SolveWork(double* t) const;
   void Forward(const int* cols, std::size_t n, double* t, double* buffer) const;
   void Backward(const int* cols, std::size_t n, double* t) const;
 };
+#if defined(__F16C__) && defined(__AVX2__) && defined(__FMA__) && defined(__FLT16_MAX__)
+#define HOEMBED_HALF_FACTOR 1
+using HalfValue = _Float16;
+#endif
+#if defined(HOEMBED_HALF_FACTOR) && !defined(HOEMBED_FLOAT_FACTOR)
+using LargeValue = HalfValue;
+#else
+using LargeValue = float;
+#endif
 constexpr long long LargeSystem = 6000; // DOF from which the large factorisation is used
 
 inline double Seconds(Clock::time_point a, Clock::time_point b)
@@ -180,7 +192,7 @@ struct CorotationalSolver::Impl
   // preconditioner
   SmallFactorization SmallLLT;
   BlockFactor<double> SmallBlocks;
-  BlockFactor<float> LargeBlocks;
+  BlockFactor<LargeValue> LargeBlocks;
   bool UseLargeBlocks = false;
   void BuildLargeBlocks();
   std::vector<int> NodeNew;   // old node -> position in the small factor's order
