@@ -186,7 +186,7 @@ struct CorotationalSolver::Impl
   std::vector<int> NodeCellCount;
   double Young = 1, Poisson = 0.3, Density = 1;
   double Dt = 0.01, Alpha = 0, Beta = 0;
-  double Tol = 1e-8;
+  double Tol = 1e-4;
   int MaxIt = 500;
   RowMat A, M;
   // preconditioner
