@@ -301,8 +301,6 @@ void CorotationalSolver::SetState(const double* positions, const double* velocit
 bool CorotationalSolver::Step()
 {
   Impl& I = *this->P;
-  const int N = I.N, D = I.D;
-  const long long NC = I.NC;
   const double dt = I.Dt;
   const double cM = I.StaticMode ? 0.0 : 1.0 + dt * I.Alpha;
   const double cK = dt * I.Beta + dt * dt;
