@@ -17,12 +17,31 @@ namespace corotational_detail
 template <typename T>
 void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const double* val)
 {
+  Build(n,
+    [&](int c, const int*& rows, const double*& values, int& count)
+    {
+      rows = rowIdx + colPtr[c];
+      values = val + colPtr[c];
+      count = colPtr[c + 1] - colPtr[c];
+    });
+}
+
+template <typename T>
+void BlockFactor<T>::Build(int n, const ColumnSource& columns)
+{
   NB = n / 3;
   // row scaling d_i = 1 / sqrt((L L^T)_ii): the stored factor D L has entries in [-1, 1]
   Scale.assign(n, 0.0);
-  for (int k = 0; k < colPtr[n]; ++k)
+  const int* rowIdx = nullptr;
+  const double* val = nullptr;
+  int count = 0;
+  for (int c = 0; c < n; ++c)
   {
-    Scale[rowIdx[k]] += val[k] * val[k];
+    columns(c, rowIdx, val, count);
+    for (int k = 0; k < count; ++k)
+    {
+      Scale[rowIdx[k]] += val[k] * val[k];
+    }
   }
   for (int i = 0; i < n; ++i)
   {
@@ -38,7 +57,8 @@ void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const do
     Eigen::Matrix3d Djj = Eigen::Matrix3d::Zero();
     for (int b = 0; b < 3; ++b)
     {
-      for (int k = colPtr[3 * J + b]; k < colPtr[3 * J + b + 1]; ++k)
+      columns(3 * J + b, rowIdx, val, count);
+      for (int k = 0; k < count; ++k)
       {
         const int I = rowIdx[k] / 3, a = rowIdx[k] % 3;
         const double lv = val[k] * Scale[rowIdx[k]];

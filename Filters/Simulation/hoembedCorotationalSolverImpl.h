@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -75,6 +76,10 @@ struct BlockFactor
   std::vector<T> Val;          // 12 per block: 3 columns of 4 (row 4 = 0, for SIMD)
   // CSC lower factor (n = 3 NB columns, any row order within a column)
   void Build(int n, const int* colPtr, const int* rowIdx, const double* val);
+  // the same from any column layout: columns(c, rows, values, count) gives the entries of
+  // scalar column c (e.g. straight from a supernodal factor)
+  using ColumnSource = std::function<void(int, const int*&, const double*&, int&)>;
+  void Build(int n, const ColumnSource& columns);
   void Solve(double* t) const; // in place: t <- L^-T L^-1 t
   // Plan the two-group split (Build calls it when NB >= SplitNodes); Split tells whether
   // Solve uses it (also needs vtkSMPTools to run on 2 or more threads).

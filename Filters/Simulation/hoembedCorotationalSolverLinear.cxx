@@ -235,6 +235,47 @@ void CorotationalSolver::Impl::BuildLargeBlocks()
     return;
   }
   cholmod_common& c = LargeLLT.cholmod();
+  const cholmod_factor* S0 = LargeLLT.Factor();
+  if (S0->is_super && S0->is_ll && S0->itype == CHOLMOD_INT && S0->xtype == CHOLMOD_REAL &&
+    static_cast<long long>(S0->n) == 3 * NP)
+  {
+    // read the supernodes directly: column j of supernode s holds rows s[pi[s] + i],
+    // values x[px[s] + (j - super[s]) nsrow + i] (i >= j - super[s]: the lower part)
+    const int* perm = static_cast<const int*>(S0->Perm);
+    bool blocked = true; // the factor is in the order of the permuted matrix
+    for (long long k = 0; perm && blocked && k < 3 * NP; ++k)
+    {
+      blocked = perm[k] == k;
+    }
+    if (blocked)
+    {
+      const int* super = static_cast<const int*>(S0->super);
+      const int* pi = static_cast<const int*>(S0->pi);
+      const int* px = static_cast<const int*>(S0->px);
+      const int* srow = static_cast<const int*>(S0->s);
+      const double* sx = static_cast<const double*>(S0->x);
+      std::vector<int> superOf(3 * NP, 0);
+      for (int s = 0; s < static_cast<int>(S0->nsuper); ++s)
+      {
+        for (int j = super[s]; j < super[s + 1]; ++j)
+        {
+          superOf[j] = s;
+        }
+      }
+      LargeBlocks.Build(static_cast<int>(3 * NP),
+        [&](int col, const int*& rows, const double*& values, int& count)
+        {
+          const int s = superOf[col];
+          const int j = col - super[s];
+          const int nsrow = pi[s + 1] - pi[s];
+          rows = srow + pi[s] + j;
+          values = sx + px[s] + static_cast<long long>(j) * nsrow + j;
+          count = nsrow - j;
+        });
+      UseLargeBlocks = true;
+      return;
+    }
+  }
   cholmod_factor* F = cholmod_copy_factor(LargeLLT.Factor(), &c);
   if (!F)
   {
