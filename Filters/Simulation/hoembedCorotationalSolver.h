@@ -56,10 +56,11 @@
  * StaticSolve: solves f_int(x) = f_ext by repeated linearised solves (the first one is
  * exactly small-strain linear elasticity from the rest state), needs clamped nodes.
  *
- * Threading (vtkSMPTools): rotations, the assembly of S (elements by colour: no two
- * elements of a colour share a node; on one thread the elements run in their own order,
- * so 1- and 2-thread runs differ in the last bits of S), products (block rows), the two
- * subtree groups of the triangular solves. Small meshes (< 1000 cells) run serially.
+ * Threading (vtkSMPTools): rotations, the assembly of S (two halves of the cells cut by
+ * a plane, without common nodes, in parallel, then the layer of cells along the cut; on
+ * one thread all cells in order, so 1- and 2-thread runs differ in the last bits of S),
+ * products (block rows), the two subtree groups of the triangular solves. Small meshes
+ * (< 1000 cells) run serially.
  */
 #ifndef hoembedCorotationalSolver_h
 #define hoembedCorotationalSolver_h

@@ -5,13 +5,12 @@
 #include "hoembedCorotationalSolverImpl.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <vector>
 
 namespace hoembed
 {
 // Block pattern = the node adjacency (the pattern of MN); per element the block index of
-// each node pair; elements grouped by a greedy colouring; per value of the scalar matrix A its block value.
+// each node pair; the cells split in two halves for two threads; per value of the scalar matrix A its block value.
 void CorotationalSolver::Impl::BuildBlocks()
 {
   const int* outer = MN.outerIndexPtr();
@@ -35,56 +34,59 @@ void CorotationalSolver::Impl::BuildBlocks()
       }
     }
   }
-  // greedy colouring with one 64-bit mask of used colours per node
-  std::vector<std::uint64_t> used(NP, 0);
-  std::vector<int> color(NC, 0);
-  int colors = 0;
-  ColorsOK = true;
-  for (long long e = 0; e < NC; ++e)
+  // two halves of the cells for two threads, cut by a plane across the longest extent
+  // of the mesh (at the median cell centroid): a cell goes to its half's group when none
+  // of its nodes is also a node of the other half, else to the shared cells (a layer
+  // along the cut, added afterwards on one thread)
+  std::vector<double> key(NC, 0.0);
   {
-    std::uint64_t mask = 0;
-    for (int a = 0; a < N; ++a)
+    double lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 };
+    for (long long p = 0; p < NP; ++p)
     {
-      mask |= used[Conn[e * N + a]];
+      for (int i = 0; i < 3; ++i)
+      {
+        lo[i] = std::min(lo[i], X[3 * p + i]);
+        hi[i] = std::max(hi[i], X[3 * p + i]);
+      }
     }
-    if (mask == ~std::uint64_t(0))
+    int axis = 0;
+    for (int i = 1; i < 3; ++i)
     {
-      ColorsOK = false; // over 64 colours: the assembly runs serially
-      break;
+      axis = (hi[i] - lo[i] > hi[axis] - lo[axis]) ? i : axis;
     }
-    int c = 0;
-    while (mask & (std::uint64_t(1) << c))
-    {
-      ++c;
-    }
-    color[e] = c;
-    colors = std::max(colors, c + 1);
-    for (int a = 0; a < N; ++a)
-    {
-      used[Conn[e * N + a]] |= std::uint64_t(1) << c;
-    }
-  }
-  if (!ColorsOK)
-  {
-    colors = 1;
-    std::fill(color.begin(), color.end(), 0);
-  }
-  ColorStart.assign(colors + 1, 0);
-  for (long long e = 0; e < NC; ++e)
-  {
-    ColorStart[color[e] + 1]++;
-  }
-  for (int c = 0; c < colors; ++c)
-  {
-    ColorStart[c + 1] += ColorStart[c];
-  }
-  ColorCells.assign(NC, 0);
-  {
-    std::vector<int> fill(ColorStart.begin(), ColorStart.end() - 1);
     for (long long e = 0; e < NC; ++e)
     {
-      ColorCells[fill[color[e]]++] = static_cast<int>(e);
+      for (int a = 0; a < N; ++a)
+      {
+        key[e] += X[3 * Conn[e * N + a] + axis];
+      }
     }
+  }
+  std::vector<double> sorted(key);
+  std::nth_element(sorted.begin(), sorted.begin() + NC / 2, sorted.end());
+  const double cut = NC > 0 ? sorted[NC / 2] : 0.0;
+  std::vector<unsigned char> side(NC, 0), half(NP, 0);
+  for (long long e = 0; e < NC; ++e)
+  {
+    side[e] = key[e] < cut ? 0 : 1;
+    for (int a = 0; a < N; ++a)
+    {
+      half[Conn[e * N + a]] |= side[e] + 1;
+    }
+  }
+  for (auto& g : HalfCells)
+  {
+    g.clear();
+  }
+  SharedCells.clear();
+  for (long long e = 0; e < NC; ++e)
+  {
+    bool shared = false;
+    for (int a = 0; a < N; ++a)
+    {
+      shared = shared || half[Conn[e * N + a]] == 3;
+    }
+    (shared ? SharedCells : HalfCells[side[e]]).push_back(static_cast<int>(e));
   }
   FInt.assign(3 * NP, 0.0);
   EW.assign(Assembled() ? 0 : NC * D, 0.0);
@@ -110,21 +112,21 @@ void CorotationalSolver::Impl::BuildBlocks()
 // S = sum_e R_e K_e R_e^T and FInt = -sum_e R_e K_e (R_e^T y_e - X_e), y = x + vScale v
 // (every step, after the rotations). Per element: the forces, then the upper node blocks
 // R K_ab R^T (b >= a; R times the row block of K first, vectorised) added into S, with
-// their transposes below. Elements run colour by colour (no two elements of a colour share a
-// node) on several threads, in their own order on one (better locality; the sums then
-// differ from the threaded ones in the last bits).
+// their transposes below. On two threads or more the two halves of the cells without
+// common nodes run in parallel, then the shared cells; on one thread all cells in order
+// (the sums then differ from the threaded ones in the last bits).
 void CorotationalSolver::Impl::AssembleS(double vScale)
 {
   std::fill(S.begin(), S.end(), 0.0);
   std::fill(FInt.begin(), FInt.end(), 0.0);
-  const bool threaded =
-    ColorsOK && NC >= ParallelCells && vtkSMPTools::GetEstimatedNumberOfThreads() >= 2;
-  auto cells = [&](vtkIdType begin, vtkIdType end)
+  const bool threaded = NC >= ParallelCells && 2 * SharedCells.size() < std::size_t(NC) &&
+    vtkSMPTools::GetEstimatedNumberOfThreads() >= 2;
+  auto cells = [&](const int* list, vtkIdType begin, vtkIdType end)
   {
     double u[30], w[30], T[3][30];
     for (vtkIdType c = begin; c < end; ++c)
     {
-      const long long e = threaded ? ColorCells[c] : c;
+      const long long e = list ? list[c] : c;
       const double* R = &Rot[e * 9];
       const double r00 = R[0], r01 = R[1], r02 = R[2], r10 = R[3], r11 = R[4], r12 = R[5],
                    r20 = R[6], r21 = R[7], r22 = R[8];
@@ -132,7 +134,7 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
       if (c + 1 < end)
       {
         // the next element's blocks lie at random places of S: fetch them early
-        const int* nb = &BlockOf[(threaded ? ColorCells[c + 1] : c + 1) * N * N];
+        const int* nb = &BlockOf[(list ? list[c + 1] : c + 1) * N * N];
         for (int k = 0; k < N * N; ++k)
         {
           const double* q = &S[9 * static_cast<long long>(nb[k])];
@@ -205,14 +207,18 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
   };
   if (!threaded)
   {
-    cells(0, NC);
+    cells(nullptr, 0, NC);
     return;
   }
-  const int colors = static_cast<int>(ColorStart.size()) - 1;
-  for (int c = 0; c < colors; ++c)
-  {
-    vtkSMPTools::For(ColorStart[c], ColorStart[c + 1], 16, cells);
-  }
+  vtkSMPTools::For(0, 2, 1,
+    [&](vtkIdType g0, vtkIdType g1)
+    {
+      for (vtkIdType g = g0; g < g1; ++g)
+      {
+        cells(HalfCells[g].data(), 0, static_cast<vtkIdType>(HalfCells[g].size()));
+      }
+    });
+  cells(SharedCells.data(), 0, static_cast<vtkIdType>(SharedCells.size()));
 }
 
 void CorotationalSolver::Impl::MassApply(const double* p, double s, double* y) const

@@ -171,8 +171,7 @@ struct CorotationalSolver::Impl
   // the step matrix in 3x3 node blocks (hoembedCorotationalSolverAssembly.cxx)
   std::vector<double> S;       // 9 per block of MN's pattern: sum_e R_e K_e R_e^T
   std::vector<int> BlockOf;    // NC * N * N: block of each element node pair
-  std::vector<int> ColorStart, ColorCells; // elements by colour (no shared node)
-  bool ColorsOK = true;
+  std::vector<int> HalfCells[2], SharedCells; // cells for two threads (no common node)
   std::vector<int> AFromS;     // per value of A: its value in S (-1: none)
   std::vector<double> FInt;    // 3 NP elastic forces of the step
   void BuildBlocks();
