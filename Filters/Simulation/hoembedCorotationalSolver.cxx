@@ -341,8 +341,9 @@ bool CorotationalSolver::Step()
   auto t2 = Clock::now();
 
   // Preconditioner: the unrotated factor (first step, new dt / damping / clamps), then
-  // the factor of a recent system matrix, refreshed when the CG time spent since the
-  // last factorisation exceeds what the factorisation cost (so it pays for itself).
+  // the factor of a recent system matrix, refreshed when the CG iterations since the
+  // last factorisation exceed an estimate of its cost (RefactorBudget) and the
+  // iterations per step have grown by half (so that it pays for itself).
   if (!I.HaveFactor || cM != I.FactorCM || cK != I.FactorCK)
   {
     I.Factor(cM, cK);

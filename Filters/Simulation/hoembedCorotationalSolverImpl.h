@@ -38,8 +38,8 @@ using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 // CHOLMOD's supernodal factor when available (much less time to factorise).
 // Both factors are computed on the matrix permuted by a node-level fill-reducing ordering
 // (the three DOFs of a node stay together, so L is made of 3x3 blocks), then copied into
-// BlockFactor for the solves: AMD for the small one, CHOLMOD's choice (AMD / METIS) for
-// the large one.
+// BlockFactor for the solves: AMD for the small one, CHOLMOD's choice (AMD / METIS /
+// NESDIS) for the large one.
 using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::NaturalOrdering<int>>;
 #ifdef HOEMBED_HAVE_CHOLMOD
 // CHOLMOD's supernodal factor, with access to the factor (copied into node blocks).
@@ -52,13 +52,15 @@ public:
 using LargeFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 #endif
 
-// A sparse Cholesky factor L (node-permuted DOF order) stored as 3x3 node blocks:
-// per node column J the inverse of its lower-triangular diagonal block and the blocks
-// L(I, J), I > J (row-major 3x3), values stored as T (double for small systems; float
-// for large ones, where the solves are memory-bound: half the traffic, arithmetic stays
-// double, so the preconditioner is still the exact inverse of a fixed SPD matrix).
-// Triangular solves then run on 3-vectors with one index per 9 values (about 4x faster
-// than Eigen's scalar simplicial solve at ~1k DOF).
+// A sparse Cholesky factor L (node-permuted DOF order) stored as 3x3 node blocks, rows
+// scaled to a unit diagonal of L L^T (D L, entries in [-1, 1]; Solve applies D before and
+// after): per node column J the inverse of its lower-triangular diagonal block and the
+// blocks L(I, J), I > J, each as 3 columns padded to 4 values (one AVX2 load per column),
+// values stored as T: double for small systems; for large ones, where the solves are
+// memory-bound, half precision (LargeValue, CPUs with F16C) or float. Arithmetic stays
+// double, so the preconditioner is still the exact inverse of a fixed SPD matrix.
+// Triangular solves then run on 4-vectors with one index per block (about 4x faster than
+// Eigen's scalar simplicial solve at ~1k DOF).
 //
 // Two-thread solves (hoembedCorotationalBlockFactor.cxx): the elimination tree of the
 // node blocks is cut below its top (the chain of ancestors shared by most of the work,
