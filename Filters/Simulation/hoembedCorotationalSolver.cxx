@@ -50,8 +50,6 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   I.Ke.assign(NC * D * D, 0.0);
   I.G.assign(NC * N * 3, 0.0);
   I.Rot.assign(NC * 9, 0.0);
-  I.EB.assign(NC * D * D, 0.0);
-  I.EF.assign(NC * D, 0.0);
   std::vector<double> Me(NC * N * N, 0.0); // per-component mass block
   std::vector<double> fg(NC * N, 0.0);    // integral of N_a (times density)
   std::vector<char> bad(NC, 0);
@@ -169,7 +167,6 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
     const int* e = inner + outer[row + 1];
     return static_cast<int>(std::lower_bound(b, e, col) - inner);
   };
-  I.Scatter.assign(NC * D * D, 0);
   I.MassValues.assign(I.A.nonZeros(), 0.0);
   I.StiffValues.assign(I.A.nonZeros(), 0.0);
   I.Gravity0.assign(3 * I.NP, 0.0);
@@ -191,7 +188,6 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
           for (int j = 0; j < 3; ++j)
           {
             const int idx = base + j;
-            I.Scatter[(e * D + 3 * a + i) * D + 3 * b + j] = idx;
             I.StiffValues[idx] += I.Ke[(e * D + 3 * a + i) * D + 3 * b + j];
             if (i == j)
             {
@@ -221,26 +217,7 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
     I.MN.setFromTriplets(mt.begin(), mt.end());
     I.MN.makeCompressed();
   }
-  I.EW.assign(NC * D, 0.0);
-  // Transpose of the scatter map, so that the assembly runs in parallel over CSR values.
-  const long long nnz = I.A.nonZeros();
-  I.GatherOffsets.assign(nnz + 1, 0);
-  for (int idx : I.Scatter)
-  {
-    I.GatherOffsets[idx + 1]++;
-  }
-  for (long long k = 0; k < nnz; ++k)
-  {
-    I.GatherOffsets[k + 1] += I.GatherOffsets[k];
-  }
-  I.GatherIndex.assign(I.Scatter.size(), 0);
-  {
-    std::vector<int> fill(I.GatherOffsets.begin(), I.GatherOffsets.end() - 1);
-    for (size_t j = 0; j < I.Scatter.size(); ++j)
-    {
-      I.GatherIndex[fill[I.Scatter[j]]++] = static_cast<int>(j);
-    }
-  }
+  I.BuildBlocks();
   I.Free.assign(3 * I.NP, 1);
   this->SetFixed(nullptr);
   I.FExt.assign(3 * I.NP, 0.0);
@@ -324,8 +301,6 @@ void CorotationalSolver::SetState(const double* positions, const double* velocit
 bool CorotationalSolver::Step()
 {
   Impl& I = *this->P;
-  const int N = I.N, D = I.D;
-  const long long NC = I.NC;
   const double dt = I.Dt;
   const double cM = I.StaticMode ? 0.0 : 1.0 + dt * I.Alpha;
   const double cK = dt * I.Beta + dt * dt;
@@ -344,62 +319,31 @@ bool CorotationalSolver::Step()
 
   I.CM = cM;
   I.CK = cK;
-  // Element forces -R K (R^T (x + (dt+beta) v) - X).
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
-    {
-      double ue[30], w[30];
-      for (vtkIdType e = begin; e < end; ++e)
-      {
-        const Mat3 R = Eigen::Map<const Mat3>(&I.Rot[e * 9]);
-        const double* K = &I.Ke[e * D * D];
-        for (int a = 0; a < N; ++a)
-        {
-          const int pa = I.Conn[e * N + a];
-          Eigen::Vector3d y(I.x[3 * pa] + vScale * I.v[3 * pa],
-            I.x[3 * pa + 1] + vScale * I.v[3 * pa + 1], I.x[3 * pa + 2] + vScale * I.v[3 * pa + 2]);
-          const Eigen::Vector3d l = R.transpose() * y;
-          for (int i = 0; i < 3; ++i)
-          {
-            ue[3 * a + i] = l[i] - I.X[3 * pa + i];
-          }
-        }
-        SymmetricTimes(D, K, ue, w);
-        double* f = &I.EF[e * D];
-        for (int a = 0; a < N; ++a)
-        {
-          const Eigen::Vector3d l(w[3 * a], w[3 * a + 1], w[3 * a + 2]);
-          const Eigen::Vector3d g = R * l;
-          f[3 * a] = -g[0];
-          f[3 * a + 1] = -g[1];
-          f[3 * a + 2] = -g[2];
-        }
-      }
-    });
+  // S = sum_e R_e K_e R_e^T and the elastic forces -R_e K_e (R_e^T (x + (dt+beta) v) - X)
+  I.VScale = vScale;
+  if (I.Assembled())
+  {
+    I.AssembleS(vScale);
+  }
+  else
+  {
+    I.ElementForces(vScale);
+  }
 
   Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(I.FExt.data(), 3 * I.NP);
   if (I.Alpha != 0.0)
   {
     I.MassApply(I.v.data(), -I.Alpha, rhs.data());
   }
-  for (long long e = 0; e < NC; ++e)
-  {
-    const double* f = &I.EF[e * D];
-    for (int a = 0; a < N; ++a)
-    {
-      const int pa = I.Conn[e * N + a];
-      rhs[3 * pa] += f[3 * a];
-      rhs[3 * pa + 1] += f[3 * a + 1];
-      rhs[3 * pa + 2] += f[3 * a + 2];
-    }
-  }
+  rhs += Eigen::Map<const Eigen::VectorXd>(I.FInt.data(), 3 * I.NP);
   rhs *= dt;
   I.Mask(rhs);
   auto t2 = Clock::now();
 
   // Preconditioner: the unrotated factor (first step, new dt / damping / clamps), then
-  // the factor of a recent system matrix, refreshed when the CG time spent since the
-  // last factorisation exceeds what the factorisation cost (so it pays for itself).
+  // the factor of a recent system matrix, refreshed when the CG iterations since the
+  // last factorisation exceed an estimate of its cost (RefactorBudget) and the
+  // iterations per step have grown by half (so that it pays for itself).
   if (!I.HaveFactor || cM != I.FactorCM || cK != I.FactorCK)
   {
     I.Factor(cM, cK);
@@ -423,14 +367,23 @@ bool CorotationalSolver::Step()
   I.LoadFloor = dt * std::sqrt(load);
   auto ts = Clock::now();
   Eigen::Map<Eigen::VectorXd> dv(I.dv.data(), 3 * I.NP);
-  Eigen::VectorXd sol = dv;
-  I.LastIt = I.PCG(rhs, sol, I.Tol);
+  Eigen::VectorXd sol = dv, r0;
+  const bool guessed = I.InitialGuess(rhs, sol, r0);
+  I.LastIt = I.PCG(rhs, sol, I.Tol, guessed ? &r0 : nullptr);
   if (I.JustFactored)
   {
     I.ItAfterFactor = I.LastIt;
     I.JustFactored = false;
   }
   dv = sol;
+  if (!I.StaticMode && I.GuessDepth() > 0)
+  {
+    I.History.insert(I.History.begin(), sol);
+    if (static_cast<int>(I.History.size()) > I.GuessDepth())
+    {
+      I.History.pop_back();
+    }
+  }
   I.SolveSinceFactor += Seconds(ts, Clock::now());
   I.IterationsSinceFactor += I.LastIt;
   bool finite = true;

@@ -17,28 +17,50 @@
  *   v_{n+1} = v_n + dv,  x_{n+1} = x_n + dt v_{n+1}.
  * Clamped DOFs keep dv = 0 (their position stays where the state put them).
  *
- * Linear solver: conjugate gradients on the exact step system, warm-started from the
- * previous step's dv, with matrix-free products (element by element: R_e K_e R_e^T p_e,
- * plus the mass), preconditioned by a sparse Cholesky factor rotated by the averaged
- * nodal rotations Q: P^-1 = Q A_f^-1 Q^T. A_f is first the unrotated system matrix
- * (factorised once per dt / damping / material / clamps; exact for a rigid rotation of
- * the whole body); when the CG iterations since the last factorisation exceed an
- * estimate of its cost (deterministic: 0.25 n^(2/3) iterations for n DOF, within
- * [10, 500]) and the iteration count per step has grown by half, the current matrix is
- * assembled (fixed
- * pattern, element-to-CSR gather map built once) and factorised instead (symbolic
- * analysis reused), and Q becomes the rotation relative to that state. Factor: of the
- * matrix permuted by a node-level fill-reducing ordering (a node's 3 DOFs stay together),
- * Eigen's SimplicialLLT on an AMD ordering below 6000 DOF, SuiteSparse CHOLMOD
- * (supernodal, METIS or AMD, whichever fills less) above when the build found it; the
- * factor is then copied into 3x3 node blocks (float values above 6000 DOF, double
- * arithmetic) for the triangular solves. The CG stops at |r| <= tol * max(|b|, dt |f_ext|).
+ * Linear solver: preconditioned conjugate gradients on the exact step system, stopped at
+ * |r| <= tol * max(|b|, dt |f_ext|) (vtkCorotationalFEMStepper's default tol is 1e-4:
+ * on a 3000-tet10 beam, 60 steps, the displacements then differ from a 1e-10 solve by
+ * ~2e-6 relative; Benchmarks/bench_stepper.py reports it for every mesh it times).
+ * - Products (hoembedCorotationalSolverAssembly.cxx). Meshes of 1000 cells or more: the
+ *   rotated stiffness S = sum_e R_e K_e R_e^T is assembled every step into 3x3 node blocks
+ *   on the node-adjacency pattern (upper element blocks R K_ab R^T, b >= a, added with
+ *   their transposes; the elastic forces come from the same pass over K_e), and a
+ *   product is a block-row sweep y = cM M p + cK S p (one 3x3 block per neighbour instead
+ *   of a 30x30 element matrix per element: ~5x less memory traffic). Smaller meshes keep
+ *   the element-by-element products (their element matrices stay in cache; assembling S
+ *   every step costs more there than it saves).
+ * - Initial guess (large meshes): the Galerkin projection of the step system onto the
+ *   span of the last 4 solutions dv (the A-norm-best combination, which contains the
+ *   previous dv and its polynomial extrapolations; 4 products, and its residual is the
+ *   CG's first). About halves the iterations (3000 tet10 beam at 1e-4: 4.75 -> 2.5).
+ *   Smaller meshes start from the previous dv.
+ * - Preconditioner P^-1 = Q A_f^-1 Q^T: a sparse Cholesky factor A_f rotated by the
+ *   averaged nodal rotations Q. A_f is first the unrotated system matrix (factorised once
+ *   per dt / damping / material / clamps; exact for a rigid rotation of the whole body);
+ *   when the CG iterations since the last factorisation exceed an estimate of its cost
+ *   (deterministic: 0.25 n^(2/3) iterations for n DOF, within [10, 500]) and the
+ *   iteration count per step has grown by half, the current matrix (cM M + cK S) is
+ *   factorised instead (symbolic analysis reused) and Q becomes the rotation relative to
+ *   that state. Factor: of the matrix permuted by a node-level fill-reducing ordering (a
+ *   node's 3 DOFs stay together), Eigen's SimplicialLLT on an AMD ordering below 6000
+ *   DOF, SuiteSparse CHOLMOD (supernodal; AMD, METIS or CHOLMOD's nested dissection,
+ *   whichever fills least) above when the build found it; the factor is then copied into
+ *   3x3 node blocks (hoembedCorotationalBlockFactor.cxx), rows scaled to a unit diagonal
+ *   of L L^T, stored as 3 padded columns for AVX2 (double below 6000 DOF; above, half
+ *   precision where the CPU has F16C, else float; arithmetic always double, so the
+ *   preconditioner is the exact inverse of a fixed SPD matrix: the 3000-tet10 beam needs
+ *   the same iterations with half as with float storage). The triangular solves of the
+ *   large factor run on two threads: the elimination tree is cut below its top separator
+ *   into two groups of independent subtrees of equal work.
  *
  * StaticSolve: solves f_int(x) = f_ext by repeated linearised solves (the first one is
  * exactly small-strain linear elasticity from the rest state), needs clamped nodes.
  *
- * Threading: element loops and the assembly gather run with vtkSMPTools; the scatter of
- * element vectors is serial.
+ * Threading (vtkSMPTools): rotations, the assembly of S (two halves of the cells cut by
+ * a plane, without common nodes, in parallel, then the layer of cells along the cut; on
+ * one thread all cells in order, so 1- and 2-thread runs differ in the last bits of S),
+ * products (block rows), the two subtree groups of the triangular solves. Small meshes
+ * (< 1000 cells) run serially.
  */
 #ifndef hoembedCorotationalSolver_h
 #define hoembedCorotationalSolver_h

@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -37,8 +38,8 @@ using Mat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 // CHOLMOD's supernodal factor when available (much less time to factorise).
 // Both factors are computed on the matrix permuted by a node-level fill-reducing ordering
 // (the three DOFs of a node stay together, so L is made of 3x3 blocks), then copied into
-// BlockFactor for the solves: AMD for the small one, CHOLMOD's choice (AMD / METIS) for
-// the large one.
+// BlockFactor for the solves: AMD for the small one, CHOLMOD's choice (AMD / METIS /
+// NESDIS) for the large one.
 using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::NaturalOrdering<int>>;
 #ifdef HOEMBED_HAVE_CHOLMOD
 // CHOLMOD's supernodal factor, with access to the factor (copied into node blocks).
@@ -51,24 +52,62 @@ public:
 using LargeFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 #endif
 
-// A sparse Cholesky factor L (node-permuted DOF order) stored as 3x3 node blocks:
-// per node column J the inverse of its lower-triangular diagonal block and the blocks
-// L(I, J), I > J (row-major 3x3), values stored as T (double for small systems; float
-// for large ones, where the solves are memory-bound: half the traffic, arithmetic stays
-// double, so the preconditioner is still the exact inverse of a fixed SPD matrix).
-// Triangular solves then run on 3-vectors with one index per 9 values (about 4x faster
-// than Eigen's scalar simplicial solve at ~1k DOF).
+// A sparse Cholesky factor L (node-permuted DOF order) stored as 3x3 node blocks, rows
+// scaled to a unit diagonal of L L^T (D L, entries in [-1, 1]; Solve applies D before and
+// after): per node column J the inverse of its lower-triangular diagonal block and the
+// blocks L(I, J), I > J, each as 3 columns padded to 4 values (one AVX2 load per column),
+// values stored as T: double for small systems; for large ones, where the solves are
+// memory-bound, half precision (LargeValue, CPUs with F16C) or float. Arithmetic stays
+// double, so the preconditioner is still the exact inverse of a fixed SPD matrix.
+// Triangular solves then run on 4-vectors with one index per block (about 4x faster than
+// Eigen's scalar simplicial solve at ~1k DOF).
+//
+// Two-thread solves (hoembedCorotationalBlockFactor.cxx): the elimination tree of the
+// node blocks is cut below its top (the chain of ancestors shared by most of the work,
+// for a nested-dissection ordering the top separator) into two groups of independent
+// subtrees of about equal work. The forward solve runs the two groups in parallel (their
+// updates of the top rows go to one private buffer per group, added before the top is
+// solved), the top serially; the backward solve the other way round. Same arithmetic per
+// entry as the serial solve up to the order of the additions into the top rows.
 template <typename T>
 struct BlockFactor
 {
   int NB = 0;
   std::vector<double> DiagInv; // 9 per node
   std::vector<int> Ptr, Row;   // blocks of column J: Ptr[J] .. Ptr[J+1]
-  std::vector<T> Val;          // 9 per block
+  std::vector<T> Val;          // 12 per block: 3 columns of 4 (row 4 = 0, for SIMD)
   // CSC lower factor (n = 3 NB columns, any row order within a column)
   void Build(int n, const int* colPtr, const int* rowIdx, const double* val);
+  // the same from any column layout: columns(c, rows, values, count) gives the entries of
+  // scalar column c (e.g. straight from a supernodal factor)
+  using ColumnSource = std::function<void(int, const int*&, const double*&, int&)>;
+  void Build(int n, const ColumnSource& columns);
   void Solve(double* t) const; // in place: t <- L^-T L^-1 t
+  // Plan the two-group split (Build calls it when NB >= SplitNodes); Split tells whether
+  // Solve uses it (also needs vtkSMPTools to run on 2 or more threads).
+  void PlanSplit();
+  bool Split = false;
+  std::vector<int> All, Group[2], Top; // columns, ascending
+  std::vector<int> TopSlot;       // column -> index in Top, or -1
+  mutable std::vector<double> Buffer[2];
+  mutable std::vector<double> Work; // 4 doubles per node
+  std::vector<double> Scale;        // per row: 1 / sqrt(diagonal of L L^T)
+  static constexpr int SplitNodes = 2000;
+
+private:
+  void SolveWork(double* t) const;
+  void Forward(const int* cols, std::size_t n, double* t, double* buffer) const;
+  void Backward(const int* cols, std::size_t n, double* t) const;
 };
+#if defined(__F16C__) && defined(__AVX2__) && defined(__FMA__) && defined(__FLT16_MAX__)
+#define HOEMBED_HALF_FACTOR 1
+using HalfValue = _Float16;
+#endif
+#if defined(HOEMBED_HALF_FACTOR) && !defined(HOEMBED_FLOAT_FACTOR)
+using LargeValue = HalfValue;
+#else
+using LargeValue = float;
+#endif
 constexpr long long LargeSystem = 6000; // DOF from which the large factorisation is used
 
 inline double Seconds(Clock::time_point a, Clock::time_point b)
@@ -92,6 +131,8 @@ void ParallelFor(vtkIdType n, vtkIdType minParallel, F&& f)
   }
 }
 constexpr vtkIdType ParallelCells = 1000;
+constexpr vtkIdType ParallelNodes = 2000;
+constexpr vtkIdType AssembledCells = 1000;
 
 // w = K l for a symmetric element matrix K (D x D, stored either way): fixed-size Eigen
 // products (vectorised, unrolled) for tet10 (D = 30) and tet4 (D = 12).
@@ -129,10 +170,21 @@ struct CorotationalSolver::Impl
   std::vector<double> G;      // NC * N * 3 centroid shape gradients
   std::vector<double> Rot;    // NC * 9 element rotations
   std::vector<double> NodeRot; // NP * 9 (averaged, not projected) for the preconditioner
-  std::vector<double> EB;     // NC * D * D rotated element matrices
-  std::vector<double> EF;     // NC * D element right-hand sides
-  std::vector<int> Scatter;   // NC * D * D value index in the CSR pattern
-  std::vector<int> GatherOffsets, GatherIndex; // per CSR value: element entries summed into it
+  // the step matrix in 3x3 node blocks (hoembedCorotationalSolverAssembly.cxx)
+  std::vector<double> S;       // 9 per block of MN's pattern: sum_e R_e K_e R_e^T
+  std::vector<int> BlockOf;    // NC * N * N: block of each element node pair
+  std::vector<int> HalfCells[2], SharedCells; // cells for two threads (no common node)
+  std::vector<int> AFromS;     // per value of A: its value in S (-1: none)
+  std::vector<double> FInt;    // 3 NP elastic forces of the step
+  void BuildBlocks();
+  void AssembleS(double vScale);
+  // Small meshes (NC < AssembledCells: element matrices in cache) skip S: products and
+  // forces element by element (cheaper than assembling S every step there).
+  bool Assembled() const { return NC >= AssembledCells; }
+  void ElementForces(double vScale);
+  void MatVecElements(const Eigen::VectorXd& p, Eigen::VectorXd& y);
+  std::vector<double> EW; // NC * D element results (small meshes)
+  double VScale = 0.0;    // of the current step
   std::vector<double> MassValues, StiffValues; // rest M and K on the pattern
   std::vector<double> Gravity0; // consistent body force for unit density * g / density
   std::vector<double> FExt;
@@ -140,13 +192,13 @@ struct CorotationalSolver::Impl
   std::vector<int> NodeCellCount;
   double Young = 1, Poisson = 0.3, Density = 1;
   double Dt = 0.01, Alpha = 0, Beta = 0;
-  double Tol = 1e-8;
+  double Tol = 1e-4;
   int MaxIt = 500;
   RowMat A, M;
   // preconditioner
   SmallFactorization SmallLLT;
   BlockFactor<double> SmallBlocks;
-  BlockFactor<float> LargeBlocks;
+  BlockFactor<LargeValue> LargeBlocks;
   bool UseLargeBlocks = false;
   void BuildLargeBlocks();
   std::vector<int> NodeNew;   // old node -> position in the small factor's order
@@ -186,8 +238,18 @@ struct CorotationalSolver::Impl
   bool RotationsValid = false; // Rot / NodeRot match x
   // A restart from a new state starts from the unrotated factor again, so that the same
   // state and settings always give bitwise the same trajectory.
+  // Initial guess of the CG: the Galerkin projection of the step system onto the span of
+  // the last GuessDepth() solutions (A-norm-best combination: it contains the previous dv
+  // and its polynomial extrapolations). Sets x and its residual r = b - A x; false when
+  // there is no history (then x stays as given: the previous dv). Large meshes only: on
+  // small ones a preconditioner application costs about a product, the projection's
+  // products do not pay.
+  int GuessDepth() const { return Assembled() ? 4 : 0; }
+  std::vector<Eigen::VectorXd> History; // previous steps' dv, most recent first
+  bool InitialGuess(const Eigen::VectorXd& b, Eigen::VectorXd& x, Eigen::VectorXd& r);
   void RestartPreconditioner()
   {
+    History.clear();
     HaveFactor = false;
     LastIt = 0;
     ItAfterFactor = 0;
@@ -205,17 +267,17 @@ struct CorotationalSolver::Impl
   bool Factor(double cM, double cK);
   bool FactorMatrix(const RowMat& source, bool rest, double cM, double cK);
   void UpdateRelativeRotations();
-  int PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol);
-  // y = CM M p + CK sum_e R_e K_e R_e^T p_e (matrix-free: element by element)
+  // r0: the residual b - A xs when known (else computed)
+  int PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol, const Eigen::VectorXd* r0);
+  // y = CM M p + CK S p (S assembled at the start of the step)
   void MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y);
   // y += s * M p with the node-level (scalar) mass matrix
   void MassApply(const double* p, double s, double* y) const;
-  // assemble A = cM M + cK sum R K R^T (only needed to refresh the factorisation)
+  // A = cM M + cK S (only needed to refresh the factorisation)
   void AssembleA(double cM, double cK);
   double CM = 1.0, CK = 0.0;
   bool StaticMode = false; // steps without mass (static increments)
   RowMat MN;              // NP x NP scalar mass matrix
-  std::vector<double> EW; // NC * D element matvec results
   void Mask(Eigen::VectorXd& r) const
   {
     for (long long k = 0; k < 3 * NP; ++k)

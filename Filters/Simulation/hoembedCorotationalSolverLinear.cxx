@@ -157,11 +157,13 @@ void CorotationalSolver::Impl::Analyze()
   if (Large())
   {
 #ifdef HOEMBED_HAVE_CHOLMOD
-    // CHOLMOD's own choice (AMD / METIS, postordered) on the node graph
+    // CHOLMOD's own choice (AMD / METIS / its nested dissection, postordered) on the
+    // node graph
     LargeFactorization nodeAnalysis;
-    nodeAnalysis.cholmod().nmethods = 2; // both, the one with the least fill wins
+    nodeAnalysis.cholmod().nmethods = 3; // all, the one with the least fill wins
     nodeAnalysis.cholmod().method[0].ordering = CHOLMOD_AMD;
     nodeAnalysis.cholmod().method[1].ordering = CHOLMOD_METIS;
+    nodeAnalysis.cholmod().method[2].ordering = CHOLMOD_NESDIS;
     nodeAnalysis.analyzePattern(nodePattern);
     const int* perm = nodeAnalysis.Factor() ? static_cast<const int*>(nodeAnalysis.Factor()->Perm) : nullptr;
     for (long long k = 0; k < NP; ++k)
@@ -221,91 +223,6 @@ void CorotationalSolver::Impl::Analyze()
   }
 }
 
-template <typename T>
-void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const double* val)
-{
-  NB = n / 3;
-  DiagInv.assign(9 * NB, 0.0);
-  Ptr.assign(NB + 1, 0);
-  Row.clear();
-  Val.clear();
-  std::vector<int> slot(NB, -1);
-  for (int J = 0; J < NB; ++J)
-  {
-    Eigen::Matrix3d Djj = Eigen::Matrix3d::Zero();
-    for (int b = 0; b < 3; ++b)
-    {
-      for (int k = colPtr[3 * J + b]; k < colPtr[3 * J + b + 1]; ++k)
-      {
-        const int I = rowIdx[k] / 3, a = rowIdx[k] % 3;
-        if (I == J)
-        {
-          Djj(a, b) = val[k];
-          continue;
-        }
-        if (slot[I] < 0)
-        {
-          slot[I] = static_cast<int>(Row.size());
-          Row.push_back(I);
-          Val.insert(Val.end(), 9, T(0));
-        }
-        Val[9 * slot[I] + 3 * a + b] = static_cast<T>(val[k]);
-      }
-    }
-    for (int k = Ptr[J]; k < static_cast<int>(Row.size()); ++k)
-    {
-      slot[Row[k]] = -1;
-    }
-    Ptr[J + 1] = static_cast<int>(Row.size());
-    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> inv(&DiagInv[9 * J]);
-    inv = Djj.triangularView<Eigen::Lower>().solve(Eigen::Matrix3d::Identity());
-  }
-}
-
-template <typename T>
-void BlockFactor<T>::Solve(double* t) const
-{
-  const T* B = Val.data();
-  for (int J = 0; J < NB; ++J) // L y = t
-  {
-    const double* Di = &DiagInv[9 * J];
-    double* tj = t + 3 * J;
-    const double y0 = Di[0] * tj[0];
-    const double y1 = Di[3] * tj[0] + Di[4] * tj[1];
-    const double y2 = Di[6] * tj[0] + Di[7] * tj[1] + Di[8] * tj[2];
-    tj[0] = y0;
-    tj[1] = y1;
-    tj[2] = y2;
-    for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
-    {
-      const T* b = B + 9 * k;
-      double* ti = t + 3 * Row[k];
-      ti[0] -= b[0] * y0 + b[1] * y1 + b[2] * y2;
-      ti[1] -= b[3] * y0 + b[4] * y1 + b[5] * y2;
-      ti[2] -= b[6] * y0 + b[7] * y1 + b[8] * y2;
-    }
-  }
-  for (int J = NB - 1; J >= 0; --J) // L^T x = y
-  {
-    double* tj = t + 3 * J;
-    double s0 = tj[0], s1 = tj[1], s2 = tj[2];
-    for (int k = Ptr[J]; k < Ptr[J + 1]; ++k)
-    {
-      const T* b = B + 9 * k;
-      const double* ti = t + 3 * Row[k];
-      s0 -= b[0] * ti[0] + b[3] * ti[1] + b[6] * ti[2];
-      s1 -= b[1] * ti[0] + b[4] * ti[1] + b[7] * ti[2];
-      s2 -= b[2] * ti[0] + b[5] * ti[1] + b[8] * ti[2];
-    }
-    const double* Di = &DiagInv[9 * J];
-    tj[0] = Di[0] * s0 + Di[3] * s1 + Di[6] * s2;
-    tj[1] = Di[4] * s1 + Di[7] * s2;
-    tj[2] = Di[8] * s2;
-  }
-}
-
-template struct BlockFactor<double>;
-template struct BlockFactor<float>;
 
 // Copy CHOLMOD's supernodal factor (of the node-permuted matrix, natural order) into
 // float node blocks; should CHOLMOD have reordered it anyway, the solves stay with it.
@@ -318,6 +235,47 @@ void CorotationalSolver::Impl::BuildLargeBlocks()
     return;
   }
   cholmod_common& c = LargeLLT.cholmod();
+  const cholmod_factor* S0 = LargeLLT.Factor();
+  if (S0->is_super && S0->is_ll && S0->itype == CHOLMOD_INT && S0->xtype == CHOLMOD_REAL &&
+    static_cast<long long>(S0->n) == 3 * NP)
+  {
+    // read the supernodes directly: column j of supernode s holds rows s[pi[s] + i],
+    // values x[px[s] + (j - super[s]) nsrow + i] (i >= j - super[s]: the lower part)
+    const int* perm = static_cast<const int*>(S0->Perm);
+    bool blocked = true; // the factor is in the order of the permuted matrix
+    for (long long k = 0; perm && blocked && k < 3 * NP; ++k)
+    {
+      blocked = perm[k] == k;
+    }
+    if (blocked)
+    {
+      const int* super = static_cast<const int*>(S0->super);
+      const int* pi = static_cast<const int*>(S0->pi);
+      const int* px = static_cast<const int*>(S0->px);
+      const int* srow = static_cast<const int*>(S0->s);
+      const double* sx = static_cast<const double*>(S0->x);
+      std::vector<int> superOf(3 * NP, 0);
+      for (int s = 0; s < static_cast<int>(S0->nsuper); ++s)
+      {
+        for (int j = super[s]; j < super[s + 1]; ++j)
+        {
+          superOf[j] = s;
+        }
+      }
+      LargeBlocks.Build(static_cast<int>(3 * NP),
+        [&](int col, const int*& rows, const double*& values, int& count)
+        {
+          const int s = superOf[col];
+          const int j = col - super[s];
+          const int nsrow = pi[s + 1] - pi[s];
+          rows = srow + pi[s] + j;
+          values = sx + px[s] + static_cast<long long>(j) * nsrow + j;
+          count = nsrow - j;
+        });
+      UseLargeBlocks = true;
+      return;
+    }
+  }
   cholmod_factor* F = cholmod_copy_factor(LargeLLT.Factor(), &c);
   if (!F)
   {
@@ -400,7 +358,66 @@ void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::Vector
   Mask(z);
 }
 
-int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol)
+bool CorotationalSolver::Impl::InitialGuess(
+  const Eigen::VectorXd& b, Eigen::VectorXd& x, Eigen::VectorXd& r)
+{
+  if (StaticMode || History.empty())
+  {
+    return false;
+  }
+  // orthonormal basis V of the history (Gram-Schmidt, twice; drops dependent vectors)
+  std::vector<Eigen::VectorXd> V;
+  for (const Eigen::VectorXd& h : History)
+  {
+    Eigen::VectorXd q = h;
+    for (int pass = 0; pass < 2; ++pass)
+    {
+      for (const Eigen::VectorXd& w : V)
+      {
+        q -= w.dot(q) * w;
+      }
+    }
+    const double n = q.norm();
+    if (n > 1e-10 * h.norm() && n > 0.0)
+    {
+      V.push_back(q / n);
+    }
+  }
+  const int m = static_cast<int>(V.size());
+  if (m == 0)
+  {
+    return false;
+  }
+  std::vector<Eigen::VectorXd> W(m, Eigen::VectorXd(3 * NP));
+  Eigen::MatrixXd G(m, m);
+  Eigen::VectorXd g(m);
+  for (int i = 0; i < m; ++i)
+  {
+    MatVec(V[i], W[i]);
+    Mask(W[i]);
+    g[i] = V[i].dot(b);
+    for (int j = 0; j <= i; ++j)
+    {
+      G(i, j) = G(j, i) = V[j].dot(W[i]);
+    }
+  }
+  const Eigen::VectorXd c = G.ldlt().solve(g);
+  if (!c.allFinite())
+  {
+    return false;
+  }
+  x.setZero();
+  r = b;
+  for (int i = 0; i < m; ++i)
+  {
+    x += c[i] * V[i];
+    r -= c[i] * W[i];
+  }
+  return true;
+}
+
+int CorotationalSolver::Impl::PCG(
+  const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol, const Eigen::VectorXd* r0)
 {
   const double bnorm = b.norm();
   LastRes = 0.0;
@@ -416,8 +433,15 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
   }
   Mask(xs);
   Eigen::VectorXd r(3 * NP);
-  MatVec(xs, r);
-  r = b - r;
+  if (r0)
+  {
+    r = *r0;
+  }
+  else
+  {
+    MatVec(xs, r);
+    r = b - r;
+  }
   Mask(r);
   Eigen::VectorXd z(3 * NP), p(3 * NP), Ap(3 * NP);
   double rn = r.norm();
@@ -458,127 +482,4 @@ int CorotationalSolver::Impl::PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs,
   return it;
 }
 
-void CorotationalSolver::Impl::MassApply(const double* p, double s, double* y) const
-{
-  const int* outer = MN.outerIndexPtr();
-  const int* inner = MN.innerIndexPtr();
-  const double* val = MN.valuePtr();
-  for (long long r = 0; r < NP; ++r)
-  {
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    for (int k = outer[r]; k < outer[r + 1]; ++k)
-    {
-      const double m = val[k];
-      const double* q = p + 3 * inner[k];
-      a0 += m * q[0];
-      a1 += m * q[1];
-      a2 += m * q[2];
-    }
-    y[3 * r] += s * a0;
-    y[3 * r + 1] += s * a1;
-    y[3 * r + 2] += s * a2;
-  }
-}
-
-void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y)
-{
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
-    {
-      double l[30], w[30];
-      for (vtkIdType e = begin; e < end; ++e)
-      {
-        const double* R = &Rot[e * 9];
-        for (int a = 0; a < N; ++a)
-        {
-          const double* q = p.data() + 3 * Conn[e * N + a];
-          for (int i = 0; i < 3; ++i)
-          {
-            l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
-          }
-        }
-        SymmetricTimes(D, &Ke[e * D * D], l, w);
-        double* out = &EW[e * D];
-        for (int a = 0; a < N; ++a)
-        {
-          for (int i = 0; i < 3; ++i)
-          {
-            out[3 * a + i] =
-              R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2];
-          }
-        }
-      }
-    });
-  y.setZero();
-  MassApply(p.data(), CM, y.data());
-  for (long long e = 0; e < NC; ++e)
-  {
-    const double* out = &EW[e * D];
-    for (int a = 0; a < N; ++a)
-    {
-      double* ya = y.data() + 3 * Conn[e * N + a];
-      ya[0] += CK * out[3 * a];
-      ya[1] += CK * out[3 * a + 1];
-      ya[2] += CK * out[3 * a + 2];
-    }
-  }
-}
-
-void CorotationalSolver::Impl::AssembleA(double cM, double cK)
-{
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
-    {
-      for (vtkIdType e = begin; e < end; ++e)
-      {
-        const Mat3 R = Eigen::Map<const Mat3>(&Rot[e * 9]);
-        const double* K = &Ke[e * D * D];
-        double* B = &EB[e * D * D];
-        for (int a = 0; a < N; ++a)
-        {
-          for (int b = a; b < N; ++b)
-          {
-            Mat3 Kab;
-            for (int i = 0; i < 3; ++i)
-            {
-              for (int j = 0; j < 3; ++j)
-              {
-                Kab(i, j) = K[(3 * a + i) * D + 3 * b + j];
-              }
-            }
-            const Mat3 Bab = R * Kab * R.transpose();
-            for (int i = 0; i < 3; ++i)
-            {
-              for (int j = 0; j < 3; ++j)
-              {
-                B[(3 * a + i) * D + 3 * b + j] = Bab(i, j);
-                B[(3 * b + j) * D + 3 * a + i] = Bab(i, j);
-              }
-            }
-          }
-        }
-      }
-    });
-  double* val = A.valuePtr();
-  const long long nnz = A.nonZeros();
-  {
-    const int* off = GatherOffsets.data();
-    const int* gi = GatherIndex.data();
-    const double* eb = EB.data();
-    const double* mv = MassValues.data();
-    ParallelFor(nnz, ParallelValues,
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType k = begin; k < end; ++k)
-        {
-          double sum = 0.0;
-          for (int j = off[k]; j < off[k + 1]; ++j)
-          {
-            sum += eb[gi[j]];
-          }
-          val[k] = cM * mv[k] + cK * sum;
-        }
-      });
-  }
-}
 } // namespace hoembed

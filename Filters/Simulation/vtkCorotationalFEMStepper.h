@@ -25,10 +25,13 @@
  * rotated stiffness R K R^T, consistent mass (or HRZ-lumped with LumpedMass on) and
  * consistent body force, Rayleigh damping
  * C = RayleighMass * M + RayleighStiffness * K, backward Euler with one linearised solve
- * per step (conjugate gradients with matrix-free products, preconditioned by a rotated
- * sparse Cholesky factor that is reused across steps and refreshed when that pays; the
- * factor is Eigen's SimplicialLLT, or SuiteSparse CHOLMOD for systems of 6000 DOF or
- * more when the build found it, applied through 3x3 node blocks). The kernels are
+ * per step (conjugate gradients; products with the step matrix assembled in 3x3 node
+ * blocks every step on meshes of 1000 cells or more, element by element below; initial
+ * guess projected on the last solutions; preconditioned by a rotated sparse Cholesky
+ * factor that is reused across steps and refreshed when that pays; the factor is Eigen's
+ * SimplicialLLT, or SuiteSparse CHOLMOD for systems of 6000 DOF or more when the build
+ * found it, applied through 3x3 node blocks, on two threads for large systems; see
+ * hoembedCorotationalSolver.h). The kernels are
  * compiled with -march=native unless HOEMBED_SIMULATION_NATIVE is off.
  *
  * Time: RequestInformation advertises TIME_STEPS t_k = k * TimeStep, k = 0..
@@ -40,8 +43,10 @@
  *
  * Defaults: YoungModulus 1e5 (Pa), PoissonRatio 0.49, Density 1000 (kg/m^3), Gravity
  * (0, 0, -9.81), RayleighMass 0.1 (1/s), RayleighStiffness 0.01 (s), TimeStep 0.01 (s),
- * NumberOfTimeSteps 100, StaticSolve off, LumpedMass off, SolverTolerance 1e-8 (CG stops
- * at |r| <= tol * max(|b|, dt |f_ext|)), MaxSolverIterations 200, FixedArrayName "Fixed"
+ * NumberOfTimeSteps 100, StaticSolve off, LumpedMass off, SolverTolerance 1e-4 (CG stops
+ * at |r| <= tol * max(|b|, dt |f_ext|); measured on a 3000-tet10 beam over 60 steps: the
+ * displacements differ from a 1e-10 solve by ~1e-7 to 2e-6 relative, see
+ * Benchmarks/bench_stepper.py), MaxSolverIterations 200, FixedArrayName "Fixed"
  * (a missing "Fixed" array means no clamps; a missing array of another name is an error),
  * no force / initial arrays, no clamp plane or box.
  *
@@ -202,7 +207,7 @@ protected:
   double ClampPlaneNormal[3] = { 1.0, 0.0, 0.0 };
   bool UseClampBox = false;
   double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
-  double SolverTolerance = 1e-8;
+  double SolverTolerance = 1e-4;
   int MaxSolverIterations = 200;
 
   int LastNumberOfSteps = 0;

@@ -21,7 +21,7 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
              gravity=(0.0, 0.0, -9.81), fixed=None, rayleigh_mass=0.1,
              rayleigh_stiffness=0.01, external_force=None, initial_displacement=None,
              initial_velocity=None, lumped_mass=False, static=False, every=1,
-             solver_tolerance=1e-8, progress=None):
+             solver_tolerance=1e-4, progress=None):
     """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Euler steps.
 
     Parameters
