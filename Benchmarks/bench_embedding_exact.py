@@ -110,6 +110,8 @@ def main(names):
                     totals["above_1e-8"] += r["count_dist_err_above_1e-8"]
                     totals["residual_above_1e-10"] += r["count_residual_above_1e-10"]
                     totals["inside_mismatch_beyond_1e-8"] += r["inside_mismatch_beyond_1e-8"]
+                    totals["filter_uncertified_points"] = (
+                        totals.get("filter_uncertified_points", 0) + r["filter_uncertified_points"])
                     totals["max_err_rel"] = max(totals["max_err_rel"], r["max_dist_err_rel"])
                     totals["max_residual_rel"] = max(totals["max_residual_rel"],
                                                      r["max_residual_rel"])

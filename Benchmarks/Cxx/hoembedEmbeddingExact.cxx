@@ -276,8 +276,9 @@ int main(int argc, char* argv[])
   std::printf("  \"surface_vertices\": %lld, \"vertices_checked\": %lld,\n",
     static_cast<long long>(nv), static_cast<long long>(nv));
   std::printf("  \"threads\": %d, \"filter_wall_s\": %.4f, \"filter_cpu_s\": %.4f, "
-              "\"brute_wall_s\": %.3f,\n",
-    vtkSMPTools::GetEstimatedNumberOfThreads(), filterWall, filterCpu, bruteWall);
+              "\"brute_wall_s\": %.3f, \"filter_uncertified_points\": %lld,\n",
+    vtkSMPTools::GetEstimatedNumberOfThreads(), filterWall, filterCpu, bruteWall,
+    static_cast<long long>(filter->GetNumberOfUncertifiedPoints()));
   std::printf("  \"max_dist_err_rel\": %.3e, \"count_dist_err_above_1e-8\": %ld, "
               "\"count_dist_err_above_1e-10\": %ld, \"count_dist_err_above_1e-12\": %ld,\n",
     maxErr, above8, above10, above12);

@@ -149,15 +149,18 @@ void Keep(const ClosestPointResult& r, Id f, BoundaryHit& best)
 // (SearchScratch::Retry), when the best distance is final or nearly so and most of these
 // faces are excluded by the bound.
 void RetryFace(const EmbeddingMesh& M, const double v[3], Id f, const ClosestPointResult& r,
-  BoundaryHit& best)
+  BoundaryHit& best, VertexEmbedding& out)
 {
   const double bound = M.FaceLowerBound2(f, v);
   if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
   {
     ClosestPointResult nearer = r;
+    bool certified = true;
     if (CertifyClosestPointOnPatch(
-          M.FaceMaps[f], v, best.Dist2, CertifyTolerance * M.Diagonal, nearer))
+          M.FaceMaps[f], v, best.Dist2, CertifyTolerance * M.Diagonal, nearer, &certified))
       Keep(nearer, f, best);
+    if (!certified)
+      out.Uncertified = true;
   }
 }
 
@@ -233,7 +236,7 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     SolveFace(M, v, f, nullptr, best, out, S);
   });
   for (const auto& fr : S.Retry)
-    RetryFace(M, v, fr.first, fr.second, best);
+    RetryFace(M, v, fr.first, fr.second, best, out);
 }
 
 // Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.

@@ -82,6 +82,9 @@ struct VertexEmbedding
   int Iterations = 0;
   int Visited = 0;
   bool Inside = false;
+  /// a curved face's certified search ran out of its budget: the distance may be a
+  /// local minimum only (never seen on the real meshes; reported by the filter)
+  bool Uncertified = false;
   EmbeddingMesh::Id BoundaryFace = -1; ///< closest boundary face (-1 if not computed)
   double UV[2] = { 0, 0 };
 

@@ -92,6 +92,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   vtkPolyData* surface = vtkPolyData::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  this->NumberOfUncertifiedPoints = 0;
   if (!surface || surface->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro("The surface (input port 0) is empty: it has no points.");
@@ -330,6 +331,22 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
                                    << " could not be embedded (non-finite result).");
     return 0;
   }
+  vtkIdType exampleUncertified = -1;
+  for (vtkIdType k = 0; k < ns; ++k)
+  {
+    if (res[k].Uncertified)
+    {
+      ++this->NumberOfUncertifiedPoints;
+      exampleUncertified = exampleUncertified < 0 ? order[k] : exampleUncertified;
+    }
+  }
+  if (this->NumberOfUncertifiedPoints > 0)
+  {
+    vtkWarningMacro(<< this->NumberOfUncertifiedPoints
+                    << " surface point(s) (e.g. point " << exampleUncertified
+                    << "): the closest-point search on a curved boundary face ran out of its "
+                       "budget; their distance may be a local minimum only.");
+  }
 
   output->ShallowCopy(surface);
   vtkPointData* pd = output->GetPointData();
@@ -364,4 +381,5 @@ void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Method: " << this->GetMethodAsString() << "\n";
   os << indent << "NumberOfPartitions: " << this->NumberOfPartitions << "\n";
   os << indent << "ValidateElements: " << (this->ValidateElements ? "On" : "Off") << "\n";
+  os << indent << "NumberOfUncertifiedPoints: " << this->NumberOfUncertifiedPoints << "\n";
 }

@@ -110,6 +110,14 @@ public:
   vtkBooleanMacro(ValidateElements, bool);
   ///@}
 
+  /**
+   * Surface points of the last run whose closest-point search on a curved boundary face
+   * ran out of its budget (hoembedClosestPointCertify.h): their distance may be a local
+   * minimum only. The filter warns when there are any (none on the real meshes of the
+   * benchmarks).
+   */
+  vtkGetMacro(NumberOfUncertifiedPoints, vtkIdType);
+
   ///@{
   /**
    * The rest FE mesh on port 1.
@@ -128,6 +136,7 @@ protected:
   int Method = NORMAL_OFFSET;
   int NumberOfPartitions = 0;
   bool ValidateElements = true;
+  vtkIdType NumberOfUncertifiedPoints = 0;
 
 private:
   vtkEmbeddingCoordinatesFilter(const vtkEmbeddingCoordinatesFilter&) = delete;

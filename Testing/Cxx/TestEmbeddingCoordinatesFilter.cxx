@@ -256,6 +256,8 @@ vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* surface, vtkUnstructuredGrid
   f->AddObserver(vtkCommand::ErrorEvent, cb);
   f->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, cb);
   f->Update();
+  HOEMBED_CHECK(f->GetNumberOfUncertifiedPoints() == 0, "%lld points left uncertified",
+    static_cast<long long>(f->GetNumberOfUncertifiedPoints()));
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->ShallowCopy(f->GetOutput());
   return out;

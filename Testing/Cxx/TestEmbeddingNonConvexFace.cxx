@@ -86,6 +86,10 @@ vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* surface, vtkUnstructuredGrid
   f->SetInputData(0, surface);
   f->SetMeshData(grid);
   f->Update();
+  // the certified face search finished within its budget everywhere (else the filter
+  // warns and the distances may be local minima)
+  HOEMBED_CHECK(f->GetNumberOfUncertifiedPoints() == 0, "%lld points left uncertified",
+    static_cast<long long>(f->GetNumberOfUncertifiedPoints()));
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->ShallowCopy(f->GetOutput());
   return out;
