@@ -444,6 +444,23 @@ double Invert(const ExactMesh& M, Id c, const double v[3], double pc[3])
   }
   return r;
 }
+
+// VTK's own EvaluatePosition of v in cell c (its nodes copied into `cell`): the return
+// code, the parametric coordinates and the squared distance.
+int VtkEvaluate(const ExactMesh& M, Id c, vtkCell* cell, const double v[3], double pcv[3],
+  double& d2)
+{
+  const int npc = M.NodesPerCell;
+  const Id* n = &M.Cells[npc * c];
+  for (int k = 0; k < npc; ++k)
+  {
+    cell->GetPoints()->SetPoint(k, &M.Points[3 * n[k]]);
+    cell->GetPointIds()->SetId(k, k);
+  }
+  double cp[3], w[10];
+  int sub;
+  return cell->EvaluatePosition(v, cp, sub, pcv, d2, w);
+}
 } // namespace
 
 std::string ExactMesh::Build(
@@ -690,15 +707,8 @@ void ExplainInside(const ExactMesh& M, const double v[3])
       const double r = Invert(M, c, v, pc);
       std::fprintf(stderr, " own(%.3g %.3g %.3g | %.2e)", pc[0], pc[1], pc[2], r / M.Diagonal);
     }
-    const Id* n = &M.Cells[npc * c];
-    for (int k = 0; k < npc; ++k)
-    {
-      cell->GetPoints()->SetPoint(k, &M.Points[3 * n[k]]);
-      cell->GetPointIds()->SetId(k, k);
-    }
-    double cp[3], pcv[3], d2, w[10];
-    int sub;
-    const int ret = cell->EvaluatePosition(v, cp, sub, pcv, d2, w);
+    double pcv[3], d2;
+    const int ret = VtkEvaluate(M, c, cell, v, pcv, d2);
     std::fprintf(stderr, " vtk ret %d pc %.6g %.6g %.6g dist %.3g\n", ret, pcv[0], pcv[1], pcv[2],
       std::sqrt(d2) / M.Diagonal);
   }
@@ -736,15 +746,8 @@ void ExactDistance(const ExactMesh& M, const double v[3], const ExactOptions& op
       }
     }
     // VTK's own inversion, with a strict reading of its parametric coordinates
-    const Id* n = &M.Cells[npc * c];
-    for (int k = 0; k < npc; ++k)
-    {
-      cell->GetPoints()->SetPoint(k, &M.Points[3 * n[k]]);
-      cell->GetPointIds()->SetId(k, k);
-    }
-    double cp[3], pcv[3], d2, w[10];
-    int sub;
-    const int ret = cell->EvaluatePosition(v, cp, sub, pcv, d2, w);
+    double pcv[3], d2;
+    const int ret = VtkEvaluate(M, c, cell, v, pcv, d2);
     const double slackPc = 1e-9;
     const bool vtkIn = ret == 1 && pcv[0] >= -slackPc && pcv[1] >= -slackPc &&
       pcv[2] >= -slackPc && pcv[0] + pcv[1] + pcv[2] <= 1.0 + slackPc;
