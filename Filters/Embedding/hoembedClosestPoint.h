@@ -94,6 +94,15 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void ClosestPointOnMap(const QuadraticMap& m, con
   const double* start, ClosestPointResult& res, int maxIterations = 60);
 
 /**
+ * Closest point of a flat triangle to a point p, by Voronoi regions (Ericson, Real-Time
+ * Collision Detection 5.1.5). The triangle is a, a + ab, a + ac and `ap` = p - a; the
+ * answer is a + st[0] ab + st[1] ac. Returns false (st at the centroid) for a degenerate
+ * triangle, or when round-off puts the interior answer outside the triangle.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT bool ClosestPointOnTriangle(
+  const double ap[3], const double ab[3], const double ac[3], double st[2]);
+
+/**
  * A start for ClosestPointOnMap from the straight simplex through the map's corners:
  * Dim 2, the closest point of v on the flat triangle; Dim 3, the linear tet's
  * barycentric coordinates of v, clamped into the simplex.

@@ -27,53 +27,18 @@ double SegmentDistance(const double p[3], const double a[3], const double b[3])
   return Dist(p, q);
 }
 
-// Distance from p to the flat triangle (a, b, c): the closest point by Voronoi regions
-// (Ericson, Real-Time Collision Detection 5.1.5); degenerate triangles fall back to the
-// three edges.
+// Distance from p to the flat triangle (a, b, c) (hoembed::ClosestPointOnTriangle);
+// degenerate triangles fall back to the three edges.
 double TriangleDistance(const double p[3], const double a[3], const double b[3], const double c[3])
 {
   const double ab[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
   const double ac[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
   const double ap[3] = { p[0] - a[0], p[1] - a[1], p[2] - a[2] };
-  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0)
-    return Dist(p, a);
-  const double bp[3] = { p[0] - b[0], p[1] - b[1], p[2] - b[2] };
-  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3)
-    return Dist(p, b);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0)
-  {
-    const double t = d1 / (d1 - d3);
-    const double q[3] = { a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2] };
-    return Dist(p, q);
-  }
-  const double cp[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
-  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6)
-    return Dist(p, c);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0)
-  {
-    const double t = d2 / (d2 - d6);
-    const double q[3] = { a[0] + t * ac[0], a[1] + t * ac[1], a[2] + t * ac[2] };
-    return Dist(p, q);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0)
-  {
-    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    const double q[3] = { b[0] + t * (c[0] - b[0]), b[1] + t * (c[1] - b[1]),
-      b[2] + t * (c[2] - b[2]) };
-    return Dist(p, q);
-  }
-  const double den = va + vb + vc;
-  if (!(den > 0.0) || va < 0.0 || vb < 0.0 || vc < 0.0)
+  double st[2];
+  if (!ClosestPointOnTriangle(ap, ab, ac, st))
     return std::min({ SegmentDistance(p, a, b), SegmentDistance(p, b, c), SegmentDistance(p, c, a) });
-  const double v = vb / den, w = vc / den;
-  const double q[3] = { a[0] + v * ab[0] + w * ac[0], a[1] + v * ab[1] + w * ac[1],
-    a[2] + v * ab[2] + w * ac[2] };
+  const double q[3] = { a[0] + st[0] * ab[0] + st[1] * ac[0], a[1] + st[0] * ab[1] + st[1] * ac[1],
+    a[2] + st[0] * ab[2] + st[1] * ac[2] };
   return Dist(p, q);
 }
 

@@ -12,6 +12,46 @@ using detail::Dot3;
 using detail::Eval;
 using detail::Solve3;
 
+bool ClosestPointOnTriangle(
+  const double ap[3], const double ab[3], const double ac[3], double st[2])
+{
+  auto answer = [st](double s, double t) {
+    st[0] = s;
+    st[1] = t;
+    return true;
+  };
+  const double d1 = Dot3(ab, ap), d2 = Dot3(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0)
+    return answer(0.0, 0.0);
+  const double bp[3] = { ap[0] - ab[0], ap[1] - ab[1], ap[2] - ab[2] };
+  const double d3 = Dot3(ab, bp), d4 = Dot3(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3)
+    return answer(1.0, 0.0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0)
+    return answer(d1 / (d1 - d3), 0.0);
+  const double cp[3] = { ap[0] - ac[0], ap[1] - ac[1], ap[2] - ac[2] };
+  const double d5 = Dot3(ab, cp), d6 = Dot3(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6)
+    return answer(0.0, 1.0);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0)
+    return answer(0.0, d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0)
+  {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return answer(1.0 - t, t);
+  }
+  const double den = va + vb + vc;
+  if (!(den > 0.0) || va < 0.0 || vb < 0.0 || vc < 0.0)
+  {
+    answer(1.0 / 3.0, 1.0 / 3.0);
+    return false;
+  }
+  return answer(vb / den, vc / den);
+}
+
 void LinearStart(const QuadraticMap& m, const double v[3], double* start)
 {
   // corners x(0), x(e_i) = C + L_i + Q_ii / 2
@@ -42,65 +82,8 @@ void LinearStart(const QuadraticMap& m, const double v[3], double* start)
       start[i] = s > 1.0 ? pc[i] / s : pc[i];
     return;
   }
-  // Dim 2: closest point on the triangle (0, e0, e1) (Ericson, Real-Time Collision Detection)
-  const double* ab = e[0];
-  const double* ac = e[1];
-  const double d1 = Dot3(ab, w), d2 = Dot3(ac, w);
-  if (d1 <= 0.0 && d2 <= 0.0)
-  {
-    start[0] = start[1] = 0.0;
-    return;
-  }
-  double bp[3], cp[3];
-  for (int d = 0; d < 3; ++d)
-  {
-    bp[d] = w[d] - ab[d];
-    cp[d] = w[d] - ac[d];
-  }
-  const double d3 = Dot3(ab, bp), d4 = Dot3(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3)
-  {
-    start[0] = 1.0;
-    start[1] = 0.0;
-    return;
-  }
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
-  {
-    start[0] = d1 / (d1 - d3);
-    start[1] = 0.0;
-    return;
-  }
-  const double d5 = Dot3(ab, cp), d6 = Dot3(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6)
-  {
-    start[0] = 0.0;
-    start[1] = 1.0;
-    return;
-  }
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
-  {
-    start[0] = 0.0;
-    start[1] = d2 / (d2 - d6);
-    return;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-  {
-    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    start[0] = 1.0 - t;
-    start[1] = t;
-    return;
-  }
-  const double den = va + vb + vc;
-  if (!(std::fabs(den) > 0.0))
-  {
-    start[0] = start[1] = 1.0 / 3.0;
-    return;
-  }
-  start[0] = vb / den;
-  start[1] = vc / den;
+  // Dim 2: closest point on the triangle (0, e0, e1)
+  ClosestPointOnTriangle(w, e[0], e[1], start);
 }
 
 double InvertTetMap(

@@ -59,53 +59,22 @@ inline double Dot(const double* a, const double* b)
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-// Squared distance from p to the triangle (a, b, c) (Ericson, Real-Time Collision
-// Detection, 5.1.5).
+// Squared distance from p to the triangle (a, b, c); 0 (no bound) when degenerate.
 double PointTriangleDistance2(const double* p, const double* a, const double* b, const double* c)
 {
-  double ab[3], ac[3], ap[3], q[3];
+  double ab[3], ac[3], ap[3], st[2];
   for (int d = 0; d < 3; ++d)
   {
     ab[d] = b[d] - a[d];
     ac[d] = c[d] - a[d];
     ap[d] = p[d] - a[d];
   }
-  auto at = [&](double s, double t) {
-    for (int d = 0; d < 3; ++d)
-      q[d] = a[d] + s * ab[d] + t * ac[d] - p[d];
-    return Dot(q, q);
-  };
-  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0)
-    return at(0, 0);
-  double bp[3], cp[3];
+  if (!ClosestPointOnTriangle(ap, ab, ac, st))
+    return 0.0;
+  double q[3];
   for (int d = 0; d < 3; ++d)
-  {
-    bp[d] = p[d] - b[d];
-    cp[d] = p[d] - c[d];
-  }
-  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3)
-    return at(1, 0);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
-    return at(d1 / (d1 - d3), 0);
-  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6)
-    return at(0, 1);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
-    return at(0, d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-  {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return at(1.0 - w, w);
-  }
-  const double den = va + vb + vc;
-  if (!(std::fabs(den) > 0.0))
-    return 0.0; // degenerate: no bound
-  return at(vb / den, vc / den);
+    q[d] = st[0] * ab[d] + st[1] * ac[d] - ap[d];
+  return Dot(q, q);
 }
 
 // Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
