@@ -59,6 +59,23 @@ bool AllFinite(const double* x, std::int64_t n)
   }
   return true;
 }
+
+// The values of `a` (n tuples) as contiguous doubles: its own storage when it is a
+// vtkDoubleArray, else copied into `buffer` (reused between frames).
+const double* ContiguousDoubles(vtkDataArray* a, vtkIdType n, std::vector<double>& buffer)
+{
+  if (auto* d = vtkDoubleArray::SafeDownCast(a))
+  {
+    return d->GetPointer(0);
+  }
+  const int nc = a->GetNumberOfComponents();
+  buffer.resize(static_cast<size_t>(nc) * n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    a->GetTuple(i, &buffer[static_cast<size_t>(nc) * i]);
+  }
+  return buffer.data();
+}
 } // namespace
 
 struct vtkDeformationTransferFilter::Internals
@@ -430,22 +447,7 @@ int vtkDeformationTransferFilter::RequestData(
   this->UpdateProgress(0.3);
 
   // --- Deformed points: contiguous doubles, finite.
-  const double* pts = nullptr;
-  vtkDataArray* ptsData = mesh->GetPoints()->GetData();
-  auto* ptsDouble = vtkDoubleArray::SafeDownCast(ptsData);
-  if (ptsDouble && ptsDouble->GetNumberOfComponents() == 3)
-  {
-    pts = ptsDouble->GetPointer(0);
-  }
-  else
-  {
-    I.Points.resize(3 * static_cast<size_t>(numMeshPoints));
-    for (vtkIdType i = 0; i < numMeshPoints; ++i)
-    {
-      ptsData->GetTuple(i, &I.Points[3 * i]);
-    }
-    pts = I.Points.data();
-  }
+  const double* pts = ContiguousDoubles(mesh->GetPoints()->GetData(), numMeshPoints, I.Points);
   if (!AllFinite(pts, 3 * static_cast<std::int64_t>(numMeshPoints)))
   {
     vtkErrorMacro("the deformed FE mesh has non-finite (NaN or infinite) point coordinates");
@@ -566,22 +568,7 @@ int vtkDeformationTransferFilter::RequestData(
     }
     if (fromRest && rotate)
     {
-      // Rotations as contiguous doubles (copied into a reused buffer if stored otherwise).
-      const double* rotations = nullptr;
-      auto* rotDouble = vtkDoubleArray::SafeDownCast(rot);
-      if (rotDouble)
-      {
-        rotations = rotDouble->GetPointer(0);
-      }
-      else
-      {
-        I.Rotations.resize(9 * static_cast<size_t>(numMeshPoints));
-        for (vtkIdType i = 0; i < numMeshPoints; ++i)
-        {
-          rot->GetTuple(i, &I.Rotations[9 * i]);
-        }
-        rotations = I.Rotations.data();
-      }
+      const double* rotations = ContiguousDoubles(rot, numMeshPoints, I.Rotations);
       if (!AllFinite(rotations, 9 * static_cast<std::int64_t>(numMeshPoints)))
       {
         vtkErrorMacro("the FE mesh's NodalRotation array has non-finite values");

@@ -301,18 +301,28 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   visited->SetName("EmbeddingElementsVisited");
   visited->SetNumberOfTuples(ns);
   std::atomic<vtkIdType> firstFailed(ns);
+  std::atomic<vtkIdType> uncertified(0), firstUncertified(ns);
+  auto lowest = [](std::atomic<vtkIdType>& first, vtkIdType i) {
+    vtkIdType cur = first.load();
+    while (i < cur && !first.compare_exchange_weak(cur, i))
+    {
+    }
+  };
   vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
+    vtkIdType localUncertified = 0;
     for (vtkIdType k = b; k < e; ++k)
     {
       const hoembed::VertexEmbedding& r = res[k];
       const vtkIdType i = order[k];
+      if (r.Uncertified)
+      {
+        ++localUncertified;
+        lowest(firstUncertified, i);
+      }
       if (!std::isfinite(r.PC[0]) || !std::isfinite(r.PC[1]) || !std::isfinite(r.PC[2]) ||
         !std::isfinite(r.Distance) || !std::isfinite(r.Residual) || r.Cell < 0)
       {
-        vtkIdType cur = firstFailed.load();
-        while (i < cur && !firstFailed.compare_exchange_weak(cur, i))
-        {
-        }
+        lowest(firstFailed, i);
         continue;
       }
       cellId->SetValue(i, r.Cell);
@@ -324,6 +334,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
       iters->SetValue(i, r.Iterations);
       visited->SetValue(i, r.Visited);
     }
+    uncertified += localUncertified;
   });
   if (firstFailed.load() < ns)
   {
@@ -331,19 +342,11 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
                                    << " could not be embedded (non-finite result).");
     return 0;
   }
-  vtkIdType exampleUncertified = -1;
-  for (vtkIdType k = 0; k < ns; ++k)
-  {
-    if (res[k].Uncertified)
-    {
-      ++this->NumberOfUncertifiedPoints;
-      exampleUncertified = exampleUncertified < 0 ? order[k] : exampleUncertified;
-    }
-  }
+  this->NumberOfUncertifiedPoints = uncertified.load();
   if (this->NumberOfUncertifiedPoints > 0)
   {
     vtkWarningMacro(<< this->NumberOfUncertifiedPoints
-                    << " surface point(s) (e.g. point " << exampleUncertified
+                    << " surface point(s) (e.g. point " << firstUncertified.load()
                     << "): the closest-point search on a curved boundary face ran out of its "
                        "budget; their distance may be a local minimum only.");
   }

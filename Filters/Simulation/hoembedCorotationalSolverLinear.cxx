@@ -224,6 +224,25 @@ void CorotationalSolver::Impl::Analyze()
 }
 
 
+#ifdef HOEMBED_HAVE_CHOLMOD
+namespace
+{
+// Is the factor in the order of the matrix given to CHOLMOD (the node-permuted one)?
+bool InPermutedOrder(const cholmod_factor* F)
+{
+  const int* perm = static_cast<const int*>(F->Perm);
+  for (long long k = 0; perm && k < static_cast<long long>(F->n); ++k)
+  {
+    if (perm[k] != k)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+} // namespace
+#endif
+
 // Copy CHOLMOD's supernodal factor (of the node-permuted matrix, natural order) into
 // float node blocks; should CHOLMOD have reordered it anyway, the solves stay with it.
 void CorotationalSolver::Impl::BuildLargeBlocks()
@@ -241,13 +260,7 @@ void CorotationalSolver::Impl::BuildLargeBlocks()
   {
     // read the supernodes directly: column j of supernode s holds rows s[pi[s] + i],
     // values x[px[s] + (j - super[s]) nsrow + i] (i >= j - super[s]: the lower part)
-    const int* perm = static_cast<const int*>(S0->Perm);
-    bool blocked = true; // the factor is in the order of the permuted matrix
-    for (long long k = 0; perm && blocked && k < 3 * NP; ++k)
-    {
-      blocked = perm[k] == k;
-    }
-    if (blocked)
+    if (InPermutedOrder(S0))
     {
       const int* super = static_cast<const int*>(S0->super);
       const int* pi = static_cast<const int*>(S0->pi);
@@ -284,13 +297,7 @@ void CorotationalSolver::Impl::BuildLargeBlocks()
   if (cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, F, &c) && F->is_ll && !F->is_super &&
     static_cast<long long>(F->n) == 3 * NP)
   {
-    const int* perm = static_cast<const int*>(F->Perm);
-    bool blocked = true; // the factor is in the order of the permuted matrix
-    for (long long k = 0; perm && blocked && k < 3 * NP; ++k)
-    {
-      blocked = perm[k] == k;
-    }
-    if (blocked)
+    if (InPermutedOrder(F))
     {
       LargeBlocks.Build(static_cast<int>(3 * NP), static_cast<const int*>(F->p),
         static_cast<const int*>(F->i), static_cast<const double*>(F->x));

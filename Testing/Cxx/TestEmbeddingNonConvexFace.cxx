@@ -100,6 +100,17 @@ double ClosestDistanceOf(vtkPolyData* out, vtkIdType i)
   auto* a = vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
   return a && i < a->GetNumberOfTuples() ? a->GetValue(i) : std::nan("");
 }
+
+// The filter's closest distance for v alone (an isolated vertex: no hint from a flood).
+double FilterDistanceAlone(const double v[3], vtkUnstructuredGrid* grid)
+{
+  vtkNew<vtkPolyData> one;
+  vtkNew<vtkPoints> op;
+  op->SetDataTypeToDouble();
+  op->InsertNextPoint(v);
+  one->SetPoints(op);
+  return ClosestDistanceOf(RunFilter(one, grid), 0);
+}
 } // namespace
 
 // Mid-edge nodes far from the straight edges (det J >= 0.15 over the cell, checked).
@@ -181,13 +192,7 @@ void TestCurvedCell()
         if (!invOk && r.Distance2 > tol * tol)
           ++hard;
         // the filter on the point alone
-        vtkNew<vtkPolyData> one;
-        vtkNew<vtkPoints> op;
-        op->SetDataTypeToDouble();
-        op->InsertNextPoint(v);
-        one->SetPoints(op);
-        auto out = RunFilter(one, grid);
-        const double d = ClosestDistanceOf(out, 0);
+        const double d = FilterDistanceAlone(v, grid);
         if (d != 0.0)
         {
           ++wrong;
@@ -343,13 +348,7 @@ int main(int, char*[])
       worstMiss = std::max(worstMiss, single - brute);
     }
     // the filter, the point alone (an isolated vertex: no hint)
-    vtkNew<vtkPolyData> one;
-    vtkNew<vtkPoints> op;
-    op->SetDataTypeToDouble();
-    op->InsertNextPoint(v);
-    one->SetPoints(op);
-    auto out = RunFilter(one, grid);
-    const double alone = ClosestDistanceOf(out, 0);
+    const double alone = FilterDistanceAlone(v, grid);
     if (!(std::fabs(alone - brute) <= 1e-8 * diag))
     {
       ++aloneBad;

@@ -106,9 +106,13 @@ def _set_field(ds, name, value):
     ds.GetFieldData().AddArray(arr)
 
 
-def moved(mesh, fn):
+def moved(mesh, fn, displacement=False):
+    """A copy of mesh with its points mapped by fn; with `displacement`, also the
+    point data Displacement a stepper gives (new - old points)."""
     out = mesh.copy()
     out.points = fn(np.asarray(mesh.points))
+    if displacement:
+        out.point_data["Displacement"] = np.asarray(out.points) - np.asarray(mesh.points)
     return out
 
 
@@ -188,18 +192,16 @@ def test_rotate_normals(setup):
     mesh, rng = setup
     surf = embedded_box_surface(mesh, SIZE, rng)
     R, t = random_rigid(rng)
-    m = moved(mesh, lambda x: x @ R.T + t)
+    m = moved(mesh, lambda x: x @ R.T + t, displacement=True)
     m.point_data["NodalRotation"] = np.tile(R.reshape(1, 9), (m.n_points, 1))
-    m.point_data["Displacement"] = np.asarray(m.points) - np.asarray(mesh.points)
     warnings = []
     out = hoembed.transfer(surf, m, normals="rotate", warnings=warnings)
     assert not warnings
     assert np.abs(out.points - (surf.points @ R.T + t)).max() < 1e-9 * surf.length
     # Identity rotations with a shear: the rest normals are kept (recompute would tilt them).
     A = np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-    m2 = moved(mesh, lambda x: x @ A.T)
+    m2 = moved(mesh, lambda x: x @ A.T, displacement=True)
     m2.point_data["NodalRotation"] = np.tile(np.eye(3).reshape(1, 9), (m2.n_points, 1))
-    m2.point_data["Displacement"] = np.asarray(m2.points) - np.asarray(mesh.points)
     rot = hoembed.transfer(surf, m2, normals="rotate")
     rec = hoembed.transfer(surf, m2, normals="recompute")
     d = surf.point_data["EmbeddingDistance"]
@@ -222,15 +224,13 @@ def test_deform_normals(setup):
     mesh, rng = setup
     surf = embedded_box_surface(mesh, SIZE, rng)
     R, t = random_rigid(rng)
-    m = moved(mesh, lambda x: x @ R.T + t)
-    m.point_data["Displacement"] = np.asarray(m.points) - np.asarray(mesh.points)
+    m = moved(mesh, lambda x: x @ R.T + t, displacement=True)
     warnings = []
     out = hoembed.transfer(surf, m, normals="deform", warnings=warnings)
     assert not warnings
     assert np.abs(out.points - (surf.points @ R.T + t)).max() < 1e-9 * surf.length
     A = np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-    m2 = moved(mesh, lambda x: x @ A.T)
-    m2.point_data["Displacement"] = np.asarray(m2.points) - np.asarray(mesh.points)
+    m2 = moved(mesh, lambda x: x @ A.T, displacement=True)
     dfm = hoembed.transfer(surf, m2, normals="deform")
     rec = hoembed.transfer(surf, m2, normals="recompute")
     assert np.abs(dfm.points - rec.points).max() > 1e-3
