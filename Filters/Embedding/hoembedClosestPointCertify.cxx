@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace hoembed
 {
@@ -42,28 +44,6 @@ double TriangleDistance(const double p[3], const double a[3], const double b[3],
   return Dist(p, q);
 }
 
-// The patch over the parametric sub-triangle q0 q1 q2 as a map of the reference (s, t).
-void SubMap(const QuadraticMap& m, const double q[3][2], QuadraticMap& s)
-{
-  double J[2][3];
-  s.Dim = 2;
-  EvaluateMap(m, q[0], s.C, J);
-  const double a[2] = { q[1][0] - q[0][0], q[1][1] - q[0][1] };
-  const double b[2] = { q[2][0] - q[0][0], q[2][1] - q[0][1] };
-  for (int d = 0; d < 3; ++d)
-  {
-    s.L[0][d] = a[0] * J[0][d] + a[1] * J[1][d];
-    s.L[1][d] = b[0] * J[0][d] + b[1] * J[1][d];
-    auto qf = [&](const double* x, const double* y) {
-      return x[0] * (m.Q[0][0][d] * y[0] + m.Q[0][1][d] * y[1]) +
-        x[1] * (m.Q[1][0][d] * y[0] + m.Q[1][1][d] * y[1]);
-    };
-    s.Q[0][0][d] = qf(a, a);
-    s.Q[0][1][d] = s.Q[1][0][d] = qf(a, b);
-    s.Q[1][1][d] = qf(b, b);
-  }
-}
-
 struct Node
 {
   double Lower;
@@ -90,102 +70,6 @@ double Deviation(const QuadraticMap& m, const double q[3][2])
     dev = std::max(dev, std::sqrt(Dot(e, e)));
   }
   return 2.0 / 3.0 * dev;
-}
-
-// Range over the reference triangle of p = a + b s + c t + d s^2 + e s t + f t^2 from
-// its Bernstein coefficients (p lies between their min and max).
-void QuadraticRange(double a, double b, double c, double d, double e, double f, double& lo, double& hi)
-{
-  const double B[6] = { a, a + b + d, a + c + f, a + 0.5 * b, a + 0.5 * c, a + 0.5 * (b + c + e) };
-  lo = *std::min_element(B, B + 6);
-  hi = *std::max_element(B, B + 6);
-}
-
-// A matrix A (a00, a01, a11) with D^T Hs D >= D^T A D for every (s, t) of the reference
-// triangle, Hs = (1/2) Hess |x - v|^2 = J^T J + (x - v) . Q; each entry of Hs is a
-// quadratic polynomial in (s, t), bounded by its Bernstein coefficients; the spread r of
-// the off-diagonal entry costs r (|ds|^2 + |dt|^2). Returns lambda_min(A): positive, the
-// squared distance is strictly convex on the sub-patch.
-double HessianBound(const QuadraticMap& s, const double v[3], double A[3])
-{
-  const double* L0 = s.L[0];
-  const double* L1 = s.L[1];
-  const double* Q00 = s.Q[0][0];
-  const double* Q01 = s.Q[0][1];
-  const double* Q11 = s.Q[1][1];
-  const double w[3] = { s.C[0] - v[0], s.C[1] - v[1], s.C[2] - v[2] };
-  const double* Qs[3] = { Q00, Q01, Q11 };
-  double lo[3], hi[3];
-  for (int k = 0; k < 3; ++k)
-  {
-    const double* Q = Qs[k];
-    // (x - v) . Q_k
-    double a = Dot(w, Q), b = Dot(L0, Q), c = Dot(L1, Q), d = 0.5 * Dot(Q00, Q), e = Dot(Q01, Q),
-           f = 0.5 * Dot(Q11, Q);
-    // + J_i . J_j
-    if (k == 0)
-    {
-      a += Dot(L0, L0);
-      b += 2.0 * Dot(L0, Q00);
-      c += 2.0 * Dot(L0, Q01);
-      d += Dot(Q00, Q00);
-      e += 2.0 * Dot(Q00, Q01);
-      f += Dot(Q01, Q01);
-    }
-    else if (k == 1)
-    {
-      a += Dot(L0, L1);
-      b += Dot(L0, Q01) + Dot(Q00, L1);
-      c += Dot(L0, Q11) + Dot(Q01, L1);
-      d += Dot(Q00, Q01);
-      e += Dot(Q00, Q11) + Dot(Q01, Q01);
-      f += Dot(Q01, Q11);
-    }
-    else
-    {
-      a += Dot(L1, L1);
-      b += 2.0 * Dot(L1, Q01);
-      c += 2.0 * Dot(L1, Q11);
-      d += Dot(Q01, Q01);
-      e += 2.0 * Dot(Q01, Q11);
-      f += Dot(Q11, Q11);
-    }
-    QuadraticRange(a, b, c, d, e, f, lo[k], hi[k]);
-  }
-  const double mid = 0.5 * (lo[1] + hi[1]), rad = 0.5 * (hi[1] - lo[1]);
-  A[0] = lo[0] - rad;
-  A[1] = mid;
-  A[2] = lo[2] - rad;
-  return 0.5 * (A[0] + A[2]) - std::sqrt(0.25 * (A[0] - A[2]) * (A[0] - A[2]) + A[1] * A[1]);
-}
-
-// The point of the reference triangle nearest to (s, t).
-void ProjectToTriangle(double s, double t, double out[2])
-{
-  if (s >= 0.0 && t >= 0.0 && s + t <= 1.0)
-  {
-    out[0] = s;
-    out[1] = t;
-    return;
-  }
-  const double P[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
-  double best = 1e300;
-  for (int e = 0; e < 3; ++e)
-  {
-    const double* a = P[e];
-    const double* b = P[(e + 1) % 3];
-    const double d[2] = { b[0] - a[0], b[1] - a[1] };
-    double tau = ((s - a[0]) * d[0] + (t - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
-    tau = std::min(1.0, std::max(0.0, tau));
-    const double q[2] = { a[0] + tau * d[0], a[1] + tau * d[1] };
-    const double dist = (q[0] - s) * (q[0] - s) + (q[1] - t) * (q[1] - t);
-    if (dist < best)
-    {
-      best = dist;
-      out[0] = std::max(0.0, q[0]);
-      out[1] = std::max(0.0, q[1]);
-    }
-  }
 }
 
 // Minimum over the reference triangle of q(y) = g . (y - y0) + (y - y0)^T A (y - y0)
@@ -227,6 +111,80 @@ double MinQuadraticOnTriangle(const double g[2], const double A[3], const double
   }
   return m;
 }
+
+// The exact expansion of f(u) = |x(u) - v|^2 at a parametric point r and its lower
+// bound over a parametric sub-triangle (see the header's file comment).
+struct Expansion
+{
+  double R[2];
+  double F;
+  double G[2];
+  double P[3];
+  double J[2][3];
+
+  Expansion() = default;
+  Expansion(const QuadraticMap& m, const double v[3], const double r[2])
+  {
+    double x[3];
+    this->R[0] = r[0];
+    this->R[1] = r[1];
+    EvaluateMap(m, r, x, this->J);
+    const double p[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
+    this->F = Dot(p, p);
+    this->G[0] = 2.0 * Dot(this->J[0], p);
+    this->G[1] = 2.0 * Dot(this->J[1], p);
+    this->P[0] = Dot(p, m.Q[0][0]);
+    this->P[1] = Dot(p, m.Q[0][1]);
+    this->P[2] = Dot(p, m.Q[1][1]);
+  }
+
+  // lower bound of f over the parametric triangle q (>= 0)
+  double LowerBound2(const QuadraticMap& m, const double q[3][2]) const
+  {
+    // Jacobians at the corners of S: J(s_k) = J(r) + Q (q_k - r) / 2
+    double JS[3][2][3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const double h0 = 0.5 * (q[k][0] - this->R[0]), h1 = 0.5 * (q[k][1] - this->R[1]);
+      for (int i = 0; i < 2; ++i)
+        for (int d = 0; d < 3; ++d)
+          JS[k][i][d] = this->J[i][d] + m.Q[i][0][d] * h0 + m.Q[i][1][d] * h1;
+    }
+    // entry ranges of J^T J over S: J_a^T J_a at the corners, (J_a^T J_b + J_b^T J_a) / 2
+    // at the edges
+    double lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 };
+    for (int a = 0; a < 3; ++a)
+      for (int b = a; b < 3; ++b)
+      {
+        const double e[3] = { Dot(JS[a][0], JS[b][0]),
+          0.5 * (Dot(JS[a][0], JS[b][1]) + Dot(JS[b][0], JS[a][1])), Dot(JS[a][1], JS[b][1]) };
+        for (int k = 0; k < 3; ++k)
+        {
+          lo[k] = std::min(lo[k], e[k]);
+          hi[k] = std::max(hi[k], e[k]);
+        }
+      }
+    // A (parametric u): the off-diagonal spread moved to the diagonal
+    const double rad = 0.5 * (hi[1] - lo[1]);
+    const double A[3] = { this->P[0] + lo[0] - rad, this->P[1] + 0.5 * (lo[1] + hi[1]),
+      this->P[2] + lo[2] - rad };
+    // in the coordinates y of q (u = q0 + B y): g' = B^T g, A' = B^T A B, y0 = B^-1 (r - q0)
+    const double B[2][2] = { { q[1][0] - q[0][0], q[2][0] - q[0][0] },
+      { q[1][1] - q[0][1], q[2][1] - q[0][1] } };
+    const double det = B[0][0] * B[1][1] - B[0][1] * B[1][0];
+    const double dr[2] = { this->R[0] - q[0][0], this->R[1] - q[0][1] };
+    const double y0[2] = { (B[1][1] * dr[0] - B[0][1] * dr[1]) / det,
+      (B[0][0] * dr[1] - B[1][0] * dr[0]) / det };
+    const double g2[2] = { B[0][0] * this->G[0] + B[1][0] * this->G[1],
+      B[0][1] * this->G[0] + B[1][1] * this->G[1] };
+    // A B columns, then B^T (A B)
+    const double AB[2][2] = { { A[0] * B[0][0] + A[1] * B[1][0], A[0] * B[0][1] + A[1] * B[1][1] },
+      { A[1] * B[0][0] + A[2] * B[1][0], A[1] * B[0][1] + A[2] * B[1][1] } };
+    const double A2[3] = { B[0][0] * AB[0][0] + B[1][0] * AB[1][0],
+      B[0][0] * AB[0][1] + B[1][0] * AB[1][1], B[0][1] * AB[0][1] + B[1][1] * AB[1][1] };
+    return std::max(0.0, this->F + MinQuadraticOnTriangle(g2, A2, y0));
+  }
+};
 } // namespace
 
 bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double incumbent2,
@@ -281,6 +239,10 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
       EvaluateMap(m, root[k], X[k]);
     push(root, X, Deviation(m, root), 0);
   }
+  const Expansion atR(m, v, r.Param);
+  Expansion atBest;
+  bool haveBest = false;
+  double centre2 = r.Distance2;
   int nodes = 0;
   while (n > 0)
   {
@@ -297,54 +259,28 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
       complete = false;
       break;
     }
-    QuadraticMap s;
-    SubMap(m, nd.Q, s);
-    // A point xi* of the sub-triangle and the second-order bound
-    // f(xi* + D) >= f(xi*) + grad f . D + D^T A D, minimised exactly over the
-    // sub-triangle. xi*: the point of the sub-triangle nearest (in parameters) to the
-    // local solution r (r itself when it lies inside: no solve); when that bound fails
-    // and the distance is convex on the sub-triangle, a solve there.
-    double A[3];
-    const double mu = HessianBound(s, v, A);
-    double star[2];
-    bool resolved = false;
+    // the exact expansion at the local solution r: resolves the sub-triangles near r
+    if (std::sqrt(atR.LowerBound2(m, nd.Q)) >= limit())
+      continue;
+    // a point nearer than the last centre by more than round-off was found (a corner
+    // of a sub-triangle): polish it to a local solution and expand there too
+    if (std::sqrt(best2) < std::sqrt(centre2) - 1e-3 * tol)
     {
-      const double a0 = nd.Q[1][0] - nd.Q[0][0], a1 = nd.Q[1][1] - nd.Q[0][1];
-      const double b0 = nd.Q[2][0] - nd.Q[0][0], b1 = nd.Q[2][1] - nd.Q[0][1];
-      const double det = a0 * b1 - a1 * b0;
-      const double du = r.Param[0] - nd.Q[0][0], dv = r.Param[1] - nd.Q[0][1];
-      ProjectToTriangle((du * b1 - dv * b0) / det, (a0 * dv - a1 * du) / det, star);
-    }
-    for (int pass = 0; pass < 2 && !resolved; ++pass)
-    {
-      if (pass == 1)
+      ClosestPointResult p;
+      ClosestPointOnMap(m, v, bestUV, p);
+      if (p.Distance2 < best2)
       {
-        if (!(mu > 0.0))
-          break;
-        const double c[2] = { 1.0 / 3.0, 1.0 / 3.0 };
-        ClosestPointResult rs;
-        ClosestPointOnMap(s, v, c, rs);
-        star[0] = rs.Param[0];
-        star[1] = rs.Param[1];
+        best2 = p.Distance2;
+        bestUV[0] = p.Param[0];
+        bestUV[1] = p.Param[1];
       }
-      double x[3], J[2][3];
-      EvaluateMap(s, star, x, J);
-      const double w[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
-      const double f = Dot(w, w);
-      if (f < best2)
-      {
-        best2 = f;
-        for (int j = 0; j < 2; ++j)
-          bestUV[j] = nd.Q[0][j] + star[0] * (nd.Q[1][j] - nd.Q[0][j]) +
-            star[1] * (nd.Q[2][j] - nd.Q[0][j]);
-        improved = true;
-      }
-      const double g[2] = { 2.0 * Dot(J[0], w), 2.0 * Dot(J[1], w) };
-      const double lower2 = f + std::min(0.0, MinQuadraticOnTriangle(g, A, star));
-      if (std::sqrt(std::max(0.0, lower2)) >= limit())
-        resolved = true;
+      atBest = Expansion(m, v, bestUV);
+      centre2 = best2;
+      haveBest = true;
+      if (std::sqrt(atBest.LowerBound2(m, nd.Q)) >= limit())
+        continue;
     }
-    if (resolved)
+    else if (haveBest && std::sqrt(atBest.LowerBound2(m, nd.Q)) >= limit())
       continue;
     if (nd.Depth >= MaxDepth)
     {
@@ -393,5 +329,13 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
     r.Converged = true;
   }
   return true;
+}
+
+bool SolutionCertified(const QuadraticMap& m, const double v[3], double incumbent2,
+  double tol, const ClosestPointResult& r)
+{
+  const Expansion e(m, v, r.Param);
+  const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+  return std::sqrt(e.LowerBound2(m, root)) >= std::sqrt(std::min(e.F, incumbent2)) - tol;
 }
 } // namespace hoembed

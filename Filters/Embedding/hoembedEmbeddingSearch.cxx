@@ -144,20 +144,22 @@ void Keep(const ClosestPointResult& r, Id f, BoundaryHit& best)
 // TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at 0.58; a
 // re-solve from the centroid is not enough either, see TestEmbeddingNonConvexFace).
 // When the face's lower bound leaves room for a nearer point than both its solution and
-// the best so far, a branch and bound over the patch (hoembedClosestPointCertify.h) finds
-// it or certifies there is none. Done after the walk and the certification
-// (SearchScratch::Retry), when the best distance is final or nearly so and most of these
-// faces are excluded by the bound.
+// the best so far, the exact expansion at the solution certifies it (two thirds of the
+// faces on the real meshes) or a branch and bound over the patch
+// (hoembedClosestPointCertify.h) finds a nearer point or certifies there is none. Done
+// after the walk and the certification (SearchScratch::Retry), when the best distance is
+// final or nearly so and most of these faces are excluded by the bound.
 void RetryFace(const EmbeddingMesh& M, const double v[3], Id f, const ClosestPointResult& r,
   BoundaryHit& best, VertexEmbedding& out)
 {
   const double bound = M.FaceLowerBound2(f, v);
-  if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10))
+  const double tol = CertifyTolerance * M.Diagonal;
+  if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10) &&
+    !SolutionCertified(M.FaceMaps[f], v, best.Dist2, tol, r))
   {
     ClosestPointResult nearer = r;
     bool certified = true;
-    if (CertifyClosestPointOnPatch(
-          M.FaceMaps[f], v, best.Dist2, CertifyTolerance * M.Diagonal, nearer, &certified))
+    if (CertifyClosestPointOnPatch(M.FaceMaps[f], v, best.Dist2, tol, nearer, &certified))
       Keep(nearer, f, best);
     if (!certified)
       out.Uncertified = true;

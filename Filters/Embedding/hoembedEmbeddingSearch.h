@@ -17,9 +17,9 @@
  *    control-point box and lower bound (EmbeddingMesh::FaceLowerBound2) are nearer than
  *    the best distance is solved too; then every curved face solved whose bound still
  *    leaves room below its own solution and the best distance is certified on the whole
- *    face by branch and bound (hoembedClosestPointCertify.h: the squared distance on a
- *    curved face is not convex), so the result is the global minimum over the boundary
- *    (to 1e-10 of the diagonal).
+ *    face (hoembedClosestPointCertify.h: the squared distance on a curved face is not
+ *    convex), by the exact expansion at its solution or else by branch and bound, so the
+ *    result is the global minimum over the boundary (to 1e-10 of the diagonal).
  * 3. Inside/outside from the pseudo-normal at the closest point (face normal, sum of the
  *    two face normals on an edge, angle-weighted node normal at a corner); points that
  *    may be inside are located in a cell: Algorithm 1 over cells from the closest face's

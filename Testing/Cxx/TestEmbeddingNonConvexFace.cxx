@@ -7,8 +7,10 @@
 // edge y = 0 see that edge's curve as a local minimum of the squared distance, while the
 // ridge is nearer: a single constrained Newton solve from the usual initial guess (the
 // closest point on the flat corner triangle, hoembed::LinearStart) stops on the edge or
-// at a corner. The filter re-solves such faces from the centroid when the face's lower
-// bound leaves room (hoembedEmbeddingSearch.cxx, SolveFace).
+// at a corner. The filter certifies every face whose lower bound leaves room, by the
+// expansion at the local solution or, where that is not enough, a branch and bound over
+// the face (hoembedClosestPointCertify.h; TestCertifyKernel and TestSolutionCertificate
+// test both alone).
 //
 // References: dense sampling of the tet10 with VTK's own vtkQuadraticTetra interpolation
 // (an upper bound; with 400 subdivisions per edge within ~1e-5 of the minimum) and the
@@ -261,8 +263,73 @@ void TestCertifyKernel()
   HOEMBED_CHECK(uncertified == 0, "%d searches ran out of nodes", uncertified);
 }
 
+// The quick certificate alone (hoembed::SolutionCertified): tri6 patches from nearly
+// flat to strongly curved (mid-edge nodes moved by up to 0.02 ... 0.45 of the unit
+// triangle), points near and far, the local solution from the usual start. A claim
+// "no point nearer than min(local, incumbent) - tol" must hold against dense sampling
+// (an upper bound of the true minimum: a sample below the claim by more than round-off
+// disproves it). The test needs both outcomes: local solutions that are not global
+// (all must be refused) and a good share of certified ones (else the filter gains
+// nothing).
+void TestSolutionCertificate()
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const double amplitudes[4] = { 0.02, 0.1, 0.25, 0.45 };
+  int certified = 0, wrongClaims = 0, notGlobal = 0, queries = 0;
+  for (int trial = 0; trial < 40; ++trial)
+  {
+    const double amp = amplitudes[trial % 4];
+    double x[18] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.5, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0 };
+    for (int a = 3; a < 6; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] += amp * U(rng);
+    hoembed::QuadraticMap m;
+    hoembed::MakeTriangleMap(x, 6, m);
+    for (int q = 0; q < 12; ++q, ++queries)
+    {
+      // half of the points within 0.05 of the patch plane (vertices of a fine surface
+      // lie that close to the curved boundary), half up to 1 away
+      const double h = q % 2 ? 0.05 * U(rng) : U(rng);
+      const double v[3] = { 0.4 + 0.8 * U(rng), 0.4 + 0.8 * U(rng), h };
+      double start[2];
+      hoembed::LinearStart(m, v, start);
+      hoembed::ClosestPointResult r;
+      hoembed::ClosestPointOnMap(m, v, start, r);
+      const double local = std::sqrt(r.Distance2);
+      // a third of the queries with an incumbent from elsewhere, below the local distance
+      const double incumbent = q % 3 == 0 ? 0.8 * local : 1e300;
+      const double tol = 1e-12;
+      const bool claim = hoembed::SolutionCertified(m, v, incumbent * incumbent, tol, r);
+      double sampled = 1e300;
+      const int n = 240;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+        {
+          const double uv[2] = { double(i) / n, double(j) / n };
+          double p[3];
+          hoembed::EvaluateMap(m, uv, p);
+          sampled = std::min(sampled, (p[0] - v[0]) * (p[0] - v[0]) +
+              (p[1] - v[1]) * (p[1] - v[1]) + (p[2] - v[2]) * (p[2] - v[2]));
+        }
+      sampled = std::sqrt(sampled);
+      const bool global = sampled >= local - 1e-9;
+      notGlobal += !global;
+      certified += claim;
+      wrongClaims += claim && sampled < std::min(local, incumbent) - tol - 1e-12;
+    }
+  }
+  std::printf("solution certificate: %d queries, %d certified, %d local solutions not "
+              "global\n",
+    queries, certified, notGlobal);
+  HOEMBED_CHECK(notGlobal >= 5, "only %d local solutions were not global (test setup)", notGlobal);
+  HOEMBED_CHECK(wrongClaims == 0, "%d certificates disproved by sampling", wrongClaims);
+  HOEMBED_CHECK(certified >= queries / 3, "only %d of %d certified", certified, queries);
+}
+
 int main(int, char*[])
 {
+  TestSolutionCertificate();
   TestCertifyKernel();
   TestCurvedCell();
   auto grid = MakeMesh();
