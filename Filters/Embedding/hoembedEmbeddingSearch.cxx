@@ -242,10 +242,13 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
 }
 
 // Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.
+// `tolerance` (a distance; default InsideTolerance of the diagonal) and `skip` (a cell
+// not to test) serve the test of the closest boundary point (OtherCellHolds).
 bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTree,
-  VertexEmbedding& out, SearchScratch& S, int maxWalk = MaxWalk)
+  VertexEmbedding& out, SearchScratch& S, int maxWalk = MaxWalk, double tolerance = -1.0,
+  Id skip = -1)
 {
-  const double tol = InsideTolerance * M.Diagonal;
+  const double tol = tolerance >= 0.0 ? tolerance : InsideTolerance * M.Diagonal;
   const double tol2 = tol * tol;
   const unsigned stamp = S.NextStamp();
   ClosestPointResult r;
@@ -368,7 +371,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   M.CellTree.Containing(v, tol, S.Candidates);
   for (Id c : S.Candidates)
   {
-    if (S.CellStamp[c] == stamp)
+    if (S.CellStamp[c] == stamp || c == skip)
       continue;
     S.CellStamp[c] = stamp;
     if (!M.CellMayContain(c, v, tol))
@@ -377,6 +380,29 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       return true;
   }
   return false;
+}
+
+// Proof that v, on the outer side of its closest boundary point p (distance d, side test
+// passed), is outside the mesh, when p lies inside a face f (no active constraint):
+// - The open ball B(v, d*) (d* >= d - t the true distance, t = CertifyTolerance of the
+//   diagonal) holds no point of a boundary face. The boundary of the union R of the cells
+//   lies on boundary faces (positive Jacobians: interior faces, edges and nodes are
+//   covered from all sides), so the ball lies entirely inside R or entirely outside.
+// - y = p + 2t (v - p) / d lies in the ball. The owner cell of f holds no point just
+//   outside f at p (det J > 0: near p it lies on the inner side), so if v is inside, y is
+//   inside another cell c, and p is within 2t of c.
+// So when no cell other than the owner holds p within 2t (+ the inside tolerance), v is
+// outside. Returns true when proven; false (test v itself) for p on an edge or corner of
+// f, distances within a few t, or a cell holding p (a boundary that crosses itself).
+bool OutsideByFace(const EmbeddingMesh& M, const double v[3], const BoundaryHit& hit,
+  double d, Id owner, VertexEmbedding& out, SearchScratch& S)
+{
+  (void)v;
+  const double t = CertifyTolerance * M.Diagonal;
+  if ((hit.Active & 7) != 0 || !(d > 4.0 * t))
+    return false;
+  const double reach = 2.0 * t + InsideTolerance * M.Diagonal;
+  return !LocateCell(M, hit.Point, -1, true, out, S, MaxWalk, reach, owner);
 }
 
 void SetInside(VertexEmbedding& out)
@@ -505,8 +531,13 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     // region whose two sides cross after curving): then v lies outside that face and
     // still inside a cell. So an "outside" verdict is confirmed against every cell whose
     // control-point box and slabs hold v (usually none or one: cheap).
-    if (side <= margin ? LocateCell(M, v, owner, true, out, S)
-                       : LocateCell(M, v, -1, true, out, S))
+    // On the outer side of the interior of a face, v is outside unless a cell other
+    // than the face's owner holds the closest point p (the test of OutsideByFace), which
+    // costs about half of testing v against every cell that may hold it.
+    const bool inside = side <= margin ? LocateCell(M, v, owner, true, out, S)
+                                       : !OutsideByFace(M, v, hit, dist, owner, out, S) &&
+        LocateCell(M, v, -1, true, out, S);
+    if (inside)
     {
       SetInside(out);
       return;

@@ -567,7 +567,16 @@ void TestCrossingBoundary()
     }
   surface->SetPoints(sp);
   surface->SetPolys(tris);
-  auto out = RunFilter(surface, grid, 0);
+  // the same points alone (no triangles: no neighbour starts, so no point is located
+  // from an inside neighbour's cell): each gap point's closest boundary point lies on
+  // the right cube's face x = 1.1 with the point on its outer side, the case the
+  // outside proof of the search (OutsideByFace) must hand over to the cell test
+  vtkNew<vtkPolyData> alone;
+  alone->SetPoints(sp);
+  for (const bool isolated : { false, true })
+  {
+  vtkPolyData* input = isolated ? alone.GetPointer() : surface.GetPointer();
+  auto out = RunFilter(input, grid, 0);
   HOEMBED_CHECK(out->GetNumberOfPoints() == surface->GetNumberOfPoints(), "crossing: output size");
   // the case must actually occur: gap points clearly inside a left cell (VTK's own test)
   vtkNew<vtkQuadraticTetra> qt;
@@ -605,9 +614,12 @@ void TestCrossingBoundary()
   HOEMBED_CHECK(insideVtk >= 5, "crossing: only %d gap points inside the bulge (test setup)", insideVtk);
   HOEMBED_CHECK(missed == 0, "crossing: %d of %d points inside a curved cell reported outside",
     missed, insideVtk);
-  std::printf("crossing boundary: %d of %lld gap points inside the bulge\n", insideVtk,
+  std::printf("crossing boundary%s: %d of %lld gap points inside the bulge\n",
+    isolated ? " (isolated points)" : "", insideVtk,
     static_cast<long long>(surface->GetNumberOfPoints()));
-  CheckEmbedding("crossing boundary", surface, grid, out, 0, true);
+  CheckEmbedding(isolated ? "crossing boundary, isolated points" : "crossing boundary", input,
+    grid, out, 0, true);
+  }
 }
 // The closed-form tet10 map (MakeTetMap from the corner Jacobians) against the shape
 // functions, and the fast validity test (Bernstein coefficients of det J) against
