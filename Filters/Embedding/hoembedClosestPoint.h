@@ -112,9 +112,12 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void LinearStart(const QuadraticMap& m, const dou
 /**
  * Unconstrained inverse of a tet map: find pc with x(pc) = v (pc may leave the element:
  * extrapolated coordinates), damped Newton from `pc` (in/out). Returns |x(pc) - v|.
+ * With `outsideStop` > 0 the iteration stops as soon as |x(pc) - v| <= outsideStop with
+ * pc more than 1e-3 outside the reference tet: enough for a caller that only needs to
+ * know that v is not in the element (TetMapExcludes with reach tol + |x(pc) - v|).
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT double InvertTetMap(
-  const QuadraticMap& m, const double v[3], double pc[3], int& iterations, int maxIterations = 60);
+HOEMBEDFILTERSEMBEDDING_EXPORT double InvertTetMap(const QuadraticMap& m, const double v[3],
+  double pc[3], int& iterations, int maxIterations = 60, double outsideStop = 0.0);
 
 /**
  * Normal-offset solve in one boundary face (paper eq. 8-9 with the normalised normal of

@@ -139,7 +139,9 @@ struct Expansion
   }
 
   // lower bound of f over the parametric triangle q (>= 0)
-  double LowerBound2(const QuadraticMap& m, const double q[3][2]) const
+  // Lower bound of f over the parametric triangle q (>= 0); `target` (a squared distance):
+  // the cheap bound is refined only while it stays below it.
+  double LowerBound2(const QuadraticMap& m, const double q[3][2], double target) const
   {
     // Jacobians at the corners of S: J(s_k) = J(r) + Q (q_k - r) / 2
     double JS[3][2][3];
@@ -150,24 +152,24 @@ struct Expansion
         for (int d = 0; d < 3; ++d)
           JS[k][i][d] = this->J[i][d] + m.Q[i][0][d] * h0 + m.Q[i][1][d] * h1;
     }
-    // entry ranges of J^T J over S: J_a^T J_a at the corners, (J_a^T J_b + J_b^T J_a) / 2
-    // at the edges
+    // Bernstein coefficients (2 x 2 symmetric: 00, 01, 11) of J^T J over S: J_a^T J_a at
+    // the corners, (J_a^T J_b + J_b^T J_a) / 2 at the edges. J^T J is their convex
+    // combination (the Bernstein basis is >= 0 and sums to 1) at every point of S.
+    double E[6][3];
     double lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 };
+    int n = 0;
     for (int a = 0; a < 3; ++a)
-      for (int b = a; b < 3; ++b)
+      for (int b = a; b < 3; ++b, ++n)
       {
-        const double e[3] = { Dot(JS[a][0], JS[b][0]),
-          0.5 * (Dot(JS[a][0], JS[b][1]) + Dot(JS[b][0], JS[a][1])), Dot(JS[a][1], JS[b][1]) };
+        E[n][0] = Dot(JS[a][0], JS[b][0]);
+        E[n][1] = 0.5 * (Dot(JS[a][0], JS[b][1]) + Dot(JS[b][0], JS[a][1]));
+        E[n][2] = Dot(JS[a][1], JS[b][1]);
         for (int k = 0; k < 3; ++k)
         {
-          lo[k] = std::min(lo[k], e[k]);
-          hi[k] = std::max(hi[k], e[k]);
+          lo[k] = std::min(lo[k], E[n][k]);
+          hi[k] = std::max(hi[k], E[n][k]);
         }
       }
-    // A (parametric u): the off-diagonal spread moved to the diagonal
-    const double rad = 0.5 * (hi[1] - lo[1]);
-    const double A[3] = { this->P[0] + lo[0] - rad, this->P[1] + 0.5 * (lo[1] + hi[1]),
-      this->P[2] + lo[2] - rad };
     // in the coordinates y of q (u = q0 + B y): g' = B^T g, A' = B^T A B, y0 = B^-1 (r - q0)
     const double B[2][2] = { { q[1][0] - q[0][0], q[2][0] - q[0][0] },
       { q[1][1] - q[0][1], q[2][1] - q[0][1] } };
@@ -177,12 +179,28 @@ struct Expansion
       (B[0][0] * dr[1] - B[1][0] * dr[0]) / det };
     const double g2[2] = { B[0][0] * this->G[0] + B[1][0] * this->G[1],
       B[0][1] * this->G[0] + B[1][1] * this->G[1] };
-    // A B columns, then B^T (A B)
-    const double AB[2][2] = { { A[0] * B[0][0] + A[1] * B[1][0], A[0] * B[0][1] + A[1] * B[1][1] },
-      { A[1] * B[0][0] + A[2] * B[1][0], A[1] * B[0][1] + A[2] * B[1][1] } };
-    const double A2[3] = { B[0][0] * AB[0][0] + B[1][0] * AB[1][0],
-      B[0][0] * AB[0][1] + B[1][0] * AB[1][1], B[0][1] * AB[0][1] + B[1][1] * AB[1][1] };
-    return std::max(0.0, this->F + MinQuadraticOnTriangle(g2, A2, y0));
+    // min over q of g . D + D^T (P + E) D
+    auto minOver = [&](const double* e) {
+      const double A[3] = { this->P[0] + e[0], this->P[1] + e[1], this->P[2] + e[2] };
+      const double AB[2][2] = { { A[0] * B[0][0] + A[1] * B[1][0],
+                                  A[0] * B[0][1] + A[1] * B[1][1] },
+        { A[1] * B[0][0] + A[2] * B[1][0], A[1] * B[0][1] + A[2] * B[1][1] } };
+      const double A2[3] = { B[0][0] * AB[0][0] + B[1][0] * AB[1][0],
+        B[0][0] * AB[0][1] + B[1][0] * AB[1][1], B[0][1] * AB[0][1] + B[1][1] * AB[1][1] };
+      return MinQuadraticOnTriangle(g2, A2, y0);
+    };
+    // cheap: one matrix below every E (entry ranges, the off-diagonal spread moved to
+    // the diagonal: the difference is diagonally dominant)
+    const double rad = 0.5 * (hi[1] - lo[1]);
+    const double Elow[3] = { lo[0] - rad, 0.5 * (lo[1] + hi[1]), lo[2] - rad };
+    double bound = this->F + minOver(Elow);
+    if (bound >= target)
+      return bound;
+    // tighter: the smallest of the six minima, one per Bernstein coefficient
+    double m6 = minOver(E[0]);
+    for (int k = 1; k < 6; ++k)
+      m6 = std::min(m6, minOver(E[k]));
+    return std::max({ 0.0, bound, this->F + m6 });
   }
 };
 } // namespace
@@ -260,7 +278,9 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
       break;
     }
     // the exact expansion at the local solution r: resolves the sub-triangles near r
-    if (std::sqrt(atR.LowerBound2(m, nd.Q)) >= limit())
+    const double lim = limit();
+    const double lim2 = lim > 0.0 ? lim * lim : 0.0;
+    if (std::sqrt(atR.LowerBound2(m, nd.Q, lim2)) >= lim)
       continue;
     // a point nearer than the last centre by more than round-off was found (a corner
     // of a sub-triangle): polish it to a local solution and expand there too
@@ -277,10 +297,10 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
       atBest = Expansion(m, v, bestUV);
       centre2 = best2;
       haveBest = true;
-      if (std::sqrt(atBest.LowerBound2(m, nd.Q)) >= limit())
+      if (std::sqrt(atBest.LowerBound2(m, nd.Q, lim2)) >= limit())
         continue;
     }
-    else if (haveBest && std::sqrt(atBest.LowerBound2(m, nd.Q)) >= limit())
+    else if (haveBest && std::sqrt(atBest.LowerBound2(m, nd.Q, lim2)) >= lim)
       continue;
     if (nd.Depth >= MaxDepth)
     {
@@ -336,6 +356,16 @@ bool SolutionCertified(const QuadraticMap& m, const double v[3], double incumben
 {
   const Expansion e(m, v, r.Param);
   const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
-  return std::sqrt(e.LowerBound2(m, root)) >= std::sqrt(std::min(e.F, incumbent2)) - tol;
+  const double lim = std::sqrt(std::min(e.F, incumbent2)) - tol;
+  return std::sqrt(e.LowerBound2(m, root, lim > 0.0 ? lim * lim : 0.0)) >= lim;
+}
+
+bool PatchFartherThan(const QuadraticMap& m, const double v[3], const double uv[2],
+  double incumbent2, double tol)
+{
+  const Expansion e(m, v, uv);
+  const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+  const double lim = std::sqrt(incumbent2) - tol;
+  return e.F >= incumbent2 && std::sqrt(e.LowerBound2(m, root, lim > 0.0 ? lim * lim : 0.0)) >= lim;
 }
 } // namespace hoembed

@@ -86,8 +86,8 @@ void LinearStart(const QuadraticMap& m, const double v[3], double* start)
   ClosestPointOnTriangle(w, e[0], e[1], start);
 }
 
-double InvertTetMap(
-  const QuadraticMap& m, const double v[3], double pc[3], int& iterations, int maxIterations)
+double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int& iterations,
+  int maxIterations, double outsideStop)
 {
   double x[3], J[3][3], F[3];
   Eval<3>(m, pc, x, J);
@@ -142,6 +142,10 @@ double InvertTetMap(
     }
     f = ft;
     if (step <= 1e-15 * (1.0 + std::fabs(pc[0]) + std::fabs(pc[1]) + std::fabs(pc[2])))
+      break;
+    // clearly outside the element and close enough for the caller's exclusion proof
+    if (f <= outsideStop * outsideStop &&
+      std::min({ pc[0], pc[1], pc[2], 1.0 - pc[0] - pc[1] - pc[2] }) < -1e-3)
       break;
   }
   return std::sqrt(f);

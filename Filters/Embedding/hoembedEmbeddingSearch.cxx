@@ -144,7 +144,7 @@ void Keep(const ClosestPointResult& r, Id f, BoundaryHit& best)
 // TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at 0.58; a
 // re-solve from the centroid is not enough either, see TestEmbeddingNonConvexFace).
 // When the face's lower bound leaves room for a nearer point than both its solution and
-// the best so far, the exact expansion at the solution certifies it (two thirds of the
+// the best so far, the exact expansion at the solution certifies it (98% of the
 // faces on the real meshes) or a branch and bound over the patch
 // (hoembedClosestPointCertify.h) finds a nearer point or certifies there is none. Done
 // after the walk and the certification (SearchScratch::Retry), when the best distance is
@@ -235,7 +235,14 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     if (S.FaceStamp[f] == stamp || M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
       return;
     S.FaceStamp[f] = stamp;
-    SolveFace(M, v, f, nullptr, best, out, S);
+    // a face the expansion at the flat triangle's closest point already puts beyond the
+    // best distance needs neither a solve nor a certificate
+    double start[2];
+    LinearStart(M.FaceMaps[f], v, start);
+    if (M.NodesPerCell() == 10 &&
+      PatchFartherThan(M.FaceMaps[f], v, start, best.Dist2, CertifyTolerance * M.Diagonal))
+      return;
+    SolveFace(M, v, f, start, best, out, S);
   });
   for (const auto& fr : S.Retry)
     RetryFace(M, v, fr.first, fr.second, best, out);
@@ -259,6 +266,9 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   // the cell or, usually, proves v away from it (TetMapExcludes); else the constrained
   // solve decides
   const bool expectOutside = start < 0;
+  // Newton stops once the point is clearly outside the element and this close: the
+  // exclusion proof (or the constrained solve, or the walk's exit face) needs no more
+  const double outsideStop = 1e-6 * M.Diagonal;
   auto test = [&](Id c, bool fastOnly) {
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
@@ -266,7 +276,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     // when it lands inside the cell
     double pc[3] = { start[0], start[1], start[2] };
     int its = 0;
-    const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8);
+    const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8, outsideStop);
     out.Iterations += its;
     ++out.Visited;
     if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
@@ -278,7 +288,8 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       out.Residual = res;
       return true;
     }
-    if (expectOutside && !fastOnly && res <= tol && TetMapExcludes(M.CellMaps[c], pc, tol + res))
+    if (expectOutside && !fastOnly && res <= std::max(tol, outsideStop) &&
+      TetMapExcludes(M.CellMaps[c], pc, tol + res))
       return false; // no point of the cell within tol of v
     if (fastOnly)
     {
