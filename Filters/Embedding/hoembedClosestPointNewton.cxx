@@ -94,7 +94,13 @@ double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int&
   for (int d = 0; d < 3; ++d)
     F[d] = x[d] - v[d];
   double f = Dot3(F, F);
-  for (int it = 0; it < maxIterations && f > 0.0; ++it)
+  // converged: |x(pc) - v| at the round-off of the map's coordinates (a Newton step
+  // from there cannot decrease it, and the line search would halve it 30 times)
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i)
+    scale += std::fabs(m.C[i]) + std::sqrt(Dot3(m.L[i], m.L[i]));
+  const double floor2 = (1e-15 * scale) * (1e-15 * scale);
+  for (int it = 0; it < maxIterations && f > floor2; ++it)
   {
     ++iterations;
     double A[3][3], b[3], dx[3];
@@ -127,7 +133,12 @@ double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int&
         accepted = true;
         break;
       }
-      alpha *= 0.5;
+      // f(alpha) ~ f - 2 f alpha + c alpha^2 along the Newton direction (slope -2 f):
+      // the minimiser of the quadratic through f(0), f'(0), f(alpha), kept within
+      // [alpha / 10, alpha / 2]
+      const double c = (ft - f + 2.0 * f * alpha) / (alpha * alpha);
+      const double amin = c > 0.0 ? f / c : 0.5 * alpha;
+      alpha = std::max(0.1 * alpha, std::min(0.5 * alpha, amin));
     }
     if (!accepted)
       break;

@@ -137,6 +137,23 @@ bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
   return true;
 }
 
+int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
+{
+  const double* s = &this->CellSlabs[20 * c];
+  int face = -1;
+  double worst = tol;
+  for (int f = 0; f < 4; ++f, s += 5)
+  {
+    const double beyond = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3] - s[4];
+    if (beyond > worst)
+    {
+      worst = beyond;
+      face = f;
+    }
+  }
+  return face;
+}
+
 std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
   Id numberOfCells, int nodesPerCell)
 {

@@ -69,6 +69,10 @@ public:
   /// False when v (with slack tol) is certainly outside cell c (CellSlabs); cheap.
   bool CellMayContain(Id c, const double v[3], double tol) const;
 
+  /// The local face (TetFaceNodes order) of cell c whose slab v (with slack tol) lies
+  /// farthest beyond, -1 when v is within all four (CellMayContain).
+  int CellExitFace(Id c, const double v[3], double tol) const;
+
   /// Tet map of cell c at pc (tet4/tet10 shape functions over the cell's nodes).
   void CellPoint(Id c, const double pc[3], double x[3]) const;
 };

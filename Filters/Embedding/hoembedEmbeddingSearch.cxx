@@ -270,6 +270,16 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   // exclusion proof (or the constrained solve, or the walk's exit face) needs no more
   const double outsideStop = 1e-6 * M.Diagonal;
   auto test = [&](Id c, bool fastOnly) {
+    if (fastOnly)
+    {
+      // beyond a slab of the cell: certainly not inside, leave through that face
+      exitFace = M.CellExitFace(c, v, tol);
+      if (exitFace >= 0)
+      {
+        ++out.Visited;
+        return false;
+      }
+    }
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
     // fast path: plain Newton inversion from the straight tet's coordinates; accepted only
