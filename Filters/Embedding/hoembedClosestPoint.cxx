@@ -624,6 +624,25 @@ double BernsteinDetMin(const double G[4][3][3], double& hi)
   // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
   // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
   // over the (a, b, c) with those counts
+  // Slot[a][b][c]: the index n1 + 4 n2 + 16 n3 of the multi-index counting a, b, c
+  struct SlotTable
+  {
+    unsigned char Slot[4][4][4];
+    SlotTable()
+    {
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          for (int c = 0; c < 4; ++c)
+          {
+            int cnt[4] = { 0, 0, 0, 0 };
+            ++cnt[a];
+            ++cnt[b];
+            ++cnt[c];
+            this->Slot[a][b][c] = static_cast<unsigned char>(cnt[1] + 4 * cnt[2] + 16 * cnt[3]);
+          }
+    }
+  };
+  static const SlotTable T;
   double coef[64] = {};
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b)
@@ -633,13 +652,7 @@ double BernsteinDetMin(const double G[4][3][3], double& hi)
       const double uw[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
         u[0] * w[1] - u[1] * w[0] };
       for (int c = 0; c < 4; ++c)
-      {
-        int cnt[4] = { 0, 0, 0, 0 };
-        ++cnt[a];
-        ++cnt[b];
-        ++cnt[c];
-        coef[cnt[1] + 4 * cnt[2] + 16 * cnt[3]] += Dot3(uw, G[c][2]);
-      }
+        coef[T.Slot[a][b][c]] += Dot3(uw, G[c][2]);
     }
   static const double Fact[4] = { 1, 1, 2, 6 };
   double lo = std::numeric_limits<double>::infinity();
