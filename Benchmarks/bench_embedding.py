@@ -51,9 +51,11 @@ REPEATS = 3
 
 
 def time_filter(surface, grid, method, threads, wall=False, repeats=None):
-    """Best time of the filter's Update over REPEATS runs: process CPU time for 1 thread
-    (less sensitive to the other jobs on this shared machine), wall time for more threads
-    or when `wall` is set."""
+    """Best time of the filter's Update over REPEATS runs (more for short runs: at least
+    ~0.5 s of runs in all, at most 40, as bursts of load on this shared machine slow single
+    runs by up to 1.5x): process CPU time for 1 thread (less sensitive to the other jobs
+    on this shared machine), wall time for more threads or when `wall` is set. Every run
+    is a full Update (mesh preparation included)."""
     vtkSMPTools.Initialize(threads)
     f = hoembed.vtkEmbeddingCoordinatesFilter()
     f.SetInputData(0, surface)
@@ -61,11 +63,15 @@ def time_filter(surface, grid, method, threads, wall=False, repeats=None):
     f.SetMethod(method)
     clock = time.process_time if (threads == 1 and not wall) else time.perf_counter
     best = np.inf
-    for _ in range(repeats or REPEATS):
+    runs, n = 0, repeats or REPEATS
+    while runs < n:
         f.Modified()
         t = clock()
         f.Update()
         best = min(best, clock() - t)
+        runs += 1
+        if repeats is None and runs == 1:
+            n = max(REPEATS, min(40, int(0.5 / max(best, 1e-6))))
     out = pv.wrap(f.GetOutput()).copy()
     return best, out
 
@@ -223,7 +229,8 @@ def main():
                 sub.Update()
                 surf = pv.wrap(sub.GetOutput()).clean(tolerance=0.0)
             row = {"vertices": int(surf.n_points)}
-            repeats = 3 if surf.n_points < 1_000_000 else 2
+            # best of many for the short runs, of 5 / 3 for the long ones
+            repeats = None if surf.n_points < 200_000 else (5 if surf.n_points < 1_000_000 else 3)
             for n, g in meshes.items():
                 t, out = time_filter(surf, g, 0, 1, repeats=repeats)
                 row[f"seconds_fe{n}"] = t
