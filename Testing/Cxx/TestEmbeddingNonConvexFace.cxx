@@ -208,6 +208,23 @@ void TestCurvedCell()
   HOEMBED_CHECK(wrong == 0, "curved cell: %d inside points reported outside", wrong);
 }
 
+// Distance from v to the patch m by dense sampling of an n x n parametric grid (an upper
+// bound of the true minimum).
+double SampledPatchDistance(const hoembed::QuadraticMap& m, const double v[3], int n)
+{
+  double best = 1e300;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j)
+    {
+      const double uv[2] = { double(i) / n, double(j) / n };
+      double p[3];
+      hoembed::EvaluateMap(m, uv, p);
+      best = std::min(best, (p[0] - v[0]) * (p[0] - v[0]) + (p[1] - v[1]) * (p[1] - v[1]) +
+          (p[2] - v[2]) * (p[2] - v[2]));
+    }
+  return std::sqrt(best);
+}
+
 // The kernel alone: strongly curved tri6 patches (mid-edge nodes moved by up to 0.45 of
 // the unit triangle) and points around them. After CertifyClosestPointOnPatch the
 // distance is never above dense sampling (a 300 x 300 grid, an upper bound of the true
@@ -237,18 +254,7 @@ void TestCertifyKernel()
       bool certified = false;
       hoembed::CertifyClosestPointOnPatch(m, v, 1e300, 1e-12, r, &certified);
       uncertified += !certified;
-      double sampled = 1e300;
-      const int n = 300;
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j)
-        {
-          const double uv[2] = { double(i) / n, double(j) / n };
-          double p[3];
-          hoembed::EvaluateMap(m, uv, p);
-          sampled = std::min(sampled, (p[0] - v[0]) * (p[0] - v[0]) +
-              (p[1] - v[1]) * (p[1] - v[1]) + (p[2] - v[2]) * (p[2] - v[2]));
-        }
-      sampled = std::sqrt(sampled);
+      const double sampled = SampledPatchDistance(m, v, 300);
       const double d = std::sqrt(r.Distance2);
       above += d > sampled + 1e-12;
       below += d < sampled - 1e-4;
@@ -301,18 +307,7 @@ void TestSolutionCertificate()
       const double incumbent = q % 3 == 0 ? 0.8 * local : 1e300;
       const double tol = 1e-12;
       const bool claim = hoembed::SolutionCertified(m, v, incumbent * incumbent, tol, r);
-      double sampled = 1e300;
-      const int n = 240;
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j)
-        {
-          const double uv[2] = { double(i) / n, double(j) / n };
-          double p[3];
-          hoembed::EvaluateMap(m, uv, p);
-          sampled = std::min(sampled, (p[0] - v[0]) * (p[0] - v[0]) +
-              (p[1] - v[1]) * (p[1] - v[1]) + (p[2] - v[2]) * (p[2] - v[2]));
-        }
-      sampled = std::sqrt(sampled);
+      const double sampled = SampledPatchDistance(m, v, 240);
       const bool global = sampled >= local - 1e-9;
       notGlobal += !global;
       certified += claim;
