@@ -74,13 +74,45 @@ void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* point
   const int npf = topo.GetNodesPerFace();
   const Id nbf = topo.GetNumberOfBoundaryFaces();
   std::vector<double> weight(np, 0.0);
+  // shape-function derivatives at the face's own nodes, the same for every face:
+  // D[k][0 / 1][a] = dN_a / du, dN_a / dv at node k (as EvaluateBoundaryFace has them)
+  struct NodeDerivatives
+  {
+    double D[2][6][2][6];
+    NodeDerivatives()
+    {
+      for (int k = 0; k < 6; ++k)
+      {
+        double d6[12], d3[6];
+        Tri6Derivs(FaceNodeUV[k], d6);
+        Tri3Derivs(FaceNodeUV[k], d3);
+        for (int a = 0; a < 6; ++a)
+        {
+          this->D[1][k][0][a] = d6[a];
+          this->D[1][k][1][a] = d6[6 + a];
+          this->D[0][k][0][a] = a < 3 ? d3[a] : 0.0;
+          this->D[0][k][1][a] = a < 3 ? d3[3 + a] : 0.0;
+        }
+      }
+    }
+  };
+  static const NodeDerivatives Table;
+  const auto& D = Table.D[npf == 6 ? 1 : 0];
   for (Id b = 0; b < nbf; ++b)
   {
     const Id* fn = &topo.BoundaryFaceNodes[b * npf];
     for (int a = 0; a < npf; ++a)
     {
-      double x[3], xu[3], xv[3], n[3];
-      EvaluateBoundaryFace(topo, points, b, FaceNodeUV[a], x, xu, xv);
+      double xu[3] = { 0, 0, 0 }, xv[3] = { 0, 0, 0 }, n[3];
+      for (int c = 0; c < npf; ++c)
+      {
+        const double* p = points + 3 * fn[c];
+        for (int d = 0; d < 3; ++d)
+        {
+          xu[d] += D[a][0][c] * p[d];
+          xv[d] += D[a][1][c] * p[d];
+        }
+      }
       Cross(xu, xv, n);
       const double len = Norm(n);
       if (!(len > 0.0))
