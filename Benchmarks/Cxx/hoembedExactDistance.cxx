@@ -342,6 +342,29 @@ double SolveConvex(const SubPatch& S, const V3& p, double st[2], double& lowerG)
 
 // Own tet4/tet10 map and Jacobian (VTK node order; mids on edges 01 12 20 03 13 23).
 const int EdgeCorners[6][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
+
+// Box (xmin, xmax, ymin, ...) of the control points of a triangle (ncorner 3: edges 01 12
+// 20) or tet (4: all six edges) with nodes n: the corners and, when quadratic,
+// 2 m - (a + b) / 2 per edge (mid-edge node m after the corners).
+void ControlPointBox(const ExactMesh& M, const Id* n, int ncorner, bool quadratic, double* b)
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    b[2 * d] = 1e300;
+    b[2 * d + 1] = -1e300;
+  }
+  for (int k = 0; k < ncorner; ++k)
+    GrowBox(b, Node(M, n[k]));
+  if (!quadratic)
+    return;
+  const int nedges = ncorner == 3 ? 3 : 6;
+  for (int e = 0; e < nedges; ++e)
+  {
+    const V3 a = Node(M, n[EdgeCorners[e][0]]), c = Node(M, n[EdgeCorners[e][1]]);
+    const V3 m = Node(M, n[ncorner + e]);
+    GrowBox(b, Sub(Comb(2.0, m, -0.5, a), Comb(0.5, c, 0.0, c)));
+  }
+}
 void CellMap(const ExactMesh& M, Id c, const double pc[3], double x[3], double J[3][3])
 {
   const Id* n = &M.Cells[M.NodesPerCell * c];
@@ -518,44 +541,10 @@ std::string ExactMesh::Build(
   const Id nf = this->NumberOfFaces();
   this->FaceBox.assign(6 * nf, 0.0);
   for (Id f = 0; f < nf; ++f)
-  {
-    double* b = &this->FaceBox[6 * f];
-    for (int d = 0; d < 3; ++d)
-    {
-      b[2 * d] = 1e300;
-      b[2 * d + 1] = -1e300;
-    }
-    const Id* n = &this->Faces[6 * f];
-    for (int k = 0; k < 3; ++k)
-    {
-      GrowBox(b, Node(*this, n[k]));
-      if (n[3] >= 0)
-      {
-        const V3 a = Node(*this, n[k]), c = Node(*this, n[(k + 1) % 3]), m = Node(*this, n[3 + k]);
-        GrowBox(b, Sub(Comb(2.0, m, -0.5, a), Comb(0.5, c, 0.0, c)));
-      }
-    }
-  }
+    ControlPointBox(*this, &this->Faces[6 * f], 3, this->Faces[6 * f + 3] >= 0, &this->FaceBox[6 * f]);
   this->CellBox.assign(6 * numberOfCells, 0.0);
   for (Id c = 0; c < numberOfCells; ++c)
-  {
-    double* b = &this->CellBox[6 * c];
-    for (int d = 0; d < 3; ++d)
-    {
-      b[2 * d] = 1e300;
-      b[2 * d + 1] = -1e300;
-    }
-    const Id* n = &this->Cells[nodesPerCell * c];
-    for (int k = 0; k < 4; ++k)
-      GrowBox(b, Node(*this, n[k]));
-    if (nodesPerCell == 10)
-      for (int e = 0; e < 6; ++e)
-      {
-        const V3 a = Node(*this, n[EdgeCorners[e][0]]), c2 = Node(*this, n[EdgeCorners[e][1]]);
-        const V3 m = Node(*this, n[4 + e]);
-        GrowBox(b, Sub(Comb(2.0, m, -0.5, a), Comb(0.5, c2, 0.0, c2)));
-      }
-  }
+    ControlPointBox(*this, &this->Cells[nodesPerCell * c], 4, nodesPerCell == 10, &this->CellBox[6 * c]);
   return std::string();
 }
 

@@ -114,6 +114,8 @@ double MinQuadraticOnTriangle(const double g[2], const double A[3], const double
 
 // The exact expansion of f(u) = |x(u) - v|^2 at a parametric point r and its lower
 // bound over a parametric sub-triangle (see the header's file comment).
+const double RootTriangle[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+
 struct Expansion
 {
   double R[2];
@@ -202,6 +204,12 @@ struct Expansion
       m6 = std::min(m6, minOver(E[k]));
     return std::max({ 0.0, bound, this->F + m6 });
   }
+
+  // True when f >= limit^2 over the parametric triangle q (limit: a distance).
+  bool Resolves(const QuadraticMap& m, const double q[3][2], double limit) const
+  {
+    return std::sqrt(this->LowerBound2(m, q, limit > 0.0 ? limit * limit : 0.0)) >= limit;
+  }
 };
 } // namespace
 
@@ -251,11 +259,10 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
     }
   };
   {
-    const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
     double X[3][3];
     for (int k = 0; k < 3; ++k)
-      EvaluateMap(m, root[k], X[k]);
-    push(root, X, Deviation(m, root), 0);
+      EvaluateMap(m, RootTriangle[k], X[k]);
+    push(RootTriangle, X, Deviation(m, RootTriangle), 0);
   }
   const Expansion atR(m, v, r.Param);
   Expansion atBest;
@@ -278,9 +285,7 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
       break;
     }
     // the exact expansion at the local solution r: resolves the sub-triangles near r
-    const double lim = limit();
-    const double lim2 = lim > 0.0 ? lim * lim : 0.0;
-    if (std::sqrt(atR.LowerBound2(m, nd.Q, lim2)) >= lim)
+    if (atR.Resolves(m, nd.Q, limit()))
       continue;
     // a point nearer than the last centre by more than round-off was found (a corner
     // of a sub-triangle): polish it to a local solution and expand there too
@@ -297,10 +302,8 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
       atBest = Expansion(m, v, bestUV);
       centre2 = best2;
       haveBest = true;
-      if (std::sqrt(atBest.LowerBound2(m, nd.Q, lim2)) >= limit())
-        continue;
     }
-    else if (haveBest && std::sqrt(atBest.LowerBound2(m, nd.Q, lim2)) >= lim)
+    if (haveBest && atBest.Resolves(m, nd.Q, limit()))
       continue;
     if (nd.Depth >= MaxDepth)
     {
@@ -355,17 +358,13 @@ bool SolutionCertified(const QuadraticMap& m, const double v[3], double incumben
   double tol, const ClosestPointResult& r)
 {
   const Expansion e(m, v, r.Param);
-  const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
-  const double lim = std::sqrt(std::min(e.F, incumbent2)) - tol;
-  return std::sqrt(e.LowerBound2(m, root, lim > 0.0 ? lim * lim : 0.0)) >= lim;
+  return e.Resolves(m, RootTriangle, std::sqrt(std::min(e.F, incumbent2)) - tol);
 }
 
 bool PatchFartherThan(const QuadraticMap& m, const double v[3], const double uv[2],
   double incumbent2, double tol)
 {
   const Expansion e(m, v, uv);
-  const double root[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
-  const double lim = std::sqrt(incumbent2) - tol;
-  return e.F >= incumbent2 && std::sqrt(e.LowerBound2(m, root, lim > 0.0 ? lim * lim : 0.0)) >= lim;
+  return e.F >= incumbent2 && e.Resolves(m, RootTriangle, std::sqrt(incumbent2) - tol);
 }
 } // namespace hoembed

@@ -130,24 +130,20 @@ void ComputeCellSlabs(const double* pts, const EmbeddingMesh::Id* ids, bool quad
 
 bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
 {
-  const double* s = &this->CellSlabs[20 * c];
-  for (int f = 0; f < 4; ++f, s += 5)
-    if (s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3] > s[4] + tol)
-      return false;
-  return true;
+  return this->CellExitFace(c, v, tol) < 0;
 }
 
 int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
 {
   const double* s = &this->CellSlabs[20 * c];
   int face = -1;
-  double worst = tol;
+  double worst = 0.0;
   for (int f = 0; f < 4; ++f, s += 5)
   {
-    const double beyond = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3] - s[4];
-    if (beyond > worst)
+    const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
+    if (h > s[4] + tol && (face < 0 || h - s[4] > worst))
     {
-      worst = beyond;
+      worst = h - s[4];
       face = f;
     }
   }

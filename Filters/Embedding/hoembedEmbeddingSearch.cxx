@@ -415,10 +415,9 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
 // So when no cell other than the owner holds p within 2t (+ the inside tolerance), v is
 // outside. Returns true when proven; false (test v itself) for p on an edge or corner of
 // f, distances within a few t, or a cell holding p (a boundary that crosses itself).
-bool OutsideByFace(const EmbeddingMesh& M, const double v[3], const BoundaryHit& hit,
-  double d, Id owner, VertexEmbedding& out, SearchScratch& S)
+bool OutsideByFace(const EmbeddingMesh& M, const BoundaryHit& hit, double d, Id owner,
+  VertexEmbedding& out, SearchScratch& S)
 {
-  (void)v;
   const double t = CertifyTolerance * M.Diagonal;
   if ((hit.Active & 7) != 0 || !(d > 4.0 * t))
     return false;
@@ -556,7 +555,7 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     // than the face's owner holds the closest point p (the test of OutsideByFace), which
     // costs about half of testing v against every cell that may hold it.
     const bool inside = side <= margin ? LocateCell(M, v, owner, true, out, S)
-                                       : !OutsideByFace(M, v, hit, dist, owner, out, S) &&
+                                       : !OutsideByFace(M, hit, dist, owner, out, S) &&
         LocateCell(M, v, -1, true, out, S);
     if (inside)
     {

@@ -298,55 +298,8 @@ void CorotationalSolver::Impl::AssembleA(double cM, double cK)
     val[k] = cM * MassValues[k] + (s < 0 ? 0.0 : cK * S[s]);
   }
 }
-// Small meshes: FInt element by element (element results, then a serial scatter).
-void CorotationalSolver::Impl::ElementForces(double vScale)
-{
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
-    {
-      double ue[30], w[30];
-      for (vtkIdType e = begin; e < end; ++e)
-      {
-        const double* R = &Rot[e * 9];
-        for (int a = 0; a < N; ++a)
-        {
-          const long long pa = Conn[e * N + a];
-          const double y0 = x[3 * pa] + vScale * v[3 * pa];
-          const double y1 = x[3 * pa + 1] + vScale * v[3 * pa + 1];
-          const double y2 = x[3 * pa + 2] + vScale * v[3 * pa + 2];
-          for (int i = 0; i < 3; ++i) // R^T y - X
-          {
-            ue[3 * a + i] = R[i] * y0 + R[3 + i] * y1 + R[6 + i] * y2 - X[3 * pa + i];
-          }
-        }
-        SymmetricTimes(D, &Ke[e * D * D], ue, w);
-        double* f = &EW[e * D];
-        for (int a = 0; a < N; ++a)
-        {
-          for (int i = 0; i < 3; ++i)
-          {
-            f[3 * a + i] =
-              -(R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2]);
-          }
-        }
-      }
-    });
-  std::fill(FInt.begin(), FInt.end(), 0.0);
-  for (long long e = 0; e < NC; ++e)
-  {
-    const double* f = &EW[e * D];
-    for (int a = 0; a < N; ++a)
-    {
-      double* fa = &FInt[3 * Conn[e * N + a]];
-      fa[0] += f[3 * a];
-      fa[1] += f[3 * a + 1];
-      fa[2] += f[3 * a + 2];
-    }
-  }
-}
-
-// Small meshes: y = CM M p + CK sum_e R_e K_e R_e^T p_e, element by element.
-void CorotationalSolver::Impl::MatVecElements(const Eigen::VectorXd& p, Eigen::VectorXd& y)
+template <typename Local>
+void CorotationalSolver::Impl::ElementProducts(Local&& local)
 {
   ParallelFor(NC, ParallelCells,
     [&](vtkIdType begin, vtkIdType end)
@@ -355,14 +308,7 @@ void CorotationalSolver::Impl::MatVecElements(const Eigen::VectorXd& p, Eigen::V
       for (vtkIdType e = begin; e < end; ++e)
       {
         const double* R = &Rot[e * 9];
-        for (int a = 0; a < N; ++a)
-        {
-          const double* q = p.data() + 3 * Conn[e * N + a];
-          for (int i = 0; i < 3; ++i)
-          {
-            l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
-          }
-        }
+        local(e, R, l);
         SymmetricTimes(D, &Ke[e * D * D], l, w);
         double* out = &EW[e * D];
         for (int a = 0; a < N; ++a)
@@ -375,18 +321,62 @@ void CorotationalSolver::Impl::MatVecElements(const Eigen::VectorXd& p, Eigen::V
         }
       }
     });
-  y.setZero();
-  MassApply(p.data(), CM, y.data());
+}
+
+void CorotationalSolver::Impl::ScatterElements(double scale, double* out) const
+{
   for (long long e = 0; e < NC; ++e)
   {
-    const double* out = &EW[e * D];
+    const double* f = &EW[e * D];
     for (int a = 0; a < N; ++a)
     {
-      double* ya = y.data() + 3 * Conn[e * N + a];
-      ya[0] += CK * out[3 * a];
-      ya[1] += CK * out[3 * a + 1];
-      ya[2] += CK * out[3 * a + 2];
+      double* oa = out + 3 * Conn[e * N + a];
+      oa[0] += scale * f[3 * a];
+      oa[1] += scale * f[3 * a + 1];
+      oa[2] += scale * f[3 * a + 2];
     }
   }
+}
+
+// Small meshes: FInt element by element (element results, then a serial scatter).
+void CorotationalSolver::Impl::ElementForces(double vScale)
+{
+  ElementProducts(
+    [&](vtkIdType e, const double* R, double* ue)
+    {
+      for (int a = 0; a < N; ++a)
+      {
+        const long long pa = Conn[e * N + a];
+        const double y0 = x[3 * pa] + vScale * v[3 * pa];
+        const double y1 = x[3 * pa + 1] + vScale * v[3 * pa + 1];
+        const double y2 = x[3 * pa + 2] + vScale * v[3 * pa + 2];
+        for (int i = 0; i < 3; ++i) // R^T y - X
+        {
+          ue[3 * a + i] = R[i] * y0 + R[3 + i] * y1 + R[6 + i] * y2 - X[3 * pa + i];
+        }
+      }
+    });
+  std::fill(FInt.begin(), FInt.end(), 0.0);
+  ScatterElements(-1.0, FInt.data());
+}
+
+// Small meshes: y = CM M p + CK sum_e R_e K_e R_e^T p_e, element by element.
+void CorotationalSolver::Impl::MatVecElements(const Eigen::VectorXd& p, Eigen::VectorXd& y)
+{
+  ElementProducts(
+    [&](vtkIdType e, const double* R, double* l)
+    {
+      for (int a = 0; a < N; ++a)
+      {
+        const double* q = p.data() + 3 * Conn[e * N + a];
+        for (int i = 0; i < 3; ++i)
+        {
+          l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
+        }
+      }
+    });
+  y.setZero();
+  MassApply(p.data(), CM, y.data());
+  ScatterElements(CK, y.data());
 }
 } // namespace hoembed

@@ -183,6 +183,11 @@ struct CorotationalSolver::Impl
   bool Assembled() const { return NC >= AssembledCells; }
   void ElementForces(double vScale);
   void MatVecElements(const Eigen::VectorXd& p, Eigen::VectorXd& y);
+  /// EW_e = R_e K_e l_e for every element, l_e (D values) filled by local(e, R_e, l_e).
+  template <typename Local>
+  void ElementProducts(Local&& local);
+  /// out += scale * EW scattered to the nodes.
+  void ScatterElements(double scale, double* out) const;
   std::vector<double> EW; // NC * D element results (small meshes)
   double VScale = 0.0;    // of the current step
   std::vector<double> MassValues, StiffValues; // rest M and K on the pattern
