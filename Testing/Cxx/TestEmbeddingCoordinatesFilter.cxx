@@ -2,7 +2,7 @@
 // dense sampling of curved elements, exhaustive (brute-force) search over every boundary
 // face and every cell from several starts, VTK's own vtkQuadraticTetra / vtkTetra
 // interpolation for the reconstruction v = p + d n, and VTK's XML writer/reader.
-#include "hoembedTestUtilities.h"
+#include "hoembedEmbeddingTestUtilities.h"
 
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPoint.h"
@@ -245,22 +245,11 @@ void TestKernels()
 vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* surface, vtkUnstructuredGrid* mesh,
   int method, ErrorCatcher* errors = nullptr)
 {
-  vtkNew<vtkEmbeddingCoordinatesFilter> f;
-  f->SetInputData(0, surface);
-  f->SetMeshData(mesh);
-  f->SetMethod(method);
   vtkNew<vtkCallbackCommand> cb;
   ErrorCatcher local;
   cb->SetClientData(errors ? errors : &local);
   cb->SetCallback(ErrorCatcher::Callback);
-  f->AddObserver(vtkCommand::ErrorEvent, cb);
-  f->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, cb);
-  f->Update();
-  HOEMBED_CHECK(f->GetNumberOfUncertifiedPoints() == 0, "%lld points left uncertified",
-    static_cast<long long>(f->GetNumberOfUncertifiedPoints()));
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->ShallowCopy(f->GetOutput());
-  return out;
+  return RunEmbeddingFilter(surface, mesh, method, cb);
 }
 
 // Checks one embedding against brute force and VTK's interpolation of the mesh.

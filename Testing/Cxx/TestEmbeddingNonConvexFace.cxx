@@ -24,7 +24,7 @@
 // points inside the cell (seen on bunny_watertight at ~1000 elements: a vertex 0.083
 // inside reported outside). The points are built inside, x(pc) with VTK's own
 // vtkQuadraticTetra; the filter must report distance 0 and recover the cell.
-#include "hoembedTestUtilities.h"
+#include "hoembedEmbeddingTestUtilities.h"
 
 #include "hoembedClosestPoint.h"
 #include "hoembedClosestPointCertify.h"
@@ -82,21 +82,6 @@ double SampledBottomDistance(vtkQuadraticTetra* qt, const double v[3])
   return std::sqrt(best);
 }
 
-vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* surface, vtkUnstructuredGrid* grid)
-{
-  vtkNew<vtkEmbeddingCoordinatesFilter> f;
-  f->SetInputData(0, surface);
-  f->SetMeshData(grid);
-  f->Update();
-  // the certified face search finished within its budget everywhere (else the filter
-  // warns and the distances may be local minima)
-  HOEMBED_CHECK(f->GetNumberOfUncertifiedPoints() == 0, "%lld points left uncertified",
-    static_cast<long long>(f->GetNumberOfUncertifiedPoints()));
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->ShallowCopy(f->GetOutput());
-  return out;
-}
-
 double ClosestDistanceOf(vtkPolyData* out, vtkIdType i)
 {
   auto* a = vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
@@ -111,7 +96,7 @@ double FilterDistanceAlone(const double v[3], vtkUnstructuredGrid* grid)
   op->SetDataTypeToDouble();
   op->InsertNextPoint(v);
   one->SetPoints(op);
-  return ClosestDistanceOf(RunFilter(one, grid), 0);
+  return ClosestDistanceOf(RunEmbeddingFilter(one, grid), 0);
 }
 } // namespace
 
@@ -376,7 +361,7 @@ int main(int, char*[])
     }
   patch->SetPoints(pp);
   patch->SetPolys(tris);
-  auto patchOut = RunFilter(patch, grid);
+  auto patchOut = RunEmbeddingFilter(patch, grid);
 
   int onBottom = 0, singleMisses = 0, aloneBad = 0, patchBad = 0, refBad = 0;
   double worstMiss = 0.0;
