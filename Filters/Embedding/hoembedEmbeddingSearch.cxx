@@ -149,10 +149,12 @@ void Keep(const ClosestPointResult& r, Id f, BoundaryHit& best)
 // (hoembedClosestPointCertify.h) finds a nearer point or certifies there is none. Done
 // after the walk and the certification (SearchScratch::Retry), when the best distance is
 // final or nearly so and most of these faces are excluded by the bound.
-void RetryFace(const EmbeddingMesh& M, const double v[3], Id f, const ClosestPointResult& r,
+void RetryFace(const EmbeddingMesh& M, const double v[3], const SearchScratch::SolvedFace& sf,
   BoundaryHit& best, VertexEmbedding& out)
 {
-  const double bound = M.FaceLowerBound2(f, v);
+  const Id f = sf.Face;
+  const ClosestPointResult& r = sf.Result;
+  const double bound = sf.Bound >= 0.0 ? sf.Bound : M.FaceLowerBound2(f, v);
   const double tol = CertifyTolerance * M.Diagonal;
   if (bound < std::min(r.Distance2, best.Dist2) * (1.0 - 1e-10) &&
     !SolutionCertified(M.FaceMaps[f], v, best.Dist2, tol, r))
@@ -166,8 +168,10 @@ void RetryFace(const EmbeddingMesh& M, const double v[3], Id f, const ClosestPoi
   }
 }
 
+// `bound`: FaceLowerBound2(f, v) when the caller has it, else < 0
 void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start,
-  BoundaryHit& best, VertexEmbedding& out, SearchScratch& S, int* activeOut = nullptr)
+  double bound, BoundaryHit& best, VertexEmbedding& out, SearchScratch& S,
+  int* activeOut = nullptr)
 {
   ClosestPointResult r;
   double linear[2];
@@ -180,7 +184,7 @@ void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* st
   out.Iterations += r.Iterations;
   ++out.Visited;
   if (M.NodesPerCell() == 10) // flat tri3 faces: the distance is convex
-    S.Retry.push_back({ f, r });
+    S.Retry.push_back({ f, r, bound });
   if (activeOut)
     *activeOut = r.Active;
   Keep(r, f, best);
@@ -203,9 +207,10 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
       const Id f = S.Queue[q];
       int active = 0;
       const double before = best.Dist2;
-      if (q > 0 && M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
+      const double bound = q > 0 ? M.FaceLowerBound2(f, v) : -1.0;
+      if (q > 0 && bound >= best.Dist2 * (1.0 - 1e-10))
         continue; // cannot improve the best: neither solve nor walk on from it
-      SolveFace(M, v, f, f == hint.Face ? hint.UV : nullptr, best, out, S, &active);
+      SolveFace(M, v, f, f == hint.Face ? hint.UV : nullptr, bound, best, out, S, &active);
       if (!(best.Dist2 < before) && q > 0)
         continue; // no improvement: do not walk further from here
       const int k = PopCount(active & 7);
@@ -232,7 +237,10 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
   // (a face whose lower bound is within 1e-10 relative of the best cannot improve it by
   // more than that, far below the 1e-8 of the diagonal that matters)
   M.FaceTree.VisitNearer(v, best.Dist2, [&](Id f) {
-    if (S.FaceStamp[f] == stamp || M.FaceLowerBound2(f, v) >= best.Dist2 * (1.0 - 1e-10))
+    if (S.FaceStamp[f] == stamp)
+      return;
+    const double bound = M.FaceLowerBound2(f, v);
+    if (bound >= best.Dist2 * (1.0 - 1e-10))
       return;
     S.FaceStamp[f] = stamp;
     // a face the expansion at the flat triangle's closest point already puts beyond the
@@ -242,10 +250,10 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     if (M.NodesPerCell() == 10 &&
       PatchFartherThan(M.FaceMaps[f], v, start, best.Dist2, CertifyTolerance * M.Diagonal))
       return;
-    SolveFace(M, v, f, start, best, out, S);
+    SolveFace(M, v, f, start, bound, best, out, S);
   });
-  for (const auto& fr : S.Retry)
-    RetryFace(M, v, fr.first, fr.second, best, out);
+  for (const auto& sf : S.Retry)
+    RetryFace(M, v, sf, best, out);
 }
 
 // Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.

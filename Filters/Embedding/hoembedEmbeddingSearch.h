@@ -104,8 +104,14 @@ struct SearchScratch
   std::vector<unsigned> FaceStamp, CellStamp;
   unsigned Stamp = 0;
   std::vector<EmbeddingMesh::Id> Queue, Candidates;
-  /// curved boundary faces solved (face, local solution), certified after the search
-  std::vector<std::pair<EmbeddingMesh::Id, ClosestPointResult>> Retry;
+  /// a curved boundary face solved during the search, certified after it
+  struct SolvedFace
+  {
+    EmbeddingMesh::Id Face;
+    ClosestPointResult Result;
+    double Bound; ///< EmbeddingMesh::FaceLowerBound2 for the vertex (< 0: not computed)
+  };
+  std::vector<SolvedFace> Retry;
   void Prepare(const EmbeddingMesh& mesh);
   unsigned NextStamp();
 };
