@@ -115,6 +115,9 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void LinearStart(const QuadraticMap& m, const dou
  * With `outsideStop` > 0 the iteration stops as soon as |x(pc) - v| <= outsideStop with
  * pc more than 1e-3 outside the reference tet: enough for a caller that only needs to
  * know that v is not in the element (TetMapExcludes with reach tol + |x(pc) - v|).
+ * Such a search also gives up (returning the residual reached) on a Newton step longer
+ * than 2 in parametric units (a nearly singular Jacobian where the map folds outside the
+ * element) or after 10 backtracking steps without decrease (30 otherwise).
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT double InvertTetMap(const QuadraticMap& m, const double v[3],
   double pc[3], int& iterations, int maxIterations = 60, double outsideStop = 0.0);

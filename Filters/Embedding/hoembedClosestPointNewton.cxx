@@ -100,6 +100,8 @@ double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int&
   for (int i = 0; i < 3; ++i)
     scale += std::fabs(m.C[i]) + std::sqrt(Dot3(m.L[i], m.L[i]));
   const double floor2 = (1e-15 * scale) * (1e-15 * scale);
+  // a search gives up sooner on a step the line search cannot make decrease f
+  const int maxLineSearch = outsideStop > 0.0 ? 10 : 30;
   for (int it = 0; it < maxIterations && f > floor2; ++it)
   {
     ++iterations;
@@ -114,13 +116,19 @@ double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int&
       break;
     // converged to round-off: a line search would only halve a step that cannot decrease
     // f any more (30 evaluations)
-    if (std::max({ std::fabs(dx[0]), std::fabs(dx[1]), std::fabs(dx[2]) }) <=
-      1e-14 * (1.0 + std::fabs(pc[0]) + std::fabs(pc[1]) + std::fabs(pc[2])))
+    const double dmax = std::max({ std::fabs(dx[0]), std::fabs(dx[1]), std::fabs(dx[2]) });
+    if (dmax <= 1e-14 * (1.0 + std::fabs(pc[0]) + std::fabs(pc[1]) + std::fabs(pc[2])))
+      break;
+    // a search (outsideStop > 0) that meets a step longer than the reference tet: the
+    // Jacobian is nearly singular here (the map folds outside the element), there is no
+    // preimage nearby; the caller's constrained solve decides. (An extrapolation for a
+    // far point, outsideStop = 0, goes on.)
+    if (outsideStop > 0.0 && dmax > 2.0)
       break;
     double alpha = 1.0;
     bool accepted = false;
     double pt[3], xt[3], Jt[3][3], Ft[3], ft = f;
-    for (int ls = 0; ls < 30; ++ls)
+    for (int ls = 0; ls < maxLineSearch; ++ls)
     {
       for (int i = 0; i < 3; ++i)
         pt[i] = pc[i] + alpha * dx[i];

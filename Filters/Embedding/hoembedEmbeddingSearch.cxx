@@ -336,7 +336,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     {
       double pc2[3] = { 0.25, 0.25, 0.25 };
       int its2 = 0;
-      const double res2 = InvertTetMap(M.CellMaps[c], v, pc2, its2, 20);
+      const double res2 = InvertTetMap(M.CellMaps[c], v, pc2, its2, 20, outsideStop);
       out.Iterations += its2;
       if (res2 <= tol && pc2[0] >= 0.0 && pc2[1] >= 0.0 && pc2[2] >= 0.0 &&
         pc2[0] + pc2[1] + pc2[2] <= 1.0)
