@@ -623,50 +623,70 @@ double BernsteinDetMin(const double G[4][3][3], double& hi)
 {
   // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
   // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
-  // over the (a, b, c) with those counts
-  // Slot[a][b][c]: the index n1 + 4 n2 + 16 n3 of the multi-index counting a, b, c
-  struct SlotTable
+  // of the terms (a, b, c) whose counts are alpha.
+  // Groups: the 20 multi-indices, each with its terms a * 16 + b * 4 + c (1, 3 or 6 of
+  // them, 64 in all) and its weight alpha! / 3!.
+  struct GroupTable
   {
-    unsigned char Slot[4][4][4];
-    SlotTable()
+    unsigned char Begin[21];
+    unsigned char Term[64];
+    double Weight[20];
+    GroupTable()
     {
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b < 4; ++b)
-          for (int c = 0; c < 4; ++c)
+      static const double Fact[4] = { 1, 1, 2, 6 };
+      int g = 0, t = 0;
+      for (int n1 = 0; n1 <= 3; ++n1)
+        for (int n2 = 0; n1 + n2 <= 3; ++n2)
+          for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3, ++g)
           {
-            int cnt[4] = { 0, 0, 0, 0 };
-            ++cnt[a];
-            ++cnt[b];
-            ++cnt[c];
-            this->Slot[a][b][c] = static_cast<unsigned char>(cnt[1] + 4 * cnt[2] + 16 * cnt[3]);
+            const int n[4] = { 3 - n1 - n2 - n3, n1, n2, n3 };
+            this->Begin[g] = static_cast<unsigned char>(t);
+            this->Weight[g] = Fact[n[0]] * Fact[n[1]] * Fact[n[2]] * Fact[n[3]] / 6.0;
+            for (int a = 0; a < 4; ++a)
+              for (int b = 0; b < 4; ++b)
+                for (int c = 0; c < 4; ++c)
+                {
+                  int cnt[4] = { 0, 0, 0, 0 };
+                  ++cnt[a];
+                  ++cnt[b];
+                  ++cnt[c];
+                  if (cnt[0] == n[0] && cnt[1] == n[1] && cnt[2] == n[2])
+                    this->Term[t++] = static_cast<unsigned char>(16 * a + 4 * b + c);
+                }
           }
+      this->Begin[20] = static_cast<unsigned char>(t);
     }
   };
-  static const SlotTable T;
-  double coef[64] = {};
+  static const GroupTable T;
+  // the 64 mixed determinants, third columns gathered per coordinate
+  double col[3][4];
+  for (int c = 0; c < 4; ++c)
+    for (int d = 0; d < 3; ++d)
+      col[d][c] = G[c][2][d];
+  double term[64];
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b)
     {
       const double* u = G[a][0];
       const double* w = G[b][1];
-      const double uw[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-        u[0] * w[1] - u[1] * w[0] };
+      const double uw0 = u[1] * w[2] - u[2] * w[1];
+      const double uw1 = u[2] * w[0] - u[0] * w[2];
+      const double uw2 = u[0] * w[1] - u[1] * w[0];
+      double* out = term + 16 * a + 4 * b;
       for (int c = 0; c < 4; ++c)
-        coef[T.Slot[a][b][c]] += Dot3(uw, G[c][2]);
+        out[c] = uw0 * col[0][c] + uw1 * col[1][c] + uw2 * col[2][c];
     }
-  static const double Fact[4] = { 1, 1, 2, 6 };
   double lo = std::numeric_limits<double>::infinity();
   hi = 0.0;
-  for (int n1 = 0; n1 <= 3; ++n1)
-    for (int n2 = 0; n1 + n2 <= 3; ++n2)
-      for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3)
-      {
-        const int n0 = 3 - n1 - n2 - n3;
-        const double b =
-          coef[n1 + 4 * n2 + 16 * n3] * Fact[n0] * Fact[n1] * Fact[n2] * Fact[n3] / 6.0;
-        lo = std::min(lo, b);
-        hi = std::max(hi, std::fabs(b));
-      }
+  for (int g = 0; g < 20; ++g)
+  {
+    double sum = 0.0;
+    for (int t = T.Begin[g]; t < T.Begin[g + 1]; ++t)
+      sum += term[T.Term[t]];
+    const double b = sum * T.Weight[g];
+    lo = std::min(lo, b);
+    hi = std::max(hi, std::fabs(b));
+  }
   return lo;
 }
 } // namespace
@@ -679,21 +699,42 @@ bool Tet10JacobianProvablyPositive(const double* x)
   return lo > 1e-12 * hi;
 }
 
-bool TetMapExcludes(const QuadraticMap& m, const double eta[3], double reach)
+namespace
 {
-  // lower bound of the distance from eta to T
-  const double dT = std::max({ -eta[0], -eta[1], -eta[2],
-    (eta[0] + eta[1] + eta[2] - 1.0) / std::sqrt(3.0) });
-  if (!(dT > 0.0))
-    return false;
-  // Jacobians at the corners (e_k + eta) / 2 of S: J_i(s) = L_i + sum_j Q_ij s_j
-  double G[4][3][3], F2 = 0.0;
+// b / F^2 for the Jacobians G at the 4 corners of a tet over which J is affine: b the
+// smallest Bernstein coefficient of det J, F^2 the largest squared Frobenius norm (|J|_F^2
+// is convex, so it peaks at a corner). Every singular value of J there is >= 2 b / F^2:
+// det = s1 s2 s3 and s1 s2 <= (s1^2 + s2^2) / 2 <= F^2 / 2. 0 when b is not clear of
+// round-off (1e-6 of the largest coefficient).
+double SingularValueBound(const double G[4][3][3])
+{
+  double F2 = 0.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    double f2 = 0.0;
+    for (int i = 0; i < 3; ++i)
+      f2 += Dot3(G[k][i], G[k][i]);
+    F2 = std::max(F2, f2);
+  }
+  double hi = 0.0;
+  const double b = BernsteinDetMin(G, hi);
+  if (!(b > 1e-6 * hi) || !(F2 > 0.0))
+    return 0.0;
+  return 2.0 * b / F2;
+}
+
+// Jacobians of the map at the corners centre + scale (e_k - centre) of the reference tet
+// T scaled about its centroid, or of (T + eta) / 2 when eta is given.
+void CornerJacobians(const QuadraticMap& m, const double* eta, double scale, double G[4][3][3])
+{
   for (int k = 0; k < 4; ++k)
   {
     double sk[3];
     for (int j = 0; j < 3; ++j)
-      sk[j] = 0.5 * (eta[j] + (k == j + 1 ? 1.0 : 0.0));
-    double f2 = 0.0;
+    {
+      const double ek = k == j + 1 ? 1.0 : 0.0;
+      sk[j] = eta ? 0.5 * (eta[j] + ek) : 0.25 + scale * (ek - 0.25);
+    }
     for (int i = 0; i < 3; ++i)
       for (int d = 0; d < 3; ++d)
       {
@@ -701,17 +742,43 @@ bool TetMapExcludes(const QuadraticMap& m, const double eta[3], double reach)
         for (int j = 0; j < 3; ++j)
           g += m.Q[i][j][d] * sk[j];
         G[k][i][d] = g;
-        f2 += g * g;
       }
-    F2 = std::max(F2, f2);
   }
-  double hi = 0.0;
-  const double b = BernsteinDetMin(G, hi);
-  // b well above the round-off of the coefficients (about 1e-14 of the largest), and a
-  // relative margin of 1e-6 for the rest
-  if (!(b > 1e-6 * hi) || !(F2 > 0.0))
-    return false;
-  return b / F2 * dT > reach * (1.0 + 1e-6);
+}
+
+// dist(eta, T) from below: the largest violated face inequality (normals of the faces
+// u = 0, v = 0, w = 0 and u + v + w = 1 have lengths 1, 1, 1, sqrt(3))
+double DistanceToReferenceTet(const double eta[3])
+{
+  return std::max({ -eta[0], -eta[1], -eta[2], (eta[0] + eta[1] + eta[2] - 1.0) / std::sqrt(3.0) });
+}
+} // namespace
+
+double TetMapExclusionRate(const QuadraticMap& m)
+{
+  double G[4][3][3];
+  CornerJacobians(m, nullptr, ExclusionRateScale, G);
+  return SingularValueBound(G);
+}
+
+double TetMapExclusionRadius(const QuadraticMap& m, const double eta[3], double rate)
+{
+  const double dT = DistanceToReferenceTet(eta);
+  if (!(dT > 0.0))
+    return 0.0;
+  // eta in the reference tet scaled by s about its centroid, s = 1 - 4 min lambda: then
+  // S = (T + eta) / 2 lies in T scaled by (1 + s) / 2, where `rate` holds
+  const double lmin = std::min({ eta[0], eta[1], eta[2], 1.0 - eta[0] - eta[1] - eta[2] });
+  if (rate > 0.0 && 0.5 * (2.0 - 4.0 * lmin) <= ExclusionRateScale)
+    return rate * dT / (1.0 + 1e-6);
+  double G[4][3][3];
+  CornerJacobians(m, eta, 0.0, G);
+  return SingularValueBound(G) * dT / (1.0 + 1e-6);
+}
+
+bool TetMapExcludes(const QuadraticMap& m, const double eta[3], double reach)
+{
+  return TetMapExclusionRadius(m, eta) > reach;
 }
 
 void MakeTetMap(const double* x, int n, QuadraticMap& m)

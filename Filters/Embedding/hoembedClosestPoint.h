@@ -65,11 +65,33 @@ HOEMBEDFILTERSEMBEDDING_EXPORT bool Tet10JacobianProvablyPositive(const double* 
  * within `reach` of x(eta), for a parametric point eta outside the reference tet T.
  * Proof used: for quadratic maps x(xi) - x(eta) = J((xi + eta) / 2) (xi - eta) exactly
  * (J is affine), and over S = (T + eta) / 2, det J >= b (smallest Bernstein coefficient,
- * from the Jacobians at S's corners) and |J|_2 <= F (largest Frobenius norm there), so
- * |x(xi) - x(eta)| >= b / F^2 * dist(eta, T) for every xi in T. False: not proven.
+ * from the Jacobians at S's corners) and |J|_F <= F (largest Frobenius norm there), so
+ * the smallest singular value of J is >= 2 b / F^2 (s1 s2 <= F^2 / 2) and
+ * |x(xi) - x(eta)| >= 2 b / F^2 * dist(eta, T) for every xi in T. False: not proven.
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT bool TetMapExcludes(
   const QuadraticMap& m, const double eta[3], double reach);
+
+/// The reference tet scaled by this factor about its centroid is where
+/// TetMapExclusionRate bounds the Jacobian.
+constexpr double ExclusionRateScale = 1.2;
+
+/**
+ * A lower bound of every singular value of J over the reference tet scaled by
+ * ExclusionRateScale about its centroid (2 b / F^2 as in TetMapExcludes); 0 when det J is
+ * not proven positive there. Computed once per element, it serves TetMapExclusionRadius
+ * for every eta within twice the reference tet (scaled about the centroid).
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT double TetMapExclusionRate(const QuadraticMap& m);
+
+/**
+ * The radius of a ball around x(eta) proven to hold no point of the element (eta
+ * outside the reference tet T): 2 b / F^2 * dist(eta, T) as in TetMapExcludes, less a
+ * relative 1e-6 for round-off; 0 when nothing is proven. `rate` (> 0) is the element's
+ * TetMapExclusionRate: used when it covers (T + eta) / 2, which saves the bound over it.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT double TetMapExclusionRadius(
+  const QuadraticMap& m, const double eta[3], double rate = 0.0);
 
 /// x(xi) and, when J is not null, J[i] = dx/dxi_i (m.Dim vectors of 3).
 HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateMap(

@@ -306,9 +306,15 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       out.Residual = res;
       return true;
     }
-    if (expectOutside && !fastOnly && res <= std::max(tol, outsideStop) &&
-      TetMapExcludes(M.CellMaps[c], pc, tol + res))
-      return false; // no point of the cell within tol of v
+    if (expectOutside && !fastOnly && res <= std::max(tol, outsideStop))
+    {
+      // no point of the cell within tol of v; the cell's exclusion rate is computed once
+      double& rate = S.ExclusionRate[c];
+      if (rate < 0.0)
+        rate = TetMapExclusionRate(M.CellMaps[c]);
+      if (TetMapExclusionRadius(M.CellMaps[c], pc, rate) > tol + res)
+        return false;
+    }
     if (fastOnly)
     {
       const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
@@ -461,6 +467,7 @@ void SearchScratch::Prepare(const EmbeddingMesh& mesh)
 {
   this->FaceStamp.assign(mesh.Topology.GetNumberOfBoundaryFaces(), 0u);
   this->CellStamp.assign(mesh.Topology.NumberOfCells, 0u);
+  this->ExclusionRate.assign(mesh.Topology.NumberOfCells, -1.0);
   this->Stamp = 0;
 }
 

@@ -112,6 +112,8 @@ struct SearchScratch
     double Bound; ///< EmbeddingMesh::FaceLowerBound2 for the vertex (< 0: not computed)
   };
   std::vector<SolvedFace> Retry;
+  /// per cell: TetMapExclusionRate, computed when first needed (-1: not yet)
+  std::vector<double> ExclusionRate;
   void Prepare(const EmbeddingMesh& mesh);
   unsigned NextStamp();
 };

@@ -672,7 +672,8 @@ void TestTet10Validity()
 // hoembed::TetMapExcludes (the rule that rejects a cell for a point the pseudo-normal puts
 // outside) against the distance from x(eta) to the element by brute force (constrained
 // solves from 5 starts and a dense sample): it may only exclude when that distance exceeds
-// the reach, for reaches on both sides of it.
+// the reach, for reaches on both sides of it. The same for the radius of
+// TetMapExclusionRadius with the element's precomputed TetMapExclusionRate.
 void TestTetMapExcludes()
 {
   std::mt19937 rng(9);
@@ -682,7 +683,7 @@ void TestTetMapExcludes()
     { 0, 0.5, 0.5 } };
   const double starts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 }, { 0.1, 0.7, 0.1 },
     { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
-  int excluded = 0, wrong = 0, tried = 0;
+  int excluded = 0, wrong = 0, tried = 0, byRate = 0, wrongRadius = 0;
   for (int trial = 0; trial < 60; ++trial)
   {
     // anisotropic scales from 1/20 to 20: a rule with the wrong scaling fails here
@@ -697,10 +698,23 @@ void TestTetMapExcludes()
       continue;
     hoembed::QuadraticMap m;
     hoembed::MakeTetMap(x, 10, m);
-    for (int q = 0; q < 20; ++q)
+    const double rate = hoembed::TetMapExclusionRate(m);
+    for (int q = 0; q < 40; ++q)
     {
-      // a parametric point outside the element, near one of its faces or corners
+      // a parametric point outside the element, near one of its faces or corners (the
+      // first 20), or just beyond a face, where the element's rate serves (the others)
       double eta[3] = { 0.3 + 0.6 * U(rng), 0.3 + 0.6 * U(rng), 0.3 + 0.6 * U(rng) };
+      if (q >= 20)
+      {
+        double L[4], sum = 0.0;
+        for (double& l : L)
+          sum += (l = 0.5 * (1.0 + U(rng)));
+        const int face = q % 4;
+        L[face] = -0.05 * (1.0 + U(rng)) * sum; // beyond the face L_face = 0, up to 0.1
+        sum = L[0] + L[1] + L[2] + L[3];
+        for (int i = 0; i < 3; ++i)
+          eta[i] = L[i + 1] / sum;
+      }
       if (eta[0] >= 0 && eta[1] >= 0 && eta[2] >= 0 && eta[0] + eta[1] + eta[2] <= 1)
         continue;
       double v[3];
@@ -724,6 +738,11 @@ void TestTetMapExcludes()
                 (y[1] - v[1]) * (y[1] - v[1]) + (y[2] - v[2]) * (y[2] - v[2]));
           }
       const double dist = std::sqrt(best);
+      const double lmin = std::min({ eta[0], eta[1], eta[2], 1.0 - eta[0] - eta[1] - eta[2] });
+      if (rate > 0.0 && 1.0 - 2.0 * lmin <= hoembed::ExclusionRateScale)
+        ++byRate;
+      if (hoembed::TetMapExclusionRadius(m, eta, rate) > dist)
+        ++wrongRadius;
       for (const double f : { 0.0, 0.3, 0.9, 1.1, 3.0 })
       {
         ++tried;
@@ -740,8 +759,12 @@ void TestTetMapExcludes()
     "within reach", wrong);
   HOEMBED_CHECK(excluded > tried / 10, "TetMapExcludes: only %d of %d excluded (test setup)",
     excluded, tried);
-  std::printf("cell exclusion: %d of %d (point, reach) pairs excluded, none wrongly\n", excluded,
-    tried);
+  HOEMBED_CHECK(wrongRadius == 0, "TetMapExclusionRadius: %d radii beyond the element's distance",
+    wrongRadius);
+  HOEMBED_CHECK(byRate >= 20, "TetMapExclusionRadius: the element's rate served only %d points "
+    "(test setup)", byRate);
+  std::printf("cell exclusion: %d of %d (point, reach) pairs excluded, none wrongly; %d radii "
+              "from the element's rate\n", excluded, tried, byRate);
 }
 
 // EmbeddingMesh::FaceLowerBound2 (the pruning rule of the boundary search) against the
