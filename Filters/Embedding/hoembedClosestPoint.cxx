@@ -830,9 +830,41 @@ namespace
 // iterate stays strictly inside, the Hessian stays positive definite, the step becomes
 // negligible and f did not grow: then the result is an interior local minimum (KKT with
 // no active constraint). Otherwise the caller runs the active-set solver.
-bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* start,
-  ClosestPointResult& res)
+// Where plain Newton leaves the triangle: the constraint (0 u = 0, 1 v = 0, 2 u + v = 1)
+// the step from xi to xi + p crosses first, and the edge parameter t of the crossing
+// (EdgeNewton2's parametrisation). -1 when the crossing is not clear cut.
+int Crossing(const double xi[2], const double p[2], double& t)
 {
+  double amin = 2.0;
+  int k = -1;
+  const double slack[3] = { xi[0], xi[1], 1.0 - xi[0] - xi[1] };
+  const double rate[3] = { p[0], p[1], -p[0] - p[1] };
+  for (int c = 0; c < 3; ++c)
+    if (rate[c] < 0.0)
+    {
+      const double a = slack[c] / -rate[c];
+      if (a < amin)
+      {
+        amin = a;
+        k = c;
+      }
+    }
+  if (k < 0 || !(amin >= 0.0 && amin <= 1.0))
+    return -1;
+  const double y[2] = { xi[0] + amin * p[0], xi[1] + amin * p[1] };
+  t = k == 1 ? y[0] : y[1];
+  return t > 0.0 && t < 1.0 ? k : -1;
+}
+
+// Fast path for a patch: plain Newton from an interior start. Accepted only when every
+// iterate stays strictly inside, the Hessian stays positive definite, the step becomes
+// negligible and f did not grow: then the result is an interior local minimum (KKT with
+// no active constraint). Otherwise the caller runs the active-set solver; when a step
+// left the triangle, `edge` and `t` say where (Crossing), else edge = -1.
+bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* start,
+  ClosestPointResult& res, int& edge, double& t)
+{
+  edge = -1;
   double xi[2] = { start[0], start[1] };
   if (!(xi[0] > 0.0 && xi[1] > 0.0 && xi[0] + xi[1] < 1.0))
     return false;
@@ -852,15 +884,17 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
     const double det = h00 * h11 - h01 * h01;
     if (!(h00 > 0.0) || !(det > 1e-14 * h00 * h11))
       return false;
-    const double p0 = -(h11 * g0 - h01 * g1) / det;
-    const double p1 = -(h00 * g1 - h01 * g0) / det;
-    xi[0] += p0;
-    xi[1] += p1;
-    if (!(xi[0] > 0.0 && xi[1] > 0.0 && xi[0] + xi[1] < 1.0))
+    const double p[2] = { -(h11 * g0 - h01 * g1) / det, -(h00 * g1 - h01 * g0) / det };
+    if (!(xi[0] + p[0] > 0.0 && xi[1] + p[1] > 0.0 && xi[0] + p[0] + xi[1] + p[1] < 1.0))
+    {
+      edge = Crossing(xi, p, t);
       return false;
+    }
+    xi[0] += p[0];
+    xi[1] += p[1];
     // quadratic convergence: after a step below 1e-9 the new iterate is within ~1e-18 of
     // the minimum (parametric), so no further step is taken
-    if (std::fabs(p0) + std::fabs(p1) <= 1e-9)
+    if (std::fabs(p[0]) + std::fabs(p[1]) <= 1e-9)
     {
       Eval<2>(m, xi, x, J);
       for (int d = 0; d < 3; ++d)
@@ -882,6 +916,82 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
   }
   return false;
 }
+
+// Fast path on one edge of a patch (constraint k: 0 u = 0, xi = (0, t); 1 v = 0,
+// xi = (t, 0); 2 u + v = 1, xi = (1 - t, t)): plain Newton on t from t0. Accepted only
+// when every iterate stays strictly inside the edge, the second derivative stays
+// positive, the step becomes negligible, f did not grow, and the multiplier of the
+// constraint is not negative (as in the active-set solver: >= -1e-10 of the gradient):
+// then the result is a KKT point with that one constraint active. Otherwise the caller
+// runs the active-set solver.
+bool EdgeNewton2(const QuadraticMap& m, const double v[3], int k, double t0,
+  ClosestPointResult& res)
+{
+  static const double Dir[3][2] = { { 0, 1 }, { 1, 0 }, { -1, 1 } };
+  const double* dir = Dir[k];
+  // d2x/dt2 = sum_ij dir_i dir_j Q_ij (constant)
+  double q[3];
+  for (int d = 0; d < 3; ++d)
+    q[d] = dir[0] * dir[0] * m.Q[0][0][d] + 2.0 * dir[0] * dir[1] * m.Q[0][1][d] +
+      dir[1] * dir[1] * m.Q[1][1][d];
+  auto point = [k](double t, double xi[2]) {
+    xi[0] = k == 0 ? 0.0 : (k == 1 ? t : 1.0 - t);
+    xi[1] = k == 1 ? 0.0 : t;
+  };
+  double t = t0, xi[2], x[3], J[2][3], r[3], f0 = -1.0;
+  for (int it = 0; it < 8; ++it)
+  {
+    point(t, xi);
+    Eval<2>(m, xi, x, J);
+    for (int d = 0; d < 3; ++d)
+      r[d] = x[d] - v[d];
+    if (f0 < 0.0)
+      f0 = Dot3(r, r);
+    double xt[3];
+    for (int d = 0; d < 3; ++d)
+      xt[d] = dir[0] * J[0][d] + dir[1] * J[1][d];
+    const double g = Dot3(xt, r);
+    const double h = Dot3(xt, xt) + Dot3(r, q);
+    if (!(h > 0.0))
+      return false;
+    const double step = -g / h;
+    t += step;
+    if (!(t > 0.0 && t < 1.0))
+      return false;
+    if (std::fabs(step) <= 1e-9)
+    {
+      point(t, xi);
+      Eval<2>(m, xi, x, J);
+      for (int d = 0; d < 3; ++d)
+        r[d] = x[d] - v[d];
+      const double f = Dot3(r, r);
+      if (f > f0)
+        return false;
+      // multiplier of the active constraint (gradient = mu * its normal + a tangential
+      // part that vanishes at the solution)
+      const double gu = Dot3(J[0], r), gv = Dot3(J[1], r);
+      const double mu = k == 0 ? gu : (k == 1 ? gv : -0.5 * (gu + gv));
+      if (mu < -1e-10 * std::max(std::fabs(gu), std::fabs(gv)))
+        return false;
+      res.Param[0] = xi[0];
+      res.Param[1] = xi[1];
+      res.Param[2] = 0.0;
+      for (int d = 0; d < 3; ++d)
+        res.Point[d] = x[d];
+      res.Distance2 = f;
+      int active = 0;
+      const double slack[3] = { xi[0], xi[1], 1.0 - xi[0] - xi[1] };
+      for (int c = 0; c < 3; ++c)
+        if (c == k || slack[c] <= 1e-13)
+          active |= 1 << c;
+      res.Active = active;
+      res.Iterations = it + 1;
+      res.Converged = true;
+      return true;
+    }
+  }
+  return false;
+}
 } // namespace
 
 void ClosestPointOnMap(const QuadraticMap& m, const double v[3], const double* start,
@@ -889,8 +999,27 @@ void ClosestPointOnMap(const QuadraticMap& m, const double v[3], const double* s
 {
   if (m.Dim == 2)
   {
-    if (start && InteriorNewton2(m, v, start, res))
-      return;
+    if (start)
+    {
+      // interior Newton; where it leaves the triangle, or from a start on one edge,
+      // Newton along that edge; the active-set solver for the rest
+      int edge = -1;
+      double t = 0.0;
+      if (InteriorNewton2(m, v, start, res, edge, t))
+        return;
+      if (edge < 0)
+      {
+        const double slack[3] = { start[0], start[1], 1.0 - start[0] - start[1] };
+        const int zero = (slack[0] == 0.0) + (slack[1] == 0.0) + (slack[2] == 0.0);
+        if (zero == 1 && slack[0] >= 0.0 && slack[1] >= 0.0 && slack[2] >= 0.0)
+        {
+          edge = slack[0] == 0.0 ? 0 : (slack[1] == 0.0 ? 1 : 2);
+          t = edge == 1 ? start[0] : start[1];
+        }
+      }
+      if (edge >= 0 && EdgeNewton2(m, v, edge, t, res))
+        return;
+    }
     Solve<2>(m, v, start, res, maxIterations);
   }
   else

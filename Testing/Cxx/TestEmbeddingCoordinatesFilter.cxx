@@ -133,7 +133,7 @@ void TestKernels()
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   // tri6 patches: a flat triangle with perturbed mid-edge nodes
-  int worse = 0, outside = 0;
+  int worse = 0, outside = 0, notLocal = 0, onEdge = 0;
   for (int trial = 0; trial < 40; ++trial)
   {
     double x[18] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.5, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0 };
@@ -157,6 +157,25 @@ void TestKernels()
         hoembed::ClosestPointOnMap(m, v, st, rs);
         if (rs.Param[0] < 0 || rs.Param[1] < 0 || rs.Param[0] + rs.Param[1] > 1.0 || !rs.Converged)
           ++outside;
+        // every answer is a local minimum over the triangle: no nearer point around it
+        // (this checks the multipliers of the edge and corner answers)
+        const int bits = rs.Active & 7;
+        onEdge += bits == 1 || bits == 2 || bits == 4;
+        bool nearer = false;
+        for (const double h : { 1e-5, 1e-4, 1e-3 })
+          for (int a = 0; a < 16 && !nearer; ++a)
+          {
+            const double uv[2] = { rs.Param[0] + h * std::cos(0.3927 * a),
+              rs.Param[1] + h * std::sin(0.3927 * a) };
+            if (uv[0] < 0 || uv[1] < 0 || uv[0] + uv[1] > 1)
+              continue;
+            double y[3];
+            hoembed::EvaluateMap(m, uv, y);
+            const double d2 = (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+              (y[2] - v[2]) * (y[2] - v[2]);
+            nearer = d2 < rs.Distance2 * (1.0 - 1e-12) - 1e-24;
+          }
+        notLocal += nearer;
         if (k == 0 || rs.Distance2 < r.Distance2)
           r = rs;
       }
@@ -180,6 +199,11 @@ void TestKernels()
   }
   HOEMBED_CHECK(worse == 0, "tri6 closest point worse than dense sampling for %d queries", worse);
   HOEMBED_CHECK(outside == 0, "tri6 closest point left the triangle or did not converge %d times", outside);
+  HOEMBED_CHECK(notLocal == 0, "tri6 closest point: %d answers with a nearer point around them",
+    notLocal);
+  HOEMBED_CHECK(onEdge >= 40, "tri6 closest point: only %d answers on an edge (test setup)", onEdge);
+  std::printf("tri6 closest point: %d answers on an edge, %d not local minima\n", onEdge,
+    notLocal);
 
   // tet10: the monomial map matches VTK's vtkQuadraticTetra; inside points are recovered;
   // outside points are no worse than dense sampling
