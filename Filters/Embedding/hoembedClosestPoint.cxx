@@ -892,9 +892,10 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
     }
     xi[0] += p[0];
     xi[1] += p[1];
-    // quadratic convergence: after a step below 1e-9 the new iterate is within ~1e-18 of
-    // the minimum (parametric), so no further step is taken
-    if (std::fabs(p[0]) + std::fabs(p[1]) <= 1e-9)
+    // quadratic convergence: after a step below 1e-6 the new iterate is within ~1e-12 of
+    // the minimum (parametric; the distance is then off by ~1e-24 of the patch's size
+    // squared), so no further step is taken
+    if (std::fabs(p[0]) + std::fabs(p[1]) <= 1e-6)
     {
       Eval<2>(m, xi, x, J);
       for (int d = 0; d < 3; ++d)
@@ -958,7 +959,7 @@ bool EdgeNewton2(const QuadraticMap& m, const double v[3], int k, double t0,
     t += step;
     if (!(t > 0.0 && t < 1.0))
       return false;
-    if (std::fabs(step) <= 1e-9)
+    if (std::fabs(step) <= 1e-6)
     {
       point(t, xi);
       Eval<2>(m, xi, x, J);
