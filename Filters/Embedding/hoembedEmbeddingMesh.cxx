@@ -194,7 +194,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
       ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
     }
   });
-  this->CellTree.Build(boxes);
+  this->CellGrid.Build(boxes);
 
   const int npf = this->Topology.GetNodesPerFace();
   this->FaceMaps.resize(nbf);

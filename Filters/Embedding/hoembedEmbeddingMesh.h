@@ -2,7 +2,7 @@
  * @file hoembedEmbeddingMesh.h
  * @brief The rest FE mesh prepared for embedding: topology, smooth nodal normals, the
  * monomial maps of every cell and boundary face (and of the interpolated normal field on
- * each boundary face), and box trees over boundary faces and cells.
+ * each boundary face), a box tree over the boundary faces and a box grid over the cells.
  *
  * Plain C++ kernel; read-only after Build, so any number of threads may query it.
  */
@@ -10,6 +10,7 @@
 #define hoembedEmbeddingMesh_h
 
 #include "hoembedClosestPoint.h"
+#include "hoembedEmbeddingGrid.h"
 #include "hoembedEmbeddingTree.h"
 #include "hoembedFiltersEmbeddingModule.h"
 #include "hoembedTetMeshTopology.h"
@@ -55,7 +56,7 @@ public:
   /// 4 x 5 doubles. Zero normal for a degenerate face (never excludes).
   std::vector<double> CellSlabs;
   AabbTree FaceTree;
-  AabbTree CellTree;
+  BoxGrid CellGrid; ///< over the cells' control-point boxes
   double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
 
   int NodesPerCell() const { return this->Topology.NodesPerCell; }

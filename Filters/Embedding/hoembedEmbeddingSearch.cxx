@@ -256,7 +256,7 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     RetryFace(M, v, sf, best, out);
 }
 
-// Find a cell containing v (distance <= tol). Walk first, then the cell tree if allowed.
+// Find a cell containing v (distance <= tol). Walk first, then the cell grid if allowed.
 // `tolerance` (a distance; default InsideTolerance of the diagonal) and `skip` (a cell
 // not to test) serve the test of the closest boundary point (OtherCellHolds).
 bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTree,
@@ -403,7 +403,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   if (!useTree)
     return false;
   S.Candidates.clear();
-  M.CellTree.Containing(v, tol, S.Candidates);
+  M.CellGrid.Containing(v, tol, S.Candidates);
   for (Id c : S.Candidates)
   {
     if (S.CellStamp[c] == stamp || c == skip)

@@ -7,6 +7,7 @@
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPoint.h"
 #include "hoembedElementGeometry.h"
+#include "hoembedEmbeddingGrid.h"
 #include "hoembedEmbeddingSearch.h"
 #include "hoembedShapeFunctions.h"
 #include "vtkEmbeddingCoordinatesFilter.h"
@@ -804,6 +805,73 @@ void ShearMap(double x[3])
   x[2] = Z + 0.15 * std::sin(M_PI * X) * std::sin(M_PI * Y);
 }
 
+// hoembed::BoxGrid::Containing (the cells whose boxes may hold a point) against a scan of
+// every box: clustered and flat boxes, points on box faces, outside the grid and far
+// away, several tolerances; each item once.
+void TestBoxGrid()
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int mismatches = 0, duplicates = 0, hits = 0, queries = 0;
+  for (int trial = 0; trial < 6; ++trial)
+  {
+    const int n = trial == 0 ? 1 : 40 * trial * trial;
+    std::vector<double> boxes(6 * n);
+    for (int i = 0; i < n; ++i)
+    {
+      // a cluster near the origin and a spread; some boxes flat in z
+      const double c = i % 3 == 0 ? 0.1 : 1.0;
+      for (int d = 0; d < 3; ++d)
+      {
+        const double a = c * U(rng), w = (trial == 3 && d == 2) ? 0.0 : 0.2 * U(rng);
+        boxes[6 * i + d] = a;
+        boxes[6 * i + 3 + d] = a + w;
+      }
+    }
+    hoembed::BoxGrid grid;
+    grid.Build(boxes);
+    for (int q = 0; q < 400; ++q)
+    {
+      double v[3];
+      for (int d = 0; d < 3; ++d)
+        v[d] = -0.3 + 1.8 * U(rng);
+      if (q % 4 == 1) // on a face of a box
+      {
+        const int i = static_cast<int>(U(rng) * n) % n;
+        for (int d = 0; d < 3; ++d)
+          v[d] = boxes[6 * i + d] + U(rng) * (boxes[6 * i + 3 + d] - boxes[6 * i + d]);
+        v[q % 3] = boxes[6 * i + (q % 2 ? 3 : 0) + q % 3];
+      }
+      if (q == 7)
+        v[0] = 1e6;
+      for (const double tol : { 0.0, 1e-9, 0.05 })
+      {
+        ++queries;
+        std::vector<hoembed::BoxGrid::Id> got, want;
+        grid.Containing(v, tol, got);
+        for (int i = 0; i < n; ++i)
+        {
+          bool in = true;
+          for (int d = 0; d < 3; ++d)
+            in = in && v[d] >= boxes[6 * i + d] - tol && v[d] <= boxes[6 * i + 3 + d] + tol;
+          if (in)
+            want.push_back(i);
+        }
+        std::sort(got.begin(), got.end());
+        duplicates += std::adjacent_find(got.begin(), got.end()) != got.end();
+        got.erase(std::unique(got.begin(), got.end()), got.end());
+        mismatches += got != want;
+        hits += static_cast<int>(want.size());
+      }
+    }
+  }
+  HOEMBED_CHECK(mismatches == 0, "BoxGrid: %d of %d queries differ from a scan of the boxes",
+    mismatches, queries);
+  HOEMBED_CHECK(duplicates == 0, "BoxGrid: %d queries report an item twice", duplicates);
+  HOEMBED_CHECK(hits > queries, "BoxGrid: only %d hits in %d queries (test setup)", hits, queries);
+  std::printf("box grid: %d queries, %d hits, as a scan of every box\n", queries, hits);
+}
+
 void TestFaceLowerBound()
 {
   auto grid = MakeBoxTetMesh(2, 2, 2, 1.0, 1.0, 1.0, 2, ShearMap);
@@ -924,6 +992,7 @@ int main(int argc, char* argv[])
   const std::string dataDir = hoembed_test::DataDir(argc, argv);
   TestKernels();
   TestFaceLowerBound();
+  TestBoxGrid();
   TestTet10Validity();
   TestTetMapExcludes();
 

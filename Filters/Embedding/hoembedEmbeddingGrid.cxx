@@ -1,0 +1,117 @@
+#include "hoembedEmbeddingGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hoembed
+{
+void BoxGrid::Build(const std::vector<double>& boxes)
+{
+  const Id n = static_cast<Id>(boxes.size() / 6);
+  this->ItemBoxes = boxes;
+  this->Offsets.clear();
+  this->Items.clear();
+  this->Dims[0] = this->Dims[1] = this->Dims[2] = 0;
+  if (n == 0)
+    return;
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; ++d)
+  {
+    lo[d] = std::numeric_limits<double>::max();
+    hi[d] = -std::numeric_limits<double>::max();
+  }
+  for (Id i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::min(lo[d], boxes[6 * i + d]);
+      hi[d] = std::max(hi[d], boxes[6 * i + 3 + d]);
+    }
+  // cubic bins, about eight per item over the bounding box (flat or thin meshes: the
+  // volume of the box padded by a tenth of its largest extent); fewer, larger bins hold
+  // more boxes to test per query, more bins list each box more often
+  const double ext = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
+  double volume = 1.0;
+  for (int d = 0; d < 3; ++d)
+    volume *= hi[d] - lo[d] + 0.1 * ext;
+  double size = std::cbrt(volume / (8.0 * static_cast<double>(n)));
+  if (!(size > 0.0) || !std::isfinite(size))
+    size = ext > 0.0 ? ext : 1.0;
+  for (int d = 0; d < 3; ++d)
+  {
+    this->Origin[d] = lo[d];
+    this->Dims[d] = static_cast<int>(
+      std::min(1024.0, std::max(1.0, std::ceil((hi[d] - lo[d]) / size))));
+  }
+  this->InvSize = 1.0 / size;
+  const Id bins = static_cast<Id>(this->Dims[0]) * this->Dims[1] * this->Dims[2];
+  this->Offsets.assign(bins + 1, 0);
+  auto forBins = [&](Id i, auto&& f) {
+    int first[3], last[3];
+    this->BinRange(&boxes[6 * i], &boxes[6 * i + 3], first, last);
+    for (int z = first[2]; z <= last[2]; ++z)
+      for (int y = first[1]; y <= last[1]; ++y)
+        for (int x = first[0]; x <= last[0]; ++x)
+          f((static_cast<Id>(z) * this->Dims[1] + y) * this->Dims[0] + x);
+  };
+  for (Id i = 0; i < n; ++i)
+    forBins(i, [&](Id b) { ++this->Offsets[b + 1]; });
+  for (Id b = 0; b < bins; ++b)
+    this->Offsets[b + 1] += this->Offsets[b];
+  this->Items.resize(this->Offsets[bins]);
+  std::vector<Id> fill(this->Offsets.begin(), this->Offsets.end() - 1);
+  for (Id i = 0; i < n; ++i)
+    forBins(i, [&](Id b) { this->Items[fill[b]++] = i; });
+}
+
+void BoxGrid::BinRange(const double lo[3], const double hi[3], int first[3], int last[3]) const
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    // truncation is the floor for the positive values kept (NaN compares false: bin 0)
+    const double a = (lo[d] - this->Origin[d]) * this->InvSize;
+    const double b = (hi[d] - this->Origin[d]) * this->InvSize;
+    const double top = this->Dims[d] - 1;
+    first[d] = static_cast<int>(a > 0.0 ? std::min(a, top) : 0.0);
+    last[d] = static_cast<int>(b > 0.0 ? std::min(b, top) : 0.0);
+  }
+}
+
+void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) const
+{
+  if (this->Offsets.empty())
+    return;
+  const double qlo[3] = { v[0] - tol, v[1] - tol, v[2] - tol };
+  const double qhi[3] = { v[0] + tol, v[1] + tol, v[2] + tol };
+  int first[3], last[3];
+  this->BinRange(qlo, qhi, first, last);
+  const bool single = first[0] == last[0] && first[1] == last[1] && first[2] == last[2];
+  for (int z = first[2]; z <= last[2]; ++z)
+    for (int y = first[1]; y <= last[1]; ++y)
+      for (int x = first[0]; x <= last[0]; ++x)
+      {
+        const Id bin = (static_cast<Id>(z) * this->Dims[1] + y) * this->Dims[0] + x;
+        for (Id k = this->Offsets[bin]; k < this->Offsets[bin + 1]; ++k)
+        {
+          const Id item = this->Items[k];
+          const double* b = &this->ItemBoxes[6 * item];
+          if (v[0] < b[0] - tol || v[1] < b[1] - tol || v[2] < b[2] - tol ||
+            v[0] > b[3] + tol || v[1] > b[4] + tol || v[2] > b[5] + tol)
+            continue;
+          if (!single)
+          {
+            // an item met in several bins of the query is reported in the first of them
+            int ilo[3], ihi[3];
+            this->BinRange(b, b + 3, ilo, ihi);
+            const int bin3[3] = { x, y, z };
+            bool firstBin = true;
+            for (int d = 0; d < 3; ++d)
+              firstBin = firstBin && bin3[d] == std::max(ilo[d], first[d]);
+            if (!firstBin)
+              continue;
+          }
+          out.push_back(item);
+        }
+      }
+}
+} // namespace hoembed
