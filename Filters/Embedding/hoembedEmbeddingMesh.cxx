@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace hoembed
 {
@@ -77,12 +78,10 @@ double PointTriangleDistance2(const double* p, const double* a, const double* b,
   return Dot(q, q);
 }
 
-// Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
-// plane through its corners, oriented away from the opposite corner, and the largest
-// signed height of the Bezier control points above it.
-void ComputeCellSlabs(const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double* out)
+// Bezier control points of a cell: corners as they are, edge controls 2 m - (a + b) / 2
+// (ControlBox's expression); returns their number (4 or 10).
+int CellControlPoints(const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double cp[10][3])
 {
-  double cp[10][3];
   int n = 4;
   for (int a = 0; a < 4; ++a)
     for (int d = 0; d < 3; ++d)
@@ -92,6 +91,36 @@ void ComputeCellSlabs(const double* pts, const EmbeddingMesh::Id* ids, bool quad
       for (int d = 0; d < 3; ++d)
         cp[n][d] = 2.0 * pts[3 * ids[4 + e] + d] -
           0.5 * (pts[3 * ids[TetEdgeCorners[e][0]] + d] + pts[3 * ids[TetEdgeCorners[e][1]] + d]);
+  return n;
+}
+
+// ControlBox of a cell from its control points (the same minima, maxima and pad).
+void CellControlBox(const double cp[10][3], int n, double* box)
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    box[d] = std::numeric_limits<double>::max();
+    box[d + 3] = -std::numeric_limits<double>::max();
+  }
+  for (int k = 0; k < n; ++k)
+    for (int d = 0; d < 3; ++d)
+    {
+      box[d] = std::min(box[d], cp[k][d]);
+      box[d + 3] = std::max(box[d + 3], cp[k][d]);
+    }
+  const double pad = 1e-12 * std::max({ box[3] - box[0], box[4] - box[1], box[5] - box[2], 1e-300 });
+  for (int d = 0; d < 3; ++d)
+  {
+    box[d] -= pad;
+    box[d + 3] += pad;
+  }
+}
+
+// Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
+// plane through its corners, oriented away from the opposite corner, and the largest
+// signed height of the n Bezier control points cp above it.
+void ComputeCellSlabs(const double cp[10][3], int n, double* out)
+{
   for (int f = 0; f < 4; ++f)
   {
     double* s = out + 5 * f;
@@ -190,18 +219,20 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = points[3 * ids[a] + d];
       MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
-      ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
-      ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
+      double cp[10][3];
+      const int ncp = CellControlPoints(points, ids, quadratic, cp);
+      CellControlBox(cp, ncp, &boxes[6 * c]);
+      ComputeCellSlabs(cp, ncp, &this->CellSlabs[20 * c]);
     }
   });
-  this->CellTree.Build(boxes);
+  this->CellTree.Build(std::move(boxes));
 
   const int npf = this->Topology.GetNodesPerFace();
   this->FaceMaps.resize(nbf);
   this->FaceSlabs.assign(6 * nbf, 0.0);
   this->FaceFlat.assign(10 * nbf, 0.0);
   this->NormalMaps.resize(nbf);
-  boxes.assign(6 * nbf, 0.0);
+  boxes = std::vector<double>(6 * nbf);
   auto faceData = [&](Id f, double* x) {
     const Id* ids = &this->Topology.BoundaryFaceNodes[npf * f];
     double nx[18];
@@ -273,7 +304,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     for (Id f = fb; f < fe; ++f)
       faceData(f, x);
   });
-  this->FaceTree.Build(boxes);
+  this->FaceTree.Build(std::move(boxes));
   return std::string();
 }
 
