@@ -34,6 +34,26 @@ void BucketByFirst(std::vector<Keyed<K>>& items, Id numberOfPoints, std::vector<
     sorted[fill[it.Key[0]]++] = it;
 }
 
+// Sort a bucket by a total order (no ties: the item ids differ): insertion sort for the
+// usual handful of items, std::sort for a large bucket (a node shared by many cells).
+template <typename T, typename Less>
+void SortBucket(T* first, T* last, Less less)
+{
+  if (last - first > 48)
+  {
+    std::sort(first, last, less);
+    return;
+  }
+  for (T* i = first + 1; i < last; ++i)
+  {
+    const T v = *i;
+    T* j = i;
+    for (; j > first && less(v, j[-1]); --j)
+      *j = j[-1];
+    *j = v;
+  }
+}
+
 // Whether local faces fa and fb (items 4 * cell + face) of two tet10 cells with the same
 // corners also have the same mid-edge node on each edge.
 bool SameFaceMids(const Id* conn, Id fa, Id fb)
@@ -95,26 +115,28 @@ std::string TetMeshTopology::BuildImpl(
   this->NumberOfPoints = numberOfPoints;
   const int npf = this->GetNodesPerFace();
 
-  for (Id c = 0; c < numberOfCells; ++c)
   {
-    const Id* cell = conn + c * nodesPerCell;
-    for (int i = 0; i < nodesPerCell; ++i)
+    // a point repeats in cell c when it was already stamped with c
+    std::vector<Id> stamp(numberOfPoints, -1);
+    for (Id c = 0; c < numberOfCells; ++c)
     {
-      if (cell[i] < 0 || cell[i] >= numberOfPoints)
+      const Id* cell = conn + c * nodesPerCell;
+      for (int i = 0; i < nodesPerCell; ++i)
       {
-        std::ostringstream os;
-        os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
-           << numberOfPoints << ")";
-        return os.str();
-      }
-      for (int j = 0; j < i; ++j)
-      {
-        if (cell[i] == cell[j])
+        if (cell[i] < 0 || cell[i] >= numberOfPoints)
+        {
+          std::ostringstream os;
+          os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
+             << numberOfPoints << ")";
+          return os.str();
+        }
+        if (stamp[cell[i]] == c)
         {
           std::ostringstream os;
           os << "cell " << c << " repeats point " << cell[i];
           return os.str();
         }
+        stamp[cell[i]] = c;
       }
     }
   }
@@ -127,9 +149,18 @@ std::string TetMeshTopology::BuildImpl(
     for (int f = 0; f < 4; ++f)
     {
       Keyed<3>& k = faces[4 * c + f];
-      for (int a = 0; a < 3; ++a)
-        k.Key[a] = cell[TetFaceNodes[f][a]];
-      std::sort(k.Key, k.Key + 3);
+      Id a = cell[TetFaceNodes[f][0]], b = cell[TetFaceNodes[f][1]], d = cell[TetFaceNodes[f][2]];
+      if (b < a)
+        std::swap(a, b);
+      if (d < b)
+      {
+        std::swap(b, d);
+        if (b < a)
+          std::swap(a, b);
+      }
+      k.Key[0] = a;
+      k.Key[1] = b;
+      k.Key[2] = d;
       k.Item = 4 * c + f;
     }
   }
@@ -145,7 +176,7 @@ std::string TetMeshTopology::BuildImpl(
     // shared by many cells makes a large bucket).
     Keyed<3>* first = sorted.data() + offsets[p];
     Keyed<3>* last = sorted.data() + offsets[p + 1];
-    std::sort(first, last, [](const Keyed<3>& a, const Keyed<3>& b) {
+    SortBucket(first, last, [](const Keyed<3>& a, const Keyed<3>& b) {
       return a.Key[1] != b.Key[1] ? a.Key[1] < b.Key[1]
                                   : (a.Key[2] != b.Key[2] ? a.Key[2] < b.Key[2] : a.Item < b.Item);
     });
@@ -222,7 +253,7 @@ std::string TetMeshTopology::BuildImpl(
   {
     Keyed<2>* first = sortedEdges.data() + offsets[p];
     Keyed<2>* last = sortedEdges.data() + offsets[p + 1];
-    std::sort(first, last, [](const Keyed<2>& a, const Keyed<2>& b) {
+    SortBucket(first, last, [](const Keyed<2>& a, const Keyed<2>& b) {
       return a.Key[1] != b.Key[1] ? a.Key[1] < b.Key[1] : a.Item < b.Item;
     });
     for (Keyed<2>* run = first; run != last;)
