@@ -155,61 +155,17 @@ void ComputeCellSlabs(const double cp[10][3], int n, double* out)
     s[4] = hi;
   }
 }
-} // namespace
 
-bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
+using Id = EmbeddingMesh::Id;
+
+// Cell maps, boxes, slabs and the cell tree of `mesh` (node ids in range).
+void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id numberOfCells,
+  int nodesPerCell)
 {
-  return this->CellExitFace(c, v, tol) < 0;
-}
-
-int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
-{
-  const double* s = &this->CellSlabs[20 * c];
-  int face = -1;
-  double worst = 0.0;
-  for (int f = 0; f < 4; ++f, s += 5)
-  {
-    const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
-    if (h > s[4] + tol && (face < 0 || h - s[4] > worst))
-    {
-      worst = h - s[4];
-      face = f;
-    }
-  }
-  return face;
-}
-
-std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
-  Id numberOfCells, int nodesPerCell)
-{
-  std::string err = this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
-  if (!err.empty())
-    return err;
-  const Id nbf = this->Topology.GetNumberOfBoundaryFaces();
-  if (nbf == 0)
-    return "the mesh has no boundary faces";
-  this->Points.assign(points, points + 3 * numberOfPoints);
-  this->Connectivity.assign(conn, conn + nodesPerCell * numberOfCells);
-  this->NodalNormals.assign(3 * numberOfPoints, 0.0);
-  ComputeBoundaryNodeNormals(this->Topology, this->Points.data(), this->NodalNormals.data());
-
-  double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-    std::numeric_limits<double>::max() };
-  double hi[3] = { -lo[0], -lo[1], -lo[2] };
-  for (Id i = 0; i < numberOfPoints; ++i)
-    for (int d = 0; d < 3; ++d)
-    {
-      lo[d] = std::min(lo[d], points[3 * i + d]);
-      hi[d] = std::max(hi[d], points[3 * i + d]);
-    }
-  this->Diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-
   const bool quadratic = nodesPerCell == 10;
-  this->CellMaps.resize(numberOfCells);
+  mesh.CellMaps.resize(numberOfCells);
   std::vector<double> boxes(6 * numberOfCells);
-  this->CellSlabs.assign(20 * numberOfCells, 0.0);
-  // per cell and per face: independent, in parallel
+  mesh.CellSlabs.assign(20 * numberOfCells, 0.0);
   vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
     double x[30];
     for (Id c = cb; c < ce; ++c)
@@ -218,35 +174,50 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
       for (int a = 0; a < nodesPerCell; ++a)
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = points[3 * ids[a] + d];
-      MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
+      MakeTetMap(x, nodesPerCell, mesh.CellMaps[c]);
       double cp[10][3];
       const int ncp = CellControlPoints(points, ids, quadratic, cp);
       CellControlBox(cp, ncp, &boxes[6 * c]);
-      ComputeCellSlabs(cp, ncp, &this->CellSlabs[20 * c]);
+      ComputeCellSlabs(cp, ncp, &mesh.CellSlabs[20 * c]);
     }
   });
-  this->CellTree.Build(std::move(boxes));
+  mesh.CellTree.Build(std::move(boxes));
+}
 
-  const int npf = this->Topology.GetNodesPerFace();
-  this->FaceMaps.resize(nbf);
-  this->FaceSlabs.assign(6 * nbf, 0.0);
-  this->FaceFlat.assign(10 * nbf, 0.0);
-  this->NormalMaps.resize(nbf);
-  boxes = std::vector<double>(6 * nbf);
+// Topology, nodal normals, face maps, slabs and the face tree of `mesh`; "" or the problem.
+std::string BuildBoundaryData(EmbeddingMesh& mesh, const double* points, const Id* conn,
+  Id numberOfPoints, Id numberOfCells, int nodesPerCell, double diagonal)
+{
+  const bool quadratic = nodesPerCell == 10;
+  std::string err = mesh.Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
+  if (!err.empty())
+    return err;
+  const Id nbf = mesh.Topology.GetNumberOfBoundaryFaces();
+  if (nbf == 0)
+    return "the mesh has no boundary faces";
+  mesh.NodalNormals.assign(3 * numberOfPoints, 0.0);
+  ComputeBoundaryNodeNormals(mesh.Topology, points, mesh.NodalNormals.data());
+
+  const int npf = mesh.Topology.GetNodesPerFace();
+  mesh.FaceMaps.resize(nbf);
+  mesh.FaceSlabs.assign(6 * nbf, 0.0);
+  mesh.FaceFlat.assign(10 * nbf, 0.0);
+  mesh.NormalMaps.resize(nbf);
+  std::vector<double> boxes(6 * nbf);
   auto faceData = [&](Id f, double* x) {
-    const Id* ids = &this->Topology.BoundaryFaceNodes[npf * f];
+    const Id* ids = &mesh.Topology.BoundaryFaceNodes[npf * f];
     double nx[18];
     for (int a = 0; a < npf; ++a)
       for (int d = 0; d < 3; ++d)
       {
         x[3 * a + d] = points[3 * ids[a] + d];
-        nx[3 * a + d] = this->NodalNormals[3 * ids[a] + d];
+        nx[3 * a + d] = mesh.NodalNormals[3 * ids[a] + d];
       }
-    MakeTriangleMap(x, npf, this->FaceMaps[f]);
-    MakeTriangleMap(nx, npf, this->NormalMaps[f]);
+    MakeTriangleMap(x, npf, mesh.FaceMaps[f]);
+    MakeTriangleMap(nx, npf, mesh.NormalMaps[f]);
     ControlBox(points, ids, 3, TriEdges, 3, quadratic, &boxes[6 * f]);
     // slab of the corner plane
-    double* slab = &this->FaceSlabs[6 * f];
+    double* slab = &mesh.FaceSlabs[6 * f];
     const double* a = x;
     const double* b = x + 3;
     const double* c = x + 6;
@@ -260,7 +231,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    double* flat = &this->FaceFlat[10 * f];
+    double* flat = &mesh.FaceFlat[10 * f];
     for (int k = 0; k < 9; ++k)
       flat[k] = x[k];
     flat[9] = std::numeric_limits<double>::infinity();
@@ -294,7 +265,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
         tmax2 = std::max(tmax2, std::max(0.0, Dot(dev, dev) - hn * hn));
       }
     }
-    const double pad = 1e-12 * this->Diagonal;
+    const double pad = 1e-12 * diagonal;
     slab[4] = lo - pad;
     slab[5] = hi + pad;
     flat[9] = std::sqrt(tmax2) * (1.0 + 1e-12) + pad;
@@ -304,7 +275,104 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     for (Id f = fb; f < fe; ++f)
       faceData(f, x);
   });
-  this->FaceTree.Build(std::move(boxes));
+  mesh.FaceTree.Build(std::move(boxes));
+  return std::string();
+}
+} // namespace
+
+bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
+{
+  return this->CellExitFace(c, v, tol) < 0;
+}
+
+int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
+{
+  const double* s = &this->CellSlabs[20 * c];
+  int face = -1;
+  double worst = 0.0;
+  for (int f = 0; f < 4; ++f, s += 5)
+  {
+    const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
+    if (h > s[4] + tol && (face < 0 || h - s[4] > worst))
+    {
+      worst = h - s[4];
+      face = f;
+    }
+  }
+  return face;
+}
+
+std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
+  Id numberOfCells, int nodesPerCell)
+{
+  if (numberOfPoints < 0 || numberOfCells < 0 || nodesPerCell < 0)
+    return this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
+  return this->Build(std::vector<double>(points, points + 3 * numberOfPoints),
+    std::vector<Id>(conn, conn + nodesPerCell * numberOfCells), nodesPerCell);
+}
+
+std::string EmbeddingMesh::Build(
+  std::vector<double> pointsIn, std::vector<Id> connIn, int nodesPerCell)
+{
+  const Id numberOfPoints = static_cast<Id>(pointsIn.size() / 3);
+  const Id numberOfCells =
+    nodesPerCell > 0 ? static_cast<Id>(connIn.size() / nodesPerCell) : Id(0);
+  const double* points = pointsIn.data();
+  const Id* conn = connIn.data();
+
+  double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max() };
+  double hi[3] = { -lo[0], -lo[1], -lo[2] };
+  for (Id i = 0; i < numberOfPoints; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::min(lo[d], points[3 * i + d]);
+      hi[d] = std::max(hi[d], points[3 * i + d]);
+    }
+  const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+
+
+  // the cell part reads the nodes of every cell: only with ids in range (the topology
+  // reports the problem otherwise)
+  bool idsInRange = nodesPerCell == 4 || nodesPerCell == 10;
+  for (size_t i = 0; i < connIn.size() && idsInRange; ++i)
+    idsInRange = conn[i] >= 0 && conn[i] < numberOfPoints;
+  // The cell data (maps, boxes, slabs, cell tree) and the boundary data (topology,
+  // normals, face maps, face tree) do not depend on each other: two tasks, each parallel
+  // inside (per cell, per face).
+  std::string err;
+  if (!idsInRange)
+  {
+    err = BuildBoundaryData(
+      *this, points, conn, numberOfPoints, numberOfCells, nodesPerCell, diagonal);
+    if (err.empty())
+      err = "a cell refers to a node out of range";
+  }
+  else
+  {
+    vtkSMPTools::For(0, 2, 1, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType task = b; task < e; ++task)
+      {
+        if (task == 0)
+          err = BuildBoundaryData(
+            *this, points, conn, numberOfPoints, numberOfCells, nodesPerCell, diagonal);
+        else
+          BuildCellData(*this, points, conn, numberOfCells, nodesPerCell);
+      }
+    });
+  }
+  if (!err.empty())
+  {
+    // nothing half-built left behind (the topology has reset itself, or is complete)
+    this->CellMaps.clear();
+    this->CellSlabs.clear();
+    this->CellTree = AabbTree();
+    return err;
+  }
+  this->Diagonal = diagonal;
+  this->Points = std::move(pointsIn);
+  this->Connectivity = std::move(connIn);
   return std::string();
 }
 

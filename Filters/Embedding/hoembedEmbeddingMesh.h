@@ -31,6 +31,9 @@ public:
    */
   std::string Build(const double* points, Id numberOfPoints, const Id* conn,
     Id numberOfCells, int nodesPerCell);
+  /// The same, taking over the node coordinates (3 per node) and the connectivity
+  /// (nodesPerCell per cell) without copying them (pass rvalues).
+  std::string Build(std::vector<double> points, std::vector<Id> conn, int nodesPerCell);
 
   TetMeshTopology Topology;
   std::vector<double> Points;       ///< 3 per node

@@ -31,6 +31,7 @@
 #include <atomic>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkEmbeddingCoordinatesFilter);
@@ -261,7 +262,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   this->UpdateProgress(0.05);
 
   hoembed::EmbeddingMesh em;
-  const std::string err = em.Build(meshPts.data(), npts, conn.data(), ncells, npc);
+  const std::string err = em.Build(std::move(meshPts), std::move(conn), npc);
   if (!err.empty())
   {
     vtkErrorMacro("The FE mesh topology is not usable: " << err);
