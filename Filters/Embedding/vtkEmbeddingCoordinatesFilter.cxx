@@ -45,15 +45,17 @@ using Id = hoembed::EmbeddingMesh::Id;
 bool CopyFinitePoints(vtkPoints* pts, std::vector<double>& out, vtkIdType& bad)
 {
   const vtkIdType n = pts->GetNumberOfPoints();
-  out.resize(3 * static_cast<size_t>(n));
   vtkDataArray* data = pts->GetData();
   if (auto* d = vtkDoubleArray::FastDownCast(data))
-    std::copy(d->GetPointer(0), d->GetPointer(0) + 3 * n, out.begin());
+    out.assign(d->GetPointer(0), d->GetPointer(0) + 3 * n);
   else if (auto* f = vtkFloatArray::FastDownCast(data))
-    std::copy(f->GetPointer(0), f->GetPointer(0) + 3 * n, out.begin());
+    out.assign(f->GetPointer(0), f->GetPointer(0) + 3 * n);
   else
+  {
+    out.resize(3 * static_cast<size_t>(n));
     for (vtkIdType i = 0; i < n; ++i)
       pts->GetPoint(i, &out[3 * i]);
+  }
   for (vtkIdType i = 0; i < n; ++i)
   {
     const double* x = &out[3 * i];
@@ -81,9 +83,7 @@ CellScan ScanCells(const T* offsets, const T* ids, const unsigned char* types, v
 {
   CellScan bad;
   const int type0 = types[0];
-  conn.resize(static_cast<size_t>(npc) * ncells);
-  Id* out = conn.data();
-  for (vtkIdType c = 0; c < ncells; ++c, out += npc)
+  for (vtkIdType c = 0; c < ncells; ++c)
   {
     const vtkIdType size = static_cast<vtkIdType>(offsets[c + 1] - offsets[c]);
     if (types[c] != type0 || size != npc)
@@ -93,11 +93,11 @@ CellScan ScanCells(const T* offsets, const T* ids, const unsigned char* types, v
       bad.Size = size;
       return bad;
     }
-    const T* p = ids + offsets[c];
-    for (int a = 0; a < npc; ++a)
-      out[a] = static_cast<Id>(p[a]);
-    fingerprint.AddCell(type0, out, npc);
   }
+  // every cell has npc ids: they lie back to back
+  conn.assign(ids + offsets[0], ids + offsets[ncells]);
+  for (vtkIdType c = 0; c < ncells; ++c)
+    fingerprint.AddCell(type0, conn.data() + npc * c, npc);
   return bad;
 }
 
