@@ -187,7 +187,8 @@ double CornerBernsteinMin(const double G[4][3][3])
       for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3)
       {
         const int n0 = 3 - n1 - n2 - n3;
-        const double b = coef[n1 + 4 * n2 + 16 * n3] * Fact[n0] * Fact[n1] * Fact[n2] * Fact[n3] / 6.0;
+        const double b =
+          coef[n1 + 4 * n2 + 16 * n3] * Fact[n0] * Fact[n1] * Fact[n2] * Fact[n3] / 6.0;
         if (!(b >= lo))
           lo = b; // NaN propagates (and is never clearly positive)
       }

@@ -84,7 +84,8 @@ double PointTriangleDistance2(const double* p, const double* a, const double* b,
 
 // Bezier control points of a cell: corners as they are, edge controls 2 m - (a + b) / 2
 // (ControlBox's expression); returns their number (4 or 10).
-int CellControlPoints(const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double cp[10][3])
+int CellControlPoints(
+  const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double cp[10][3])
 {
   int n = 4;
   for (int a = 0; a < 4; ++a)

@@ -387,7 +387,8 @@ void TestFingerprint()
     PushLE(s, -7);
     for (int k = 3; k < 7; ++k)
       PushLE(s, odd[k]);
-    HOEMBED_CHECK(f.Value() == Fnv1a(s), "fingerprint of wide / negative ids %016llx, stream %016llx",
+    HOEMBED_CHECK(f.Value() == Fnv1a(s),
+      "fingerprint of wide / negative ids %016llx, stream %016llx",
       static_cast<unsigned long long>(f.Value()), static_cast<unsigned long long>(Fnv1a(s)));
   }
   hoembed::MeshFingerprint f1(10, 0), f2(11, 0);
