@@ -215,6 +215,14 @@ std::string TetMeshTopology::BuildImpl(
   this->BoundaryFaceLocal.clear();
   this->BoundaryFaceNodes.clear();
   this->CellBoundaryFace.assign(4 * numberOfCells, -1);
+  {
+    const Id count = static_cast<Id>(
+      std::count(this->FaceNeighbor.begin(), this->FaceNeighbor.end(), Id(-1)));
+    this->BoundaryFaceCell.reserve(count);
+    this->BoundaryFaceLocal.reserve(count);
+    this->BoundaryFaceNodes.reserve(count * npf);
+    this->BoundaryEdgeNodes.reserve(9 * count); // at most 3 edges per face, 3 ids each
+  }
   for (Id c = 0; c < numberOfCells; ++c)
   {
     for (int f = 0; f < 4; ++f)
