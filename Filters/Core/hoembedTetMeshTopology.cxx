@@ -55,28 +55,21 @@ void SortBucket(T* first, T* last, Less less)
 }
 
 // Whether local faces fa and fb (items 4 * cell + face) of two tet10 cells with the same
-// corners also have the same mid-edge node on each edge.
+// corners also have the same mid-edge node on each edge. The corners of a face are
+// distinct, so an edge is named by the corner opposite it.
 bool SameFaceMids(const Id* conn, Id fa, Id fb)
 {
   const Id* ca = conn + (fa / 4) * 10;
   const Id* cb = conn + (fb / 4) * 10;
   const int* na = TetFaceNodes[fa % 4];
   const int* nb = TetFaceNodes[fb % 4];
+  // edge e of a face runs from corner e to corner e + 1 (mod 3): corner e + 2 is opposite
+  const Id ob[3] = { cb[nb[2]], cb[nb[0]], cb[nb[1]] };
   for (int e = 0; e < 3; ++e)
   {
-    const Id p = ca[na[e]], q = ca[na[(e + 1) % 3]];
-    bool found = false;
-    for (int e2 = 0; e2 < 3 && !found; ++e2)
-    {
-      const Id p2 = cb[nb[e2]], q2 = cb[nb[(e2 + 1) % 3]];
-      if ((p == p2 && q == q2) || (p == q2 && q == p2))
-      {
-        found = ca[na[3 + e]] == cb[nb[3 + e2]];
-        if (!found)
-          return false;
-      }
-    }
-    if (!found)
+    const Id opposite = ca[na[(e + 2) % 3]];
+    const int e2 = opposite == ob[0] ? 0 : (opposite == ob[1] ? 1 : 2);
+    if (opposite != ob[e2] || ca[na[3 + e]] != cb[nb[3 + e2]])
       return false;
   }
   return true;
