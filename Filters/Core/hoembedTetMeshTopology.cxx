@@ -34,29 +34,42 @@ void BucketByFirst(std::vector<Keyed<K>>& items, Id numberOfPoints, std::vector<
     sorted[fill[it.Key[0]]++] = it;
 }
 
+// Sort a bucket by a total order (no ties: the item ids differ): insertion sort for the
+// usual handful of items, std::sort for a large bucket (a node shared by many cells).
+template <typename T, typename Less>
+void SortBucket(T* first, T* last, Less less)
+{
+  if (last - first > 48)
+  {
+    std::sort(first, last, less);
+    return;
+  }
+  for (T* i = first + 1; i < last; ++i)
+  {
+    const T v = *i;
+    T* j = i;
+    for (; j > first && less(v, j[-1]); --j)
+      *j = j[-1];
+    *j = v;
+  }
+}
+
 // Whether local faces fa and fb (items 4 * cell + face) of two tet10 cells with the same
-// corners also have the same mid-edge node on each edge.
+// corners also have the same mid-edge node on each edge. The corners of a face are
+// distinct, so an edge is named by the corner opposite it.
 bool SameFaceMids(const Id* conn, Id fa, Id fb)
 {
   const Id* ca = conn + (fa / 4) * 10;
   const Id* cb = conn + (fb / 4) * 10;
   const int* na = TetFaceNodes[fa % 4];
   const int* nb = TetFaceNodes[fb % 4];
+  // edge e of a face runs from corner e to corner e + 1 (mod 3): corner e + 2 is opposite
+  const Id ob[3] = { cb[nb[2]], cb[nb[0]], cb[nb[1]] };
   for (int e = 0; e < 3; ++e)
   {
-    const Id p = ca[na[e]], q = ca[na[(e + 1) % 3]];
-    bool found = false;
-    for (int e2 = 0; e2 < 3 && !found; ++e2)
-    {
-      const Id p2 = cb[nb[e2]], q2 = cb[nb[(e2 + 1) % 3]];
-      if ((p == p2 && q == q2) || (p == q2 && q == p2))
-      {
-        found = ca[na[3 + e]] == cb[nb[3 + e2]];
-        if (!found)
-          return false;
-      }
-    }
-    if (!found)
+    const Id opposite = ca[na[(e + 2) % 3]];
+    const int e2 = opposite == ob[0] ? 0 : (opposite == ob[1] ? 1 : 2);
+    if (opposite != ob[e2] || ca[na[3 + e]] != cb[nb[3 + e2]])
       return false;
   }
   return true;
@@ -95,26 +108,28 @@ std::string TetMeshTopology::BuildImpl(
   this->NumberOfPoints = numberOfPoints;
   const int npf = this->GetNodesPerFace();
 
-  for (Id c = 0; c < numberOfCells; ++c)
   {
-    const Id* cell = conn + c * nodesPerCell;
-    for (int i = 0; i < nodesPerCell; ++i)
+    // a point repeats in cell c when it was already stamped with c
+    std::vector<Id> stamp(numberOfPoints, -1);
+    for (Id c = 0; c < numberOfCells; ++c)
     {
-      if (cell[i] < 0 || cell[i] >= numberOfPoints)
+      const Id* cell = conn + c * nodesPerCell;
+      for (int i = 0; i < nodesPerCell; ++i)
       {
-        std::ostringstream os;
-        os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
-           << numberOfPoints << ")";
-        return os.str();
-      }
-      for (int j = 0; j < i; ++j)
-      {
-        if (cell[i] == cell[j])
+        if (cell[i] < 0 || cell[i] >= numberOfPoints)
+        {
+          std::ostringstream os;
+          os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
+             << numberOfPoints << ")";
+          return os.str();
+        }
+        if (stamp[cell[i]] == c)
         {
           std::ostringstream os;
           os << "cell " << c << " repeats point " << cell[i];
           return os.str();
         }
+        stamp[cell[i]] = c;
       }
     }
   }
@@ -127,9 +142,18 @@ std::string TetMeshTopology::BuildImpl(
     for (int f = 0; f < 4; ++f)
     {
       Keyed<3>& k = faces[4 * c + f];
-      for (int a = 0; a < 3; ++a)
-        k.Key[a] = cell[TetFaceNodes[f][a]];
-      std::sort(k.Key, k.Key + 3);
+      Id a = cell[TetFaceNodes[f][0]], b = cell[TetFaceNodes[f][1]], d = cell[TetFaceNodes[f][2]];
+      if (b < a)
+        std::swap(a, b);
+      if (d < b)
+      {
+        std::swap(b, d);
+        if (b < a)
+          std::swap(a, b);
+      }
+      k.Key[0] = a;
+      k.Key[1] = b;
+      k.Key[2] = d;
       k.Item = 4 * c + f;
     }
   }
@@ -145,7 +169,7 @@ std::string TetMeshTopology::BuildImpl(
     // shared by many cells makes a large bucket).
     Keyed<3>* first = sorted.data() + offsets[p];
     Keyed<3>* last = sorted.data() + offsets[p + 1];
-    std::sort(first, last, [](const Keyed<3>& a, const Keyed<3>& b) {
+    SortBucket(first, last, [](const Keyed<3>& a, const Keyed<3>& b) {
       return a.Key[1] != b.Key[1] ? a.Key[1] < b.Key[1]
                                   : (a.Key[2] != b.Key[2] ? a.Key[2] < b.Key[2] : a.Item < b.Item);
     });
@@ -184,6 +208,14 @@ std::string TetMeshTopology::BuildImpl(
   this->BoundaryFaceLocal.clear();
   this->BoundaryFaceNodes.clear();
   this->CellBoundaryFace.assign(4 * numberOfCells, -1);
+  {
+    const Id count = static_cast<Id>(
+      std::count(this->FaceNeighbor.begin(), this->FaceNeighbor.end(), Id(-1)));
+    this->BoundaryFaceCell.reserve(count);
+    this->BoundaryFaceLocal.reserve(count);
+    this->BoundaryFaceNodes.reserve(count * npf);
+    this->BoundaryEdgeNodes.reserve(9 * count); // at most 3 edges per face, 3 ids each
+  }
   for (Id c = 0; c < numberOfCells; ++c)
   {
     for (int f = 0; f < 4; ++f)
@@ -222,7 +254,7 @@ std::string TetMeshTopology::BuildImpl(
   {
     Keyed<2>* first = sortedEdges.data() + offsets[p];
     Keyed<2>* last = sortedEdges.data() + offsets[p + 1];
-    std::sort(first, last, [](const Keyed<2>& a, const Keyed<2>& b) {
+    SortBucket(first, last, [](const Keyed<2>& a, const Keyed<2>& b) {
       return a.Key[1] != b.Key[1] ? a.Key[1] < b.Key[1] : a.Item < b.Item;
     });
     for (Keyed<2>* run = first; run != last;)

@@ -7,6 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace hoembed
 {
@@ -77,12 +82,11 @@ double PointTriangleDistance2(const double* p, const double* a, const double* b,
   return Dot(q, q);
 }
 
-// Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
-// plane through its corners, oriented away from the opposite corner, and the largest
-// signed height of the Bezier control points above it.
-void ComputeCellSlabs(const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double* out)
+// Bezier control points of a cell: corners as they are, edge controls 2 m - (a + b) / 2
+// (ControlBox's expression); returns their number (4 or 10).
+int CellControlPoints(
+  const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double cp[10][3])
 {
-  double cp[10][3];
   int n = 4;
   for (int a = 0; a < 4; ++a)
     for (int d = 0; d < 3; ++d)
@@ -92,6 +96,36 @@ void ComputeCellSlabs(const double* pts, const EmbeddingMesh::Id* ids, bool quad
       for (int d = 0; d < 3; ++d)
         cp[n][d] = 2.0 * pts[3 * ids[4 + e] + d] -
           0.5 * (pts[3 * ids[TetEdgeCorners[e][0]] + d] + pts[3 * ids[TetEdgeCorners[e][1]] + d]);
+  return n;
+}
+
+// ControlBox of a cell from its control points (the same minima, maxima and pad).
+void CellControlBox(const double cp[10][3], int n, double* box)
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    box[d] = std::numeric_limits<double>::max();
+    box[d + 3] = -std::numeric_limits<double>::max();
+  }
+  for (int k = 0; k < n; ++k)
+    for (int d = 0; d < 3; ++d)
+    {
+      box[d] = std::min(box[d], cp[k][d]);
+      box[d + 3] = std::max(box[d + 3], cp[k][d]);
+    }
+  const double pad = 1e-12 * std::max({ box[3] - box[0], box[4] - box[1], box[5] - box[2], 1e-300 });
+  for (int d = 0; d < 3; ++d)
+  {
+    box[d] -= pad;
+    box[d + 3] += pad;
+  }
+}
+
+// Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
+// plane through its corners, oriented away from the opposite corner, and the largest
+// signed height of the n Bezier control points cp above it.
+void ComputeCellSlabs(const double cp[10][3], int n, double* out)
+{
   for (int f = 0; f < 4; ++f)
   {
     double* s = out + 5 * f;
@@ -120,67 +154,54 @@ void ComputeCellSlabs(const double* pts, const EmbeddingMesh::Id* ids, bool quad
     for (int d = 0; d < 3; ++d)
       s[d] = sign * nrm[d] / l;
     s[3] = s[0] * a[0] + s[1] * a[1] + s[2] * a[2];
+  }
+  // s[4]: the largest height of a control point above each plane, from 0 (a degenerate
+  // face's zero plane gives 0 too, as it should)
+#ifdef __SSE2__
+  // two faces per SSE2 register: per lane the same products, sums and maxima (maxpd(h,
+  // hi) keeps hi on ties and NaN, as std::max(hi, h) does)
+  for (int f = 0; f < 4; f += 2)
+  {
+    const double* s0 = out + 5 * f;
+    const double* s1 = out + 5 * (f + 1);
+    const __m128d nx = _mm_set_pd(s1[0], s0[0]);
+    const __m128d ny = _mm_set_pd(s1[1], s0[1]);
+    const __m128d nz = _mm_set_pd(s1[2], s0[2]);
+    const __m128d c = _mm_set_pd(s1[3], s0[3]);
+    __m128d hi = _mm_setzero_pd();
+    for (int k = 0; k < n; ++k)
+    {
+      const __m128d h = _mm_sub_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(nx, _mm_set1_pd(cp[k][0])),
+                                                _mm_mul_pd(ny, _mm_set1_pd(cp[k][1]))),
+                                     _mm_mul_pd(nz, _mm_set1_pd(cp[k][2]))),
+        c);
+      hi = _mm_max_pd(h, hi);
+    }
+    out[5 * f + 4] = _mm_cvtsd_f64(hi);
+    out[5 * (f + 1) + 4] = _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi));
+  }
+#else
+  for (int f = 0; f < 4; ++f)
+  {
+    double* s = out + 5 * f;
     double hi = 0.0;
     for (int k = 0; k < n; ++k)
       hi = std::max(hi, s[0] * cp[k][0] + s[1] * cp[k][1] + s[2] * cp[k][2] - s[3]);
     s[4] = hi;
   }
-}
-} // namespace
-
-bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
-{
-  return this->CellExitFace(c, v, tol) < 0;
+#endif
 }
 
-int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
+using Id = EmbeddingMesh::Id;
+
+// Cell maps, boxes, slabs and the cell tree of `mesh` (node ids in range).
+void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id numberOfCells,
+  int nodesPerCell)
 {
-  const double* s = &this->CellSlabs[20 * c];
-  int face = -1;
-  double worst = 0.0;
-  for (int f = 0; f < 4; ++f, s += 5)
-  {
-    const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
-    if (h > s[4] + tol && (face < 0 || h - s[4] > worst))
-    {
-      worst = h - s[4];
-      face = f;
-    }
-  }
-  return face;
-}
-
-std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
-  Id numberOfCells, int nodesPerCell)
-{
-  std::string err = this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
-  if (!err.empty())
-    return err;
-  const Id nbf = this->Topology.GetNumberOfBoundaryFaces();
-  if (nbf == 0)
-    return "the mesh has no boundary faces";
-  this->Points.assign(points, points + 3 * numberOfPoints);
-  this->Connectivity.assign(conn, conn + nodesPerCell * numberOfCells);
-  this->NodalNormals.assign(3 * numberOfPoints, 0.0);
-  ComputeBoundaryNodeNormals(this->Topology, this->Points.data(), this->NodalNormals.data());
-
-  double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-    std::numeric_limits<double>::max() };
-  double hi[3] = { -lo[0], -lo[1], -lo[2] };
-  for (Id i = 0; i < numberOfPoints; ++i)
-    for (int d = 0; d < 3; ++d)
-    {
-      lo[d] = std::min(lo[d], points[3 * i + d]);
-      hi[d] = std::max(hi[d], points[3 * i + d]);
-    }
-  this->Diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-
   const bool quadratic = nodesPerCell == 10;
-  this->CellMaps.resize(numberOfCells);
+  mesh.CellMaps.resize(numberOfCells);
   std::vector<double> boxes(6 * numberOfCells);
-  this->CellSlabs.assign(20 * numberOfCells, 0.0);
-  // per cell and per face: independent, in parallel
+  mesh.CellSlabs.assign(20 * numberOfCells, 0.0);
   vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
     double x[30];
     for (Id c = cb; c < ce; ++c)
@@ -189,33 +210,50 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
       for (int a = 0; a < nodesPerCell; ++a)
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = points[3 * ids[a] + d];
-      MakeTetMap(x, nodesPerCell, this->CellMaps[c]);
-      ControlBox(points, ids, 4, TetEdgeCorners, 6, quadratic, &boxes[6 * c]);
-      ComputeCellSlabs(points, ids, quadratic, &this->CellSlabs[20 * c]);
+      MakeTetMap(x, nodesPerCell, mesh.CellMaps[c]);
+      double cp[10][3];
+      const int ncp = CellControlPoints(points, ids, quadratic, cp);
+      CellControlBox(cp, ncp, &boxes[6 * c]);
+      ComputeCellSlabs(cp, ncp, &mesh.CellSlabs[20 * c]);
     }
   });
-  this->CellGrid.Build(boxes);
+  mesh.CellGrid.Build(boxes);
+}
 
-  const int npf = this->Topology.GetNodesPerFace();
-  this->FaceMaps.resize(nbf);
-  this->FaceSlabs.assign(6 * nbf, 0.0);
-  this->FaceFlat.assign(10 * nbf, 0.0);
-  this->NormalMaps.resize(nbf);
-  boxes.assign(6 * nbf, 0.0);
+// Topology, nodal normals, face maps, slabs and the face tree of `mesh`; "" or the problem.
+std::string BuildBoundaryData(EmbeddingMesh& mesh, const double* points, const Id* conn,
+  Id numberOfPoints, Id numberOfCells, int nodesPerCell, double diagonal)
+{
+  const bool quadratic = nodesPerCell == 10;
+  std::string err = mesh.Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
+  if (!err.empty())
+    return err;
+  const Id nbf = mesh.Topology.GetNumberOfBoundaryFaces();
+  if (nbf == 0)
+    return "the mesh has no boundary faces";
+  mesh.NodalNormals.assign(3 * numberOfPoints, 0.0);
+  ComputeBoundaryNodeNormals(mesh.Topology, points, mesh.NodalNormals.data());
+
+  const int npf = mesh.Topology.GetNodesPerFace();
+  mesh.FaceMaps.resize(nbf);
+  mesh.FaceSlabs.assign(6 * nbf, 0.0);
+  mesh.FaceFlat.assign(10 * nbf, 0.0);
+  mesh.NormalMaps.resize(nbf);
+  std::vector<double> boxes(6 * nbf);
   auto faceData = [&](Id f, double* x) {
-    const Id* ids = &this->Topology.BoundaryFaceNodes[npf * f];
+    const Id* ids = &mesh.Topology.BoundaryFaceNodes[npf * f];
     double nx[18];
     for (int a = 0; a < npf; ++a)
       for (int d = 0; d < 3; ++d)
       {
         x[3 * a + d] = points[3 * ids[a] + d];
-        nx[3 * a + d] = this->NodalNormals[3 * ids[a] + d];
+        nx[3 * a + d] = mesh.NodalNormals[3 * ids[a] + d];
       }
-    MakeTriangleMap(x, npf, this->FaceMaps[f]);
-    MakeTriangleMap(nx, npf, this->NormalMaps[f]);
+    MakeTriangleMap(x, npf, mesh.FaceMaps[f]);
+    MakeTriangleMap(nx, npf, mesh.NormalMaps[f]);
     ControlBox(points, ids, 3, TriEdges, 3, quadratic, &boxes[6 * f]);
     // slab of the corner plane
-    double* slab = &this->FaceSlabs[6 * f];
+    double* slab = &mesh.FaceSlabs[6 * f];
     const double* a = x;
     const double* b = x + 3;
     const double* c = x + 6;
@@ -229,7 +267,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    double* flat = &this->FaceFlat[10 * f];
+    double* flat = &mesh.FaceFlat[10 * f];
     for (int k = 0; k < 9; ++k)
       flat[k] = x[k];
     flat[9] = std::numeric_limits<double>::infinity();
@@ -263,7 +301,7 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
         tmax2 = std::max(tmax2, std::max(0.0, Dot(dev, dev) - hn * hn));
       }
     }
-    const double pad = 1e-12 * this->Diagonal;
+    const double pad = 1e-12 * diagonal;
     slab[4] = lo - pad;
     slab[5] = hi + pad;
     flat[9] = std::sqrt(tmax2) * (1.0 + 1e-12) + pad;
@@ -273,7 +311,104 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
     for (Id f = fb; f < fe; ++f)
       faceData(f, x);
   });
-  this->FaceTree.Build(boxes);
+  mesh.FaceTree.Build(std::move(boxes));
+  return std::string();
+}
+} // namespace
+
+bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
+{
+  return this->CellExitFace(c, v, tol) < 0;
+}
+
+int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
+{
+  const double* s = &this->CellSlabs[20 * c];
+  int face = -1;
+  double worst = 0.0;
+  for (int f = 0; f < 4; ++f, s += 5)
+  {
+    const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
+    if (h > s[4] + tol && (face < 0 || h - s[4] > worst))
+    {
+      worst = h - s[4];
+      face = f;
+    }
+  }
+  return face;
+}
+
+std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
+  Id numberOfCells, int nodesPerCell)
+{
+  if (numberOfPoints < 0 || numberOfCells < 0 || nodesPerCell < 0)
+    return this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
+  return this->Build(std::vector<double>(points, points + 3 * numberOfPoints),
+    std::vector<Id>(conn, conn + nodesPerCell * numberOfCells), nodesPerCell);
+}
+
+std::string EmbeddingMesh::Build(
+  std::vector<double> pointsIn, std::vector<Id> connIn, int nodesPerCell)
+{
+  const Id numberOfPoints = static_cast<Id>(pointsIn.size() / 3);
+  const Id numberOfCells =
+    nodesPerCell > 0 ? static_cast<Id>(connIn.size() / nodesPerCell) : Id(0);
+  const double* points = pointsIn.data();
+  const Id* conn = connIn.data();
+
+  double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max() };
+  double hi[3] = { -lo[0], -lo[1], -lo[2] };
+  for (Id i = 0; i < numberOfPoints; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::min(lo[d], points[3 * i + d]);
+      hi[d] = std::max(hi[d], points[3 * i + d]);
+    }
+  const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+
+
+  // the cell part reads the nodes of every cell: only with ids in range (the topology
+  // reports the problem otherwise)
+  bool idsInRange = nodesPerCell == 4 || nodesPerCell == 10;
+  for (size_t i = 0; i < connIn.size() && idsInRange; ++i)
+    idsInRange = conn[i] >= 0 && conn[i] < numberOfPoints;
+  // The cell data (maps, boxes, slabs, cell tree) and the boundary data (topology,
+  // normals, face maps, face tree) do not depend on each other: two tasks, each parallel
+  // inside (per cell, per face).
+  std::string err;
+  if (!idsInRange)
+  {
+    err = BuildBoundaryData(
+      *this, points, conn, numberOfPoints, numberOfCells, nodesPerCell, diagonal);
+    if (err.empty())
+      err = "a cell refers to a node out of range";
+  }
+  else
+  {
+    vtkSMPTools::For(0, 2, 1, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType task = b; task < e; ++task)
+      {
+        if (task == 0)
+          err = BuildBoundaryData(
+            *this, points, conn, numberOfPoints, numberOfCells, nodesPerCell, diagonal);
+        else
+          BuildCellData(*this, points, conn, numberOfCells, nodesPerCell);
+      }
+    });
+  }
+  if (!err.empty())
+  {
+    // nothing half-built left behind (the topology has reset itself, or is complete)
+    this->CellMaps.clear();
+    this->CellSlabs.clear();
+    this->CellGrid = BoxGrid();
+    return err;
+  }
+  this->Diagonal = diagonal;
+  this->Points = std::move(pointsIn);
+  this->Connectivity = std::move(connIn);
   return std::string();
 }
 

@@ -28,10 +28,16 @@ public:
   /**
    * Prepare a tet4 (nodesPerCell 4) or tet10 (10) mesh: `points` 3 doubles per node,
    * `conn` nodesPerCell ids per cell in VTK order. Returns "" or a description of the
-   * problem (topology errors of TetMeshTopology::Build, no boundary).
+   * problem (topology errors of TetMeshTopology::Build, no boundary). Threading: the cell
+   * data (maps, boxes, slabs, cell tree) and the boundary data (topology, normals, face
+   * maps, face tree) are built as two vtkSMPTools tasks, each parallel per item; the
+   * result does not depend on the number of threads.
    */
   std::string Build(const double* points, Id numberOfPoints, const Id* conn,
     Id numberOfCells, int nodesPerCell);
+  /// The same, taking over the node coordinates (3 per node) and the connectivity
+  /// (nodesPerCell per cell) without copying them (pass rvalues).
+  std::string Build(std::vector<double> points, std::vector<Id> conn, int nodesPerCell);
 
   TetMeshTopology Topology;
   std::vector<double> Points;       ///< 3 per node

@@ -11,6 +11,7 @@
 #include "vtkCellType.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -22,12 +23,15 @@
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkSignedCharArray.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkStringArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkEmbeddingCoordinatesFilter);
@@ -36,13 +40,25 @@ namespace
 {
 using Id = hoembed::EmbeddingMesh::Id;
 
-bool AllFinite(vtkPoints* pts, vtkIdType& bad)
+// Copy the points as 3 doubles each (float and double arrays read directly); false with
+// `bad` the first point with a non-finite coordinate.
+bool CopyFinitePoints(vtkPoints* pts, std::vector<double>& out, vtkIdType& bad)
 {
   const vtkIdType n = pts->GetNumberOfPoints();
+  vtkDataArray* data = pts->GetData();
+  if (auto* d = vtkDoubleArray::FastDownCast(data))
+    out.assign(d->GetPointer(0), d->GetPointer(0) + 3 * n);
+  else if (auto* f = vtkFloatArray::FastDownCast(data))
+    out.assign(f->GetPointer(0), f->GetPointer(0) + 3 * n);
+  else
+  {
+    out.resize(3 * static_cast<size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+      pts->GetPoint(i, &out[3 * i]);
+  }
   for (vtkIdType i = 0; i < n; ++i)
   {
-    double x[3];
-    pts->GetPoint(i, x);
+    const double* x = &out[3 * i];
     if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
     {
       bad = i;
@@ -50,6 +66,52 @@ bool AllFinite(vtkPoints* pts, vtkIdType& bad)
     }
   }
   return true;
+}
+
+// The first cell (in order) whose type differs from cell 0's or whose size is not npc;
+// Cell -1 when there is none.
+struct CellScan
+{
+  vtkIdType Cell = -1;
+  int Type = 0;
+  vtkIdType Size = 0;
+};
+
+template <typename T>
+CellScan ScanCells(const T* offsets, const T* ids, const unsigned char* types, vtkIdType ncells,
+  int npc, std::vector<Id>& conn, hoembed::MeshFingerprint& fingerprint)
+{
+  CellScan bad;
+  const int type0 = types[0];
+  for (vtkIdType c = 0; c < ncells; ++c)
+  {
+    const vtkIdType size = static_cast<vtkIdType>(offsets[c + 1] - offsets[c]);
+    if (types[c] != type0 || size != npc)
+    {
+      bad.Cell = c;
+      bad.Type = types[c];
+      bad.Size = size;
+      return bad;
+    }
+  }
+  // every cell has npc ids: they lie back to back
+  conn.assign(ids + offsets[0], ids + offsets[ncells]);
+  for (vtkIdType c = 0; c < ncells; ++c)
+    fingerprint.AddCell(type0, conn.data() + npc * c, npc);
+  return bad;
+}
+
+CellScan ReadCells(vtkUnstructuredGrid* mesh, int npc, std::vector<Id>& conn,
+  hoembed::MeshFingerprint& fingerprint)
+{
+  vtkCellArray* cells = mesh->GetCells();
+  const unsigned char* types = mesh->GetCellTypesArray()->GetPointer(0);
+  const vtkIdType ncells = mesh->GetNumberOfCells();
+  if (cells->IsStorage64Bit())
+    return ScanCells(cells->GetOffsetsArray64()->GetPointer(0),
+      cells->GetConnectivityArray64()->GetPointer(0), types, ncells, npc, conn, fingerprint);
+  return ScanCells(cells->GetOffsetsArray32()->GetPointer(0),
+    cells->GetConnectivityArray32()->GetPointer(0), types, ncells, npc, conn, fingerprint);
 }
 } // namespace
 
@@ -104,12 +166,14 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     return 0;
   }
   vtkIdType bad = -1;
-  if (!AllFinite(surface->GetPoints(), bad))
+  std::vector<double> sp; // surface points, 3 doubles each
+  if (!CopyFinitePoints(surface->GetPoints(), sp, bad))
   {
     vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
     return 0;
   }
-  if (!AllFinite(mesh->GetPoints(), bad))
+  std::vector<double> meshPts;
+  if (!CopyFinitePoints(mesh->GetPoints(), meshPts, bad))
   {
     vtkErrorMacro("The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".");
     return 0;
@@ -125,37 +189,26 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     return 0;
   }
   const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
-  std::vector<Id> conn(static_cast<size_t>(npc) * ncells);
   const vtkIdType npts = mesh->GetNumberOfPoints();
+  std::vector<Id> conn;
+  // cell types and connectivity read straight from the arrays (no vtkIdList per cell),
+  // the fingerprint in the same pass
   hoembed::MeshFingerprint fingerprint(npts, ncells);
+  const CellScan scan = ReadCells(mesh, npc, conn, fingerprint);
+  if (scan.Cell >= 0)
   {
-    vtkNew<vtkIdList> ids;
-    std::vector<std::int64_t> ids64;
-    for (vtkIdType c = 0; c < ncells; ++c)
+    if (scan.Type != type0)
     {
-      const int type = mesh->GetCellType(c);
-      if (type != type0)
-      {
-        vtkErrorMacro("The FE mesh mixes cell types: cell " << c << " has type " << type
-                                                             << ", cell 0 has type " << type0
-                                                             << "; use only tet4 or only tet10 cells.");
-        return 0;
-      }
-      mesh->GetCellPoints(c, ids);
-      if (ids->GetNumberOfIds() != npc)
-      {
-        vtkErrorMacro("Cell " << c << " has " << ids->GetNumberOfIds() << " points, expected " << npc << ".");
-        return 0;
-      }
-      ids64.assign(ids->begin(), ids->end());
-      fingerprint.AddCell(type, ids64.data(), npc);
-      for (int a = 0; a < npc; ++a)
-        conn[static_cast<size_t>(npc) * c + a] = ids->GetId(a);
+      vtkErrorMacro("The FE mesh mixes cell types: cell " << scan.Cell << " has type " << scan.Type
+                                                           << ", cell 0 has type " << type0
+                                                           << "; use only tet4 or only tet10 cells.");
     }
+    else
+    {
+      vtkErrorMacro("Cell " << scan.Cell << " has " << scan.Size << " points, expected " << npc << ".");
+    }
+    return 0;
   }
-  std::vector<double> meshPts(3 * static_cast<size_t>(npts));
-  for (vtkIdType i = 0; i < npts; ++i)
-    mesh->GetPoints()->GetPoint(i, &meshPts[3 * i]);
   for (vtkIdType i = 0; i < npc * ncells; ++i)
   {
     if (conn[i] < 0 || conn[i] >= npts)
@@ -209,7 +262,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   this->UpdateProgress(0.05);
 
   hoembed::EmbeddingMesh em;
-  const std::string err = em.Build(meshPts.data(), npts, conn.data(), ncells, npc);
+  const std::string err = em.Build(std::move(meshPts), std::move(conn), npc);
   if (!err.empty())
   {
     vtkErrorMacro("The FE mesh topology is not usable: " << err);
@@ -219,14 +272,13 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
 
   // surface points and triangles
   const vtkIdType ns = surface->GetNumberOfPoints();
-  std::vector<double> sp(3 * static_cast<size_t>(ns));
-  vtkPoints* surfacePoints = surface->GetPoints();
-  vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType i = b; i < e; ++i)
-      surfacePoints->GetPoint(i, &sp[3 * i]);
-  });
   std::vector<Id> tris;
   {
+    // a polygon or strip of k points gives k - 2 triangles
+    vtkIdType ntri = 0;
+    for (vtkCellArray* ca : { surface->GetPolys(), surface->GetStrips() })
+      ntri += std::max<vtkIdType>(0, ca->GetNumberOfConnectivityIds() - 2 * ca->GetNumberOfCells());
+    tris.reserve(3 * static_cast<size_t>(ntri));
     auto it = vtk::TakeSmartPointer(surface->GetPolys()->NewIterator());
     for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
     {

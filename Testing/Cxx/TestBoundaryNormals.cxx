@@ -369,6 +369,28 @@ void TestFingerprint()
   ids[7] = 0;
   a->GetCells()->ReplaceCellAtId(5, npts, ids.data());
   HOEMBED_CHECK(Fingerprint(a) != ha, "changing an id kept the fingerprint");
+  // Ids of every byte width (the small ones take a shortcut) and negative values, against
+  // the byte stream.
+  {
+    const std::int64_t odd[] = { 0, 1, 255, 256, 65535, 65536, 70000, 1ll << 40,
+      std::int64_t(0x7fffffffffffffffll), -1, -65536 };
+    const int n = static_cast<int>(sizeof(odd) / sizeof(odd[0]));
+    hoembed::MeshFingerprint f(65536, -3);
+    f.AddCell(24, odd, n);
+    f.AddCell(-7, odd + 3, 4);
+    std::vector<unsigned char> s;
+    PushLE(s, 65536);
+    PushLE(s, -3);
+    PushLE(s, 24);
+    for (int k = 0; k < n; ++k)
+      PushLE(s, odd[k]);
+    PushLE(s, -7);
+    for (int k = 3; k < 7; ++k)
+      PushLE(s, odd[k]);
+    HOEMBED_CHECK(f.Value() == Fnv1a(s),
+      "fingerprint of wide / negative ids %016llx, stream %016llx",
+      static_cast<unsigned long long>(f.Value()), static_cast<unsigned long long>(Fnv1a(s)));
+  }
   hoembed::MeshFingerprint f1(10, 0), f2(11, 0);
   HOEMBED_CHECK(f1.Hex() != f2.Hex(), "point count not in the fingerprint");
   HOEMBED_CHECK(f1.Value() == std::stoull(f1.Hex(), nullptr, 16), "Value() and Hex() disagree");

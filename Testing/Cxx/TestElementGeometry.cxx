@@ -526,6 +526,47 @@ void PrintTimings(std::mt19937& rng)
 }
 } // namespace
 
+// Tet10IsValid takes a shortcut (Bernstein coefficients from the corner Jacobians) for
+// clearly valid elements; its answer must be the subdividing bound's (Tet10JacobianBounds,
+// which does not take it) at every depth, also for elements far from the origin, and the
+// trials must include elements that need subdivision.
+void TestValidityShortcut(std::mt19937& rng)
+{
+  std::uniform_real_distribution<double> u(0, 1);
+  int needSubdivision = 0, valid = 0, invalid = 0;
+  for (int trial = 0; trial < 3000; ++trial)
+  {
+    double c[4][3], x[30];
+    RandomCorners(rng, c);
+    Straight(c, x);
+    Perturb(rng, x, 0.05 + 0.25 * u(rng));
+    if (trial % 3 == 1)
+      for (int n = 0; n < 30; ++n)
+        x[n] += 1e3 * (n % 3 + 1); // far from the origin
+    for (int depth = 0; depth <= 3; ++depth)
+    {
+      double lo, hi;
+      hoembed::Tet10JacobianBounds(x, lo, hi, depth);
+      const bool ok = hoembed::Tet10IsValid(x, depth);
+      HOEMBED_CHECK(ok == (lo > 0.0), "trial %d depth %d: Tet10IsValid %d, subdividing bound %g",
+        trial, depth, int(ok), lo);
+      if (depth == 3)
+      {
+        double lo0, hi0;
+        hoembed::Tet10JacobianBounds(x, lo0, hi0, 0);
+        needSubdivision += lo > 0.0 && !(lo0 > 0.0);
+        valid += lo > 0.0;
+        invalid += !(lo > 0.0);
+      }
+    }
+  }
+  std::printf("validity shortcut: %d valid (%d only after subdivision), %d not\n", valid,
+    needSubdivision, invalid);
+  HOEMBED_CHECK(needSubdivision >= 20 && invalid >= 20 && valid >= 1000,
+    "trials do not cover the cases: %d after subdivision, %d invalid, %d valid", needSubdivision,
+    invalid, valid);
+}
+
 int main(int, char*[])
 {
   std::mt19937 rng(2024);
@@ -533,6 +574,7 @@ int main(int, char*[])
   TestAffine(rng);
   TestVolume(rng);
   TestBounds(rng);
+  TestValidityShortcut(rng);
   TestHiddenNegative();
   TestScaledJacobian(rng);
   TestDegenerate();
