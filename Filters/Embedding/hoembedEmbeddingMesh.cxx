@@ -194,7 +194,7 @@ void ComputeCellSlabs(const double cp[10][3], int n, double* out)
 
 using Id = EmbeddingMesh::Id;
 
-// Cell maps, boxes, slabs and the cell tree of `mesh` (node ids in range).
+// Cell maps, boxes, slabs and the cell grid of `mesh` (node ids in range).
 void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id numberOfCells,
   int nodesPerCell)
 {
@@ -374,7 +374,7 @@ std::string EmbeddingMesh::Build(
   bool idsInRange = nodesPerCell == 4 || nodesPerCell == 10;
   for (size_t i = 0; i < connIn.size() && idsInRange; ++i)
     idsInRange = conn[i] >= 0 && conn[i] < numberOfPoints;
-  // The cell data (maps, boxes, slabs, cell tree) and the boundary data (topology,
+  // The cell data (maps, boxes, slabs, cell grid) and the boundary data (topology,
   // normals, face maps, face tree) do not depend on each other: two tasks, each parallel
   // inside (per cell, per face).
   std::string err;

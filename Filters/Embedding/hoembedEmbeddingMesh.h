@@ -29,7 +29,7 @@ public:
    * Prepare a tet4 (nodesPerCell 4) or tet10 (10) mesh: `points` 3 doubles per node,
    * `conn` nodesPerCell ids per cell in VTK order. Returns "" or a description of the
    * problem (topology errors of TetMeshTopology::Build, no boundary). Threading: the cell
-   * data (maps, boxes, slabs, cell tree) and the boundary data (topology, normals, face
+   * data (maps, boxes, slabs, cell grid) and the boundary data (topology, normals, face
    * maps, face tree) are built as two vtkSMPTools tasks, each parallel per item; the
    * result does not depend on the number of threads.
    */

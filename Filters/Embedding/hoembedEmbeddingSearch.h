@@ -28,10 +28,12 @@
  *    cell (constrained closest point in the cell, Newton inversion from the centroid when
  *    it stops on the cell's border, then the neighbour across the face the solution
  *    lies on; visited stamps, explicit queue), then every cell whose box holds the
- *    point. A point the pseudo-normal puts outside is still tested (Newton inversion
- *    of the cell's map; a solution outside the element excludes the cell when
- *    TetMapExcludes proves no point of it within the tolerance, else the constrained
- *    closest point in the cell decides) against every
+ *    point (EmbeddingMesh::CellGrid). A point the pseudo-normal puts outside is still
+ *    tested (Newton inversion of the cell's map, given up where the map folds; a
+ *    solution outside the element excludes the cell when TetMapExclusionRadius proves
+ *    no point of it within the tolerance, with the cell's exclusion rate where that
+ *    covers the solution, else the constrained closest point in the cell decides)
+ *    against every
  *    cell whose control-point box and straight-face slabs (EmbeddingMesh::CellSlabs)
  *    hold it: a curved mesh whose boundary crosses itself (a cell poking through a
  *    boundary face elsewhere) has inside points on the outer side of their closest face.
