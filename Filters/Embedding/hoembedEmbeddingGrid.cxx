@@ -6,7 +6,7 @@
 
 namespace hoembed
 {
-void BoxGrid::Build(const std::vector<double>& boxes)
+void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
 {
   const Id n = static_cast<Id>(boxes.size() / 6);
   this->ItemBoxes = boxes;
@@ -27,14 +27,13 @@ void BoxGrid::Build(const std::vector<double>& boxes)
       lo[d] = std::min(lo[d], boxes[6 * i + d]);
       hi[d] = std::max(hi[d], boxes[6 * i + 3 + d]);
     }
-  // cubic bins, about eight per item over the bounding box (flat or thin meshes: the
-  // volume of the box padded by a tenth of its largest extent); fewer, larger bins hold
-  // more boxes to test per query, more bins list each box more often
+  // cubic bins, binsPerItem per item over the bounding box (flat or thin meshes: the
+  // volume of the box padded by a tenth of its largest extent)
   const double ext = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
   double volume = 1.0;
   for (int d = 0; d < 3; ++d)
     volume *= hi[d] - lo[d] + 0.1 * ext;
-  double size = std::cbrt(volume / (8.0 * static_cast<double>(n)));
+  double size = std::cbrt(volume / (binsPerItem * static_cast<double>(n)));
   if (!(size > 0.0) || !std::isfinite(size))
     size = ext > 0.0 ? ext : 1.0;
   for (int d = 0; d < 3; ++d)
@@ -64,19 +63,6 @@ void BoxGrid::Build(const std::vector<double>& boxes)
     forBins(i, [&](Id b) { this->Items[fill[b]++] = i; });
 }
 
-void BoxGrid::BinRange(const double lo[3], const double hi[3], int first[3], int last[3]) const
-{
-  for (int d = 0; d < 3; ++d)
-  {
-    // truncation is the floor for the positive values kept (NaN compares false: bin 0)
-    const double a = (lo[d] - this->Origin[d]) * this->InvSize;
-    const double b = (hi[d] - this->Origin[d]) * this->InvSize;
-    const double top = this->Dims[d] - 1;
-    first[d] = static_cast<int>(a > 0.0 ? std::min(a, top) : 0.0);
-    last[d] = static_cast<int>(b > 0.0 ? std::min(b, top) : 0.0);
-  }
-}
-
 void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) const
 {
   if (this->Offsets.empty())
@@ -98,18 +84,9 @@ void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) co
           if (v[0] < b[0] - tol || v[1] < b[1] - tol || v[2] < b[2] - tol ||
             v[0] > b[3] + tol || v[1] > b[4] + tol || v[2] > b[5] + tol)
             continue;
-          if (!single)
-          {
-            // an item met in several bins of the query is reported in the first of them
-            int ilo[3], ihi[3];
-            this->BinRange(b, b + 3, ilo, ihi);
-            const int bin3[3] = { x, y, z };
-            bool firstBin = true;
-            for (int d = 0; d < 3; ++d)
-              firstBin = firstBin && bin3[d] == std::max(ilo[d], first[d]);
-            if (!firstBin)
-              continue;
-          }
+          const int bin3[3] = { x, y, z };
+          if (!single && !this->FirstBin(b, first, bin3))
+            continue; // met again in a later bin of the query
           out.push_back(item);
         }
       }

@@ -311,6 +311,7 @@ std::string BuildBoundaryData(EmbeddingMesh& mesh, const double* points, const I
     for (Id f = fb; f < fe; ++f)
       faceData(f, x);
   });
+  mesh.FaceGrid.Build(boxes, 32.0);
   mesh.FaceTree.Build(std::move(boxes));
   return std::string();
 }

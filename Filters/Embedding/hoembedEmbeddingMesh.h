@@ -62,6 +62,7 @@ public:
   /// 4 x 5 doubles. Zero normal for a degenerate face (never excludes).
   std::vector<double> CellSlabs;
   AabbTree FaceTree;
+  BoxGrid FaceGrid; ///< the same boxes (32 bins per face): short-range queries
   BoxGrid CellGrid; ///< over the cells' control-point boxes
   double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
 

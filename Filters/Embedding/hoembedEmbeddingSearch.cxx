@@ -17,6 +17,7 @@ constexpr double InsideTolerance = 1e-11;    // of the diagonal
 constexpr double CorrectionTolerance = 1e-12; // of the diagonal
 constexpr double CertifyTolerance = 1e-10;   // of the diagonal: closest point on a patch
 constexpr int MaxWalk = 64;
+constexpr int MaxGridBins = 8; // face grid queries up to 2 x 2 x 2 bins
 
 const double CornerUV[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
 
@@ -236,7 +237,7 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
   // certification: every face whose box is nearer than the best distance
   // (a face whose lower bound is within 1e-10 relative of the best cannot improve it by
   // more than that, far below the 1e-8 of the diagonal that matters)
-  M.FaceTree.VisitNearer(v, best.Dist2, [&](Id f) {
+  auto certify = [&](Id f) {
     if (S.FaceStamp[f] == stamp)
       return;
     const double bound = M.FaceLowerBound2(f, v);
@@ -251,7 +252,11 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
       PatchFartherThan(M.FaceMaps[f], v, start, best.Dist2, CertifyTolerance * M.Diagonal))
       return;
     SolveFace(M, v, f, start, bound, best, out, S);
-  });
+  };
+  // the bins within the best distance when they are few (a point near the surface),
+  // else the tree, nearest boxes first
+  if (!M.FaceGrid.VisitNearer(v, best.Dist2, MaxGridBins, certify))
+    M.FaceTree.VisitNearer(v, best.Dist2, certify);
   for (const auto& sf : S.Retry)
     RetryFace(M, v, sf, best, out);
 }

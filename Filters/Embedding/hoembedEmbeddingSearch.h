@@ -13,7 +13,9 @@
  *    of 10 on the real meshes: those go to step 2 and are located in step 3.)
  * 2. Otherwise the closest boundary point: Algorithm 1 over boundary faces from the hint
  *    face (tri6 closest point; on an edge go to the face across it, at a corner to all
- *    faces around the node), then certification with the face box tree: every face whose
+ *    faces around the node), then certification with the face boxes (EmbeddingMesh::
+ *    FaceGrid within the best distance when that spans at most 2 x 2 x 2 bins, else the
+ *    FaceTree, nearest boxes first): every face whose
  *    control-point box and lower bound (EmbeddingMesh::FaceLowerBound2) are nearer than
  *    the best distance is solved too, unless the exact expansion at the closest point of
  *    its flat triangle already puts it beyond (PatchFartherThan); then every curved face

@@ -1,8 +1,8 @@
 /**
  * @file hoembedEmbeddingTree.h
- * @brief A static axis-aligned bounding-box tree over items (boundary faces or cells),
- * used to certify that a closest point is the global one and to find the cells that can
- * contain a point.
+ * @brief A static axis-aligned bounding-box tree over items (the boundary faces), used
+ * to certify that a closest point is the global one when the search radius is too large
+ * for the face grid (hoembedEmbeddingGrid.h), nearest boxes first.
  *
  * The boxes of curved items are the boxes of their Bezier control points (the convex
  * hull property of the Bernstein form), so an item can never reach outside its box.

@@ -805,14 +805,15 @@ void ShearMap(double x[3])
   x[2] = Z + 0.15 * std::sin(M_PI * X) * std::sin(M_PI * Y);
 }
 
-// hoembed::BoxGrid::Containing (the cells whose boxes may hold a point) against a scan of
-// every box: clustered and flat boxes, points on box faces, outside the grid and far
-// away, several tolerances; each item once.
+// hoembed::BoxGrid::Containing (the cells whose boxes may hold a point) and VisitNearer
+// (the boundary faces whose boxes are within a distance) against a scan of every box:
+// clustered and flat boxes, points on box faces, outside the grid and far away, several
+// tolerances and radii; each item once.
 void TestBoxGrid()
 {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  int mismatches = 0, duplicates = 0, hits = 0, queries = 0;
+  int mismatches = 0, duplicates = 0, hits = 0, queries = 0, nearMismatches = 0, nearHits = 0;
   for (int trial = 0; trial < 6; ++trial)
   {
     const int n = trial == 0 ? 1 : 40 * trial * trial;
@@ -863,13 +864,46 @@ void TestBoxGrid()
         mismatches += got != want;
         hits += static_cast<int>(want.size());
       }
+      // VisitNearer: every box nearer than the radius (as it stands when the box is
+      // reached: a visit may lower it, here to 1.2 times the visited box's distance), once
+      for (const double radius : { 0.01, 0.1, 0.3 })
+      {
+        double best2 = radius * radius;
+        std::vector<hoembed::BoxGrid::Id> got;
+        if (!grid.VisitNearer(v, best2, 1 << 30, [&](hoembed::BoxGrid::Id item) {
+              got.push_back(item);
+              const double d2 = hoembed::BoxGrid::BoxDistance2(&boxes[6 * item], v);
+              if (q % 2)
+                best2 = std::min(best2, 1.44 * d2);
+            }))
+        {
+          ++nearMismatches;
+          continue;
+        }
+        ++queries;
+        std::sort(got.begin(), got.end());
+        duplicates += std::adjacent_find(got.begin(), got.end()) != got.end();
+        for (int i = 0; i < n; ++i)
+        {
+          const double d2 = hoembed::BoxGrid::BoxDistance2(&boxes[6 * i], v);
+          const bool visited = std::binary_search(got.begin(), got.end(), i);
+          // a box nearer than the final radius must be visited; none beyond the first
+          if ((d2 < best2 && !visited) || (visited && !(d2 < radius * radius)))
+            ++nearMismatches;
+        }
+        nearHits += static_cast<int>(got.size());
+      }
     }
   }
   HOEMBED_CHECK(mismatches == 0, "BoxGrid: %d of %d queries differ from a scan of the boxes",
     mismatches, queries);
   HOEMBED_CHECK(duplicates == 0, "BoxGrid: %d queries report an item twice", duplicates);
   HOEMBED_CHECK(hits > queries, "BoxGrid: only %d hits in %d queries (test setup)", hits, queries);
-  std::printf("box grid: %d queries, %d hits, as a scan of every box\n", queries, hits);
+  HOEMBED_CHECK(nearMismatches == 0, "BoxGrid::VisitNearer: %d boxes missed or visited beyond "
+    "the radius", nearMismatches);
+  HOEMBED_CHECK(nearHits > 1000, "BoxGrid::VisitNearer: only %d visits (test setup)", nearHits);
+  std::printf("box grid: %d queries, %d + %d hits, as a scan of every box\n", queries, hits,
+    nearHits);
 }
 
 void TestFaceLowerBound()
