@@ -98,6 +98,26 @@ void Mid(const double a[3], const double b[3], double m[3])
     m[d] = 0.5 * (a[d] + b[d]);
 }
 
+// The 8 children of a (parametric) sub-tet by edge midpoints: 4 corner tets and 4
+// around the octahedron's diagonal m02-m13.
+void SubdivideTet(const double c[4][3], double kids[8][4][3])
+{
+  double m01[3], m02[3], m03[3], m12[3], m13[3], m23[3];
+  Mid(c[0], c[1], m01);
+  Mid(c[0], c[2], m02);
+  Mid(c[0], c[3], m03);
+  Mid(c[1], c[2], m12);
+  Mid(c[1], c[3], m13);
+  Mid(c[2], c[3], m23);
+  const double* corners[8][4] = { { c[0], m01, m02, m03 }, { m01, c[1], m12, m13 },
+    { m02, m12, c[2], m23 }, { m03, m13, m23, c[3] }, { m02, m13, m01, m12 },
+    { m02, m13, m12, m23 }, { m02, m13, m23, m03 }, { m02, m13, m03, m01 } };
+  for (int k = 0; k < 8; ++k)
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        kids[k][a][d] = corners[k][a][d];
+}
+
 // Lower bound of det J over the sub-tet c, refined by red subdivision up to `depth`.
 double SubTetLowerBound(const double* x, const double c[4][3], int depth)
 {
@@ -115,23 +135,11 @@ double SubTetLowerBound(const double* x, const double c[4][3], int depth)
     }
     return lo;
   }
-  double m01[3], m02[3], m03[3], m12[3], m13[3], m23[3];
-  Mid(c[0], c[1], m01);
-  Mid(c[0], c[2], m02);
-  Mid(c[0], c[3], m03);
-  Mid(c[1], c[2], m12);
-  Mid(c[1], c[3], m13);
-  Mid(c[2], c[3], m23);
-  const double* kids[8][4] = { { c[0], m01, m02, m03 }, { m01, c[1], m12, m13 },
-    { m02, m12, c[2], m23 }, { m03, m13, m23, c[3] }, { m02, m13, m01, m12 },
-    { m02, m13, m12, m23 }, { m02, m13, m23, m03 }, { m02, m13, m03, m01 } };
+  double kids[8][4][3];
+  SubdivideTet(c, kids);
   double best = std::numeric_limits<double>::infinity();
-  for (auto& kid : kids)
+  for (auto& k : kids)
   {
-    double k[4][3];
-    for (int a = 0; a < 4; ++a)
-      for (int d = 0; d < 3; ++d)
-        k[a][d] = kid[a][d];
     best = std::min(best, SubTetLowerBound(x, k, depth - 1));
     if (!(best > 0.0) && best < lo)
     {
@@ -141,25 +149,6 @@ double SubTetLowerBound(const double* x, const double c[4][3], int depth)
   return std::max(best, lo); // the parent's bound is valid too
 }
 
-// Jacobians of a tet10 at its 4 corners: G[k][i] = dx/dxi_i at corner k. det J is affine
-// in the parametric point, J = sum_k lambda_k G[k].
-void CornerJacobians(const double* x, double G[4][3][3])
-{
-  // mid-edge node of corners a, b (VTK order: 01, 12, 02, 03, 13, 23)
-  static const int MidNode[4][4] = { { -1, 4, 6, 7 }, { 4, -1, 5, 8 }, { 6, 5, -1, 9 },
-    { 7, 8, 9, -1 } };
-  for (int k = 0; k < 4; ++k)
-  {
-    // dx/dlambda_a at corner k: 3 x_k for a = k, else 4 x_ak - x_a
-    double D[4][3];
-    for (int a = 0; a < 4; ++a)
-      for (int d = 0; d < 3; ++d)
-        D[a][d] = a == k ? 3.0 * x[3 * k + d] : 4.0 * x[3 * MidNode[a][k] + d] - x[3 * a + d];
-    for (int i = 0; i < 3; ++i)
-      for (int d = 0; d < 3; ++d)
-        G[k][i][d] = D[i + 1][d] - D[0][d];
-  }
-}
 
 // Smallest Bernstein coefficient of det(sum_k mu_k G[k]) over the tet with barycentrics
 // mu: det is trilinear in the columns, so the coefficient of the multi-index alpha is
@@ -213,22 +202,10 @@ bool SubTetClearlyPositive(const double G[4][3][3], const double c[4][3], int de
     return true;
   if (depth <= 0)
     return false;
-  double m01[3], m02[3], m03[3], m12[3], m13[3], m23[3];
-  Mid(c[0], c[1], m01);
-  Mid(c[0], c[2], m02);
-  Mid(c[0], c[3], m03);
-  Mid(c[1], c[2], m12);
-  Mid(c[1], c[3], m13);
-  Mid(c[2], c[3], m23);
-  const double* kids[8][4] = { { c[0], m01, m02, m03 }, { m01, c[1], m12, m13 },
-    { m02, m12, c[2], m23 }, { m03, m13, m23, c[3] }, { m02, m13, m01, m12 },
-    { m02, m13, m12, m23 }, { m02, m13, m23, m03 }, { m02, m13, m03, m01 } };
-  for (auto& kid : kids)
+  double kids[8][4][3];
+  SubdivideTet(c, kids);
+  for (auto& k : kids)
   {
-    double k[4][3];
-    for (int a = 0; a < 4; ++a)
-      for (int d = 0; d < 3; ++d)
-        k[a][d] = kid[a][d];
     if (!SubTetClearlyPositive(G, k, depth - 1, margin))
       return false;
   }
@@ -342,7 +319,7 @@ bool Tet10IsValid(const double* x, int depth)
   // SubTetLowerBound finds every coefficient (and sample) of those sub-tets positive too,
   // so it returns a positive bound; an element not clearly positive takes the full test.
   double G[4][3][3];
-  CornerJacobians(x, G);
+  Tet10CornerJacobians(x, G);
   double gn = 0.0, xn = 0.0;
   bool finite = true;
   for (int k = 0; k < 4; ++k)
@@ -405,4 +382,23 @@ double Tet4Volume(const double* x)
 {
   return Tet4JacobianDeterminant(x) / 6.0;
 }
+void Tet10CornerJacobians(const double* x, double G[4][3][3])
+{
+  // mid-edge node of corners a, b (VTK order: 01, 12, 02, 03, 13, 23)
+  static const int MidNode[4][4] = { { -1, 4, 6, 7 }, { 4, -1, 5, 8 }, { 6, 5, -1, 9 },
+    { 7, 8, 9, -1 } };
+  for (int k = 0; k < 4; ++k)
+  {
+    // dx/dlambda_a at corner k (lambda as independent variables): 3 x_k for a = k, else
+    // 4 x_ak - x_a; then dx/dxi_i = dx/dlambda_i - dx/dlambda_0
+    double D[4][3];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        D[a][d] = a == k ? 3.0 * x[3 * k + d] : 4.0 * x[3 * MidNode[a][k] + d] - x[3 * a + d];
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+        G[k][i][d] = D[i + 1][d] - D[0][d];
+  }
+}
+
 } // namespace hoembed

@@ -30,6 +30,13 @@ HOEMBEDFILTERSCORE_EXPORT double Tet4JacobianDeterminant(const double* x);
 HOEMBEDFILTERSCORE_EXPORT double Determinant3(const double J[3][3]);
 
 /**
+ * Jacobians of a tet10 (nodes in VTK order) at its 4 corners: G[k][i] = dx/dxi_i at
+ * corner k (xi = 0, e_1, e_2, e_3). The Jacobian is affine in xi, so it is
+ * sum_k lambda_k G[k] everywhere (lambda: barycentric coordinates).
+ */
+HOEMBEDFILTERSCORE_EXPORT void Tet10CornerJacobians(const double* x, double G[4][3][3]);
+
+/**
  * Bounds of det J over the whole tet10 element.
  * @param x        10 nodes, 3 doubles each
  * @param minBound on return, a lower bound of min det J (exact at the corners)

@@ -1,5 +1,6 @@
 #include "hoembedClosestPoint.h"
 #include "hoembedClosestPointInternal.h"
+#include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
 
 #include <algorithm>
@@ -596,25 +597,6 @@ void MakeTriangleMap(const double* x, int n, QuadraticMap& m)
     MakeMap<2>(x, 3, [](const double* p, double* d) { Tri3Derivs(p, d); }, m);
 }
 
-void Tet10CornerJacobians(const double* x, double G[4][3][3])
-{
-  // mid-edge node of corners a, b (VTK order: 01, 12, 02, 03, 13, 23)
-  static const int Mid[4][4] = { { -1, 4, 6, 7 }, { 4, -1, 5, 8 }, { 6, 5, -1, 9 },
-    { 7, 8, 9, -1 } };
-  for (int k = 0; k < 4; ++k)
-  {
-    // dx/dlambda_a at corner k (lambda as independent variables): 3 x_k for a = k, else
-    // 4 x_ak - x_a; then dx/dxi_i = dx/dlambda_i - dx/dlambda_0
-    double D[4][3];
-    for (int a = 0; a < 4; ++a)
-      for (int d = 0; d < 3; ++d)
-        D[a][d] = a == k ? 3.0 * x[3 * k + d] : 4.0 * x[3 * Mid[a][k] + d] - x[3 * a + d];
-    for (int i = 0; i < 3; ++i)
-      for (int d = 0; d < 3; ++d)
-        G[k][i][d] = D[i + 1][d] - D[0][d];
-  }
-}
-
 namespace
 {
 // Smallest Bernstein coefficient of det J over a tet whose corner Jacobians are G (J
@@ -830,6 +812,21 @@ namespace
 // iterate stays strictly inside, the Hessian stays positive definite, the step becomes
 // negligible and f did not grow: then the result is an interior local minimum (KKT with
 // no active constraint). Otherwise the caller runs the active-set solver.
+// A converged answer of the patch fast paths: parameters xi, point x, squared distance f.
+void SetPatchResult(const double xi[2], const double x[3], double f, int active,
+  int iterations, ClosestPointResult& res)
+{
+  res.Param[0] = xi[0];
+  res.Param[1] = xi[1];
+  res.Param[2] = 0.0;
+  for (int d = 0; d < 3; ++d)
+    res.Point[d] = x[d];
+  res.Distance2 = f;
+  res.Active = active;
+  res.Iterations = iterations;
+  res.Converged = true;
+}
+
 // Where plain Newton leaves the triangle: the constraint (0 u = 0, 1 v = 0, 2 u + v = 1)
 // the step from xi to xi + p crosses first, and the edge parameter t of the crossing
 // (EdgeNewton2's parametrisation). -1 when the crossing is not clear cut.
@@ -903,15 +900,7 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
       const double f = Dot3(r, r);
       if (f > f0)
         return false;
-      res.Param[0] = xi[0];
-      res.Param[1] = xi[1];
-      res.Param[2] = 0.0;
-      for (int d = 0; d < 3; ++d)
-        res.Point[d] = x[d];
-      res.Distance2 = f;
-      res.Active = 0;
-      res.Iterations = it + 1;
-      res.Converged = true;
+      SetPatchResult(xi, x, f, 0, it + 1, res);
       return true;
     }
   }
@@ -974,20 +963,12 @@ bool EdgeNewton2(const QuadraticMap& m, const double v[3], int k, double t0,
       const double mu = k == 0 ? gu : (k == 1 ? gv : -0.5 * (gu + gv));
       if (mu < -1e-10 * std::max(std::fabs(gu), std::fabs(gv)))
         return false;
-      res.Param[0] = xi[0];
-      res.Param[1] = xi[1];
-      res.Param[2] = 0.0;
-      for (int d = 0; d < 3; ++d)
-        res.Point[d] = x[d];
-      res.Distance2 = f;
       int active = 0;
       const double slack[3] = { xi[0], xi[1], 1.0 - xi[0] - xi[1] };
       for (int c = 0; c < 3; ++c)
         if (c == k || slack[c] <= 1e-13)
           active |= 1 << c;
-      res.Active = active;
-      res.Iterations = it + 1;
-      res.Converged = true;
+      SetPatchResult(xi, x, f, active, it + 1, res);
       return true;
     }
   }

@@ -46,13 +46,6 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTriangleMap(const double* x, int n, Quad
 HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTetMap(const double* x, int n, QuadraticMap& m);
 
 /**
- * Jacobians of a tet10 (nodes in VTK order) at its 4 corners: G[k][i] = dx/dxi_i at
- * corner k (xi = 0, e_1, e_2, e_3). The Jacobian is affine in xi, so it is
- * sum_k lambda_k G[k] everywhere (lambda: barycentric coordinates).
- */
-HOEMBEDFILTERSEMBEDDING_EXPORT void Tet10CornerJacobians(const double* x, double G[4][3][3]);
-
-/**
  * True when det J > 0 is proven over the whole tet10 (nodes in VTK order) by the cubic's
  * Bernstein coefficients, all above 1e-12 of their largest magnitude (they come from the
  * corner Jacobians: det(sum_k lambda_k G_k) expanded multilinearly). False means "not

@@ -11,6 +11,7 @@
 #ifndef hoembedEmbeddingGrid_h
 #define hoembedEmbeddingGrid_h
 
+#include "hoembedEmbeddingTree.h"
 #include "hoembedFiltersEmbeddingModule.h"
 
 #include <algorithm>
@@ -73,26 +74,12 @@ public:
             const double* b = &this->ItemBoxes[6 * item];
             if (!single && !this->FirstBin(b, first, bin3))
               continue; // met again in a later bin of the query
-            if (BoxDistance2(b, v) < best2)
+            if (AabbTree::BoxDistance2(b, v) < best2)
               visit(item);
           }
         }
     return true;
   }
-
-  /// Squared distance from v to box b (0 inside).
-  static double BoxDistance2(const double* b, const double v[3])
-  {
-    double s = 0.0;
-    for (int d = 0; d < 3; ++d)
-    {
-      const double e = v[d] < b[d] ? b[d] - v[d] : (v[d] > b[d + 3] ? v[d] - b[d + 3] : 0.0);
-      s += e * e;
-    }
-    return s;
-  }
-
-  Id GetNumberOfItems() const { return static_cast<Id>(this->ItemBoxes.size() / 6); }
 
 private:
   // bin range of the box [lo, hi], clamped to the grid

@@ -872,7 +872,7 @@ void TestBoxGrid()
         std::vector<hoembed::BoxGrid::Id> got;
         if (!grid.VisitNearer(v, best2, 1 << 30, [&](hoembed::BoxGrid::Id item) {
               got.push_back(item);
-              const double d2 = hoembed::BoxGrid::BoxDistance2(&boxes[6 * item], v);
+              const double d2 = hoembed::AabbTree::BoxDistance2(&boxes[6 * item], v);
               if (q % 2)
                 best2 = std::min(best2, 1.44 * d2);
             }))
@@ -885,7 +885,7 @@ void TestBoxGrid()
         duplicates += std::adjacent_find(got.begin(), got.end()) != got.end();
         for (int i = 0; i < n; ++i)
         {
-          const double d2 = hoembed::BoxGrid::BoxDistance2(&boxes[6 * i], v);
+          const double d2 = hoembed::AabbTree::BoxDistance2(&boxes[6 * i], v);
           const bool visited = std::binary_search(got.begin(), got.end(), i);
           // a box nearer than the final radius must be visited; none beyond the first
           if ((d2 < best2 && !visited) || (visited && !(d2 < radius * radius)))
