@@ -31,77 +31,6 @@ double Norm(const double a[3])
 const double FaceNodeUV[6][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 0.5, 0 }, { 0.5, 0.5 },
   { 0, 0.5 } };
 
-// The same derivatives at the nodes as compile-time constants (Tri6Derivs' and
-// Tri3Derivs' formulas; small integers, exact): D[q][k][dir][a], q = 1 for tri6, 0 for
-// tri3 (a < 3). ComputeBoundaryNodeNormals checks them against the functions.
-struct ConstantNodeDerivatives
-{
-  double D[2][6][2][6] = {};
-  constexpr ConstantNodeDerivatives()
-  {
-    constexpr double uv[6][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 0.5, 0 }, { 0.5, 0.5 },
-      { 0, 0.5 } };
-    for (int k = 0; k < 6; ++k)
-    {
-      const double L1 = uv[k][0], L2 = uv[k][1];
-      const double L0 = 1.0 - L1 - L2;
-      const double a0 = 1.0 - 4.0 * L0;
-      const double d6[12] = { a0, 4.0 * L1 - 1.0, 0.0, 4.0 * (L0 - L1), 4.0 * L2, -4.0 * L2, a0,
-        0.0, 4.0 * L2 - 1.0, -4.0 * L1, 4.0 * L1, 4.0 * (L0 - L2) };
-      const double d3[6] = { -1, 1, 0, -1, 0, 1 };
-      for (int a = 0; a < 6; ++a)
-      {
-        this->D[1][k][0][a] = d6[a];
-        this->D[1][k][1][a] = d6[6 + a];
-        this->D[0][k][0][a] = a < 3 ? d3[a] : 0.0;
-        this->D[0][k][1][a] = a < 3 ? d3[3 + a] : 0.0;
-      }
-    }
-  }
-};
-constexpr ConstantNodeDerivatives ConstD;
-
-// xu, xv at node K of a face with node coordinates p[0..5]: the sums of D * p over the
-// non-zero D only, in increasing node order. With finite coordinates a zero derivative
-// would add a signed zero to a sum that started at +0, which leaves it unchanged, so
-// this gives the bits of the full sums.
-template <int Q, int K, int C>
-inline void AddTerm(const double* const* p, double xu[3], double xv[3])
-{
-  constexpr double du = ConstD.D[Q][K][0][C];
-  constexpr double dv = ConstD.D[Q][K][1][C];
-  if constexpr (du != 0.0)
-    for (int d = 0; d < 3; ++d)
-      xu[d] += du * p[C][d];
-  if constexpr (dv != 0.0)
-    for (int d = 0; d < 3; ++d)
-      xv[d] += dv * p[C][d];
-}
-
-template <int Q, int K>
-inline void NodeTangents(const double* const* p, double xu[3], double xv[3])
-{
-  AddTerm<Q, K, 0>(p, xu, xv);
-  AddTerm<Q, K, 1>(p, xu, xv);
-  AddTerm<Q, K, 2>(p, xu, xv);
-  AddTerm<Q, K, 3>(p, xu, xv);
-  AddTerm<Q, K, 4>(p, xu, xv);
-  AddTerm<Q, K, 5>(p, xu, xv);
-}
-
-template <int Q>
-void NodeTangentsAt(int k, const double* const* p, double xu[3], double xv[3])
-{
-  switch (k)
-  {
-    case 0: NodeTangents<Q, 0>(p, xu, xv); break;
-    case 1: NodeTangents<Q, 1>(p, xu, xv); break;
-    case 2: NodeTangents<Q, 2>(p, xu, xv); break;
-    case 3: NodeTangents<Q, 3>(p, xu, xv); break;
-    case 4: NodeTangents<Q, 4>(p, xu, xv); break;
-    default: NodeTangents<Q, 5>(p, xu, xv); break;
-  }
-}
 } // namespace
 
 void EvaluateBoundaryFace(const TetMeshTopology& topo, const double* points, Id face,
@@ -170,16 +99,6 @@ void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* point
   };
   static const NodeDerivatives Table;
   const auto& D = Table.D[npf == 6 ? 1 : 0];
-  // the constant table's shortcut (zero terms left out): only for finite coordinates and
-  // when it is the functions' table
-  bool sparse = true;
-  for (int q = 0; q < 2; ++q)
-    for (int k = 0; k < 6; ++k)
-      for (int dir = 0; dir < 2; ++dir)
-        for (int a = 0; a < 6; ++a)
-          sparse = sparse && ConstD.D[q][k][dir][a] == Table.D[q][k][dir][a];
-  for (Id i = 0; i < 3 * np && sparse; ++i)
-    sparse = std::isfinite(points[i]);
   for (Id b = 0; b < nbf; ++b)
   {
     const Id* fn = &topo.BoundaryFaceNodes[b * npf];
@@ -189,17 +108,12 @@ void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* point
     for (int a = 0; a < npf; ++a)
     {
       double xu[3] = { 0, 0, 0 }, xv[3] = { 0, 0, 0 }, n[3];
-      if (sparse && npf == 6)
-        NodeTangentsAt<1>(a, p, xu, xv);
-      else if (sparse)
-        NodeTangentsAt<0>(a, p, xu, xv);
-      else
-        for (int c = 0; c < npf; ++c)
-          for (int d = 0; d < 3; ++d)
-          {
-            xu[d] += D[a][0][c] * p[c][d];
-            xv[d] += D[a][1][c] * p[c][d];
-          }
+      for (int c = 0; c < npf; ++c)
+        for (int d = 0; d < 3; ++d)
+        {
+          xu[d] += D[a][0][c] * p[c][d];
+          xv[d] += D[a][1][c] * p[c][d];
+        }
       Cross(xu, xv, n);
       const double len = Norm(n);
       if (!(len > 0.0))

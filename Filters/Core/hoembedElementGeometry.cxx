@@ -150,40 +150,6 @@ double SubTetLowerBound(const double* x, const double c[4][3], int depth)
 }
 
 
-// Smallest Bernstein coefficient of det(sum_k mu_k G[k]) over the tet with barycentrics
-// mu: det is trilinear in the columns, so the coefficient of the multi-index alpha is
-// alpha! / 3! times the sum of det(G_a[0], G_b[1], G_c[2]) over the (a, b, c) with counts
-// alpha.
-double CornerBernsteinMin(const double G[4][3][3])
-{
-  double coef[64] = {};
-  for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 4; ++b)
-    {
-      const double* u = G[a][0];
-      const double* w = G[b][1];
-      const double uw[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-        u[0] * w[1] - u[1] * w[0] };
-      const int ab = (a ? 1 << (2 * (a - 1)) : 0) + (b ? 1 << (2 * (b - 1)) : 0);
-      for (int c = 0; c < 4; ++c)
-        coef[ab + (c ? 1 << (2 * (c - 1)) : 0)] +=
-          uw[0] * G[c][2][0] + uw[1] * G[c][2][1] + uw[2] * G[c][2][2];
-    }
-  static const double Fact[4] = { 1, 1, 2, 6 };
-  double lo = std::numeric_limits<double>::infinity();
-  for (int n1 = 0; n1 <= 3; ++n1)
-    for (int n2 = 0; n1 + n2 <= 3; ++n2)
-      for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3)
-      {
-        const int n0 = 3 - n1 - n2 - n3;
-        const double b =
-          coef[n1 + 4 * n2 + 16 * n3] * Fact[n0] * Fact[n1] * Fact[n2] * Fact[n3] / 6.0;
-        if (!(b >= lo))
-          lo = b; // NaN propagates (and is never clearly positive)
-      }
-  return lo;
-}
-
 // Whether every sub-tet that SubTetLowerBound(x, c, depth) would look at, down to the
 // leaves it stops at, has all its Bernstein coefficients above `margin` (computed from
 // the corner Jacobians G of the whole element; the sub-tet's are their affine
@@ -198,7 +164,7 @@ bool SubTetClearlyPositive(const double G[4][3][3], const double c[4][3], int de
       for (int d = 0; d < 3; ++d)
         S[k][i][d] = L[0] * G[0][i][d] + L[1] * G[1][i][d] + L[2] * G[2][i][d] + L[3] * G[3][i][d];
   }
-  if (CornerBernsteinMin(S) > margin)
+  if (DetBernsteinMin(S) > margin)
     return true;
   if (depth <= 0)
     return false;
@@ -399,6 +365,79 @@ void Tet10CornerJacobians(const double* x, double G[4][3][3])
       for (int d = 0; d < 3; ++d)
         G[k][i][d] = D[i + 1][d] - D[0][d];
   }
+}
+
+double DetBernsteinMin(const double G[4][3][3], double* hiOut)
+{
+  // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
+  // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
+  // of the terms (a, b, c) whose counts are alpha.
+  // Groups: the 20 multi-indices, each with its terms a * 16 + b * 4 + c (1, 3 or 6 of
+  // them, 64 in all) and its weight alpha! / 3!.
+  struct GroupTable
+  {
+    unsigned char Begin[21];
+    unsigned char Term[64];
+    double Weight[20];
+    GroupTable()
+    {
+      static const double Fact[4] = { 1, 1, 2, 6 };
+      int g = 0, t = 0;
+      for (int n1 = 0; n1 <= 3; ++n1)
+        for (int n2 = 0; n1 + n2 <= 3; ++n2)
+          for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3, ++g)
+          {
+            const int n[4] = { 3 - n1 - n2 - n3, n1, n2, n3 };
+            this->Begin[g] = static_cast<unsigned char>(t);
+            this->Weight[g] = Fact[n[0]] * Fact[n[1]] * Fact[n[2]] * Fact[n[3]] / 6.0;
+            for (int a = 0; a < 4; ++a)
+              for (int b = 0; b < 4; ++b)
+                for (int c = 0; c < 4; ++c)
+                {
+                  int cnt[4] = { 0, 0, 0, 0 };
+                  ++cnt[a];
+                  ++cnt[b];
+                  ++cnt[c];
+                  if (cnt[0] == n[0] && cnt[1] == n[1] && cnt[2] == n[2])
+                    this->Term[t++] = static_cast<unsigned char>(16 * a + 4 * b + c);
+                }
+          }
+      this->Begin[20] = static_cast<unsigned char>(t);
+    }
+  };
+  static const GroupTable T;
+  // the 64 mixed determinants, third columns gathered per coordinate
+  double col[3][4];
+  for (int c = 0; c < 4; ++c)
+    for (int d = 0; d < 3; ++d)
+      col[d][c] = G[c][2][d];
+  double term[64];
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+    {
+      const double* u = G[a][0];
+      const double* w = G[b][1];
+      const double uw0 = u[1] * w[2] - u[2] * w[1];
+      const double uw1 = u[2] * w[0] - u[0] * w[2];
+      const double uw2 = u[0] * w[1] - u[1] * w[0];
+      double* out = term + 16 * a + 4 * b;
+      for (int c = 0; c < 4; ++c)
+        out[c] = uw0 * col[0][c] + uw1 * col[1][c] + uw2 * col[2][c];
+    }
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (int g = 0; g < 20; ++g)
+  {
+    double sum = 0.0;
+    for (int t = T.Begin[g]; t < T.Begin[g + 1]; ++t)
+      sum += term[T.Term[t]];
+    const double b = sum * T.Weight[g];
+    if (!(b >= lo))
+      lo = b; // NaN propagates (and is never clearly positive)
+    hi = std::max(hi, std::fabs(b));
+  }
+  if (hiOut)
+    *hiOut = hi;
+  return lo;
 }
 
 } // namespace hoembed

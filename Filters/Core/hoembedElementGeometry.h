@@ -37,6 +37,14 @@ HOEMBEDFILTERSCORE_EXPORT double Determinant3(const double J[3][3]);
 HOEMBEDFILTERSCORE_EXPORT void Tet10CornerJacobians(const double* x, double G[4][3][3]);
 
 /**
+ * Smallest Bernstein coefficient of det J over a tet on which J is affine, from its
+ * corner Jacobians G (as Tet10CornerJacobians gives them; or those of any sub-tet, or
+ * of a tet around the element): det(sum_a lambda_a G_a) expanded multilinearly. NaN when
+ * a coefficient is NaN. `hi`, when not null, receives the largest coefficient magnitude.
+ */
+HOEMBEDFILTERSCORE_EXPORT double DetBernsteinMin(const double G[4][3][3], double* hi = nullptr);
+
+/**
  * Bounds of det J over the whole tet10 element.
  * @param x        10 nodes, 3 doubles each
  * @param minBound on return, a lower bound of min det J (exact at the corners)

@@ -597,87 +597,12 @@ void MakeTriangleMap(const double* x, int n, QuadraticMap& m)
     MakeMap<2>(x, 3, [](const double* p, double* d) { Tri3Derivs(p, d); }, m);
 }
 
-namespace
-{
-// Smallest Bernstein coefficient of det J over a tet whose corner Jacobians are G (J
-// affine over it); `hi` receives the largest magnitude.
-double BernsteinDetMin(const double G[4][3][3], double& hi)
-{
-  // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
-  // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
-  // of the terms (a, b, c) whose counts are alpha.
-  // Groups: the 20 multi-indices, each with its terms a * 16 + b * 4 + c (1, 3 or 6 of
-  // them, 64 in all) and its weight alpha! / 3!.
-  struct GroupTable
-  {
-    unsigned char Begin[21];
-    unsigned char Term[64];
-    double Weight[20];
-    GroupTable()
-    {
-      static const double Fact[4] = { 1, 1, 2, 6 };
-      int g = 0, t = 0;
-      for (int n1 = 0; n1 <= 3; ++n1)
-        for (int n2 = 0; n1 + n2 <= 3; ++n2)
-          for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3, ++g)
-          {
-            const int n[4] = { 3 - n1 - n2 - n3, n1, n2, n3 };
-            this->Begin[g] = static_cast<unsigned char>(t);
-            this->Weight[g] = Fact[n[0]] * Fact[n[1]] * Fact[n[2]] * Fact[n[3]] / 6.0;
-            for (int a = 0; a < 4; ++a)
-              for (int b = 0; b < 4; ++b)
-                for (int c = 0; c < 4; ++c)
-                {
-                  int cnt[4] = { 0, 0, 0, 0 };
-                  ++cnt[a];
-                  ++cnt[b];
-                  ++cnt[c];
-                  if (cnt[0] == n[0] && cnt[1] == n[1] && cnt[2] == n[2])
-                    this->Term[t++] = static_cast<unsigned char>(16 * a + 4 * b + c);
-                }
-          }
-      this->Begin[20] = static_cast<unsigned char>(t);
-    }
-  };
-  static const GroupTable T;
-  // the 64 mixed determinants, third columns gathered per coordinate
-  double col[3][4];
-  for (int c = 0; c < 4; ++c)
-    for (int d = 0; d < 3; ++d)
-      col[d][c] = G[c][2][d];
-  double term[64];
-  for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 4; ++b)
-    {
-      const double* u = G[a][0];
-      const double* w = G[b][1];
-      const double uw0 = u[1] * w[2] - u[2] * w[1];
-      const double uw1 = u[2] * w[0] - u[0] * w[2];
-      const double uw2 = u[0] * w[1] - u[1] * w[0];
-      double* out = term + 16 * a + 4 * b;
-      for (int c = 0; c < 4; ++c)
-        out[c] = uw0 * col[0][c] + uw1 * col[1][c] + uw2 * col[2][c];
-    }
-  double lo = std::numeric_limits<double>::infinity();
-  hi = 0.0;
-  for (int g = 0; g < 20; ++g)
-  {
-    double sum = 0.0;
-    for (int t = T.Begin[g]; t < T.Begin[g + 1]; ++t)
-      sum += term[T.Term[t]];
-    const double b = sum * T.Weight[g];
-    lo = std::min(lo, b);
-    hi = std::max(hi, std::fabs(b));
-  }
-  return lo;
-}
-} // namespace
 
 bool Tet10JacobianProvablyPositive(const double* x)
 {
   double G[4][3][3], hi = 0.0;
   Tet10CornerJacobians(x, G);
-  const double lo = BernsteinDetMin(G, hi);
+  const double lo = DetBernsteinMin(G, &hi);
   return lo > 1e-12 * hi;
 }
 
@@ -699,7 +624,7 @@ double SingularValueBound(const double G[4][3][3])
     F2 = std::max(F2, f2);
   }
   double hi = 0.0;
-  const double b = BernsteinDetMin(G, hi);
+  const double b = DetBernsteinMin(G, &hi);
   if (!(b > 1e-6 * hi) || !(F2 > 0.0))
     return 0.0;
   return 2.0 * b / F2;

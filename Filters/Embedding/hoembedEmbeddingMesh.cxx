@@ -369,7 +369,6 @@ std::string EmbeddingMesh::Build(
   const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
     (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
 
-
   // the cell part reads the nodes of every cell: only with ids in range (the topology
   // reports the problem otherwise)
   bool idsInRange = nodesPerCell == 4 || nodesPerCell == 10;
@@ -380,12 +379,7 @@ std::string EmbeddingMesh::Build(
   // inside (per cell, per face).
   std::string err;
   if (!idsInRange)
-  {
-    err = BuildBoundaryData(
-      *this, points, conn, numberOfPoints, numberOfCells, nodesPerCell, diagonal);
-    if (err.empty())
-      err = "a cell refers to a node out of range";
-  }
+    err = this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints); // says why
   else
   {
     vtkSMPTools::For(0, 2, 1, [&](vtkIdType b, vtkIdType e) {
