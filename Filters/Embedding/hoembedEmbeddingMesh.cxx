@@ -9,9 +9,6 @@
 #include <limits>
 #include <utility>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 
 namespace hoembed
 {
@@ -157,30 +154,6 @@ void ComputeCellSlabs(const double cp[10][3], int n, double* out)
   }
   // s[4]: the largest height of a control point above each plane, from 0 (a degenerate
   // face's zero plane gives 0 too, as it should)
-#ifdef __SSE2__
-  // two faces per SSE2 register: per lane the same products, sums and maxima (maxpd(h,
-  // hi) keeps hi on ties and NaN, as std::max(hi, h) does)
-  for (int f = 0; f < 4; f += 2)
-  {
-    const double* s0 = out + 5 * f;
-    const double* s1 = out + 5 * (f + 1);
-    const __m128d nx = _mm_set_pd(s1[0], s0[0]);
-    const __m128d ny = _mm_set_pd(s1[1], s0[1]);
-    const __m128d nz = _mm_set_pd(s1[2], s0[2]);
-    const __m128d c = _mm_set_pd(s1[3], s0[3]);
-    __m128d hi = _mm_setzero_pd();
-    for (int k = 0; k < n; ++k)
-    {
-      const __m128d h = _mm_sub_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(nx, _mm_set1_pd(cp[k][0])),
-                                                _mm_mul_pd(ny, _mm_set1_pd(cp[k][1]))),
-                                     _mm_mul_pd(nz, _mm_set1_pd(cp[k][2]))),
-        c);
-      hi = _mm_max_pd(h, hi);
-    }
-    out[5 * f + 4] = _mm_cvtsd_f64(hi);
-    out[5 * (f + 1) + 4] = _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi));
-  }
-#else
   for (int f = 0; f < 4; ++f)
   {
     double* s = out + 5 * f;
@@ -189,7 +162,6 @@ void ComputeCellSlabs(const double cp[10][3], int n, double* out)
       hi = std::max(hi, s[0] * cp[k][0] + s[1] * cp[k][1] + s[2] * cp[k][2] - s[3]);
     s[4] = hi;
   }
-#endif
 }
 
 using Id = EmbeddingMesh::Id;
