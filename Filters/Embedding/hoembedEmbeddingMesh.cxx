@@ -172,6 +172,7 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
 {
   const bool quadratic = nodesPerCell == 10;
   mesh.CellMaps.resize(numberOfCells);
+  mesh.CellForms.resize(numberOfCells);
   std::vector<double> boxes(6 * numberOfCells);
   mesh.CellSlabs.assign(20 * numberOfCells, 0.0);
   vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
@@ -183,6 +184,7 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = points[3 * ids[a] + d];
       MakeTetMap(x, nodesPerCell, mesh.CellMaps[c]);
+      MakeTetBarycentricForm(x, nodesPerCell, mesh.CellForms[c]);
       double cp[10][3];
       const int ncp = CellControlPoints(points, ids, quadratic, cp);
       CellControlBox(cp, ncp, &boxes[6 * c]);
@@ -370,6 +372,7 @@ std::string EmbeddingMesh::Build(
     // nothing half-built left behind (the topology has reset itself, or is complete)
     this->CellMaps.clear();
     this->CellSlabs.clear();
+    this->CellForms.clear();
     this->CellGrid = BoxGrid();
     return err;
   }

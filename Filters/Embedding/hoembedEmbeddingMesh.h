@@ -13,6 +13,7 @@
 #include "hoembedEmbeddingGrid.h"
 #include "hoembedEmbeddingTree.h"
 #include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedTetBarycentric.h"
 #include "hoembedTetMeshTopology.h"
 
 #include <string>
@@ -61,6 +62,9 @@ public:
   /// n . x - c over the cell's Bezier control points (the curved cell lies below it):
   /// 4 x 5 doubles. Zero normal for a degenerate face (never excludes).
   std::vector<double> CellSlabs;
+  /// Per cell: straight tet plus edge bumps (TetBarycentricExcludes), for the cells a
+  /// point is expected to be outside of.
+  std::vector<TetBarycentricForm> CellForms;
   AabbTree FaceTree;
   BoxGrid FaceGrid; ///< the same boxes (32 bins per face): short-range queries
   BoxGrid CellGrid; ///< over the cells' control-point boxes

@@ -293,6 +293,13 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
         return false;
       }
     }
+    // v expected outside: the straight tet plus edge bumps usually proves it away
+    // without a Newton iteration (TetBarycentricExcludes)
+    if (expectOutside && !fastOnly && TetBarycentricExcludes(M.CellForms[c], v, tol))
+    {
+      ++out.Visited;
+      return false;
+    }
     double start[3];
     LinearStart(M.CellMaps[c], v, start);
     // fast path: plain Newton inversion from the straight tet's coordinates; accepted only

@@ -1,0 +1,133 @@
+#include "hoembedTetBarycentric.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hoembed
+{
+namespace
+{
+// corners of the edge of each midnode (VTK tet10 order)
+constexpr int EdgeCorners[6][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
+} // namespace
+
+void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
+{
+  form = TetBarycentricForm();
+  double A[3][3]; // columns: x1 - x0, x2 - x0, x3 - x0
+  for (int d = 0; d < 3; ++d)
+  {
+    form.X0[d] = x[d];
+    for (int i = 0; i < 3; ++i)
+      A[d][i] = x[3 * (i + 1) + d] - x[d];
+  }
+  // inverse by cofactors: rows of A^-1 are the gradients of lambda_1..3
+  const double C[3][3] = { { A[1][1] * A[2][2] - A[1][2] * A[2][1],
+                             A[0][2] * A[2][1] - A[0][1] * A[2][2],
+                             A[0][1] * A[1][2] - A[0][2] * A[1][1] },
+    { A[1][2] * A[2][0] - A[1][0] * A[2][2], A[0][0] * A[2][2] - A[0][2] * A[2][0],
+      A[0][2] * A[1][0] - A[0][0] * A[1][2] },
+    { A[1][0] * A[2][1] - A[1][1] * A[2][0], A[0][1] * A[2][0] - A[0][0] * A[2][1],
+      A[0][0] * A[1][1] - A[0][1] * A[1][0] } };
+  const double det = A[0][0] * C[0][0] + A[0][1] * C[1][0] + A[0][2] * C[2][0];
+  if (!(std::fabs(det) > 0.0) || !std::isfinite(det))
+    return;
+  double normA = 0.0, normInv = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      form.G[i + 1][d] = C[i][d] / det;
+      normA += A[d][i] * A[d][i];
+      normInv += form.G[i + 1][d] * form.G[i + 1][d];
+    }
+  const double cond = std::sqrt(normA * normInv);
+  if (!(cond <= 1e8))
+    return;
+  for (int d = 0; d < 3; ++d)
+    form.G[0][d] = -(form.G[1][d] + form.G[2][d] + form.G[3][d]);
+  for (int k = 0; k < 4; ++k)
+    form.GNorm[k] = std::sqrt(
+      form.G[k][0] * form.G[k][0] + form.G[k][1] * form.G[k][1] + form.G[k][2] * form.G[k][2]);
+  if (n == 10)
+  {
+    for (int e = 0; e < 6; ++e)
+    {
+      const double* a = x + 3 * EdgeCorners[e][0];
+      const double* b = x + 3 * EdgeCorners[e][1];
+      const double* m = x + 3 * (4 + e);
+      const double delta[3] = { m[0] - 0.5 * (a[0] + b[0]), m[1] - 0.5 * (a[1] + b[1]),
+        m[2] - 0.5 * (a[2] + b[2]) };
+      if (delta[0] == 0.0 && delta[1] == 0.0 && delta[2] == 0.0)
+        continue;
+      form.CurvedEdges |= 1 << e;
+      for (int k = 0; k < 4; ++k)
+        form.W[e][k] = form.G[k][0] * delta[0] + form.G[k][1] * delta[1] + form.G[k][2] * delta[2];
+    }
+  }
+  // the gradients carry a relative error of about cond * eps; the sweeps add a few eps
+  form.Slack = 1e-12 + 64.0 * std::numeric_limits<double>::epsilon() * cond;
+}
+
+bool TetBarycentricExcludes(
+  const TetBarycentricForm& form, const double p[3], double reach, int maxSweeps)
+{
+  if (form.Slack < 0.0)
+    return false;
+  const double y[3] = { p[0] - form.X0[0], p[1] - form.X0[1], p[2] - form.X0[2] };
+  double L[4], r[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    L[k] = form.G[k][0] * y[0] + form.G[k][1] * y[1] + form.G[k][2] * y[2] + (k == 0 ? 1.0 : 0.0);
+    r[k] = form.GNorm[k] * reach + form.Slack * (1.0 + std::fabs(L[k]));
+  }
+  double lo[4] = { 0, 0, 0, 0 }, hi[4] = { 1, 1, 1, 1 };
+  double width = 4.0;
+  for (int sweep = 0; sweep < maxSweeps; ++sweep)
+  {
+    // 4 lambda_i lambda_j over the current box, per edge
+    double qlo[6], qhi[6];
+    for (int e = 0; e < 6; ++e)
+    {
+      const int i = EdgeCorners[e][0], j = EdgeCorners[e][1];
+      const double s = std::min(1.0, hi[i] + hi[j]);
+      qlo[e] = 4.0 * lo[i] * lo[j];
+      qhi[e] = std::min(4.0 * hi[i] * hi[j], s * s);
+    }
+    // the range of sum_e q_e w_ke, all four k at once (q_e >= 0)
+    double plo[4] = { 0, 0, 0, 0 }, phi[4] = { 0, 0, 0, 0 };
+    for (int e = 0; e < 6; ++e)
+      for (int k = 0; k < 4; ++k)
+      {
+        const double a = qlo[e] * form.W[e][k], b = qhi[e] * form.W[e][k];
+        plo[k] += std::min(a, b);
+        phi[k] += std::max(a, b);
+      }
+    for (int k = 0; k < 4; ++k)
+    {
+      lo[k] = std::max(lo[k], L[k] - phi[k] - r[k]);
+      hi[k] = std::min(hi[k], L[k] - plo[k] + r[k]);
+    }
+    // the sum constraint: lambda_m = 1 - sum of the others
+    const double sumLo = lo[0] + lo[1] + lo[2] + lo[3];
+    const double sumHi = hi[0] + hi[1] + hi[2] + hi[3];
+    double w = 0.0;
+    bool empty = false;
+    for (int m = 0; m < 4; ++m)
+    {
+      lo[m] = std::max(lo[m], 1.0 - (sumHi - hi[m]));
+      hi[m] = std::min(hi[m], 1.0 - (sumLo - lo[m]));
+      empty |= lo[m] > hi[m];
+      w += hi[m] - lo[m];
+    }
+    // (a NaN p never gets here: every comparison with it is false, the box stays put)
+    if (empty)
+      return true;
+    // give up when a sweep no longer shrinks the box much
+    if (!(w < 0.9 * width))
+      return false;
+    width = w;
+  }
+  return false;
+}
+} // namespace hoembed
