@@ -118,55 +118,9 @@ void CellControlBox(const double cp[10][3], int n, double* box)
   }
 }
 
-// Slabs of a cell (see EmbeddingMesh::CellSlabs): for each face of the straight tet, the
-// plane through its corners, oriented away from the opposite corner, and the largest
-// signed height of the n Bezier control points cp above it.
-void ComputeCellSlabs(const double cp[10][3], int n, double* out)
-{
-  for (int f = 0; f < 4; ++f)
-  {
-    double* s = out + 5 * f;
-    const double* a = cp[TetFaceNodes[f][0]];
-    const double* b = cp[TetFaceNodes[f][1]];
-    const double* c = cp[TetFaceNodes[f][2]];
-    const double* o = cp[TetFaceOpposite[f]];
-    double u[3], w[3], nrm[3];
-    for (int d = 0; d < 3; ++d)
-    {
-      u[d] = b[d] - a[d];
-      w[d] = c[d] - a[d];
-    }
-    nrm[0] = u[1] * w[2] - u[2] * w[1];
-    nrm[1] = u[2] * w[0] - u[0] * w[2];
-    nrm[2] = u[0] * w[1] - u[1] * w[0];
-    const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-    for (int k = 0; k < 5; ++k)
-      s[k] = 0.0;
-    if (!(l > 0.0))
-      continue;
-    double side = 0.0;
-    for (int d = 0; d < 3; ++d)
-      side += nrm[d] / l * (o[d] - a[d]);
-    const double sign = side > 0.0 ? -1.0 : 1.0;
-    for (int d = 0; d < 3; ++d)
-      s[d] = sign * nrm[d] / l;
-    s[3] = s[0] * a[0] + s[1] * a[1] + s[2] * a[2];
-  }
-  // s[4]: the largest height of a control point above each plane, from 0 (a degenerate
-  // face's zero plane gives 0 too, as it should)
-  for (int f = 0; f < 4; ++f)
-  {
-    double* s = out + 5 * f;
-    double hi = 0.0;
-    for (int k = 0; k < n; ++k)
-      hi = std::max(hi, s[0] * cp[k][0] + s[1] * cp[k][1] + s[2] * cp[k][2] - s[3]);
-    s[4] = hi;
-  }
-}
-
 using Id = EmbeddingMesh::Id;
 
-// Cell maps, boxes, slabs and the cell grid of `mesh` (node ids in range).
+// Cell maps, boxes, barycentric forms and the cell grid of `mesh` (node ids in range).
 void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id numberOfCells,
   int nodesPerCell)
 {
@@ -174,7 +128,6 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
   mesh.CellMaps.resize(numberOfCells);
   mesh.CellForms.resize(numberOfCells);
   std::vector<double> boxes(6 * numberOfCells);
-  mesh.CellSlabs.assign(20 * numberOfCells, 0.0);
   vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
     double x[30];
     for (Id c = cb; c < ce; ++c)
@@ -188,7 +141,6 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
       double cp[10][3];
       const int ncp = CellControlPoints(points, ids, quadratic, cp);
       CellControlBox(cp, ncp, &boxes[6 * c]);
-      ComputeCellSlabs(cp, ncp, &mesh.CellSlabs[20 * c]);
     }
   });
   mesh.CellGrid.Build(boxes);
@@ -298,19 +250,10 @@ bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
 
 int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
 {
-  const double* s = &this->CellSlabs[20 * c];
-  int face = -1;
-  double worst = 0.0;
-  for (int f = 0; f < 4; ++f, s += 5)
-  {
-    const double h = s[0] * v[0] + s[1] * v[1] + s[2] * v[2] - s[3];
-    if (h > s[4] + tol && (face < 0 || h - s[4] > worst))
-    {
-      worst = h - s[4];
-      face = f;
-    }
-  }
-  return face;
+  // the face opposite the corner (TetFaceOpposite inverted)
+  static constexpr int FaceOppositeCorner[4] = { 1, 2, 0, 3 };
+  const int corner = TetBarycentricBeyond(this->CellForms[c], v, tol);
+  return corner < 0 ? -1 : FaceOppositeCorner[corner];
 }
 
 std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
@@ -371,7 +314,6 @@ std::string EmbeddingMesh::Build(
   {
     // nothing half-built left behind (the topology has reset itself, or is complete)
     this->CellMaps.clear();
-    this->CellSlabs.clear();
     this->CellForms.clear();
     this->CellGrid = BoxGrid();
     return err;

@@ -57,13 +57,9 @@ public:
   /// corners and 2 (m - (p + q) / 2) at the edges, so its tangential part is at most t):
   /// 10 doubles. t = +inf for a degenerate corner plane (no tangential bound).
   std::vector<double> FaceFlat;
-  /// Per cell, per face of its straight tet (corners only, TetFaceNodes order): the unit
-  /// normal n pointing away from the opposite corner, offset c = n . x_a, and the largest
-  /// n . x - c over the cell's Bezier control points (the curved cell lies below it):
-  /// 4 x 5 doubles. Zero normal for a degenerate face (never excludes).
-  std::vector<double> CellSlabs;
-  /// Per cell: straight tet plus edge bumps (TetBarycentricExcludes), for the cells a
-  /// point is expected to be outside of.
+  /// Per cell: its straight tet plus edge bumps (hoembedTetBarycentric.h): the slabs of
+  /// the straight faces pushed out by the control points (CellExitFace) and the sweeps
+  /// that prove a point away from the cell (TetBarycentricExcludes).
   std::vector<TetBarycentricForm> CellForms;
   AabbTree FaceTree;
   BoxGrid FaceGrid; ///< the same boxes (32 bins per face): short-range queries
@@ -78,7 +74,7 @@ public:
   /// dist(height of v, [lo, hi])^2 for every point y of the face.
   double FaceLowerBound2(Id f, const double v[3]) const;
 
-  /// False when v (with slack tol) is certainly outside cell c (CellSlabs); cheap.
+  /// False when v (with slack tol) is certainly outside cell c (the slabs of CellForms); cheap.
   bool CellMayContain(Id c, const double v[3], double tol) const;
 
   /// The local face (TetFaceNodes order) of cell c whose slab v (with slack tol) lies

@@ -36,7 +36,7 @@
  *    no point of it within the tolerance, with the cell's exclusion rate where that
  *    covers the solution, else the constrained closest point in the cell decides)
  *    against every
- *    cell whose control-point box and straight-face slabs (EmbeddingMesh::CellSlabs)
+ *    cell whose control-point box and straight-face slabs (EmbeddingMesh::CellForms)
  *    hold it: a curved mesh whose boundary crosses itself (a cell poking through a
  *    boundary face elsewhere) has inside points on the outer side of their closest face.
  *    When the closest point p lies inside a face, testing p instead against the cells

@@ -1,4 +1,5 @@
 #include "hoembedTetBarycentric.h"
+#include "hoembedShapeFunctions.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,15 +7,10 @@
 
 namespace hoembed
 {
-namespace
-{
-// corners of the edge of each midnode (VTK tet10 order)
-constexpr int EdgeCorners[6][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
-} // namespace
-
 void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
 {
-  form = TetBarycentricForm();
+  form.Slack = -1.0; // not usable until complete
+  form.CurvedEdges = 0;
   double A[3][3]; // columns: x1 - x0, x2 - x0, x3 - x0
   for (int d = 0; d < 3; ++d)
   {
@@ -31,42 +27,73 @@ void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
     { A[1][0] * A[2][1] - A[1][1] * A[2][0], A[0][1] * A[2][0] - A[0][0] * A[2][1],
       A[0][0] * A[1][1] - A[0][1] * A[1][0] } };
   const double det = A[0][0] * C[0][0] + A[0][1] * C[1][0] + A[0][2] * C[2][0];
-  if (!(std::fabs(det) > 0.0) || !std::isfinite(det))
+  const double inv = 1.0 / det;
+  if (!std::isfinite(inv) || inv == 0.0)
     return;
-  double normA = 0.0, normInv = 0.0;
-  for (int i = 0; i < 3; ++i)
-    for (int d = 0; d < 3; ++d)
+  double normA = 0.0;
+  for (int d = 0; d < 3; ++d)
+  {
+    form.G[0][d] = 0.0;
+    for (int i = 0; i < 3; ++i)
     {
-      form.G[i + 1][d] = C[i][d] / det;
+      form.G[i + 1][d] = C[i][d] * inv;
+      form.G[0][d] -= form.G[i + 1][d];
       normA += A[d][i] * A[d][i];
-      normInv += form.G[i + 1][d] * form.G[i + 1][d];
     }
+  }
+  double normInv = 0.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    const double g2 =
+      form.G[k][0] * form.G[k][0] + form.G[k][1] * form.G[k][1] + form.G[k][2] * form.G[k][2];
+    form.GNorm[k] = std::sqrt(g2);
+    normInv += k > 0 ? g2 : 0.0;
+  }
   const double cond = std::sqrt(normA * normInv);
   if (!(cond <= 1e8))
     return;
-  for (int d = 0; d < 3; ++d)
-    form.G[0][d] = -(form.G[1][d] + form.G[2][d] + form.G[3][d]);
   for (int k = 0; k < 4; ++k)
-    form.GNorm[k] = std::sqrt(
-      form.G[k][0] * form.G[k][0] + form.G[k][1] * form.G[k][1] + form.G[k][2] * form.G[k][2]);
-  if (n == 10)
+    form.Bump[k] = 0.0; // corners: l_k is 0 or 1
+  for (int e = 0; e < 6; ++e)
   {
-    for (int e = 0; e < 6; ++e)
-    {
-      const double* a = x + 3 * EdgeCorners[e][0];
-      const double* b = x + 3 * EdgeCorners[e][1];
-      const double* m = x + 3 * (4 + e);
-      const double delta[3] = { m[0] - 0.5 * (a[0] + b[0]), m[1] - 0.5 * (a[1] + b[1]),
-        m[2] - 0.5 * (a[2] + b[2]) };
-      if (delta[0] == 0.0 && delta[1] == 0.0 && delta[2] == 0.0)
-        continue;
+    const int i = TetEdgeCorners[e][0], j = TetEdgeCorners[e][1];
+    double delta[3] = { 0, 0, 0 };
+    if (n == 10)
+      for (int d = 0; d < 3; ++d)
+        delta[d] = x[3 * (4 + e) + d] - 0.5 * (x[3 * i + d] + x[3 * j + d]);
+    if (delta[0] != 0.0 || delta[1] != 0.0 || delta[2] != 0.0)
       form.CurvedEdges |= 1 << e;
-      for (int k = 0; k < 4; ++k)
-        form.W[e][k] = form.G[k][0] * delta[0] + form.G[k][1] * delta[1] + form.G[k][2] * delta[2];
+    for (int k = 0; k < 4; ++k)
+    {
+      const double w = form.G[k][0] * delta[0] + form.G[k][1] * delta[1] + form.G[k][2] * delta[2];
+      form.W[e][k] = w;
+      // the edge's Bezier coefficient of l_k(x(lambda))
+      const double b = 0.5 * ((k == i) + (k == j)) + 2.0 * w;
+      form.Bump[k] = std::max(form.Bump[k], -b);
     }
   }
   // the gradients carry a relative error of about cond * eps; the sweeps add a few eps
   form.Slack = 1e-12 + 64.0 * std::numeric_limits<double>::epsilon() * cond;
+}
+
+int TetBarycentricBeyond(const TetBarycentricForm& form, const double p[3], double reach)
+{
+  if (form.Slack < 0.0)
+    return -1;
+  const double y[3] = { p[0] - form.X0[0], p[1] - form.X0[1], p[2] - form.X0[2] };
+  int corner = -1;
+  double worst = 0.0; // distance beyond the slab, in world units
+  for (int k = 0; k < 4; ++k)
+  {
+    const double l = form.G[k][0] * y[0] + form.G[k][1] * y[1] + form.G[k][2] * y[2] + (k == 0);
+    const double beyond = -(l + form.Bump[k] + form.Slack * (1.0 + std::fabs(l)));
+    if (beyond > reach * form.GNorm[k] && (corner < 0 || beyond > worst * form.GNorm[k]))
+    {
+      corner = k;
+      worst = beyond / form.GNorm[k];
+    }
+  }
+  return corner;
 }
 
 bool TetBarycentricExcludes(
@@ -89,7 +116,7 @@ bool TetBarycentricExcludes(
     double qlo[6], qhi[6];
     for (int e = 0; e < 6; ++e)
     {
-      const int i = EdgeCorners[e][0], j = EdgeCorners[e][1];
+      const int i = TetEdgeCorners[e][0], j = TetEdgeCorners[e][1];
       const double s = std::min(1.0, hi[i] + hi[j]);
       qlo[e] = 4.0 * lo[i] * lo[j];
       qhi[e] = std::min(4.0 * hi[i] * hi[j], s * s);

@@ -17,11 +17,16 @@
  * them over the current intervals (4 lambda_i lambda_j in [4 lo_i lo_j,
  * min(4 hi_i hi_j, min(1, hi_i + hi_j)^2)]) and intersecting, Gauss-Seidel fashion, with
  * the sum constraint after each, shrinks the box; an empty interval proves that no point
- * of the element lies within reach of p. The first sweep is about as strong as the
- * straight-face slabs of the control points; later sweeps localise the bumps (on the
- * real meshes most of the cells that share an edge with a point's closest boundary face
- * are excluded in a few sweeps, where the slabs exclude none: the curved edge's
- * control point bulges across their faces).
+ * of the element lies within reach of p. Later sweeps localise the bumps (on the real
+ * meshes most of the cells that share an edge with a point's closest boundary face are
+ * excluded in a few sweeps, where the straight-face slabs below exclude none: the curved
+ * edge's control point bulges across their faces).
+ *
+ * The cheap test first: l_k(x(lambda)) = lambda_k + sum_e 4 lambda_i lambda_j w_ke is a
+ * quadratic whose Bezier coefficients are the corners' 0 or 1 and, at edge e,
+ * (l_k(x_i) + l_k(x_j)) / 2 + 2 w_ke; so the element lies where l_k >= -Bump[k], the
+ * smallest coefficient's negative part (the slab of the straight face opposite corner
+ * k, pushed out by the control points).
  */
 #ifndef hoembedTetBarycentric_h
 #define hoembedTetBarycentric_h
@@ -36,6 +41,7 @@ struct TetBarycentricForm
   double G[4][3] = {};        ///< gradients of the straight tet's barycentric coordinates
   double GNorm[4] = { 0, 0, 0, 0 }; ///< |G[k]|
   double W[6][4] = {};        ///< W[e][k] = w_ke = G[k] . delta_e (edges in VTK midnode order)
+  double Bump[4] = { 0, 0, 0, 0 }; ///< the element lies where l_k >= -Bump[k] (>= 0)
   double Slack = -1.0;        ///< round-off allowance in lambda; < 0: not usable
   int CurvedEdges = 0;        ///< bit e set when delta_e != 0
 };
@@ -47,6 +53,14 @@ struct TetBarycentricForm
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTetBarycentricForm(
   const double* x, int n, TetBarycentricForm& form);
+
+/**
+ * The corner k opposite the straight face beyond whose slab (l_k < -Bump[k]) p lies
+ * farthest, by more than `reach`; -1 when p is within all four slabs (or the form is not
+ * usable). Four dot products.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT int TetBarycentricBeyond(
+  const TetBarycentricForm& form, const double p[3], double reach);
 
 /**
  * True when no point of the element is within `reach` of p (proven by the interval sweeps
