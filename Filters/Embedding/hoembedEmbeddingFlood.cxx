@@ -8,6 +8,7 @@
 #include <atomic>
 #include <deque>
 #include <limits>
+#include <thread>
 
 namespace hoembed
 {
@@ -184,16 +185,35 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   std::vector<Id> offsets;
   std::vector<std::int32_t> vertexTris;
   VertexTriangles(triangles, numberOfPoints, offsets, vertexTris);
+  // The vertices are numbered as their triangles are queued (that is their first
+  // appearance in the order), and the triangles' new ids written then: the triangle is
+  // read again when it is expanded, a few hundred queue places later, still in cache.
   std::vector<std::int32_t> order(ntri);
+  std::vector<Id> newId(numberOfPoints, -1), oldId(numberOfPoints);
+  std::vector<Id> tris(3 * ntri);
+  Id next = 0;
   {
     std::vector<char> queued(ntri, 0), expanded(numberOfPoints, 0);
     Id head = 0, tail = 0;
+    auto enqueue = [&](Id t) {
+      queued[t] = 1;
+      for (int j = 0; j < 3; ++j)
+      {
+        const Id w = triangles[3 * t + j];
+        if (newId[w] < 0)
+        {
+          oldId[next] = w;
+          newId[w] = next++;
+        }
+        tris[3 * tail + j] = newId[w];
+      }
+      order[tail++] = static_cast<std::int32_t>(t);
+    };
     for (Id t0 = 0; t0 < ntri; ++t0)
     {
       if (queued[t0])
         continue;
-      queued[t0] = 1;
-      order[tail++] = static_cast<std::int32_t>(t0);
+      enqueue(t0);
       while (head < tail)
       {
         const Id t = order[head++];
@@ -207,29 +227,12 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
           {
             const std::int32_t n = vertexTris[i];
             if (!queued[n])
-            {
-              queued[n] = 1;
-              order[tail++] = n;
-            }
+              enqueue(n);
           }
         }
       }
     }
   }
-  std::vector<Id> newId(numberOfPoints, -1), oldId(numberOfPoints);
-  std::vector<Id> tris(3 * ntri);
-  Id next = 0;
-  for (Id k = 0; k < ntri; ++k)
-    for (int j = 0; j < 3; ++j)
-    {
-      const Id w = triangles[3 * order[k] + j];
-      if (newId[w] < 0)
-      {
-        oldId[next] = w;
-        newId[w] = next++;
-      }
-      tris[3 * k + j] = newId[w];
-    }
   const Id nOnTriangles = next;
   for (Id w = 0; w < numberOfPoints; ++w)
     if (newId[w] < 0)
@@ -238,9 +241,11 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
       newId[w] = next++;
     }
   std::vector<double> pts(3 * static_cast<size_t>(numberOfPoints));
-  for (Id i = 0; i < numberOfPoints; ++i)
-    for (int d = 0; d < 3; ++d)
-      pts[3 * i + d] = points[3 * oldId[i] + d];
+  vtkSMPTools::For(Id(0), numberOfPoints, [&](Id b, Id e) {
+    for (Id i = b; i < e; ++i)
+      for (int d = 0; d < 3; ++d)
+        pts[3 * i + d] = points[3 * oldId[i] + d];
+  });
   std::vector<VertexEmbedding> res(numberOfPoints);
 
   FloodContext ctx;
@@ -277,21 +282,21 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
     isolated.push_back(i);
   const Id nIso = static_cast<Id>(isolated.size());
 
-  // parallel floods, in batches so that progress is reported from this thread
-  // at least ~8 partitions per thread in each batch, so that threads stay balanced
-  const Id threads = std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads());
-  const Id batches = std::max<Id>(1, std::min<Id>(10, P / (8 * threads)));
+  // parallel floods, one loop over all partitions (no barrier before the last one ends);
+  // progress is reported from the calling thread only (it runs partitions too), as the
+  // share of partitions finished
   const double triShare = numberOfPoints > 0 ? double(numberOfPoints - nIso) / numberOfPoints : 0.0;
-  for (Id bt = 0; bt < batches; ++bt)
-  {
-    const Id pb = bt * P / batches, pe = (bt + 1) * P / batches;
-    vtkSMPTools::For(pb, pe, 1, [&ctx](Id begin, Id end) {
-      for (Id p = begin; p < end; ++p)
-        ctx.FloodPartition(p);
-    });
-    if (progress)
-      progress(triShare * double(bt + 1) / batches);
-  }
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<Id> finished{ 0 };
+  vtkSMPTools::For(Id(0), P, Id(1), [&](Id begin, Id end) {
+    for (Id p = begin; p < end; ++p)
+    {
+      ctx.FloodPartition(p);
+      const Id done = ++finished;
+      if (progress && std::this_thread::get_id() == caller)
+        progress(triShare * double(done) / double(P));
+    }
+  });
   // isolated vertices: chunks, each vertex from the previous one
   if (nIso > 0)
   {
