@@ -140,9 +140,9 @@ struct Expansion
     this->P[2] = Dot(p, m.Q[1][1]);
   }
 
-  // lower bound of f over the parametric triangle q (>= 0)
-  // Lower bound of f over the parametric triangle q (>= 0); `target` (a squared distance):
-  // the cheap bound is refined only while it stays below it.
+  // Lower bound of f over the parametric triangle q (>= 0) when that is at least `target`
+  // (a squared distance); otherwise some value below `target` (the cheap bound is
+  // refined only while it stays below it, and given up once it cannot reach it).
   double LowerBound2(const QuadraticMap& m, const double q[3][2], double target) const
   {
     // Jacobians at the corners of S: J(s_k) = J(r) + Q (q_k - r) / 2
@@ -198,9 +198,10 @@ struct Expansion
     double bound = this->F + minOver(Elow);
     if (bound >= target)
       return bound;
-    // tighter: the smallest of the six minima, one per Bernstein coefficient
+    // tighter: the smallest of the six minima, one per Bernstein coefficient (the first
+    // one below the target settles it: the bound stays below)
     double m6 = minOver(E[0]);
-    for (int k = 1; k < 6; ++k)
+    for (int k = 1; k < 6 && this->F + m6 >= target; ++k)
       m6 = std::min(m6, minOver(E[k]));
     return std::max({ 0.0, bound, this->F + m6 });
   }
