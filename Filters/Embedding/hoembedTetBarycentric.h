@@ -13,11 +13,11 @@
  *     lambda_k = l_k(y) - sum_e 4 lambda_i lambda_j w_ke,   w_ke = g_k . delta_e.
  * For every y within `reach` of p, l_k(y) lies within |g_k| reach of l_k(p). So every
  * lambda of the element (a box in [0, 1]^4 to start with, sum 1) whose point is within
- * reach of p satisfies these four equations with interval right-hand sides: evaluating
- * them over the current intervals (4 lambda_i lambda_j in [4 lo_i lo_j,
- * min(4 hi_i hi_j, min(1, hi_i + hi_j)^2)]) and intersecting, Gauss-Seidel fashion, with
- * the sum constraint after each, shrinks the box; an empty interval proves that no point
- * of the element lies within reach of p. Later sweeps localise the bumps (on the real
+ * reach of p satisfies these four equations with interval right-hand sides. A sweep
+ * evaluates them over the current box (4 lambda_i lambda_j in [4 lo_i lo_j,
+ * min(4 hi_i hi_j, min(1, hi_i + hi_j)^2)]), intersects, then intersects with the sum
+ * constraint; the sweeps stop when the box's total width no longer falls by 10%. An empty
+ * interval proves that no point of the element lies within reach of p. Later sweeps localise the bumps (on the real
  * meshes most of the cells that share an edge with a point's closest boundary face are
  * excluded in a few sweeps, where the straight-face slabs below exclude none: the curved
  * edge's control point bulges across their faces).
