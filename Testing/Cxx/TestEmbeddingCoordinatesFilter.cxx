@@ -636,6 +636,38 @@ void TestCrossingBoundary()
     grid, out, 0, true);
   }
 }
+// The reference tet10's nodes (VTK order).
+const double RefTet10[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+  { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
+  { 0, 0.5, 0.5 } };
+
+// Distance from v to the element of the tet map m by brute force: constrained solves from
+// 5 starts and a dense sample (16 steps per edge) of the element.
+double BruteDistanceToTetMap(const hoembed::QuadraticMap& m, const double v[3])
+{
+  const double starts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 }, { 0.1, 0.7, 0.1 },
+    { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& s0 : starts)
+  {
+    hoembed::ClosestPointResult r;
+    hoembed::ClosestPointOnMap(m, v, s0, r, 200);
+    best = std::min(best, r.Distance2);
+  }
+  const int n = 16;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j)
+      for (int k = 0; i + j + k <= n; ++k)
+      {
+        const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+        double y[3];
+        hoembed::EvaluateMap(m, pc, y);
+        best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+            (y[2] - v[2]) * (y[2] - v[2]));
+      }
+  return std::sqrt(best);
+}
+
 // The closed-form tet10 map (MakeTetMap from the corner Jacobians) against the shape
 // functions, and the fast validity test (Bernstein coefficients of det J) against
 // hoembed::Tet10IsValid and a dense sample of det J: it may only accept valid elements.
@@ -643,9 +675,6 @@ void TestTet10Validity()
 {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
-  const double ref[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
-    { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
-    { 0, 0.5, 0.5 } };
   int accepted = 0, rejected = 0, wrongAccept = 0, notFull = 0;
   double mapErr = 0.0;
   for (int trial = 0; trial < 400; ++trial)
@@ -654,7 +683,7 @@ void TestTet10Validity()
     double x[30];
     for (int a = 0; a < 10; ++a)
       for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = ref[a][d] + (a < 4 ? 0.3 : 1.0) * amp * U(rng);
+        x[3 * a + d] = RefTet10[a][d] + (a < 4 ? 0.3 : 1.0) * amp * U(rng);
     hoembed::QuadraticMap m;
     hoembed::MakeTetMap(x, 10, m);
     double minDet = std::numeric_limits<double>::infinity();
@@ -704,11 +733,6 @@ void TestTetMapExcludes()
 {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
-  const double ref[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
-    { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
-    { 0, 0.5, 0.5 } };
-  const double starts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 }, { 0.1, 0.7, 0.1 },
-    { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
   int excluded = 0, wrong = 0, tried = 0, byRate = 0, wrongRadius = 0;
   for (int trial = 0; trial < 60; ++trial)
   {
@@ -719,7 +743,7 @@ void TestTetMapExcludes()
     double x[30];
     for (int a = 0; a < 10; ++a)
       for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = scale[d] * (ref[a][d] + (a < 4 ? 0.05 : 0.12) * U(rng));
+        x[3 * a + d] = scale[d] * (RefTet10[a][d] + (a < 4 ? 0.05 : 0.12) * U(rng));
     if (!hoembed::Tet10JacobianProvablyPositive(x))
       continue;
     hoembed::QuadraticMap m;
@@ -745,25 +769,7 @@ void TestTetMapExcludes()
         continue;
       double v[3];
       hoembed::EvaluateMap(m, eta, v);
-      double best = std::numeric_limits<double>::infinity();
-      for (const auto& s0 : starts)
-      {
-        hoembed::ClosestPointResult r;
-        hoembed::ClosestPointOnMap(m, v, s0, r, 200);
-        best = std::min(best, r.Distance2);
-      }
-      const int n = 16;
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j)
-          for (int k = 0; i + j + k <= n; ++k)
-          {
-            const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
-            double y[3];
-            hoembed::EvaluateMap(m, pc, y);
-            best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) +
-                (y[1] - v[1]) * (y[1] - v[1]) + (y[2] - v[2]) * (y[2] - v[2]));
-          }
-      const double dist = std::sqrt(best);
+      const double dist = BruteDistanceToTetMap(m, v);
       const double lmin = std::min({ eta[0], eta[1], eta[2], 1.0 - eta[0] - eta[1] - eta[2] });
       if (rate > 0.0 && 1.0 - 2.0 * lmin <= hoembed::ExclusionRateScale)
         ++byRate;
@@ -803,11 +809,6 @@ void TestTetBarycentricExcludes()
 {
   std::mt19937 rng(10);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
-  const double ref[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
-    { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
-    { 0, 0.5, 0.5 } };
-  const double starts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 }, { 0.1, 0.7, 0.1 },
-    { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
   int excluded = 0, wrong = 0, tried = 0, excludedNear = 0, triedNear = 0;
   for (int trial = 0; trial < 80; ++trial)
   {
@@ -819,7 +820,7 @@ void TestTetBarycentricExcludes()
     double x[30];
     for (int a = 0; a < 10; ++a)
       for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = scale[d] * (ref[a][d] + (a < 4 ? 0.05 : bend) * U(rng)) + 100.0;
+        x[3 * a + d] = scale[d] * (RefTet10[a][d] + (a < 4 ? 0.05 : bend) * U(rng)) + 100.0;
     if (npc == 10 && !hoembed::Tet10JacobianProvablyPositive(x))
       continue;
     hoembed::QuadraticMap m;
@@ -854,25 +855,7 @@ void TestTetBarycentricExcludes()
       if (q >= 33)
         for (int d = 0; d < 3; ++d)
           v[d] += 0.05 * scale[d] * U(rng);
-      double best = std::numeric_limits<double>::infinity();
-      for (const auto& s0 : starts)
-      {
-        hoembed::ClosestPointResult r;
-        hoembed::ClosestPointOnMap(m, v, s0, r, 200);
-        best = std::min(best, r.Distance2);
-      }
-      const int n = 16;
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j)
-          for (int k = 0; i + j + k <= n; ++k)
-          {
-            const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
-            double y[3];
-            hoembed::EvaluateMap(m, pc, y);
-            best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) +
-                (y[1] - v[1]) * (y[1] - v[1]) + (y[2] - v[2]) * (y[2] - v[2]));
-          }
-      const double dist = std::sqrt(best);
+      const double dist = BruteDistanceToTetMap(m, v);
       for (const double f : { 0.0, 0.3, 0.9, 1.1, 3.0 })
       {
         const bool near = q >= 25 && q < 33;
