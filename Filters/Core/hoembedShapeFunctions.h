@@ -34,6 +34,8 @@ constexpr int TetFaceNodes[4][6] = { { 0, 1, 3, 4, 8, 7 }, { 1, 2, 3, 5, 9, 8 },
 
 /// The corner opposite each face (face f does not contain corner TetFaceOpposite[f]).
 constexpr int TetFaceOpposite[4] = { 2, 0, 1, 3 };
+/// The face opposite each corner (TetFaceOpposite inverted).
+constexpr int TetCornerOppositeFace[4] = { 1, 2, 0, 3 };
 
 /// Parametric coordinates (r, s, t) of the ten tet10 nodes.
 HOEMBEDFILTERSCORE_EXPORT extern const double Tet10NodeParametric[10][3];

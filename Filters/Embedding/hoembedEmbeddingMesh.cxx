@@ -79,20 +79,20 @@ double PointTriangleDistance2(const double* p, const double* a, const double* b,
   return Dot(q, q);
 }
 
-// Bezier control points of a cell: corners as they are, edge controls 2 m - (a + b) / 2
-// (ControlBox's expression); returns their number (4 or 10).
-int CellControlPoints(
-  const double* pts, const EmbeddingMesh::Id* ids, bool quadratic, double cp[10][3])
+// Bezier control points of a cell from its node coordinates x (VTK order): corners as
+// they are, edge controls 2 m - (a + b) / 2 (ControlBox's expression); returns their
+// number (4 or 10).
+int CellControlPoints(const double* x, bool quadratic, double cp[10][3])
 {
   int n = 4;
   for (int a = 0; a < 4; ++a)
     for (int d = 0; d < 3; ++d)
-      cp[a][d] = pts[3 * ids[a] + d];
+      cp[a][d] = x[3 * a + d];
   if (quadratic)
     for (int e = 0; e < 6; ++e, ++n)
       for (int d = 0; d < 3; ++d)
-        cp[n][d] = 2.0 * pts[3 * ids[4 + e] + d] -
-          0.5 * (pts[3 * ids[TetEdgeCorners[e][0]] + d] + pts[3 * ids[TetEdgeCorners[e][1]] + d]);
+        cp[n][d] = 2.0 * x[3 * (4 + e) + d] -
+          0.5 * (x[3 * TetEdgeCorners[e][0] + d] + x[3 * TetEdgeCorners[e][1] + d]);
   return n;
 }
 
@@ -139,7 +139,7 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
       MakeTetMap(x, nodesPerCell, mesh.CellMaps[c]);
       MakeTetBarycentricForm(x, nodesPerCell, mesh.CellForms[c]);
       double cp[10][3];
-      const int ncp = CellControlPoints(points, ids, quadratic, cp);
+      const int ncp = CellControlPoints(x, quadratic, cp);
       CellControlBox(cp, ncp, &boxes[6 * c]);
     }
   });
@@ -250,10 +250,8 @@ bool EmbeddingMesh::CellMayContain(Id c, const double v[3], double tol) const
 
 int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
 {
-  // the face opposite the corner (TetFaceOpposite inverted)
-  static constexpr int FaceOppositeCorner[4] = { 1, 2, 0, 3 };
   const int corner = TetBarycentricBeyond(this->CellForms[c], v, tol);
-  return corner < 0 ? -1 : FaceOppositeCorner[corner];
+  return corner < 0 ? -1 : TetCornerOppositeFace[corner];
 }
 
 std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
@@ -291,7 +289,7 @@ std::string EmbeddingMesh::Build(
   bool idsInRange = nodesPerCell == 4 || nodesPerCell == 10;
   for (size_t i = 0; i < connIn.size() && idsInRange; ++i)
     idsInRange = conn[i] >= 0 && conn[i] < numberOfPoints;
-  // The cell data (maps, boxes, slabs, cell grid) and the boundary data (topology,
+  // The cell data (maps, boxes, barycentric forms, cell grid) and the boundary data (topology,
   // normals, face maps, face tree) do not depend on each other: two tasks, each parallel
   // inside (per cell, per face).
   std::string err;

@@ -2,7 +2,8 @@
  * @file hoembedEmbeddingMesh.h
  * @brief The rest FE mesh prepared for embedding: topology, smooth nodal normals, the
  * monomial maps of every cell and boundary face (and of the interpolated normal field on
- * each boundary face), a box tree over the boundary faces and a box grid over the cells.
+ * each boundary face), a box tree and a box grid over the boundary faces, a box grid
+ * over the cells, and each cell's straight tet with its edge bumps.
  *
  * Plain C++ kernel; read-only after Build, so any number of threads may query it.
  */
@@ -30,7 +31,7 @@ public:
    * Prepare a tet4 (nodesPerCell 4) or tet10 (10) mesh: `points` 3 doubles per node,
    * `conn` nodesPerCell ids per cell in VTK order. Returns "" or a description of the
    * problem (topology errors of TetMeshTopology::Build, no boundary). Threading: the cell
-   * data (maps, boxes, slabs, cell grid) and the boundary data (topology, normals, face
+   * data (maps, boxes, barycentric forms, cell grid) and the boundary data (topology, normals, face
    * maps, face tree) are built as two vtkSMPTools tasks, each parallel per item; the
    * result does not depend on the number of threads.
    */

@@ -334,11 +334,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       for (int a = 1; a < 4; ++a)
         if (L[a] < L[k])
           k = a;
-      // the face opposite corner k: TetFaceOpposite maps face -> corner
-      exitFace = -1;
-      for (int fc = 0; fc < 4; ++fc)
-        if (TetFaceOpposite[fc] == k)
-          exitFace = fc;
+      exitFace = TetCornerOppositeFace[k];
       return false;
     }
     ClosestPointOnMap(M.CellMaps[c], v, start, r);

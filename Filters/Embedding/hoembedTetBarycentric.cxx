@@ -10,7 +10,6 @@ namespace hoembed
 void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
 {
   form.Slack = -1.0; // not usable until complete
-  form.CurvedEdges = 0;
   double A[3][3]; // columns: x1 - x0, x2 - x0, x3 - x0
   for (int d = 0; d < 3; ++d)
   {
@@ -61,8 +60,6 @@ void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
     if (n == 10)
       for (int d = 0; d < 3; ++d)
         delta[d] = x[3 * (4 + e) + d] - 0.5 * (x[3 * i + d] + x[3 * j + d]);
-    if (delta[0] != 0.0 || delta[1] != 0.0 || delta[2] != 0.0)
-      form.CurvedEdges |= 1 << e;
     for (int k = 0; k < 4; ++k)
     {
       const double w = form.G[k][0] * delta[0] + form.G[k][1] * delta[1] + form.G[k][2] * delta[2];
@@ -76,17 +73,32 @@ void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
   form.Slack = 1e-12 + 64.0 * std::numeric_limits<double>::epsilon() * cond;
 }
 
+namespace
+{
+// The straight tet's barycentric coordinates l of p and their round-off allowance.
+void StraightCoordinates(const TetBarycentricForm& form, const double p[3], double l[4],
+  double slack[4])
+{
+  const double y[3] = { p[0] - form.X0[0], p[1] - form.X0[1], p[2] - form.X0[2] };
+  for (int k = 0; k < 4; ++k)
+  {
+    l[k] = form.G[k][0] * y[0] + form.G[k][1] * y[1] + form.G[k][2] * y[2] + (k == 0 ? 1.0 : 0.0);
+    slack[k] = form.Slack * (1.0 + std::fabs(l[k]));
+  }
+}
+} // namespace
+
 int TetBarycentricBeyond(const TetBarycentricForm& form, const double p[3], double reach)
 {
   if (form.Slack < 0.0)
     return -1;
-  const double y[3] = { p[0] - form.X0[0], p[1] - form.X0[1], p[2] - form.X0[2] };
+  double l[4], slack[4];
+  StraightCoordinates(form, p, l, slack);
   int corner = -1;
   double worst = 0.0; // distance beyond the slab, in world units
   for (int k = 0; k < 4; ++k)
   {
-    const double l = form.G[k][0] * y[0] + form.G[k][1] * y[1] + form.G[k][2] * y[2] + (k == 0);
-    const double beyond = -(l + form.Bump[k] + form.Slack * (1.0 + std::fabs(l)));
+    const double beyond = -(l[k] + form.Bump[k] + slack[k]);
     if (beyond > reach * form.GNorm[k] && (corner < 0 || beyond > worst * form.GNorm[k]))
     {
       corner = k;
@@ -101,13 +113,10 @@ bool TetBarycentricExcludes(
 {
   if (form.Slack < 0.0)
     return false;
-  const double y[3] = { p[0] - form.X0[0], p[1] - form.X0[1], p[2] - form.X0[2] };
   double L[4], r[4];
+  StraightCoordinates(form, p, L, r);
   for (int k = 0; k < 4; ++k)
-  {
-    L[k] = form.G[k][0] * y[0] + form.G[k][1] * y[1] + form.G[k][2] * y[2] + (k == 0 ? 1.0 : 0.0);
-    r[k] = form.GNorm[k] * reach + form.Slack * (1.0 + std::fabs(L[k]));
-  }
+    r[k] += form.GNorm[k] * reach;
   double lo[4] = { 0, 0, 0, 0 }, hi[4] = { 1, 1, 1, 1 };
   double width = 4.0;
   for (int sweep = 0; sweep < maxSweeps; ++sweep)

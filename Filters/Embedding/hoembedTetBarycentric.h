@@ -43,7 +43,6 @@ struct TetBarycentricForm
   double W[6][4] = {};        ///< W[e][k] = w_ke = G[k] . delta_e (edges in VTK midnode order)
   double Bump[4] = { 0, 0, 0, 0 }; ///< the element lies where l_k >= -Bump[k] (>= 0)
   double Slack = -1.0;        ///< round-off allowance in lambda; < 0: not usable
-  int CurvedEdges = 0;        ///< bit e set when delta_e != 0
 };
 
 /**
