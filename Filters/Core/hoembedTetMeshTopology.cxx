@@ -10,28 +10,33 @@ namespace
 {
 using Id = TetMeshTopology::Id;
 
-// Items keyed by a sorted tuple of node ids; bucketed by the smallest id (counting sort),
-// so that matching is linear in the number of items for bounded node valence.
-template <int K>
-struct Keyed
-{
-  Id Key[K];
-  Id Item;
-};
-
-template <int K>
-void BucketByFirst(std::vector<Keyed<K>>& items, Id numberOfPoints, std::vector<Id>& offsets,
-  std::vector<Keyed<K>>& sorted)
+// Items keyed by a sorted tuple of node ids (`make(i, item)` fills item i), bucketed by
+// the smallest id with a counting sort straight into `sorted` (CSR by `offsets`), items
+// in their order within a bucket: matching is then linear in the number of items for
+// bounded node valence.
+template <typename T, typename Make>
+void BucketByFirst(
+  Id numberOfItems, Id numberOfPoints, Make make, std::vector<Id>& offsets, std::vector<T>& sorted)
 {
   offsets.assign(numberOfPoints + 1, 0);
-  for (const auto& it : items)
+  T it;
+  for (Id i = 0; i < numberOfItems; ++i)
+  {
+    make(i, it);
     ++offsets[it.Key[0] + 1];
+  }
   for (Id i = 0; i < numberOfPoints; ++i)
     offsets[i + 1] += offsets[i];
-  std::vector<Id> fill(offsets.begin(), offsets.end() - 1);
-  sorted.resize(items.size());
-  for (const auto& it : items)
-    sorted[fill[it.Key[0]]++] = it;
+  sorted.resize(numberOfItems);
+  // bucket p filled at offsets[p]++ (leaving it at the start of p + 1), then shifted back
+  for (Id i = 0; i < numberOfItems; ++i)
+  {
+    make(i, it);
+    sorted[offsets[it.Key[0]]++] = it;
+  }
+  for (Id i = numberOfPoints; i > 0; --i)
+    offsets[i] = offsets[i - 1];
+  offsets[0] = 0;
 }
 
 // Sort a bucket by a total order (no ties: the item ids differ): insertion sort for the
@@ -108,41 +113,36 @@ std::string TetMeshTopology::BuildImpl(
   this->NumberOfPoints = numberOfPoints;
   const int npf = this->GetNodesPerFace();
 
+  for (Id c = 0; c < numberOfCells; ++c)
   {
-    // a point repeats in cell c when it was already stamped with c
-    std::vector<Id> stamp(numberOfPoints, -1);
-    for (Id c = 0; c < numberOfCells; ++c)
+    const Id* cell = conn + c * nodesPerCell;
+    for (int i = 0; i < nodesPerCell; ++i)
     {
-      const Id* cell = conn + c * nodesPerCell;
-      for (int i = 0; i < nodesPerCell; ++i)
+      if (cell[i] < 0 || cell[i] >= numberOfPoints)
       {
-        if (cell[i] < 0 || cell[i] >= numberOfPoints)
-        {
-          std::ostringstream os;
-          os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
-             << numberOfPoints << ")";
-          return os.str();
-        }
-        if (stamp[cell[i]] == c)
+        std::ostringstream os;
+        os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
+           << numberOfPoints << ")";
+        return os.str();
+      }
+      for (int j = 0; j < i; ++j)
+        if (cell[j] == cell[i])
         {
           std::ostringstream os;
           os << "cell " << c << " repeats point " << cell[i];
           return os.str();
         }
-        stamp[cell[i]] = c;
-      }
     }
   }
 
   // Face neighbours.
-  std::vector<Keyed<3>> faces(static_cast<size_t>(4 * numberOfCells));
-  for (Id c = 0; c < numberOfCells; ++c)
-  {
-    const Id* cell = conn + c * nodesPerCell;
-    for (int f = 0; f < 4; ++f)
-    {
-      Keyed<3>& k = faces[4 * c + f];
-      Id a = cell[TetFaceNodes[f][0]], b = cell[TetFaceNodes[f][1]], d = cell[TetFaceNodes[f][2]];
+  std::vector<Id>& offsets = this->BucketOffsets;
+  std::vector<Keyed<3>>& sorted = this->SortedFaces;
+  BucketByFirst(4 * numberOfCells, numberOfPoints,
+    [conn, nodesPerCell](Id item, Keyed<3>& k) {
+      const Id* cell = conn + (item / 4) * nodesPerCell;
+      const int* fn = TetFaceNodes[item % 4];
+      Id a = cell[fn[0]], b = cell[fn[1]], d = cell[fn[2]];
       if (b < a)
         std::swap(a, b);
       if (d < b)
@@ -154,13 +154,9 @@ std::string TetMeshTopology::BuildImpl(
       k.Key[0] = a;
       k.Key[1] = b;
       k.Key[2] = d;
-      k.Item = 4 * c + f;
-    }
-  }
-  std::vector<Id> offsets;
-  std::vector<Keyed<3>> sorted;
-  BucketByFirst(faces, numberOfPoints, offsets, sorted);
-  faces.clear();
+      k.Item = item;
+    },
+    offsets, sorted);
   this->FaceNeighbor.assign(4 * numberOfCells, -1);
   for (Id p = 0; p < numberOfPoints; ++p)
   {
@@ -232,21 +228,16 @@ std::string TetMeshTopology::BuildImpl(
   const Id nbf = this->GetNumberOfBoundaryFaces();
 
   // Boundary edges and the neighbours across them.
-  std::vector<Keyed<2>> edges(static_cast<size_t>(3 * nbf));
-  for (Id b = 0; b < nbf; ++b)
-  {
-    const Id* fn = &this->BoundaryFaceNodes[b * npf];
-    for (int e = 0; e < 3; ++e)
-    {
-      Keyed<2>& k = edges[3 * b + e];
+  std::vector<Keyed<2>>& sortedEdges = this->SortedEdges;
+  BucketByFirst(3 * nbf, numberOfPoints,
+    [this, npf](Id item, Keyed<2>& k) {
+      const Id* fn = &this->BoundaryFaceNodes[(item / 3) * npf];
+      const int e = static_cast<int>(item % 3);
       k.Key[0] = std::min(fn[e], fn[(e + 1) % 3]);
       k.Key[1] = std::max(fn[e], fn[(e + 1) % 3]);
-      k.Item = 3 * b + e;
-    }
-  }
-  std::vector<Keyed<2>> sortedEdges;
-  BucketByFirst(edges, numberOfPoints, offsets, sortedEdges);
-  edges.clear();
+      k.Item = item;
+    },
+    offsets, sortedEdges);
   this->BoundaryFaceNeighbor.assign(3 * nbf, -1);
   this->BoundaryEdgeNodes.clear();
   this->NumberOfNonManifoldBoundaryEdges = 0;
@@ -289,10 +280,13 @@ std::string TetMeshTopology::BuildImpl(
   for (Id i = 0; i < numberOfPoints; ++i)
     this->NodeFaceOffsets[i + 1] += this->NodeFaceOffsets[i];
   this->NodeFaces.resize(this->NodeFaceOffsets[numberOfPoints]);
-  std::vector<Id> fill(this->NodeFaceOffsets.begin(), this->NodeFaceOffsets.end() - 1);
+  std::vector<Id>& start = this->NodeFaceOffsets; // filled at start[i]++, shifted back
   for (Id b = 0; b < nbf; ++b)
     for (int a = 0; a < npf; ++a)
-      this->NodeFaces[fill[this->BoundaryFaceNodes[b * npf + a]]++] = b;
+      this->NodeFaces[start[this->BoundaryFaceNodes[b * npf + a]]++] = b;
+  for (Id i = numberOfPoints; i > 0; --i)
+    start[i] = start[i - 1];
+  start[0] = 0;
   return std::string();
 }
 } // namespace hoembed

@@ -69,6 +69,18 @@ public:
 
 private:
   std::string BuildImpl(const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints);
+
+  /// Working memory of Build (faces and boundary edges bucketed by their smallest node),
+  /// kept so that building again reuses it.
+  template <int K>
+  struct Keyed
+  {
+    Id Key[K]; ///< node ids, ascending
+    Id Item;
+  };
+  std::vector<Keyed<3>> SortedFaces;
+  std::vector<Keyed<2>> SortedEdges;
+  std::vector<Id> BucketOffsets;
 };
 } // namespace hoembed
 

@@ -162,19 +162,58 @@ void VertexTriangles(const std::vector<Id>& tris, Id numberOfPoints, std::vector
   for (Id i = 0; i < numberOfPoints; ++i)
     offsets[i + 1] += offsets[i];
   list.resize(3 * ntri);
-  std::vector<Id> fill(offsets.begin(), offsets.end() - 1);
+  // fill vertex w at offsets[w]++ (leaving it at the start of w + 1), then shift back
   for (Id t = 0; t < ntri; ++t)
     for (int j = 0; j < 3; ++j)
-      list[fill[tris[3 * t + j]]++] = static_cast<std::int32_t>(t);
+      list[offsets[tris[3 * t + j]]++] = static_cast<std::int32_t>(t);
+  for (Id i = numberOfPoints; i > 0; --i)
+    offsets[i] = offsets[i - 1];
+  offsets[0] = 0;
 }
 } // namespace
+
+struct EmbedWorkspace::Impl
+{
+  FloodContext Context; // its arrays are kept; pointers and counters are set per call
+  std::vector<Id> Offsets, NewId, OldId, Triangles, Isolated;
+  std::vector<std::int32_t> VertexTris, Order;
+  std::vector<char> Queued, Expanded;
+  std::vector<double> Points;
+  std::vector<VertexEmbedding> Results; // without a vertex order: before the scatter
+};
+
+EmbedWorkspace::EmbedWorkspace()
+  : Internal(new Impl)
+{
+}
+
+EmbedWorkspace::~EmbedWorkspace() = default;
+
+std::size_t EmbedWorkspace::GetCapacityInBytes() const
+{
+  const Impl& w = *this->Internal;
+  const FloodContext& c = w.Context;
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  return bytes(w.Offsets) + bytes(w.NewId) + bytes(w.OldId) + bytes(w.Triangles) +
+    bytes(w.Isolated) + bytes(w.VertexTris) + bytes(w.Order) + bytes(w.Queued) +
+    bytes(w.Expanded) + bytes(w.Points) + bytes(w.Results) + bytes(c.VertexTriOffsets) +
+    bytes(c.VertexTris) + bytes(c.Owner) + bytes(c.TriangleState) + bytes(c.Done) +
+    bytes(c.Expanded);
+}
+
+void EmbedWorkspace::Release()
+{
+  this->Internal.reset(new Impl);
+}
 
 void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   Id numberOfPoints, const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out,
   int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats,
-  std::vector<Id>* vertexOrder)
+  std::vector<Id>* vertexOrder, EmbedWorkspace* workspace)
 {
   const Id ntri = static_cast<Id>(triangles.size() / 3);
+  EmbedWorkspace local;
+  EmbedWorkspace::Impl& W = *(workspace ? workspace : &local)->Internal;
 
   // Breadth-first order of the triangles over the surface (neighbours through shared
   // vertices), one component after the other, and the vertices renumbered by their
@@ -182,18 +221,27 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   // surface whatever the input order. (The real meshes' order is not spatially coherent:
   // contiguous ranges of input triangles gave about one flood seed, i.e. one search
   // without a hint, per triangle, and every access was a cache miss.)
-  std::vector<Id> offsets;
-  std::vector<std::int32_t> vertexTris;
+  std::vector<Id>& offsets = W.Offsets;
+  std::vector<std::int32_t>& vertexTris = W.VertexTris;
   VertexTriangles(triangles, numberOfPoints, offsets, vertexTris);
   // The vertices are numbered as their triangles are queued (that is their first
   // appearance in the order), and the triangles' new ids written then: the triangle is
   // read again when it is expanded, a few hundred queue places later, still in cache.
-  std::vector<std::int32_t> order(ntri);
-  std::vector<Id> newId(numberOfPoints, -1), oldId(numberOfPoints);
-  std::vector<Id> tris(3 * ntri);
+  // With a vertex order the new-to-old ids go straight to the caller.
+  std::vector<std::int32_t>& order = W.Order;
+  std::vector<Id>& newId = W.NewId;
+  std::vector<Id>& oldId = vertexOrder ? *vertexOrder : W.OldId;
+  std::vector<Id>& tris = W.Triangles;
+  order.resize(ntri);
+  newId.assign(numberOfPoints, -1);
+  oldId.resize(numberOfPoints);
+  tris.resize(3 * ntri);
   Id next = 0;
   {
-    std::vector<char> queued(ntri, 0), expanded(numberOfPoints, 0);
+    std::vector<char>& queued = W.Queued;
+    std::vector<char>& expanded = W.Expanded;
+    queued.assign(ntri, 0);
+    expanded.assign(numberOfPoints, 0);
     Id head = 0, tail = 0;
     auto enqueue = [&](Id t) {
       queued[t] = 1;
@@ -240,15 +288,22 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
       oldId[next] = w;
       newId[w] = next++;
     }
-  std::vector<double> pts(3 * static_cast<size_t>(numberOfPoints));
+  std::vector<double>& pts = W.Points;
+  pts.resize(3 * static_cast<size_t>(numberOfPoints));
   vtkSMPTools::For(Id(0), numberOfPoints, [&](Id b, Id e) {
     for (Id i = b; i < e; ++i)
       for (int d = 0; d < 3; ++d)
         pts[3 * i + d] = points[3 * oldId[i] + d];
   });
-  std::vector<VertexEmbedding> res(numberOfPoints);
+  // with a vertex order the results go straight to the caller, in the flood's order
+  std::vector<VertexEmbedding>& res = vertexOrder ? out : W.Results;
+  res.assign(numberOfPoints, VertexEmbedding());
 
-  FloodContext ctx;
+  FloodContext& ctx = W.Context;
+  ctx.Seeds = 0;
+  ctx.Raises = 0;
+  for (SearchScratch& s : ctx.Scratch)
+    s.FaceStamp.clear(); // prepared for this mesh at its first use in this call
   ctx.Mesh = &mesh;
   ctx.Method = method;
   ctx.Points = pts.data();
@@ -277,7 +332,8 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   ctx.Expanded.assign(numberOfPoints, 0);
 
   // vertices in no triangle: numbered last
-  std::vector<Id> isolated;
+  std::vector<Id>& isolated = W.Isolated;
+  isolated.clear();
   for (Id i = nOnTriangles; i < numberOfPoints; ++i)
     isolated.push_back(i);
   const Id nIso = static_cast<Id>(isolated.size());
@@ -314,12 +370,7 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
       }
     });
   }
-  if (vertexOrder)
-  {
-    out = std::move(res);
-    *vertexOrder = std::move(oldId);
-  }
-  else
+  if (!vertexOrder)
   {
     out.resize(numberOfPoints);
     for (Id i = 0; i < numberOfPoints; ++i)

@@ -9,7 +9,7 @@ namespace hoembed
 void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
 {
   const Id n = static_cast<Id>(boxes.size() / 6);
-  this->ItemBoxes = boxes;
+  this->ItemBoxes.assign(boxes.begin(), boxes.end());
   this->Offsets.clear();
   this->Items.clear();
   this->Dims[0] = this->Dims[1] = this->Dims[2] = 0;
@@ -53,14 +53,18 @@ void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
         for (int x = first[0]; x <= last[0]; ++x)
           f((static_cast<Id>(z) * this->Dims[1] + y) * this->Dims[0] + x);
   };
+  // counting sort without a second offsets array: count into b + 1, sum, fill bin b at
+  // Offsets[b]++ (which leaves Offsets[b] at the start of bin b + 1), shift back
   for (Id i = 0; i < n; ++i)
     forBins(i, [&](Id b) { ++this->Offsets[b + 1]; });
   for (Id b = 0; b < bins; ++b)
     this->Offsets[b + 1] += this->Offsets[b];
   this->Items.resize(this->Offsets[bins]);
-  std::vector<Id> fill(this->Offsets.begin(), this->Offsets.end() - 1);
   for (Id i = 0; i < n; ++i)
-    forBins(i, [&](Id b) { this->Items[fill[b]++] = i; });
+    forBins(i, [&](Id b) { this->Items[this->Offsets[b]++] = i; });
+  for (Id b = bins; b > 0; --b)
+    this->Offsets[b] = this->Offsets[b - 1];
+  this->Offsets[0] = 0;
 }
 
 void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) const

@@ -127,7 +127,8 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
   const bool quadratic = nodesPerCell == 10;
   mesh.CellMaps.resize(numberOfCells);
   mesh.CellForms.resize(numberOfCells);
-  std::vector<double> boxes(6 * numberOfCells);
+  std::vector<double>& boxes = mesh.Scratch.CellBoxes;
+  boxes.resize(6 * numberOfCells);
   vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
     double x[30];
     for (Id c = cb; c < ce; ++c)
@@ -165,7 +166,8 @@ std::string BuildBoundaryData(EmbeddingMesh& mesh, const double* points, const I
   mesh.FaceSlabs.assign(6 * nbf, 0.0);
   mesh.FaceFlat.assign(10 * nbf, 0.0);
   mesh.NormalMaps.resize(nbf);
-  std::vector<double> boxes(6 * nbf);
+  std::vector<double>& boxes = mesh.Scratch.FaceBoxes;
+  boxes.resize(6 * nbf);
   auto faceData = [&](Id f, double* x) {
     const Id* ids = &mesh.Topology.BoundaryFaceNodes[npf * f];
     double nx[18];
@@ -238,7 +240,7 @@ std::string BuildBoundaryData(EmbeddingMesh& mesh, const double* points, const I
       faceData(f, x);
   });
   mesh.FaceGrid.Build(boxes, 32.0);
-  mesh.FaceTree.Build(std::move(boxes));
+  mesh.FaceTree.Build(boxes);
   return std::string();
 }
 } // namespace
@@ -259,18 +261,26 @@ std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const 
 {
   if (numberOfPoints < 0 || numberOfCells < 0 || nodesPerCell < 0)
     return this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);
-  return this->Build(std::vector<double>(points, points + 3 * numberOfPoints),
-    std::vector<Id>(conn, conn + nodesPerCell * numberOfCells), nodesPerCell);
+  this->Points.assign(points, points + 3 * numberOfPoints);
+  this->Connectivity.assign(conn, conn + nodesPerCell * numberOfCells);
+  return this->Prepare(nodesPerCell);
 }
 
 std::string EmbeddingMesh::Build(
   std::vector<double> pointsIn, std::vector<Id> connIn, int nodesPerCell)
 {
-  const Id numberOfPoints = static_cast<Id>(pointsIn.size() / 3);
+  this->Points = std::move(pointsIn);
+  this->Connectivity = std::move(connIn);
+  return this->Prepare(nodesPerCell);
+}
+
+std::string EmbeddingMesh::Prepare(int nodesPerCell)
+{
+  const Id numberOfPoints = static_cast<Id>(this->Points.size() / 3);
   const Id numberOfCells =
-    nodesPerCell > 0 ? static_cast<Id>(connIn.size() / nodesPerCell) : Id(0);
-  const double* points = pointsIn.data();
-  const Id* conn = connIn.data();
+    nodesPerCell > 0 ? static_cast<Id>(this->Connectivity.size() / nodesPerCell) : Id(0);
+  const double* points = this->Points.data();
+  const Id* conn = this->Connectivity.data();
 
   double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
     std::numeric_limits<double>::max() };
@@ -287,7 +297,7 @@ std::string EmbeddingMesh::Build(
   // the cell part reads the nodes of every cell: only with ids in range (the topology
   // reports the problem otherwise)
   bool idsInRange = nodesPerCell == 4 || nodesPerCell == 10;
-  for (size_t i = 0; i < connIn.size() && idsInRange; ++i)
+  for (size_t i = 0; i < this->Connectivity.size() && idsInRange; ++i)
     idsInRange = conn[i] >= 0 && conn[i] < numberOfPoints;
   // The cell data (maps, boxes, barycentric forms, cell grid) and the boundary data (topology,
   // normals, face maps, face tree) do not depend on each other: two tasks, each parallel
@@ -311,14 +321,15 @@ std::string EmbeddingMesh::Build(
   if (!err.empty())
   {
     // nothing half-built left behind (the topology has reset itself, or is complete)
+    this->Points.clear();
+    this->Connectivity.clear();
     this->CellMaps.clear();
     this->CellForms.clear();
     this->CellGrid = BoxGrid();
+    this->Diagonal = 0.0;
     return err;
   }
   this->Diagonal = diagonal;
-  this->Points = std::move(pointsIn);
-  this->Connectivity = std::move(connIn);
   return std::string();
 }
 

@@ -40,6 +40,10 @@ public:
   /// The same, taking over the node coordinates (3 per node) and the connectivity
   /// (nodesPerCell per cell) without copying them (pass rvalues).
   std::string Build(std::vector<double> points, std::vector<Id> conn, int nodesPerCell);
+  /// The same from the node coordinates and connectivity already in Points and
+  /// Connectivity. A mesh prepared again reuses the memory of its previous preparation
+  /// (vectors keep their capacity), so repeated preparations touch no fresh pages.
+  std::string Prepare(int nodesPerCell);
 
   TetMeshTopology Topology;
   std::vector<double> Points;       ///< 3 per node
@@ -66,6 +70,12 @@ public:
   BoxGrid FaceGrid; ///< the same boxes (32 bins per face): short-range queries
   BoxGrid CellGrid; ///< over the cells' control-point boxes
   double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
+  /// Working memory of Prepare (the boxes the grids and the tree are built from), kept
+  /// for the next preparation.
+  struct BuildScratch
+  {
+    std::vector<double> CellBoxes, FaceBoxes;
+  } Scratch;
 
   int NodesPerCell() const { return this->Topology.NodesPerCell; }
 

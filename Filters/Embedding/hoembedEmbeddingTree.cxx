@@ -6,10 +6,10 @@
 
 namespace hoembed
 {
-void AabbTree::Build(std::vector<double> boxes)
+void AabbTree::Build(const std::vector<double>& boxes)
 {
   const Id n = static_cast<Id>(boxes.size() / 6);
-  this->ItemBoxes = std::move(boxes);
+  this->ItemBoxes.assign(boxes.begin(), boxes.end());
   const double* ib = this->ItemBoxes.data();
   this->Items.resize(n);
   this->Nodes.clear();

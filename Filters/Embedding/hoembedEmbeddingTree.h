@@ -24,9 +24,9 @@ class HOEMBEDFILTERSEMBEDDING_EXPORT AabbTree
 public:
   using Id = std::int64_t;
 
-  /// `boxes`: 6 doubles per item (xmin, ymin, zmin, xmax, ymax, zmax); kept (pass an
-  /// rvalue to hand it over without a copy).
-  void Build(std::vector<double> boxes);
+  /// `boxes`: 6 doubles per item (xmin, ymin, zmin, xmax, ymax, zmax); copied (a tree
+  /// built again reuses its memory).
+  void Build(const std::vector<double>& boxes);
 
   /// Squared distance from v to box b (0 inside).
   static double BoxDistance2(const double* b, const double v[3])

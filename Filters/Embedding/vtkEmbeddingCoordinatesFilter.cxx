@@ -115,10 +115,42 @@ CellScan ReadCells(vtkUnstructuredGrid* mesh, int npc, std::vector<Id>& conn,
 }
 } // namespace
 
+struct vtkEmbeddingCoordinatesFilter::vtkInternals
+{
+  // mesh-sized: kept
+  hoembed::EmbeddingMesh Mesh;
+  // surface-sized: kept up to MaxKeptBytes (a fine surface's working memory is ~300 bytes
+  // per vertex; its page faults cost a few percent of the time, not worth holding
+  // hundreds of MB between Updates)
+  hoembed::EmbedWorkspace Flood;
+  std::vector<double> SurfacePoints;
+  std::vector<Id> Triangles, Order;
+  std::vector<hoembed::VertexEmbedding> Results;
+  static constexpr std::size_t MaxKeptBytes = std::size_t(64) << 20;
+
+  void ReleaseLargeSurfaceMemory()
+  {
+    const std::size_t bytes = this->Flood.GetCapacityInBytes() +
+      sizeof(double) * this->SurfacePoints.capacity() +
+      sizeof(Id) * (this->Triangles.capacity() + this->Order.capacity()) +
+      sizeof(hoembed::VertexEmbedding) * this->Results.capacity();
+    if (bytes <= MaxKeptBytes)
+      return;
+    this->Flood.Release();
+    std::vector<double>().swap(this->SurfacePoints);
+    std::vector<Id>().swap(this->Triangles);
+    std::vector<Id>().swap(this->Order);
+    std::vector<hoembed::VertexEmbedding>().swap(this->Results);
+  }
+};
+
 vtkEmbeddingCoordinatesFilter::vtkEmbeddingCoordinatesFilter()
+  : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(2);
 }
+
+vtkEmbeddingCoordinatesFilter::~vtkEmbeddingCoordinatesFilter() = default;
 
 const char* vtkEmbeddingCoordinatesFilter::GetMethodAsString()
 {
@@ -166,13 +198,14 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     return 0;
   }
   vtkIdType bad = -1;
-  std::vector<double> sp; // surface points, 3 doubles each
+  std::vector<double>& sp = this->Internals->SurfacePoints; // 3 doubles each
   if (!CopyFinitePoints(surface->GetPoints(), sp, bad))
   {
     vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
     return 0;
   }
-  std::vector<double> meshPts;
+  hoembed::EmbeddingMesh& em = this->Internals->Mesh;
+  std::vector<double>& meshPts = em.Points;
   if (!CopyFinitePoints(mesh->GetPoints(), meshPts, bad))
   {
     vtkErrorMacro("The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".");
@@ -190,7 +223,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   }
   const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
   const vtkIdType npts = mesh->GetNumberOfPoints();
-  std::vector<Id> conn;
+  std::vector<Id>& conn = em.Connectivity;
   // cell types and connectivity read straight from the arrays (no vtkIdList per cell),
   // the fingerprint in the same pass
   hoembed::MeshFingerprint fingerprint(npts, ncells);
@@ -261,8 +294,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   }
   this->UpdateProgress(0.05);
 
-  hoembed::EmbeddingMesh em;
-  const std::string err = em.Build(std::move(meshPts), std::move(conn), npc);
+  const std::string err = em.Prepare(npc);
   if (!err.empty())
   {
     vtkErrorMacro("The FE mesh topology is not usable: " << err);
@@ -272,7 +304,8 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
 
   // surface points and triangles
   const vtkIdType ns = surface->GetNumberOfPoints();
-  std::vector<Id> tris;
+  std::vector<Id>& tris = this->Internals->Triangles;
+  tris.clear();
   {
     // a polygon or strip of k points gives k - 2 triangles
     vtkIdType ntri = 0;
@@ -320,12 +353,19 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     }
   }
 
-  std::vector<hoembed::VertexEmbedding> res;
+  std::vector<hoembed::VertexEmbedding>& res = this->Internals->Results;
   const int method =
     this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
-  std::vector<Id> order; // res[k] belongs to surface point order[k]
+  std::vector<Id>& order = this->Internals->Order; // res[k] belongs to surface point order[k]
   hoembed::EmbedSurface(em, method, sp.data(), ns, tris, res, this->NumberOfPartitions,
-    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); }, nullptr, &order);
+    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); }, nullptr, &order,
+    &this->Internals->Flood);
+  // surface-sized memory beyond the cap is given back however this Update ends
+  struct Trim
+  {
+    vtkInternals* Internals;
+    ~Trim() { this->Internals->ReleaseLargeSurfaceMemory(); }
+  } trim{ this->Internals.get() };
 
   vtkNew<vtkIdTypeArray> cellId;
   cellId->SetName("EmbeddingCellId");

@@ -65,6 +65,8 @@
 #include "hoembedFiltersEmbeddingModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <memory> // for std::unique_ptr
+
 class vtkUnstructuredGrid;
 
 class HOEMBEDFILTERSEMBEDDING_EXPORT vtkEmbeddingCoordinatesFilter : public vtkPolyDataAlgorithm
@@ -128,7 +130,7 @@ public:
 
 protected:
   vtkEmbeddingCoordinatesFilter();
-  ~vtkEmbeddingCoordinatesFilter() override = default;
+  ~vtkEmbeddingCoordinatesFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -139,6 +141,11 @@ protected:
   vtkIdType NumberOfUncertifiedPoints = 0;
 
 private:
+  /// Working memory kept between Updates (the prepared mesh's arrays), so that an
+  /// Update after the first touches no fresh pages; every Update prepares the mesh anew.
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+
   vtkEmbeddingCoordinatesFilter(const vtkEmbeddingCoordinatesFilter&) = delete;
   void operator=(const vtkEmbeddingCoordinatesFilter&) = delete;
 };

@@ -164,6 +164,39 @@ def test_matches_between_runs_and_threads(meshes, surface):
     assert np.abs(a["EmbeddingClosestDistance"] - b["EmbeddingClosestDistance"]).max() <= 1e-12 * diag
 
 
+def test_filter_reused_across_inputs(meshes, surface):
+    """One filter updated on different meshes, surfaces and methods, and after an error
+    (it keeps its working memory between Updates), gives exactly the results of a fresh
+    filter each time."""
+    from hoembed import vtkEmbeddingCoordinatesFilter
+    from hoembed._errors import run_filter
+    m10, m4 = meshes
+    small = pv.Sphere(radius=0.4, center=(1.0, 0.5, 0.5), theta_resolution=9, phi_resolution=7)
+    nan_mesh = m10.copy()
+    nan_mesh.points[3] = [np.nan, 0, 0]
+    # the same mesh 100 times larger: the same counts, other per-cell data
+    big, big_surface = m10.scale(100.0, inplace=False), surface.scale(100.0, inplace=False)
+    runs = [(big_surface, big, 0), (surface, m10, 0), (small, m4, 0), (surface, nan_mesh, 0),
+            (surface, m4, 1), (small, m10, 0), (surface, m10, 1)]
+    alg = vtkEmbeddingCoordinatesFilter()
+    compared = 0
+    for surf, mesh, method in runs:
+        alg.SetInputData(0, surf)
+        alg.SetMeshData(mesh)
+        alg.SetMethod(method)
+        name = "barycentric" if method else "normal-offset"
+        if mesh is nan_mesh:
+            with pytest.raises(hoembed.HOEmbedError, match="non-finite"):
+                run_filter(alg)
+            continue
+        got = pv.wrap(run_filter(alg)).copy()
+        want = hoembed.embed(surf, mesh, method=name)
+        for array in ARRAYS:
+            assert np.array_equal(got[array], want[array]), (array, name)
+        compared += 1
+    assert compared == len(runs) - 1
+
+
 def test_save_load_identical(meshes, surface, tmp_path):
     out = hoembed.embed(surface, meshes[0])
     f = tmp_path / "embedded.vtp"
