@@ -297,7 +297,7 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   });
   // with a vertex order the results go straight to the caller, in the flood's order
   std::vector<VertexEmbedding>& res = vertexOrder ? out : W.Results;
-  res.assign(numberOfPoints, VertexEmbedding());
+  res.resize(numberOfPoints); // EmbedVertex writes every field of a vertex it embeds
 
   FloodContext& ctx = W.Context;
   ctx.Seeds = 0;

@@ -239,8 +239,7 @@ std::string BuildBoundaryData(EmbeddingMesh& mesh, const double* points, const I
     for (Id f = fb; f < fe; ++f)
       faceData(f, x);
   });
-  mesh.FaceGrid.Build(boxes, 32.0);
-  mesh.FaceTree.Build(boxes);
+  mesh.FaceGrid.Build(boxes, 32.0); // the tree over the same boxes waits for its first use
   return std::string();
 }
 } // namespace
@@ -274,8 +273,23 @@ std::string EmbeddingMesh::Build(
   return this->Prepare(nodesPerCell);
 }
 
+const AabbTree& EmbeddingMesh::GetFaceTree() const
+{
+  if (!this->FaceTreeBuilt.load(std::memory_order_acquire))
+  {
+    std::lock_guard<std::mutex> lock(this->FaceTreeMutex);
+    if (!this->FaceTreeBuilt.load(std::memory_order_relaxed))
+    {
+      this->FaceTree.Build(this->Scratch.FaceBoxes);
+      this->FaceTreeBuilt.store(true, std::memory_order_release);
+    }
+  }
+  return this->FaceTree;
+}
+
 std::string EmbeddingMesh::Prepare(int nodesPerCell)
 {
+  this->FaceTreeBuilt.store(false);
   const Id numberOfPoints = static_cast<Id>(this->Points.size() / 3);
   const Id numberOfCells =
     nodesPerCell > 0 ? static_cast<Id>(this->Connectivity.size() / nodesPerCell) : Id(0);

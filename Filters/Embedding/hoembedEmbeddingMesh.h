@@ -2,10 +2,12 @@
  * @file hoembedEmbeddingMesh.h
  * @brief The rest FE mesh prepared for embedding: topology, smooth nodal normals, the
  * monomial maps of every cell and boundary face (and of the interpolated normal field on
- * each boundary face), a box tree and a box grid over the boundary faces, a box grid
+ * each boundary face), a box grid (and, when first needed, a box tree) over the boundary
+ * faces, a box grid
  * over the cells, and each cell's straight tet with its edge bumps.
  *
- * Plain C++ kernel; read-only after Build, so any number of threads may query it.
+ * Plain C++ kernel; read-only after Build (but for the face tree's one-time build, which
+ * is synchronised), so any number of threads may query it.
  */
 #ifndef hoembedEmbeddingMesh_h
 #define hoembedEmbeddingMesh_h
@@ -17,6 +19,8 @@
 #include "hoembedTetBarycentric.h"
 #include "hoembedTetMeshTopology.h"
 
+#include <atomic>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -32,7 +36,7 @@ public:
    * `conn` nodesPerCell ids per cell in VTK order. Returns "" or a description of the
    * problem (topology errors of TetMeshTopology::Build, no boundary). Threading: the cell
    * data (maps, boxes, barycentric forms, cell grid) and the boundary data (topology, normals, face
-   * maps, face tree) are built as two vtkSMPTools tasks, each parallel per item; the
+   * maps, face grid) are built as two vtkSMPTools tasks, each parallel per item; the
    * result does not depend on the number of threads.
    */
   std::string Build(const double* points, Id numberOfPoints, const Id* conn,
@@ -66,8 +70,10 @@ public:
   /// the straight faces pushed out by the control points (CellExitFace) and the sweeps
   /// that prove a point away from the cell (TetBarycentricExcludes).
   std::vector<TetBarycentricForm> CellForms;
-  AabbTree FaceTree;
-  BoxGrid FaceGrid; ///< the same boxes (32 bins per face): short-range queries
+  /// A box tree over the boundary faces (long-range queries: points far from the mesh),
+  /// built at its first use, by one thread, the others waiting (thread safe).
+  const AabbTree& GetFaceTree() const;
+  BoxGrid FaceGrid; ///< the face boxes (32 bins per face): short-range queries
   BoxGrid CellGrid; ///< over the cells' control-point boxes
   double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
   /// Working memory of Prepare (the boxes the grids and the tree are built from), kept
@@ -76,6 +82,13 @@ public:
   {
     std::vector<double> CellBoxes, FaceBoxes;
   } Scratch;
+
+private:
+  mutable AabbTree FaceTree; // over Scratch.FaceBoxes
+  mutable std::mutex FaceTreeMutex;
+  mutable std::atomic<bool> FaceTreeBuilt{ false };
+
+public:
 
   int NodesPerCell() const { return this->Topology.NodesPerCell; }
 

@@ -256,7 +256,7 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
   // the bins within the best distance when they are few (a point near the surface),
   // else the tree, nearest boxes first
   if (!M.FaceGrid.VisitNearer(v, best.Dist2, MaxGridBins, certify))
-    M.FaceTree.VisitNearer(v, best.Dist2, certify);
+    M.GetFaceTree().VisitNearer(v, best.Dist2, certify);
   for (const auto& sf : S.Retry)
     RetryFace(M, v, sf, best, out);
 }
@@ -462,7 +462,8 @@ VertexHint VertexEmbedding::AsHint(const double v[3]) const
   h.Point[0] = v[0];
   h.Point[1] = v[1];
   h.Point[2] = v[2];
-  h.Distance = this->ClosestDistance;
+  // a distance that may be a local minimum only proves nothing
+  h.Distance = this->Uncertified ? -1.0 : this->ClosestDistance;
   h.Face = this->BoundaryFace;
   h.UV[0] = this->UV[0];
   h.UV[1] = this->UV[1];
@@ -517,13 +518,16 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
 {
   out = VertexEmbedding();
   const TetMeshTopology& T = M.Topology;
-  // a neighbour farther from the mesh than from v proves v outside (1-Lipschitz distance)
-  bool provenOutside = false;
-  if (hint.Distance > 0.0)
-  {
-    double e[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1], v[2] - hint.Point[2] };
-    provenOutside = hint.Distance - std::sqrt(Dot(e, e)) > InsideTolerance * M.Diagonal;
-  }
+  // a neighbour farther from the mesh than from v proves v outside (1-Lipschitz distance;
+  // the neighbour's distance is certified to within t of the true one)
+  const double t = CertifyTolerance * M.Diagonal;
+  const double hintGap = hint.Distance > 0.0
+    ? std::sqrt((v[0] - hint.Point[0]) * (v[0] - hint.Point[0]) +
+        (v[1] - hint.Point[1]) * (v[1] - hint.Point[1]) +
+        (v[2] - hint.Point[2]) * (v[2] - hint.Point[2]))
+    : 0.0;
+  bool provenOutside =
+    hint.Distance > 0.0 && hint.Distance - t - hintGap > InsideTolerance * M.Diagonal;
   // 1. inside, from an inside neighbour: walk through a few cells. (From an outside
   // neighbour, trying its cell first found v inside in about 1 case of 10, so those go
   // straight to the boundary search; step 3 locates the few inside ones.)
@@ -560,7 +564,17 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     out.Residual = ReconstructionResidual(M, v, out.Cell, out.PC, -1, 0.0);
     return;
   }
-  // 3. inside or outside
+  // 3. inside or outside. Proof from the outside neighbour: the open balls around it and
+  // around v, of their certified distances less t, hold no boundary point; when they
+  // meet, their union is connected, so it lies wholly outside the mesh or wholly inside
+  // (the boundary of the union of the cells lies on the boundary faces), and the
+  // neighbour is outside. (This saves the cell queries of the tests below for nearly every
+  // outside vertex of a surface whose edges are longer than its distance to the mesh.)
+  if (!provenOutside && hint.Distance > 0.0 && !hint.Inside)
+  {
+    const double rh = hint.Distance - t, rv = dist - t;
+    provenOutside = rh > 0.0 && rv > 0.0 && hintGap < rh + rv - InsideTolerance * M.Diagonal;
+  }
   if (!provenOutside)
   {
     double n[3], w[3];
@@ -645,7 +659,7 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
       S.Candidates.clear();
       const double reach = 2.0 * dist + 1e-6 * M.Diagonal;
       const double reach2 = reach * reach;
-      M.FaceTree.VisitNearer(v, reach2, [&](Id g) { S.Candidates.push_back(g); });
+      M.GetFaceTree().VisitNearer(v, reach2, [&](Id g) { S.Candidates.push_back(g); });
       double bestD = std::numeric_limits<double>::infinity();
       Id bestF = -1;
       double bestUV[2] = { 0, 0 };

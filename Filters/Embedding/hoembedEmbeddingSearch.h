@@ -15,7 +15,7 @@
  *    face (tri6 closest point; on an edge go to the face across it, at a corner to all
  *    faces around the node), then certification with the face boxes (EmbeddingMesh::
  *    FaceGrid within the best distance when that spans at most 2 x 2 x 2 bins, else the
- *    FaceTree, nearest boxes first): every face whose
+ *    face tree, EmbeddingMesh::GetFaceTree, nearest boxes first): every face whose
  *    control-point box and lower bound (EmbeddingMesh::FaceLowerBound2) are nearer than
  *    the best distance is solved too, unless the exact expansion at the closest point of
  *    its flat triangle already puts it beyond (PatchFartherThan); then every curved face
@@ -75,8 +75,9 @@ struct VertexHint
   double UV[2] = { 1.0 / 3.0, 1.0 / 3.0 };
   EmbeddingMesh::Id Cell = -1;
   bool Inside = false;
-  /// The neighbour's position and its distance to the mesh (when Distance >= 0): the
-  /// distance is 1-Lipschitz, so Distance - |v - Point| > 0 proves v outside the mesh.
+  /// The neighbour's position and its certified distance to the mesh (when Distance >= 0):
+  /// the distance is 1-Lipschitz, so Distance - |v - Point| > 0 proves v outside the mesh;
+  /// and an outside neighbour whose boundary-free ball meets v's proves v outside too.
   double Point[3] = { 0, 0, 0 };
   double Distance = -1.0;
 };
