@@ -367,73 +367,88 @@ void Tet10CornerJacobians(const double* x, double G[4][3][3])
   }
 }
 
+namespace
+{
+// det of the 3 x 3 matrix a (row major)
+inline double Det9(const double* a)
+{
+  return a[0] * (a[4] * a[8] - a[5] * a[7]) + a[1] * (a[5] * a[6] - a[3] * a[8]) +
+    a[2] * (a[3] * a[7] - a[4] * a[6]);
+}
+} // namespace
+
+void DetBernsteinCoefficients(const double G[4][3][3], double b[20])
+{
+  // det(sum_a lambda_a G_a) is a cubic form in lambda whose Bernstein coefficient of
+  // multi-index alpha is the polarised (symmetric trilinear) form T of det at the
+  // matrices alpha names: b(3a) = det G_a, b(2a + c) = T(a, a, c), b(a + c + e) =
+  // T(a, c, e). Polarisation from determinants of sums (20 determinants, where the
+  // trilinear expansion takes 64 triple products):
+  //   det(A + C) = det A + 3 T(a,a,c) + 3 T(a,c,c) + det C,
+  //   det(A - C) = det A - 3 T(a,a,c) + 3 T(a,c,c) - det C,
+  //   det(A + C + E) = det A + det C + det E + 3 (the six T(x,x,y)) + 6 T(a,c,e).
+  const double* g[4] = { &G[0][0][0], &G[1][0][0], &G[2][0][0], &G[3][0][0] };
+  double P[4];
+  for (int a = 0; a < 4; ++a)
+    P[a] = Det9(g[a]);
+  static const int Pairs[6][2] = { { 0, 1 }, { 0, 2 }, { 0, 3 }, { 1, 2 }, { 1, 3 }, { 2, 3 } };
+  double T2[4][4]; // T2[a][c] = T(a, a, c)
+  double S[6][9];  // the pair sums
+  for (int p = 0; p < 6; ++p)
+  {
+    const int a = Pairs[p][0], c = Pairs[p][1];
+    double D[9];
+    for (int i = 0; i < 9; ++i)
+    {
+      S[p][i] = g[a][i] + g[c][i];
+      D[i] = g[a][i] - g[c][i];
+    }
+    const double plus = Det9(S[p]), minus = Det9(D);
+    T2[a][c] = (plus - minus - 2.0 * P[c]) / 6.0;
+    T2[c][a] = (plus + minus - 2.0 * P[a]) / 6.0;
+  }
+  // T(x, y, z) from the sum of pair p = (x, y) and z
+  auto triple = [&](int p, int x, int y, int z) {
+    double A[9];
+    for (int i = 0; i < 9; ++i)
+      A[i] = S[p][i] + g[z][i];
+    return (Det9(A) - P[x] - P[y] - P[z] -
+             3.0 * (T2[x][y] + T2[y][x] + T2[x][z] + T2[z][x] + T2[y][z] + T2[z][y])) /
+      6.0;
+  };
+  // multi-indices (counts of corners 0..3) in the documented order
+  b[0] = P[0];               // 3000
+  b[1] = T2[0][3];           // 2001
+  b[2] = T2[3][0];           // 1002
+  b[3] = P[3];               // 0003
+  b[4] = T2[0][2];           // 2010
+  b[5] = triple(1, 0, 2, 3); // 1011
+  b[6] = T2[3][2];           // 0012
+  b[7] = T2[2][0];           // 1020
+  b[8] = T2[2][3];           // 0021
+  b[9] = P[2];               // 0030
+  b[10] = T2[0][1];          // 2100
+  b[11] = triple(0, 0, 1, 3); // 1101
+  b[12] = T2[3][1];          // 0102
+  b[13] = triple(0, 0, 1, 2); // 1110
+  b[14] = triple(3, 1, 2, 3); // 0111
+  b[15] = T2[2][1];          // 0120
+  b[16] = T2[1][0];          // 1200
+  b[17] = T2[1][3];          // 0201
+  b[18] = T2[1][2];          // 0210
+  b[19] = P[1];              // 0300
+}
+
 double DetBernsteinMin(const double G[4][3][3], double* hiOut)
 {
-  // det(sum_a lambda_a G_a) = sum_{a,b,c} lambda_a lambda_b lambda_c det(G_a[0], G_b[1],
-  // G_c[2]); the Bernstein coefficient of multi-index alpha is alpha! / 3! times the sum
-  // of the terms (a, b, c) whose counts are alpha.
-  // Groups: the 20 multi-indices, each with its terms a * 16 + b * 4 + c (1, 3 or 6 of
-  // them, 64 in all) and its weight alpha! / 3!.
-  struct GroupTable
-  {
-    unsigned char Begin[21];
-    unsigned char Term[64];
-    double Weight[20];
-    GroupTable()
-    {
-      static const double Fact[4] = { 1, 1, 2, 6 };
-      int g = 0, t = 0;
-      for (int n1 = 0; n1 <= 3; ++n1)
-        for (int n2 = 0; n1 + n2 <= 3; ++n2)
-          for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3, ++g)
-          {
-            const int n[4] = { 3 - n1 - n2 - n3, n1, n2, n3 };
-            this->Begin[g] = static_cast<unsigned char>(t);
-            this->Weight[g] = Fact[n[0]] * Fact[n[1]] * Fact[n[2]] * Fact[n[3]] / 6.0;
-            for (int a = 0; a < 4; ++a)
-              for (int b = 0; b < 4; ++b)
-                for (int c = 0; c < 4; ++c)
-                {
-                  int cnt[4] = { 0, 0, 0, 0 };
-                  ++cnt[a];
-                  ++cnt[b];
-                  ++cnt[c];
-                  if (cnt[0] == n[0] && cnt[1] == n[1] && cnt[2] == n[2])
-                    this->Term[t++] = static_cast<unsigned char>(16 * a + 4 * b + c);
-                }
-          }
-      this->Begin[20] = static_cast<unsigned char>(t);
-    }
-  };
-  static const GroupTable T;
-  // the 64 mixed determinants, third columns gathered per coordinate
-  double col[3][4];
-  for (int c = 0; c < 4; ++c)
-    for (int d = 0; d < 3; ++d)
-      col[d][c] = G[c][2][d];
-  double term[64];
-  for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 4; ++b)
-    {
-      const double* u = G[a][0];
-      const double* w = G[b][1];
-      const double uw0 = u[1] * w[2] - u[2] * w[1];
-      const double uw1 = u[2] * w[0] - u[0] * w[2];
-      const double uw2 = u[0] * w[1] - u[1] * w[0];
-      double* out = term + 16 * a + 4 * b;
-      for (int c = 0; c < 4; ++c)
-        out[c] = uw0 * col[0][c] + uw1 * col[1][c] + uw2 * col[2][c];
-    }
+  double b[20];
+  DetBernsteinCoefficients(G, b);
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-  for (int g = 0; g < 20; ++g)
+  for (int k = 0; k < 20; ++k)
   {
-    double sum = 0.0;
-    for (int t = T.Begin[g]; t < T.Begin[g + 1]; ++t)
-      sum += term[T.Term[t]];
-    const double b = sum * T.Weight[g];
-    if (!(b >= lo))
-      lo = b; // NaN propagates (and is never clearly positive)
-    hi = std::max(hi, std::fabs(b));
+    if (!(b[k] >= lo))
+      lo = b[k]; // NaN propagates (and is never clearly positive)
+    hi = std::max(hi, std::fabs(b[k]));
   }
   if (hiOut)
     *hiOut = hi;

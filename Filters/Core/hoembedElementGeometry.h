@@ -45,6 +45,15 @@ HOEMBEDFILTERSCORE_EXPORT void Tet10CornerJacobians(const double* x, double G[4]
 HOEMBEDFILTERSCORE_EXPORT double DetBernsteinMin(const double G[4][3][3], double* hi = nullptr);
 
 /**
+ * The 20 Bernstein coefficients of det(sum_a lambda_a G_a): b[k] belongs to the
+ * multi-index (3 - n1 - n2 - n3, n1, n2, n3) (counts of corners 0..3), k running over
+ * n1, then n2, then n3 ascending; det(sum_a lambda_a G_a) = sum_k b[k] 3! / (n0! n1! n2!
+ * n3!) lambda^n. (The symmetric trilinear form of det at the matrices the multi-index
+ * names, from determinants of sums.)
+ */
+HOEMBEDFILTERSCORE_EXPORT void DetBernsteinCoefficients(const double G[4][3][3], double b[20]);
+
+/**
  * Bounds of det J over the whole tet10 element.
  * @param x        10 nodes, 3 doubles each
  * @param minBound on return, a lower bound of min det J (exact at the corners)

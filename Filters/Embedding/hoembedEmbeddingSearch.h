@@ -24,7 +24,11 @@
  *    face (hoembedClosestPointCertify.h: the squared distance on a curved face is not
  *    convex), by the exact expansion at its solution or else by branch and bound, so the
  *    result is the global minimum over the boundary (to 1e-10 of the diagonal).
- * 3. Inside/outside from the pseudo-normal at the closest point (face normal, sum of the
+ * 3. Inside/outside. First a proof from an outside neighbour: the open balls around it
+ *    and around v, each of its certified distance less the certification tolerance,
+ *    hold no boundary point; when they meet, their union is connected and lies wholly
+ *    outside (as the neighbour does) or wholly inside, so v is outside (no cell tests).
+ *    Else from the pseudo-normal at the closest point (face normal, sum of the
  *    two face normals on an edge, angle-weighted node normal at a corner); points that
  *    may be inside are located in a cell: Algorithm 1 over cells from the closest face's
  *    cell (constrained closest point in the cell, Newton inversion from the centroid when

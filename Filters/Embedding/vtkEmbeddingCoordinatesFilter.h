@@ -39,14 +39,19 @@
  * baseline, one reason normal-offset is the default.
  *
  * The closest point is the global one: the flood gives each vertex a start (paper
- * Algorithm 2), the walk across faces/edges refines it (Algorithm 1), and a box tree over
- * the boundary faces certifies it. See hoembedEmbeddingSearch.h and hoembedEmbeddingFlood.h.
+ * Algorithm 2), the walk across faces/edges refines it (Algorithm 1), and a box grid (a
+ * box tree for far points) over the boundary faces certifies it. See hoembedEmbeddingSearch.h and hoembedEmbeddingFlood.h.
  * "Inside the mesh" means inside some cell: where a curved cell pokes through a boundary
  * face of another part of the mesh (close parts of a thin shape), a point in that cell
  * is inside even though it lies on the outer side of its closest boundary face.
  *
  * Threading: the flood runs in patches of the surface in parallel with vtkSMPTools.
  * Progress events are fired.
+ *
+ * Memory: every Update prepares the mesh anew, but the filter keeps its working memory
+ * (the prepared mesh's arrays; the flood's, up to 64 MB, about 200k surface vertices) for
+ * the next Update, which then touches no fresh pages (kernel page faults were a tenth of
+ * the time of an Update on the small real surfaces).
  *
  * Defaults: Method normal-offset, NumberOfPartitions 0 (automatic), ValidateElements on.
  *

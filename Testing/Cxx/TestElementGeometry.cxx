@@ -567,6 +567,115 @@ void TestValidityShortcut(std::mt19937& rng)
     invalid, valid);
 }
 
+// The Bernstein coefficients of det(sum_a lambda_a G_a) (computed by polarisation from
+// determinants of sums) against two references: the trilinear expansion (64 triple
+// products, each multi-index's average) and the cubic itself at random lambda.
+void TestDetBernstein(std::mt19937& rng)
+{
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worstExpansion = 0.0, worstValue = 0.0;
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    double G[4][3][3];
+    if (trial % 2 == 0)
+    {
+      // Jacobians of a curved tet10, sometimes far from the origin or tiny
+      double c[4][3], x[30];
+      RandomCorners(rng, c);
+      Straight(c, x);
+      Perturb(rng, x, 0.3 * (u(rng) + 1.0));
+      const double scale = trial % 6 == 0 ? 1e-4 : 1.0;
+      for (int n = 0; n < 30; ++n)
+        x[n] = scale * x[n] + (trial % 4 == 0 ? 1e3 : 0.0);
+      hoembed::Tet10CornerJacobians(x, G);
+    }
+    else
+      for (auto& g : G)
+        for (auto& row : g)
+          for (double& v : row)
+            v = u(rng);
+    double gmax = 0.0;
+    for (auto& g : G)
+      for (auto& row : g)
+        for (double v : row)
+          gmax = std::max(gmax, std::fabs(v));
+    const double scale = gmax * gmax * gmax;
+    double b[20];
+    hoembed::DetBernsteinCoefficients(G, b);
+    // reference 1: for each multi-index, the average of the triple products
+    // det(G_a[0], G_b[1], G_c[2]) over the ordered (a, b, c) with its counts
+    int k = 0;
+    static const double Fact[4] = { 1, 1, 2, 6 };
+    double lo = 1e300, hi = 0.0;
+    for (int n1 = 0; n1 <= 3; ++n1)
+      for (int n2 = 0; n1 + n2 <= 3; ++n2)
+        for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3, ++k)
+        {
+          const int n[4] = { 3 - n1 - n2 - n3, n1, n2, n3 };
+          double sum = 0.0;
+          int count = 0;
+          for (int a = 0; a < 4; ++a)
+            for (int bb = 0; bb < 4; ++bb)
+              for (int c = 0; c < 4; ++c)
+              {
+                int cnt[4] = { 0, 0, 0, 0 };
+                ++cnt[a];
+                ++cnt[bb];
+                ++cnt[c];
+                if (cnt[0] != n[0] || cnt[1] != n[1] || cnt[2] != n[2])
+                  continue;
+                const double* r0 = G[a][0];
+                const double* r1 = G[bb][1];
+                const double* r2 = G[c][2];
+                sum += r0[0] * (r1[1] * r2[2] - r1[2] * r2[1]) +
+                  r0[1] * (r1[2] * r2[0] - r1[0] * r2[2]) + r0[2] * (r1[0] * r2[1] - r1[1] * r2[0]);
+                ++count;
+              }
+          HOEMBED_CHECK(count == 6 / (Fact[n[0]] * Fact[n[1]] * Fact[n[2]] * Fact[n[3]]),
+            "multi-index count %d", count);
+          const double ref = sum / count;
+          worstExpansion = std::max(worstExpansion, std::fabs(b[k] - ref) / scale);
+          lo = std::min(lo, b[k]);
+          hi = std::max(hi, std::fabs(b[k]));
+        }
+    double hiOut = -1.0;
+    const double loOut = hoembed::DetBernsteinMin(G, &hiOut);
+    HOEMBED_CHECK(loOut == lo && hiOut == hi, "trial %d: min %g / %g, max %g / %g", trial, loOut,
+      lo, hiOut, hi);
+    // reference 2: the cubic at random lambda (inside and outside the simplex)
+    for (int s = 0; s < 5; ++s)
+    {
+      double l[4];
+      for (double& v : l)
+        v = u(rng);
+      double J[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int d = 0; d < 3; ++d)
+          J[i][d] = l[0] * G[0][i][d] + l[1] * G[1][i][d] + l[2] * G[2][i][d] + l[3] * G[3][i][d];
+      const double direct = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+        J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+        J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+      double bern = 0.0;
+      k = 0;
+      for (int n1 = 0; n1 <= 3; ++n1)
+        for (int n2 = 0; n1 + n2 <= 3; ++n2)
+          for (int n3 = 0; n1 + n2 + n3 <= 3; ++n3, ++k)
+          {
+            const int n[4] = { 3 - n1 - n2 - n3, n1, n2, n3 };
+            double term = 6.0 / (Fact[n[0]] * Fact[n[1]] * Fact[n[2]] * Fact[n[3]]) * b[k];
+            for (int a = 0; a < 4; ++a)
+              term *= std::pow(l[a], n[a]);
+            bern += term;
+          }
+      worstValue = std::max(worstValue, std::fabs(bern - direct) / (64.0 * scale));
+    }
+  }
+  std::printf("det Bernstein coefficients: worst %.2e against the expansion, %.2e against "
+              "the cubic (of max|G|^3)\n", worstExpansion, worstValue);
+  HOEMBED_CHECK(worstExpansion < 1e-13, "coefficients off the expansion by %g", worstExpansion);
+  HOEMBED_CHECK(worstValue < 1e-13, "Bernstein form off the cubic by %g", worstValue);
+}
+
 int main(int, char*[])
 {
   std::mt19937 rng(2024);
@@ -574,6 +683,7 @@ int main(int, char*[])
   TestAffine(rng);
   TestVolume(rng);
   TestBounds(rng);
+  TestDetBernstein(rng);
   TestValidityShortcut(rng);
   TestHiddenNegative();
   TestScaledJacobian(rng);
