@@ -7,6 +7,7 @@
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPoint.h"
 #include "hoembedElementGeometry.h"
+#include "hoembedEmbeddingFlood.h"
 #include "hoembedEmbeddingGrid.h"
 #include "hoembedEmbeddingSearch.h"
 #include "hoembedShapeFunctions.h"
@@ -1116,6 +1117,74 @@ void TestRealMeshes(const std::string& dir)
 }
 } // namespace
 
+// EmbedSurface with and without a workspace, with and without the vertex order, one
+// workspace reused across two meshes: the same results, and the filter's distances.
+void TestEmbedSurfaceWorkspace(vtkPolyData* surface, vtkUnstructuredGrid* grid10,
+  vtkUnstructuredGrid* grid4, vtkPolyData* filterOut)
+{
+  using Id = hoembed::EmbeddingMesh::Id;
+  auto prepare = [](vtkUnstructuredGrid* grid, hoembed::EmbeddingMesh& em) {
+    const int npc = grid->GetCellType(0) == VTK_QUADRATIC_TETRA ? 10 : 4;
+    std::vector<double> pts(3 * grid->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+      grid->GetPoint(i, &pts[3 * i]);
+    std::vector<Id> conn;
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      grid->GetCellPoints(c, ids);
+      for (int a = 0; a < npc; ++a)
+        conn.push_back(ids->GetId(a));
+    }
+    return em.Build(std::move(pts), std::move(conn), npc);
+  };
+  hoembed::EmbeddingMesh m10, m4;
+  HOEMBED_CHECK(prepare(grid10, m10).empty() && prepare(grid4, m4).empty(), "mesh build");
+  const Id n = surface->GetNumberOfPoints();
+  std::vector<double> v(3 * n);
+  for (Id i = 0; i < n; ++i)
+    surface->GetPoint(i, &v[3 * i]);
+  std::vector<Id> tris;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < surface->GetPolys()->GetNumberOfCells(); ++c)
+  {
+    surface->GetPolys()->GetCellAtId(c, ids);
+    for (vtkIdType k = 1; k + 1 < ids->GetNumberOfIds(); ++k)
+      tris.insert(tris.end(), { ids->GetId(0), ids->GetId(k), ids->GetId(k + 1) });
+  }
+  const int method = hoembed::EMBED_NORMAL_OFFSET;
+  std::vector<hoembed::VertexEmbedding> plain, reused, ordered, other;
+  hoembed::EmbedSurface(m10, method, v.data(), n, tris, plain);
+  hoembed::EmbedWorkspace ws;
+  hoembed::EmbedSurface(m4, method, v.data(), n, tris, other, 0, {}, nullptr, nullptr, &ws);
+  hoembed::EmbedSurface(m10, method, v.data(), n, tris, reused, 0, {}, nullptr, nullptr, &ws);
+  std::vector<Id> order;
+  hoembed::EmbedSurface(m10, method, v.data(), n, tris, ordered, 0, {}, nullptr, &order, &ws);
+  HOEMBED_CHECK(ws.GetCapacityInBytes() > 0, "workspace kept nothing");
+  auto same = [](const hoembed::VertexEmbedding& a, const hoembed::VertexEmbedding& b) {
+    return a.Cell == b.Cell && a.PC[0] == b.PC[0] && a.PC[1] == b.PC[1] && a.PC[2] == b.PC[2] &&
+      a.Distance == b.Distance && a.ClosestDistance == b.ClosestDistance &&
+      a.Face == b.Face && a.Inside == b.Inside;
+  };
+  auto* closest = vtkDoubleArray::SafeDownCast(
+    filterOut->GetPointData()->GetArray("EmbeddingClosestDistance"));
+  int differ = 0, differOrdered = 0, differFilter = 0, differMesh = 0;
+  HOEMBED_CHECK(plain.size() == size_t(n) && reused.size() == size_t(n) &&
+      ordered.size() == size_t(n) && order.size() == size_t(n),
+    "result sizes");
+  for (Id k = 0; k < n && order.size() == size_t(n); ++k)
+  {
+    differ += !same(plain[k], reused[k]);
+    differOrdered += !same(plain[order[k]], ordered[k]);
+    differFilter += closest && closest->GetValue(k) != plain[k].ClosestDistance;
+    differMesh += other[k].ClosestDistance != plain[k].ClosestDistance;
+  }
+  HOEMBED_CHECK(differ == 0 && differOrdered == 0 && differFilter == 0,
+    "EmbedSurface: %d differ with a reused workspace, %d in vertex order, %d from the filter",
+    differ, differOrdered, differFilter);
+  HOEMBED_CHECK(differMesh > 0, "the tet4 and tet10 meshes gave the same distances");
+}
+
 int main(int argc, char* argv[])
 {
   const std::string dataDir = hoembed_test::DataDir(argc, argv);
@@ -1165,6 +1234,7 @@ int main(int argc, char* argv[])
     TestErrors(s4, grid4);
   }
   TestSaveLoad(out10);
+  TestEmbedSurfaceWorkspace(surface, grid10, grid4, out10);
   TestCrossingBoundary();
   if (!dataDir.empty())
     TestRealMeshes(dataDir);
