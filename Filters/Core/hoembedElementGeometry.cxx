@@ -407,11 +407,14 @@ void DetBernsteinCoefficients(const double G[4][3][3], double b[20])
     T2[a][c] = (plus - minus - 2.0 * P[c]) / 6.0;
     T2[c][a] = (plus + minus - 2.0 * P[a]) / 6.0;
   }
-  // T(x, y, z) from the sum of pair p = (x, y) and z
-  auto triple = [&](int p, int x, int y, int z) {
+  // T(x, y, z) from the sum of the pair (x, y), x < y, and z
+  static const int PairOf[4][4] = { { -1, 0, 1, 2 }, { 0, -1, 3, 4 }, { 1, 3, -1, 5 },
+    { 2, 4, 5, -1 } };
+  auto triple = [&](int x, int y, int z) {
+    const double* s = S[PairOf[x][y]];
     double A[9];
     for (int i = 0; i < 9; ++i)
-      A[i] = S[p][i] + g[z][i];
+      A[i] = s[i] + g[z][i];
     return (Det9(A) - P[x] - P[y] - P[z] -
              3.0 * (T2[x][y] + T2[y][x] + T2[x][z] + T2[z][x] + T2[y][z] + T2[z][y])) /
       6.0;
@@ -422,16 +425,16 @@ void DetBernsteinCoefficients(const double G[4][3][3], double b[20])
   b[2] = T2[3][0];           // 1002
   b[3] = P[3];               // 0003
   b[4] = T2[0][2];           // 2010
-  b[5] = triple(1, 0, 2, 3); // 1011
+  b[5] = triple(0, 2, 3);    // 1011
   b[6] = T2[3][2];           // 0012
   b[7] = T2[2][0];           // 1020
   b[8] = T2[2][3];           // 0021
   b[9] = P[2];               // 0030
   b[10] = T2[0][1];          // 2100
-  b[11] = triple(0, 0, 1, 3); // 1101
+  b[11] = triple(0, 1, 3);   // 1101
   b[12] = T2[3][1];          // 0102
-  b[13] = triple(0, 0, 1, 2); // 1110
-  b[14] = triple(3, 1, 2, 3); // 0111
+  b[13] = triple(0, 1, 2);   // 1110
+  b[14] = triple(1, 2, 3);   // 0111
   b[15] = T2[2][1];          // 0120
   b[16] = T2[1][0];          // 1200
   b[17] = T2[1][3];          // 0201

@@ -1,4 +1,5 @@
 #include "hoembedTetMeshTopology.h"
+#include "hoembedCsr.h"
 #include "hoembedShapeFunctions.h"
 
 #include <algorithm>
@@ -11,32 +12,22 @@ namespace
 using Id = TetMeshTopology::Id;
 
 // Items keyed by a sorted tuple of node ids (`make(i, item)` fills item i), bucketed by
-// the smallest id with a counting sort straight into `sorted` (CSR by `offsets`), items
-// in their order within a bucket: matching is then linear in the number of items for
-// bounded node valence.
+// the smallest id (BuildCsr, items in their order within a bucket): matching is then
+// linear in the number of items for bounded node valence.
 template <typename T, typename Make>
 void BucketByFirst(
   Id numberOfItems, Id numberOfPoints, Make make, std::vector<Id>& offsets, std::vector<T>& sorted)
 {
-  offsets.assign(numberOfPoints + 1, 0);
-  T it;
-  for (Id i = 0; i < numberOfItems; ++i)
-  {
-    make(i, it);
-    ++offsets[it.Key[0] + 1];
-  }
-  for (Id i = 0; i < numberOfPoints; ++i)
-    offsets[i + 1] += offsets[i];
-  sorted.resize(numberOfItems);
-  // bucket p filled at offsets[p]++ (leaving it at the start of p + 1), then shifted back
-  for (Id i = 0; i < numberOfItems; ++i)
-  {
-    make(i, it);
-    sorted[offsets[it.Key[0]]++] = it;
-  }
-  for (Id i = numberOfPoints; i > 0; --i)
-    offsets[i] = offsets[i - 1];
-  offsets[0] = 0;
+  BuildCsr(numberOfPoints,
+    [&](auto&& emit) {
+      T it;
+      for (Id i = 0; i < numberOfItems; ++i)
+      {
+        make(i, it);
+        emit(it.Key[0], it);
+      }
+    },
+    offsets, sorted);
 }
 
 // Sort a bucket by a total order (no ties: the item ids differ): insertion sort for the
@@ -273,20 +264,13 @@ std::string TetMeshTopology::BuildImpl(
   }
 
   // Boundary faces around each node.
-  this->NodeFaceOffsets.assign(numberOfPoints + 1, 0);
-  for (Id b = 0; b < nbf; ++b)
-    for (int a = 0; a < npf; ++a)
-      ++this->NodeFaceOffsets[this->BoundaryFaceNodes[b * npf + a] + 1];
-  for (Id i = 0; i < numberOfPoints; ++i)
-    this->NodeFaceOffsets[i + 1] += this->NodeFaceOffsets[i];
-  this->NodeFaces.resize(this->NodeFaceOffsets[numberOfPoints]);
-  std::vector<Id>& start = this->NodeFaceOffsets; // filled at start[i]++, shifted back
-  for (Id b = 0; b < nbf; ++b)
-    for (int a = 0; a < npf; ++a)
-      this->NodeFaces[start[this->BoundaryFaceNodes[b * npf + a]]++] = b;
-  for (Id i = numberOfPoints; i > 0; --i)
-    start[i] = start[i - 1];
-  start[0] = 0;
+  BuildCsr(numberOfPoints,
+    [&](auto&& emit) {
+      for (Id b = 0; b < nbf; ++b)
+        for (int a = 0; a < npf; ++a)
+          emit(this->BoundaryFaceNodes[b * npf + a], b);
+    },
+    this->NodeFaceOffsets, this->NodeFaces);
   return std::string();
 }
 } // namespace hoembed

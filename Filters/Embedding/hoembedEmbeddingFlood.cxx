@@ -1,4 +1,5 @@
 #include "hoembedEmbeddingFlood.h"
+#include "hoembedCsr.h"
 
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
@@ -39,14 +40,24 @@ struct FloodContext
   Id NumberOfPartitions = 1;
   std::vector<VertexEmbedding>* Out;
   std::atomic<Id> Seeds{ 0 }, Raises{ 0 };
-  vtkSMPThreadLocal<SearchScratch> Scratch;
+  // per-thread search scratch, prepared for the mesh at its first use in each call
+  struct ThreadScratch
+  {
+    SearchScratch Search;
+    unsigned PreparedInCall = 0;
+  };
+  vtkSMPThreadLocal<ThreadScratch> Scratch;
+  unsigned Call = 0; // EmbedSurface calls with this context, counting from 1
 
   SearchScratch& LocalScratch()
   {
-    SearchScratch& s = this->Scratch.Local();
-    if (s.FaceStamp.size() != static_cast<size_t>(this->Mesh->Topology.GetNumberOfBoundaryFaces()))
-      s.Prepare(*this->Mesh);
-    return s;
+    ThreadScratch& s = this->Scratch.Local();
+    if (s.PreparedInCall != this->Call)
+    {
+      s.Search.Prepare(*this->Mesh);
+      s.PreparedInCall = this->Call;
+    }
+    return s.Search;
   }
 
   void Embed(Id w, const VertexHint& h, SearchScratch& s)
@@ -156,19 +167,13 @@ void VertexTriangles(const std::vector<Id>& tris, Id numberOfPoints, std::vector
   std::vector<std::int32_t>& list)
 {
   const Id ntri = static_cast<Id>(tris.size() / 3);
-  offsets.assign(numberOfPoints + 1, 0);
-  for (Id i = 0; i < 3 * ntri; ++i)
-    ++offsets[tris[i] + 1];
-  for (Id i = 0; i < numberOfPoints; ++i)
-    offsets[i + 1] += offsets[i];
-  list.resize(3 * ntri);
-  // fill vertex w at offsets[w]++ (leaving it at the start of w + 1), then shift back
-  for (Id t = 0; t < ntri; ++t)
-    for (int j = 0; j < 3; ++j)
-      list[offsets[tris[3 * t + j]]++] = static_cast<std::int32_t>(t);
-  for (Id i = numberOfPoints; i > 0; --i)
-    offsets[i] = offsets[i - 1];
-  offsets[0] = 0;
+  BuildCsr(numberOfPoints,
+    [&](auto&& emit) {
+      for (Id t = 0; t < ntri; ++t)
+        for (int j = 0; j < 3; ++j)
+          emit(tris[3 * t + j], static_cast<std::int32_t>(t));
+    },
+    offsets, list);
 }
 } // namespace
 
@@ -302,8 +307,7 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   FloodContext& ctx = W.Context;
   ctx.Seeds = 0;
   ctx.Raises = 0;
-  for (SearchScratch& s : ctx.Scratch)
-    s.FaceStamp.clear(); // prepared for this mesh at its first use in this call
+  ++ctx.Call;
   ctx.Mesh = &mesh;
   ctx.Method = method;
   ctx.Points = pts.data();

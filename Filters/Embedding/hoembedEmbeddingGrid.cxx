@@ -1,4 +1,5 @@
 #include "hoembedEmbeddingGrid.h"
+#include "hoembedCsr.h"
 
 #include <algorithm>
 #include <cmath>
@@ -44,7 +45,6 @@ void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
   }
   this->InvSize = 1.0 / size;
   const Id bins = static_cast<Id>(this->Dims[0]) * this->Dims[1] * this->Dims[2];
-  this->Offsets.assign(bins + 1, 0);
   auto forBins = [&](Id i, auto&& f) {
     int first[3], last[3];
     this->BinRange(&boxes[6 * i], &boxes[6 * i + 3], first, last);
@@ -53,18 +53,12 @@ void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
         for (int x = first[0]; x <= last[0]; ++x)
           f((static_cast<Id>(z) * this->Dims[1] + y) * this->Dims[0] + x);
   };
-  // counting sort without a second offsets array: count into b + 1, sum, fill bin b at
-  // Offsets[b]++ (which leaves Offsets[b] at the start of bin b + 1), shift back
-  for (Id i = 0; i < n; ++i)
-    forBins(i, [&](Id b) { ++this->Offsets[b + 1]; });
-  for (Id b = 0; b < bins; ++b)
-    this->Offsets[b + 1] += this->Offsets[b];
-  this->Items.resize(this->Offsets[bins]);
-  for (Id i = 0; i < n; ++i)
-    forBins(i, [&](Id b) { this->Items[this->Offsets[b]++] = i; });
-  for (Id b = bins; b > 0; --b)
-    this->Offsets[b] = this->Offsets[b - 1];
-  this->Offsets[0] = 0;
+  BuildCsr(bins,
+    [&](auto&& emit) {
+      for (Id i = 0; i < n; ++i)
+        forBins(i, [&](Id b) { emit(b, i); });
+    },
+    this->Offsets, this->Items);
 }
 
 void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) const

@@ -521,11 +521,9 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
   // a neighbour farther from the mesh than from v proves v outside (1-Lipschitz distance;
   // the neighbour's distance is certified to within t of the true one)
   const double t = CertifyTolerance * M.Diagonal;
-  const double hintGap = hint.Distance > 0.0
-    ? std::sqrt((v[0] - hint.Point[0]) * (v[0] - hint.Point[0]) +
-        (v[1] - hint.Point[1]) * (v[1] - hint.Point[1]) +
-        (v[2] - hint.Point[2]) * (v[2] - hint.Point[2]))
-    : 0.0;
+  const double toHint[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1],
+    v[2] - hint.Point[2] };
+  const double hintGap = std::sqrt(Dot(toHint, toHint)); // |v - neighbour|
   bool provenOutside =
     hint.Distance > 0.0 && hint.Distance - t - hintGap > InsideTolerance * M.Diagonal;
   // 1. inside, from an inside neighbour: walk through a few cells. (From an outside

@@ -1,4 +1,5 @@
 #include "hoembedTransferNormals.h"
+#include "hoembedCsr.h"
 
 #include <cmath>
 
@@ -8,27 +9,13 @@ void BuildVertexPolygonIncidence(const std::int64_t* offsets, const std::int64_t
   std::int64_t numberOfPolys, std::int64_t numberOfPoints, std::vector<std::int64_t>& incOffsets,
   std::vector<std::int64_t>& incPolys)
 {
-  incOffsets.assign(numberOfPoints + 1, 0);
-  for (std::int64_t p = 0; p < numberOfPolys; ++p)
-  {
-    for (std::int64_t k = offsets[p]; k < offsets[p + 1]; ++k)
-    {
-      ++incOffsets[conn[k] + 1];
-    }
-  }
-  for (std::int64_t i = 0; i < numberOfPoints; ++i)
-  {
-    incOffsets[i + 1] += incOffsets[i];
-  }
-  incPolys.resize(incOffsets[numberOfPoints]);
-  std::vector<std::int64_t> fill(incOffsets.begin(), incOffsets.end() - 1);
-  for (std::int64_t p = 0; p < numberOfPolys; ++p)
-  {
-    for (std::int64_t k = offsets[p]; k < offsets[p + 1]; ++k)
-    {
-      incPolys[fill[conn[k]]++] = p;
-    }
-  }
+  BuildCsr(numberOfPoints,
+    [&](auto&& emit) {
+      for (std::int64_t p = 0; p < numberOfPolys; ++p)
+        for (std::int64_t k = offsets[p]; k < offsets[p + 1]; ++k)
+          emit(conn[k], p);
+    },
+    incOffsets, incPolys);
 }
 
 namespace
