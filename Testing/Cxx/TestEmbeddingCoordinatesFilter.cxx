@@ -131,6 +131,24 @@ vtkSmartPointer<vtkPolyData> MakeSurface(bool withFarComponent, bool withIsolate
   return out;
 }
 
+// Smallest squared distance from v to the tet map m sampled on the lattice of n steps per
+// edge of the reference tet.
+double LatticeDistance2(const hoembed::QuadraticMap& m, const double v[3], int n)
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j)
+      for (int k = 0; i + j + k <= n; ++k)
+      {
+        const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
+        double y[3];
+        hoembed::EvaluateMap(m, pc, y);
+        best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+            (y[2] - v[2]) * (y[2] - v[2]));
+      }
+  return best;
+}
+
 void TestKernels()
 {
   std::mt19937 rng(7);
@@ -248,18 +266,7 @@ void TestKernels()
       hoembed::ClosestPointOnMap(m, v, nullptr, r);
       if (!r.Converged)
         ++tetWorse;
-      double best = 1e300;
-      const int n = 40;
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j)
-          for (int k = 0; i + j + k <= n; ++k)
-          {
-            const double p[3] = { double(i) / n, double(j) / n, double(k) / n };
-            double y[3];
-            hoembed::EvaluateMap(m, p, y);
-            best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
-                (y[2] - v[2]) * (y[2] - v[2]));
-          }
+      const double best = LatticeDistance2(m, v, 40);
       if (std::sqrt(r.Distance2) > std::sqrt(best) + 1e-12)
         ++tetWorse;
     }
@@ -655,18 +662,7 @@ double BruteDistanceToTetMap(const hoembed::QuadraticMap& m, const double v[3])
     hoembed::ClosestPointOnMap(m, v, s0, r, 200);
     best = std::min(best, r.Distance2);
   }
-  const int n = 16;
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; i + j <= n; ++j)
-      for (int k = 0; i + j + k <= n; ++k)
-      {
-        const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
-        double y[3];
-        hoembed::EvaluateMap(m, pc, y);
-        best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
-            (y[2] - v[2]) * (y[2] - v[2]));
-      }
-  return std::sqrt(best);
+  return std::sqrt(std::min(best, LatticeDistance2(m, v, 16)));
 }
 
 // The closed-form tet10 map (MakeTetMap from the corner Jacobians) against the shape
