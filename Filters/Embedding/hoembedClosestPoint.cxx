@@ -545,56 +545,40 @@ void Solve(const QuadraticMap& m, const double v[3], const double* start,
   res.Converged = converged;
 }
 
-// Nodal Lagrange data -> monomial form, using the derivative functions at 0 and e_j.
-template <int Dim>
-void MakeMap(const double* x, int n, void (*derivs)(const double*, double*), QuadraticMap& m)
-{
-  m = QuadraticMap();
-  m.Dim = Dim;
-  for (int d = 0; d < 3; ++d)
-    m.C[d] = x[d]; // node 0 sits at xi = 0
-  double dN[30];
-  double xi[3] = { 0, 0, 0 };
-  double L0[3][3] = {};
-  derivs(xi, dN);
-  for (int i = 0; i < Dim; ++i)
-    for (int a = 0; a < n; ++a)
-      for (int d = 0; d < 3; ++d)
-        L0[i][d] += dN[i * n + a] * x[3 * a + d];
-  for (int i = 0; i < Dim; ++i)
-    for (int d = 0; d < 3; ++d)
-      m.L[i][d] = L0[i][d];
-  for (int j = 0; j < Dim; ++j)
-  {
-    double e[3] = { 0, 0, 0 };
-    e[j] = 1.0;
-    derivs(e, dN);
-    for (int i = 0; i < Dim; ++i)
-      for (int d = 0; d < 3; ++d)
-      {
-        double s = 0.0;
-        for (int a = 0; a < n; ++a)
-          s += dN[i * n + a] * x[3 * a + d];
-        m.Q[i][j][d] = s - L0[i][d];
-      }
-  }
-  // symmetrise (exact in exact arithmetic)
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < i; ++j)
-      for (int d = 0; d < 3; ++d)
-      {
-        const double s = 0.5 * (m.Q[i][j][d] + m.Q[j][i][d]);
-        m.Q[i][j][d] = m.Q[j][i][d] = s;
-      }
-}
 } // namespace
 
 void MakeTriangleMap(const double* x, int n, QuadraticMap& m)
 {
-  if (n == 6)
-    MakeMap<2>(x, 6, [](const double* p, double* d) { Tri6Derivs(p, d); }, m);
-  else
-    MakeMap<2>(x, 3, [](const double* p, double* d) { Tri3Derivs(p, d); }, m);
+  // Monomial coefficients of x(u, v) = sum_a N_a(u, v) x_a, read off the expanded shape
+  // functions (VTK order: corners 0, 1, 2; mid-edge nodes 3 (01), 4 (12), 5 (20)):
+  //   tri6: L_u = 4 x3 - 3 x0 - x1, L_v = 4 x5 - 3 x0 - x2, Q_uu = 4 (x0 + x1) - 8 x3,
+  //         Q_vv = 4 (x0 + x2) - 8 x5, Q_uv = 4 (x0 - x3 + x4 - x5);
+  //   tri3: L_u = x1 - x0, L_v = x2 - x0, Q = 0.
+  m = QuadraticMap();
+  m.Dim = 2;
+  const double* x0 = x;
+  const double* x1 = x + 3;
+  const double* x2 = x + 6;
+  for (int d = 0; d < 3; ++d)
+  {
+    m.C[d] = x0[d];
+    if (n == 6)
+    {
+      const double* x3 = x + 9;
+      const double* x4 = x + 12;
+      const double* x5 = x + 15;
+      m.L[0][d] = 4.0 * x3[d] - 3.0 * x0[d] - x1[d];
+      m.L[1][d] = 4.0 * x5[d] - 3.0 * x0[d] - x2[d];
+      m.Q[0][0][d] = 4.0 * (x0[d] + x1[d]) - 8.0 * x3[d];
+      m.Q[1][1][d] = 4.0 * (x0[d] + x2[d]) - 8.0 * x5[d];
+      m.Q[0][1][d] = m.Q[1][0][d] = 4.0 * ((x0[d] - x3[d]) + (x4[d] - x5[d]));
+    }
+    else
+    {
+      m.L[0][d] = x1[d] - x0[d];
+      m.L[1][d] = x2[d] - x0[d];
+    }
+  }
 }
 
 
@@ -690,32 +674,37 @@ bool TetMapExcludes(const QuadraticMap& m, const double eta[3], double reach)
 
 void MakeTetMap(const double* x, int n, QuadraticMap& m)
 {
-  if (n == 10)
+  // Monomial coefficients of x(xi) = sum_a N_a(xi) x_a in xi = (lambda_1, lambda_2,
+  // lambda_3), read off the expanded shape functions. Corner k = i + 1 of xi_i, M0[i] its
+  // mid-edge node with corner 0, Mid[i][j] the mid-edge node of corners i + 1, j + 1
+  // (VTK order: 4 (01), 5 (12), 6 (02), 7 (03), 8 (13), 9 (23)):
+  //   tet10: L_i = 4 x_M0[i] - 3 x0 - x_k, Q_ii = 4 (x0 + x_k) - 8 x_M0[i],
+  //          Q_ij = 4 (x0 - x_M0[i] - x_M0[j] + x_Mid[i][j]);
+  //   tet4:  L_i = x_k - x0, Q = 0.
+  static const int M0[3] = { 4, 6, 7 };
+  static const int Mid[3][3] = { { -1, 5, 8 }, { 5, -1, 9 }, { 8, 9, -1 } };
+  m = QuadraticMap();
+  m.Dim = 3;
+  const double* x0 = x;
+  for (int d = 0; d < 3; ++d)
   {
-    // from the corner Jacobians: L_i = J_i(0), Q_ij = J_i(e_j) - J_i(0)
-    double G[4][3][3];
-    Tet10CornerJacobians(x, G);
-    m = QuadraticMap();
-    m.Dim = 3;
-    for (int d = 0; d < 3; ++d)
-      m.C[d] = x[d];
+    m.C[d] = x0[d];
     for (int i = 0; i < 3; ++i)
-      for (int d = 0; d < 3; ++d)
+    {
+      const double xk = x[3 * (i + 1) + d];
+      if (n != 10)
       {
-        m.L[i][d] = G[0][i][d];
-        for (int j = 0; j < 3; ++j)
-          m.Q[i][j][d] = G[j + 1][i][d] - G[0][i][d];
+        m.L[i][d] = xk - x0[d];
+        continue;
       }
-    for (int i = 0; i < 3; ++i)
+      const double mi = x[3 * M0[i] + d];
+      m.L[i][d] = 4.0 * mi - 3.0 * x0[d] - xk;
+      m.Q[i][i][d] = 4.0 * (x0[d] + xk) - 8.0 * mi;
       for (int j = 0; j < i; ++j)
-        for (int d = 0; d < 3; ++d)
-        {
-          const double s = 0.5 * (m.Q[i][j][d] + m.Q[j][i][d]);
-          m.Q[i][j][d] = m.Q[j][i][d] = s;
-        }
+        m.Q[i][j][d] = m.Q[j][i][d] =
+          4.0 * ((x0[d] - mi) + (x[3 * Mid[i][j] + d] - x[3 * M0[j] + d]));
+    }
   }
-  else
-    MakeMap<3>(x, 4, [](const double* p, double* d) { Tet4Derivs(p, d); }, m);
 }
 
 void EvaluateMap(const QuadraticMap& m, const double* xi, double x[3], double (*J)[3])

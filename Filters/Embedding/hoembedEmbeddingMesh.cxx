@@ -1,10 +1,12 @@
 #include "hoembedEmbeddingMesh.h"
 #include "hoembedBoundaryNormals.h"
+#include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
 
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -120,15 +122,43 @@ void CellControlBox(const double cp[10][3], int n, double* box)
 
 using Id = EmbeddingMesh::Id;
 
-// Cell maps, boxes, barycentric forms and the cell grid of `mesh` (node ids in range).
+// Whether the cell with nodes x (VTK order) and monomial map m has det J > 0 throughout.
+// tet10: the Bernstein coefficients of the cubic det J from the corner Jacobians (J is
+// affine in xi: J(0) = L, J(e_j) = L + Q_j) settle nearly every element, the subdividing
+// test (Tet10IsValid) the others. tet4: det J clear of round-off against the edge lengths.
+bool CellIsValid(const double* x, int nodesPerCell, const QuadraticMap& m)
+{
+  if (nodesPerCell == 10)
+  {
+    double G[4][3][3], hi = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d)
+      {
+        G[0][i][d] = m.L[i][d];
+        for (int k = 1; k < 4; ++k)
+          G[k][i][d] = m.L[i][d] + m.Q[i][k - 1][d];
+      }
+    const double lo = DetBernsteinMin(G, &hi);
+    return lo > 1e-12 * hi || Tet10IsValid(x);
+  }
+  double l = 0.0;
+  for (int a = 1; a < 4; ++a)
+    for (int d = 0; d < 3; ++d)
+      l = std::max(l, std::fabs(x[3 * a + d] - x[d]));
+  return Tet4JacobianDeterminant(x) > 1e-12 * l * l * l;
+}
+
+// Cell maps, boxes, barycentric forms and the cell grid of `mesh` (node ids in range);
+// with `firstInvalid`, the lowest cell that fails CellIsValid (numberOfCells if none).
 void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id numberOfCells,
-  int nodesPerCell)
+  int nodesPerCell, Id* firstInvalid)
 {
   const bool quadratic = nodesPerCell == 10;
   mesh.CellMaps.resize(numberOfCells);
   mesh.CellForms.resize(numberOfCells);
   std::vector<double>& boxes = mesh.Scratch.CellBoxes;
   boxes.resize(6 * numberOfCells);
+  std::atomic<Id> lowestInvalid(numberOfCells);
   vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
     double x[30];
     for (Id c = cb; c < ce; ++c)
@@ -138,6 +168,13 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = points[3 * ids[a] + d];
       MakeTetMap(x, nodesPerCell, mesh.CellMaps[c]);
+      if (firstInvalid && !CellIsValid(x, nodesPerCell, mesh.CellMaps[c]))
+      {
+        Id cur = lowestInvalid.load();
+        while (c < cur && !lowestInvalid.compare_exchange_weak(cur, c))
+        {
+        }
+      }
       MakeTetBarycentricForm(x, nodesPerCell, mesh.CellForms[c]);
       double cp[10][3];
       const int ncp = CellControlPoints(x, quadratic, cp);
@@ -145,6 +182,8 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
     }
   });
   mesh.CellGrid.Build(boxes);
+  if (firstInvalid)
+    *firstInvalid = lowestInvalid.load();
 }
 
 // Topology, nodal normals, face maps, slabs and the face tree of `mesh`; "" or the problem.
@@ -287,7 +326,7 @@ const AabbTree& EmbeddingMesh::GetFaceTree() const
   return this->FaceTree;
 }
 
-std::string EmbeddingMesh::Prepare(int nodesPerCell)
+std::string EmbeddingMesh::Prepare(int nodesPerCell, Id* firstInvalidCell)
 {
   this->FaceTreeBuilt.store(false);
   const Id numberOfPoints = static_cast<Id>(this->Points.size() / 3);
@@ -317,6 +356,8 @@ std::string EmbeddingMesh::Prepare(int nodesPerCell)
   // normals, face maps, face tree) do not depend on each other: two tasks, each parallel
   // inside (per cell, per face).
   std::string err;
+  if (firstInvalidCell)
+    *firstInvalidCell = numberOfCells; // none found (or not looked at: see the error)
   if (!idsInRange)
     err = this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints); // says why
   else
@@ -328,7 +369,7 @@ std::string EmbeddingMesh::Prepare(int nodesPerCell)
           err = BuildBoundaryData(
             *this, points, conn, numberOfPoints, numberOfCells, nodesPerCell, diagonal);
         else
-          BuildCellData(*this, points, conn, numberOfCells, nodesPerCell);
+          BuildCellData(*this, points, conn, numberOfCells, nodesPerCell, firstInvalidCell);
       }
     });
   }

@@ -47,7 +47,12 @@ public:
   /// The same from the node coordinates and connectivity already in Points and
   /// Connectivity. A mesh prepared again reuses the memory of its previous preparation
   /// (vectors keep their capacity), so repeated preparations touch no fresh pages.
-  std::string Prepare(int nodesPerCell);
+  /// With `firstInvalidCell`, every cell is also checked for det J > 0 throughout (tet10:
+  /// Bernstein coefficients of det J, then hoembed::Tet10IsValid; tet4: det J clear of
+  /// round-off) in the same pass that builds its map, and the lowest failing cell is
+  /// stored there (the number of cells when all pass). The mesh is prepared either way;
+  /// the caller decides what an invalid cell means.
+  std::string Prepare(int nodesPerCell, Id* firstInvalidCell = nullptr);
 
   TetMeshTopology Topology;
   std::vector<double> Points;       ///< 3 per node

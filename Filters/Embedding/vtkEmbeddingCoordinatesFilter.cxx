@@ -1,6 +1,5 @@
 #include "vtkEmbeddingCoordinatesFilter.h"
 
-#include "hoembedElementGeometry.h"
 #include "hoembedClosestPoint.h"
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedMeshFingerprint.h"
@@ -250,51 +249,18 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
       return 0;
     }
   }
-  if (this->ValidateElements)
-  {
-    std::atomic<vtkIdType> firstBad(ncells);
-    vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
-      double x[30];
-      for (vtkIdType c = b; c < e; ++c)
-      {
-        for (int a = 0; a < npc; ++a)
-          for (int d = 0; d < 3; ++d)
-            x[3 * a + d] = meshPts[3 * conn[npc * c + a] + d];
-        bool ok;
-        if (npc == 10)
-        {
-          // the cubic's Bernstein coefficients from the corner Jacobians settle nearly
-          // every element; the subdividing test only the others
-          ok = hoembed::Tet10JacobianProvablyPositive(x) || hoembed::Tet10IsValid(x);
-        }
-        else
-        {
-          double l2 = 0.0;
-          for (int a = 1; a < 4; ++a)
-            for (int d = 0; d < 3; ++d)
-              l2 = std::max(l2, std::fabs(x[3 * a + d] - x[d]));
-          ok = hoembed::Tet4JacobianDeterminant(x) > 1e-12 * l2 * l2 * l2;
-        }
-        if (!ok)
-        {
-          vtkIdType cur = firstBad.load();
-          while (c < cur && !firstBad.compare_exchange_weak(cur, c))
-          {
-          }
-        }
-      }
-    });
-    if (firstBad.load() < ncells)
-    {
-      vtkErrorMacro("The FE mesh has an inverted or degenerate element: cell "
-        << firstBad.load() << " has a non-positive Jacobian determinant"
-        << (npc == 10 ? " somewhere inside it." : "."));
-      return 0;
-    }
-  }
   this->UpdateProgress(0.05);
 
-  const std::string err = em.Prepare(npc);
+  // element validity is checked in the pass that builds the cell maps
+  Id firstInvalid = ncells;
+  const std::string err = em.Prepare(npc, this->ValidateElements ? &firstInvalid : nullptr);
+  if (firstInvalid < ncells)
+  {
+    vtkErrorMacro("The FE mesh has an inverted or degenerate element: cell "
+      << firstInvalid << " has a non-positive Jacobian determinant"
+      << (npc == 10 ? " somewhere inside it." : "."));
+    return 0;
+  }
   if (!err.empty())
   {
     vtkErrorMacro("The FE mesh topology is not usable: " << err);

@@ -721,6 +721,78 @@ void TestTet10Validity()
     accepted, rejected, mapErr);
 }
 
+// The closed-form monomial maps (MakeTriangleMap for tri3/tri6, MakeTetMap for
+// tet4/tet10) against the shape functions and their derivatives at random parametric
+// points of randomly perturbed elements: value and Jacobian. A wrong node in one
+// coefficient puts the error at O(1).
+void TestMonomialMaps()
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0), P(0.0, 1.0);
+  double worst[4] = { 0, 0, 0, 0 }; // tri3, tri6, tet4, tet10
+  for (int trial = 0; trial < 50; ++trial)
+    for (int kind = 0; kind < 4; ++kind)
+    {
+      const int dim = kind < 2 ? 2 : 3;
+      const int n = kind == 0 ? 3 : (kind == 1 ? 6 : (kind == 2 ? 4 : 10));
+      double x[30];
+      for (int k = 0; k < 3 * n; ++k)
+        x[k] = 2.0 * U(rng);
+      hoembed::QuadraticMap m;
+      if (dim == 2)
+        hoembed::MakeTriangleMap(x, n, m);
+      else
+        hoembed::MakeTetMap(x, n, m);
+      HOEMBED_CHECK(m.Dim == dim, "monomial map of %d nodes: Dim %d", n, m.Dim);
+      for (int q = 0; q < 10; ++q)
+      {
+        double xi[3] = { P(rng), P(rng), dim == 3 ? P(rng) : 0.0 };
+        double N[10], dN[30];
+        if (kind == 0)
+        {
+          hoembed::Tri3Shape(xi, N);
+          hoembed::Tri3Derivs(xi, dN);
+        }
+        else if (kind == 1)
+        {
+          hoembed::Tri6Shape(xi, N);
+          hoembed::Tri6Derivs(xi, dN);
+        }
+        else if (kind == 2)
+        {
+          hoembed::Tet4Shape(xi, N);
+          hoembed::Tet4Derivs(xi, dN);
+        }
+        else
+        {
+          hoembed::Tet10Shape(xi, N);
+          hoembed::Tet10Derivs(xi, dN);
+        }
+        double p[3] = { 0, 0, 0 }, Jref[3][3] = {}, y[3], J[3][3];
+        for (int a = 0; a < n; ++a)
+          for (int d = 0; d < 3; ++d)
+          {
+            p[d] += N[a] * x[3 * a + d];
+            for (int i = 0; i < dim; ++i)
+              Jref[i][d] += dN[i * n + a] * x[3 * a + d];
+          }
+        hoembed::EvaluateMap(m, xi, y, J);
+        for (int d = 0; d < 3; ++d)
+        {
+          worst[kind] = std::max(worst[kind], std::fabs(p[d] - y[d]));
+          for (int i = 0; i < dim; ++i)
+            worst[kind] = std::max(worst[kind], std::fabs(Jref[i][d] - J[i][d]));
+        }
+      }
+    }
+  const char* names[4] = { "tri3", "tri6", "tet4", "tet10" };
+  for (int kind = 0; kind < 4; ++kind)
+    HOEMBED_CHECK(worst[kind] <= 1e-12, "%s monomial map: max deviation from the shape functions %g",
+      names[kind], worst[kind]);
+  std::printf("monomial maps: max deviation tri3 %.2g, tri6 %.2g, tet4 %.2g, tet10 %.2g\n",
+    worst[0], worst[1], worst[2], worst[3]);
+}
+
 // hoembed::TetMapExcludes (the rule that rejects a cell for a point the pseudo-normal puts
 // outside) against the distance from x(eta) to the element by brute force (constrained
 // solves from 5 starts and a dense sample): it may only exclude when that distance exceeds
@@ -1188,6 +1260,7 @@ int main(int argc, char* argv[])
   TestFaceLowerBound();
   TestBoxGrid();
   TestTet10Validity();
+  TestMonomialMaps();
   TestTetMapExcludes();
   TestTetBarycentricExcludes();
 
