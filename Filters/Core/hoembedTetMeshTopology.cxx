@@ -104,6 +104,9 @@ std::string TetMeshTopology::BuildImpl(
   this->NumberOfPoints = numberOfPoints;
   const int npf = this->GetNodesPerFace();
 
+  // node ids in range, no node twice in a cell (a per-node stamp: the last cell seen)
+  std::vector<Id>& lastCell = this->NodeStamp;
+  lastCell.assign(numberOfPoints, -1);
   for (Id c = 0; c < numberOfCells; ++c)
   {
     const Id* cell = conn + c * nodesPerCell;
@@ -116,13 +119,13 @@ std::string TetMeshTopology::BuildImpl(
            << numberOfPoints << ")";
         return os.str();
       }
-      for (int j = 0; j < i; ++j)
-        if (cell[j] == cell[i])
-        {
-          std::ostringstream os;
-          os << "cell " << c << " repeats point " << cell[i];
-          return os.str();
-        }
+      if (lastCell[cell[i]] == c)
+      {
+        std::ostringstream os;
+        os << "cell " << c << " repeats point " << cell[i];
+        return os.str();
+      }
+      lastCell[cell[i]] = c;
     }
   }
 

@@ -70,8 +70,9 @@ public:
 private:
   std::string BuildImpl(const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints);
 
-  /// Working memory of Build (faces and boundary edges bucketed by their smallest node),
-  /// kept so that building again reuses it.
+  /// Working memory of Build (faces and boundary edges bucketed by their smallest node,
+  /// the per-node stamps of the repeated-node check), kept so that building again reuses
+  /// it.
   template <int K>
   struct Keyed
   {
@@ -81,6 +82,7 @@ private:
   std::vector<Keyed<3>> SortedFaces;
   std::vector<Keyed<2>> SortedEdges;
   std::vector<Id> BucketOffsets;
+  std::vector<Id> NodeStamp;
 };
 } // namespace hoembed
 

@@ -2,6 +2,7 @@
 
 #include "hoembedCurvedMeshBuilder.h"
 #include "hoembedElementGeometry.h"
+#include "hoembedSpatialOrder.h"
 #include "hoembedSurfaceCheck.h"
 #include "hoembedTetGenBridge.h"
 
@@ -424,12 +425,29 @@ int vtkTet10Mesher::RequestData(
     }
   }
   this->UpdateProgress(0.95);
-  const std::vector<double>& pts = mesh.Points;
-  const std::vector<Id>& conn = mesh.Conn;
-  const std::vector<unsigned char>& boundaryNode = mesh.BoundaryNode;
   const int npc = this->ElementOrder == 2 ? 10 : 4;
-  const Id nTets = static_cast<Id>(conn.size() / npc);
-  const Id nPts = static_cast<Id>(pts.size() / 3);
+  // memory order: cells along a Morton curve, nodes by first use (neighbouring elements
+  // are neighbours in the arrays; the embedding's searches and the assembly read less
+  // scattered memory)
+  std::vector<Id> cellOrder, pointOrder;
+  hoembed::SpatialOrder(mesh.Points, mesh.Conn, npc, cellOrder, pointOrder);
+  const Id nTets = static_cast<Id>(cellOrder.size());
+  const Id nPts = static_cast<Id>(pointOrder.size());
+  std::vector<double> pts(3 * nPts);
+  std::vector<unsigned char> boundaryNode(nPts);
+  std::vector<Id> newId(nPts);
+  for (Id k = 0; k < nPts; ++k)
+  {
+    const Id i = pointOrder[k];
+    newId[i] = k;
+    boundaryNode[k] = mesh.BoundaryNode[i];
+    for (int d = 0; d < 3; ++d)
+      pts[3 * k + d] = mesh.Points[3 * i + d];
+  }
+  std::vector<Id> conn(npc * nTets);
+  for (Id t = 0; t < nTets; ++t)
+    for (int a = 0; a < npc; ++a)
+      conn[npc * t + a] = newId[mesh.Conn[npc * cellOrder[t] + a]];
 
   // ---- 5. output ----------------------------------------------------------------------
   vtkNew<vtkPoints> outPts;

@@ -30,6 +30,10 @@
  *    and moves of the corners and interior mid-edge nodes around them (a pattern search
  *    that keeps every element acceptable; corners may leave the surface slightly, only
  *    mid-edge nodes are put on it).
+ * 6. Memory order (hoembed::SpatialOrder): cells sorted along a Morton curve through
+ *    their corner centroids, nodes numbered in the order those cells first use them, so
+ *    elements near each other in space are near each other in the arrays (the embedding's
+ *    searches read less scattered memory).
  *
  * Output arrays:
  * - cell data `MinScaledJacobian` (double): hoembed::Tet10MinScaledJacobian, or the

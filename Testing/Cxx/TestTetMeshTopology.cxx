@@ -4,6 +4,7 @@
 // messages, and the run time on a 200k-cell box.
 #include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
+#include "hoembedSpatialOrder.h"
 #include "hoembedTestUtilities.h"
 #include "hoembedTetMeshTopology.h"
 
@@ -18,6 +19,8 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <numeric>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -522,6 +525,127 @@ void TestFan()
   std::printf("timing: fan of %lld tets around node 0: Build %.3f s (%.0f ns/cell)\n",
     (long long)m.NumberOfCells, s, 1e9 * s / m.NumberOfCells);
 }
+// SpatialOrder on a tet10 box whose cells and nodes were shuffled: both orders are
+// permutations, the cell order sorts a Morton key computed bit by bit here (the
+// interleaving of the quantised centroid coordinates), nodes come in order of first use
+// (corners, then mid-edge nodes),
+// and face neighbours end up close in memory (their mean id distance drops well below the
+// shuffled mesh's). The reordered mesh has the same topology (boundary faces).
+void TestSpatialOrder()
+{
+  auto grid = hoembed_test::MakeBoxTetMesh(10, 8, 6, 1, 1, 1, 2);
+  Mesh m = FromGrid(grid);
+  const int npc = m.NodesPerCell;
+  const Id nc = m.NumberOfCells, np = m.NumberOfPoints();
+  std::mt19937 rng(3);
+  std::vector<Id> shuffle(nc), relabel(np);
+  std::iota(shuffle.begin(), shuffle.end(), Id(0));
+  std::iota(relabel.begin(), relabel.end(), Id(0));
+  std::shuffle(shuffle.begin(), shuffle.end(), rng);
+  std::shuffle(relabel.begin(), relabel.end(), rng);
+  Mesh s;
+  s.NodesPerCell = npc;
+  s.NumberOfCells = nc;
+  s.Points.resize(3 * np);
+  for (Id i = 0; i < np; ++i)
+    for (int d = 0; d < 3; ++d)
+      s.Points[3 * relabel[i] + d] = m.Points[3 * i + d];
+  for (Id c = 0; c < nc; ++c)
+    for (int a = 0; a < npc; ++a)
+      s.Conn.push_back(relabel[m.Conn[npc * shuffle[c] + a]]);
+
+  std::vector<Id> cellOrder, pointOrder;
+  hoembed::SpatialOrder(s.Points, s.Conn, npc, cellOrder, pointOrder);
+  auto isPermutation = [](std::vector<Id> v, Id n) {
+    std::sort(v.begin(), v.end());
+    for (Id i = 0; i < n; ++i)
+      if (v.size() != static_cast<size_t>(n) || v[i] != i)
+        return false;
+    return true;
+  };
+  HOEMBED_CHECK(isPermutation(cellOrder, nc), "spatial order: cell order is not a permutation");
+  HOEMBED_CHECK(isPermutation(pointOrder, np), "spatial order: node order is not a permutation");
+
+  // reference Morton key, bit by bit
+  std::vector<double> centre(3 * nc);
+  double lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 };
+  for (Id c = 0; c < nc; ++c)
+    for (int d = 0; d < 3; ++d)
+    {
+      double sum = 0.0;
+      for (int a = 0; a < 4; ++a)
+        sum += s.Points[3 * s.Conn[npc * c + a] + d];
+      centre[3 * c + d] = sum / 4.0;
+      lo[d] = std::min(lo[d], centre[3 * c + d]);
+      hi[d] = std::max(hi[d], centre[3 * c + d]);
+    }
+  const double ext = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
+  auto key = [&](Id c) {
+    std::uint64_t k = 0;
+    for (int d = 0; d < 3; ++d)
+    {
+      const double q = std::min(2097151.0, std::max(0.0, (centre[3 * c + d] - lo[d]) * 2097151.0 / ext));
+      const auto v = static_cast<std::uint64_t>(q);
+      for (int b = 0; b < 21; ++b)
+        k |= ((v >> b) & 1u) << (3 * b + d);
+    }
+    return k;
+  };
+  int unsorted = 0;
+  for (Id k = 1; k < nc; ++k)
+  {
+    const std::uint64_t a = key(cellOrder[k - 1]), b = key(cellOrder[k]);
+    unsorted += a > b || (a == b && cellOrder[k - 1] > cellOrder[k]);
+  }
+  HOEMBED_CHECK(unsorted == 0, "spatial order: %d cells out of Morton order", unsorted);
+  // corner nodes in order of first use, then the mid-edge nodes
+  std::vector<Id> firstUse;
+  std::vector<char> seen(np, 0);
+  for (int mids = 0; mids < 2; ++mids)
+    for (Id k = 0; k < nc; ++k)
+      for (int a = 0; a < npc; ++a)
+      {
+        const Id i = s.Conn[npc * cellOrder[k] + a];
+        if ((a >= 4) == (mids == 1) && !seen[i])
+        {
+          seen[i] = 1;
+          firstUse.push_back(i);
+        }
+      }
+  HOEMBED_CHECK(firstUse == pointOrder, "spatial order: nodes not in order of first use");
+
+  // the reordered mesh: same boundary, neighbours close in memory
+  std::vector<Id> newId(np);
+  for (Id k = 0; k < np; ++k)
+    newId[pointOrder[k]] = k;
+  std::vector<Id> conn;
+  for (Id k = 0; k < nc; ++k)
+    for (int a = 0; a < npc; ++a)
+      conn.push_back(newId[s.Conn[npc * cellOrder[k] + a]]);
+  hoembed::TetMeshTopology before, after;
+  HOEMBED_CHECK(before.Build(s.Conn.data(), nc, npc, np).empty() &&
+      after.Build(conn.data(), nc, npc, np).empty(),
+    "spatial order: topology failed");
+  HOEMBED_CHECK(before.GetNumberOfBoundaryFaces() == after.GetNumberOfBoundaryFaces(),
+    "spatial order: %lld boundary faces before, %lld after",
+    (long long)before.GetNumberOfBoundaryFaces(), (long long)after.GetNumberOfBoundaryFaces());
+  auto spread = [&](const hoembed::TetMeshTopology& t) {
+    double sum = 0.0;
+    Id n = 0;
+    for (Id i = 0; i < 4 * nc; ++i)
+      if (t.FaceNeighbor[i] >= 0)
+      {
+        sum += std::fabs(double(t.FaceNeighbor[i] - i / 4));
+        ++n;
+      }
+    return sum / std::max<Id>(n, 1);
+  };
+  const double sb = spread(before), sa = spread(after);
+  HOEMBED_CHECK(sa < 0.2 * sb, "spatial order: mean neighbour id distance %.1f, shuffled %.1f",
+    sa, sb);
+  std::printf("spatial order: %lld cells, mean neighbour id distance %.1f (shuffled %.1f)\n",
+    (long long)nc, sa, sb);
+}
 } // namespace
 
 int main(int, char*[])
@@ -552,5 +676,6 @@ int main(int, char*[])
   TestErrors();
   TestTiming();
   TestFan();
+  TestSpatialOrder();
   return hoembed_test::Report("TestTetMeshTopology");
 }
