@@ -2,6 +2,7 @@
 // (VTK's quadratic tetra Jacobian at sample points and vtkCellValidator), boundary nodes
 // on the surface (vtkCellLocator), curved volume closer than straight (vtkMassProperties),
 // element order 1, bad input.
+#include "hoembedSpatialOrder.h"
 #include "hoembedTestUtilities.h"
 
 #include "vtkTet10Mesher.h"
@@ -105,6 +106,23 @@ void CheckShape(const char* name, vtkPolyData* surface)
   vtkUnstructuredGrid* g = mesher->GetOutput();
   const vtkIdType nc = g->GetNumberOfCells();
   HOEMBED_CHECK(nc > 500 && nc < 2000, "%s: %lld cells for a target of 1000", name, (long long)nc);
+
+  // Memory order: the output is already in hoembed::SpatialOrder (ordering it again
+  // changes nothing: cells along the Morton curve, nodes by first use).
+  {
+    int npc = 0;
+    const std::vector<std::int64_t> conn = hoembed_test::MeshConnectivity(g, npc);
+    std::vector<std::int64_t> cellOrder, pointOrder;
+    hoembed::SpatialOrder(hoembed_test::PointsOf(g), conn, npc, cellOrder, pointOrder);
+    std::int64_t movedCells = 0, movedPoints = 0;
+    for (std::int64_t k = 0; k < static_cast<std::int64_t>(cellOrder.size()); ++k)
+      movedCells += cellOrder[k] != k;
+    for (std::int64_t k = 0; k < static_cast<std::int64_t>(pointOrder.size()); ++k)
+      movedPoints += pointOrder[k] != k;
+    HOEMBED_CHECK(movedCells == 0 && movedPoints == 0,
+      "%s: output not in memory order (%lld cells, %lld nodes move)", name,
+      (long long)movedCells, (long long)movedPoints);
+  }
 
   // Validity: VTK's Jacobian at the corners, the 20 cubic lattice points and random points.
   vtkMath::RandomSeed(7);
