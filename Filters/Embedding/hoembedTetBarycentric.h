@@ -40,9 +40,10 @@ struct TetBarycentricForm
   double X0[3] = { 0, 0, 0 }; ///< corner 0: l_k(y) = G[k] . (y - X0) + (k == 0)
   double G[4][3] = {};        ///< gradients of the straight tet's barycentric coordinates
   double GNorm[4] = { 0, 0, 0, 0 }; ///< |G[k]|
-  double W[6][4] = {};        ///< W[e][k] = w_ke = G[k] . delta_e (edges in VTK midnode order)
   double Bump[4] = { 0, 0, 0, 0 }; ///< the element lies where l_k >= -Bump[k] (>= 0)
   double Slack = -1.0;        ///< round-off allowance in lambda; < 0: not usable
+  // (the fields above are all the slab test TetBarycentricBeyond reads: 3 cache lines)
+  double W[6][4] = {};        ///< W[e][k] = w_ke = G[k] . delta_e (edges in VTK midnode order)
 };
 
 /**
