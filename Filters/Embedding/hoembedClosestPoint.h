@@ -32,7 +32,7 @@ namespace hoembed
 {
 /// A polynomial map of degree <= 2 from the reference simplex of dimension Dim (2 or 3)
 /// to R^3, in monomial form.
-struct QuadraticMap
+struct alignas(64) QuadraticMap
 {
   int Dim = 3;
   double C[3] = { 0, 0, 0 };

@@ -35,7 +35,7 @@
 
 namespace hoembed
 {
-struct TetBarycentricForm
+struct alignas(64) TetBarycentricForm
 {
   double X0[3] = { 0, 0, 0 }; ///< corner 0: l_k(y) = G[k] . (y - X0) + (k == 0)
   double G[4][3] = {};        ///< gradients of the straight tet's barycentric coordinates
