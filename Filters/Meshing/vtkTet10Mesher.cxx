@@ -427,8 +427,7 @@ int vtkTet10Mesher::RequestData(
   this->UpdateProgress(0.95);
   const int npc = this->ElementOrder == 2 ? 10 : 4;
   // memory order: cells along a Morton curve, nodes by first use (neighbouring elements
-  // are neighbours in the arrays; the embedding's searches and the assembly read less
-  // scattered memory)
+  // are neighbours in the arrays; the embedding's searches read less scattered memory)
   std::vector<Id> cellOrder, pointOrder;
   hoembed::SpatialOrder(mesh.Points, mesh.Conn, npc, cellOrder, pointOrder);
   const Id nTets = static_cast<Id>(cellOrder.size());
