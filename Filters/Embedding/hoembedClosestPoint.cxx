@@ -582,14 +582,6 @@ void MakeTriangleMap(const double* x, int n, QuadraticMap& m)
 }
 
 
-bool Tet10JacobianProvablyPositive(const double* x)
-{
-  double G[4][3][3], hi = 0.0;
-  Tet10CornerJacobians(x, G);
-  const double lo = DetBernsteinMin(G, &hi);
-  return lo > 1e-12 * hi;
-}
-
 namespace
 {
 // b / F^2 for the Jacobians G at the 4 corners of a tet over which J is affine: b the
@@ -644,6 +636,22 @@ double DistanceToReferenceTet(const double eta[3])
   return std::max({ -eta[0], -eta[1], -eta[2], (eta[0] + eta[1] + eta[2] - 1.0) / std::sqrt(3.0) });
 }
 } // namespace
+
+bool Tet10JacobianProvablyPositive(const QuadraticMap& m)
+{
+  // J is affine in xi: the corner Jacobians are J(0) = L and J(e_j) = L + Q_j
+  double G[4][3][3], hi = 0.0;
+  CornerJacobians(m, nullptr, 1.0, G);
+  const double lo = DetBernsteinMin(G, &hi);
+  return lo > 1e-12 * hi;
+}
+
+bool Tet10JacobianProvablyPositive(const double* x)
+{
+  QuadraticMap m;
+  MakeTetMap(x, 10, m);
+  return Tet10JacobianProvablyPositive(m);
+}
 
 double TetMapExclusionRate(const QuadraticMap& m)
 {

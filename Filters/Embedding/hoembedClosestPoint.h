@@ -52,6 +52,8 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTetMap(const double* x, int n, Quadratic
  * proven": the caller falls back to a finer test (hoembed::Tet10IsValid).
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT bool Tet10JacobianProvablyPositive(const double* x);
+/// The same from the element's monomial map (MakeTetMap of its nodes).
+HOEMBEDFILTERSEMBEDDING_EXPORT bool Tet10JacobianProvablyPositive(const QuadraticMap& m);
 
 /**
  * True when no point of the element of the tet map `m` (Dim 3, quadratic or linear) lies

@@ -123,24 +123,12 @@ void CellControlBox(const double cp[10][3], int n, double* box)
 using Id = EmbeddingMesh::Id;
 
 // Whether the cell with nodes x (VTK order) and monomial map m has det J > 0 throughout.
-// tet10: the Bernstein coefficients of the cubic det J from the corner Jacobians (J is
-// affine in xi: J(0) = L, J(e_j) = L + Q_j) settle nearly every element, the subdividing
-// test (Tet10IsValid) the others. tet4: det J clear of round-off against the edge lengths.
+// tet10: the Bernstein coefficients of det J settle nearly every element, the subdividing
+// test the others. tet4: det J clear of round-off against the edge lengths.
 bool CellIsValid(const double* x, int nodesPerCell, const QuadraticMap& m)
 {
   if (nodesPerCell == 10)
-  {
-    double G[4][3][3], hi = 0.0;
-    for (int i = 0; i < 3; ++i)
-      for (int d = 0; d < 3; ++d)
-      {
-        G[0][i][d] = m.L[i][d];
-        for (int k = 1; k < 4; ++k)
-          G[k][i][d] = m.L[i][d] + m.Q[i][k - 1][d];
-      }
-    const double lo = DetBernsteinMin(G, &hi);
-    return lo > 1e-12 * hi || Tet10IsValid(x);
-  }
+    return Tet10JacobianProvablyPositive(m) || Tet10IsValid(x);
   double l = 0.0;
   for (int a = 1; a < 4; ++a)
     for (int d = 0; d < 3; ++d)
