@@ -610,23 +610,23 @@ double SingularValueBound(const double G[4][3][3])
 // T scaled about its centroid, or of (T + eta) / 2 when eta is given.
 void CornerJacobians(const QuadraticMap& m, const double* eta, double scale, double G[4][3][3])
 {
-  for (int k = 0; k < 4; ++k)
-  {
-    double sk[3];
-    for (int j = 0; j < 3; ++j)
+  // J is affine in xi, so at the corner a + s (e_k - a) (anchor a: the centroid, or eta
+  // with s = 1/2) it is (1 - s) J(a) + s J(e_k), where J(e_0) = L and J(e_j) = L + Q_j
+  static const double Centre[3] = { 0.25, 0.25, 0.25 };
+  const double* a = eta ? eta : Centre;
+  const double s = eta ? 0.5 : scale;
+  double A[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int d = 0; d < 3; ++d)
+      A[i][d] = m.L[i][d] + m.Q[i][0][d] * a[0] + m.Q[i][1][d] * a[1] + m.Q[i][2][d] * a[2];
+  for (int i = 0; i < 3; ++i)
+    for (int d = 0; d < 3; ++d)
     {
-      const double ek = k == j + 1 ? 1.0 : 0.0;
-      sk[j] = eta ? 0.5 * (eta[j] + ek) : 0.25 + scale * (ek - 0.25);
+      const double anchor = (1.0 - s) * A[i][d];
+      G[0][i][d] = anchor + s * m.L[i][d];
+      for (int k = 1; k < 4; ++k)
+        G[k][i][d] = anchor + s * (m.L[i][d] + m.Q[i][k - 1][d]);
     }
-    for (int i = 0; i < 3; ++i)
-      for (int d = 0; d < 3; ++d)
-      {
-        double g = m.L[i][d];
-        for (int j = 0; j < 3; ++j)
-          g += m.Q[i][j][d] * sk[j];
-        G[k][i][d] = g;
-      }
-  }
 }
 
 // dist(eta, T) from below: the largest violated face inequality (normals of the faces
