@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace hoembed
@@ -88,5 +89,46 @@ void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) co
           out.push_back(item);
         }
       }
+}
+BoxGrid::Id BoxGrid::NearItem(const double v[3]) const
+{
+  if (this->Items.empty())
+    return -1;
+  int c[3];
+  this->BinRange(v, v, c, c);
+  const int reach = std::max({ this->Dims[0], this->Dims[1], this->Dims[2] });
+  for (int s = 0; s <= reach; ++s)
+  {
+    // the bins at Chebyshev distance s from c (clamped to the grid)
+    int lo[3], hi[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::max(0, c[d] - s);
+      hi[d] = std::min(this->Dims[d] - 1, c[d] + s);
+    }
+    Id best = -1;
+    double best2 = std::numeric_limits<double>::infinity();
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x)
+        {
+          if (std::max({ std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2]) }) != s)
+            continue; // an inner shell, already scanned
+          const Id bin = (static_cast<Id>(z) * this->Dims[1] + y) * this->Dims[0] + x;
+          for (Id k = this->Offsets[bin]; k < this->Offsets[bin + 1]; ++k)
+          {
+            const Id item = this->Items[k];
+            const double d2 = AabbTree::BoxDistance2(&this->ItemBoxes[6 * item], v);
+            if (d2 < best2)
+            {
+              best2 = d2;
+              best = item;
+            }
+          }
+        }
+    if (best >= 0)
+      return best;
+  }
+  return -1;
 }
 } // namespace hoembed

@@ -40,6 +40,14 @@ public:
   void Containing(const double v[3], double tol, std::vector<Id>& out) const;
 
   /**
+   * An item near v, for a search that has no start: the one whose box is nearest to v
+   * among the items of the first non-empty shell of bins around v's bin (v clamped into
+   * the grid), -1 for an empty grid. Not necessarily the nearest item of all (a search
+   * started from it still has to certify its result).
+   */
+  Id NearItem(const double v[3]) const;
+
+  /**
    * Call `visit(item)` for every item whose box is closer to v than sqrt(best2) (each
    * once, in bin order), scanning the bins met by the cube of half-width sqrt(best2)
    * around v; `visit` may lower best2 (later items are tested against the lowered

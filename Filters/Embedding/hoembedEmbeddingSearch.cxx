@@ -545,6 +545,14 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
       h.Face = T.CellBoundaryFace[4 * h.Cell + k];
     h.UV[0] = h.UV[1] = 1.0 / 3.0;
   }
+  if (h.Face < 0)
+  {
+    // no start (a flood's seed, or an interior cell): the walk starts from a face near v
+    // in the face grid (cheaper than the tree's nearest-first search from an infinite
+    // distance, and the tree is then rarely built at all)
+    h.Face = M.FaceGrid.NearItem(v);
+    h.UV[0] = h.UV[1] = 1.0 / 3.0;
+  }
   // 2. closest boundary point (walk + certification)
   BoundaryHit hit;
   ClosestBoundary(M, v, h, hit, out, S);

@@ -972,12 +972,20 @@ void ShearMap(double x[3])
 // hoembed::BoxGrid::Containing (the cells whose boxes may hold a point) and VisitNearer
 // (the boundary faces whose boxes are within a distance) against a scan of every box:
 // clustered and flat boxes, points on box faces, outside the grid and far away, several
-// tolerances and radii; each item once.
+// tolerances and radii; each item once. NearItem: an item for every query of a grid
+// that has any, one holding the point when a box does.
 void TestBoxGrid()
 {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   int mismatches = 0, duplicates = 0, hits = 0, queries = 0, nearMismatches = 0, nearHits = 0;
+  int nearItemMismatches = 0;
+  {
+    hoembed::BoxGrid empty;
+    empty.Build({});
+    const double origin[3] = { 0, 0, 0 };
+    nearItemMismatches += empty.NearItem(origin) != -1;
+  }
   for (int trial = 0; trial < 6; ++trial)
   {
     const int n = trial == 0 ? 1 : 40 * trial * trial;
@@ -1027,6 +1035,15 @@ void TestBoxGrid()
         got.erase(std::unique(got.begin(), got.end()), got.end());
         mismatches += got != want;
         hits += static_cast<int>(want.size());
+        if (tol == 0.0)
+        {
+          // NearItem: some item, and one whose box holds v when any box does (such a box
+          // is listed in v's own bin, the first shell scanned)
+          const hoembed::BoxGrid::Id near = grid.NearItem(v);
+          if (near < 0 || near >= n ||
+            (!want.empty() && hoembed::AabbTree::BoxDistance2(&boxes[6 * near], v) != 0.0))
+            ++nearItemMismatches;
+        }
       }
       // VisitNearer: every box nearer than the radius (as it stands when the box is
       // reached: a visit may lower it, here to 1.2 times the visited box's distance), once
@@ -1066,6 +1083,8 @@ void TestBoxGrid()
   HOEMBED_CHECK(nearMismatches == 0, "BoxGrid::VisitNearer: %d boxes missed or visited beyond "
     "the radius", nearMismatches);
   HOEMBED_CHECK(nearHits > 1000, "BoxGrid::VisitNearer: only %d visits (test setup)", nearHits);
+  HOEMBED_CHECK(nearItemMismatches == 0, "BoxGrid::NearItem: %d queries without an item, or "
+    "with one whose box misses a point some box holds", nearItemMismatches);
   std::printf("box grid: %d queries, %d + %d hits, as a scan of every box\n", queries, hits,
     nearHits);
 }
