@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace hoembed
@@ -446,16 +447,25 @@ double DetBernsteinMin(const double G[4][3][3], double* hiOut)
 {
   double b[20];
   DetBernsteinCoefficients(G, b);
-  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-  for (int k = 0; k < 20; ++k)
+  // pairwise minima and maxima (two lanes of a vector register; no chain of dependent
+  // compares); a NaN coefficient makes the minimum NaN (never clearly positive)
+  typedef double Pair __attribute__((vector_size(16)));
+  typedef long long Mask __attribute__((vector_size(16)));
+  const Pair sign = { -0.0, -0.0 };
+  Pair lo = { b[0], b[1] }, hi = { 0.0, 0.0 };
+  Mask nan = { 0, 0 };
+  for (int k = 0; k < 20; k += 2)
   {
-    if (!(b[k] >= lo))
-      lo = b[k]; // NaN propagates (and is never clearly positive)
-    hi = std::max(hi, std::fabs(b[k]));
+    Pair c;
+    std::memcpy(&c, b + k, sizeof c);
+    const Pair a = (Pair)((Mask)c & ~(Mask)sign); // |c|
+    nan |= c != c;
+    lo = c < lo ? c : lo;
+    hi = a > hi ? a : hi;
   }
   if (hiOut)
-    *hiOut = hi;
-  return lo;
+    *hiOut = std::max(hi[0], hi[1]);
+  return (nan[0] | nan[1]) ? std::numeric_limits<double>::quiet_NaN() : std::min(lo[0], lo[1]);
 }
 
 } // namespace hoembed

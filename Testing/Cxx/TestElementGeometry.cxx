@@ -674,6 +674,22 @@ void TestDetBernstein(std::mt19937& rng)
               "the cubic (of max|G|^3)\n", worstExpansion, worstValue);
   HOEMBED_CHECK(worstExpansion < 1e-13, "coefficients off the expansion by %g", worstExpansion);
   HOEMBED_CHECK(worstValue < 1e-13, "Bernstein form off the cubic by %g", worstValue);
+  // a NaN anywhere in the Jacobians (it reaches some coefficients, not all) gives a NaN
+  // minimum: never taken for a positive one
+  int nanMissed = 0;
+  for (int k = 0; k < 4; ++k)
+    for (int e = 0; e < 9; ++e)
+    {
+      double G[4][3][3];
+      for (int a = 0; a < 4; ++a)
+        for (int i = 0; i < 3; ++i)
+          for (int d = 0; d < 3; ++d)
+            G[a][i][d] = i == d ? 1.0 : 0.0;
+      G[k][e / 3][e % 3] = std::numeric_limits<double>::quiet_NaN();
+      nanMissed += !std::isnan(hoembed::DetBernsteinMin(G));
+    }
+  HOEMBED_CHECK(nanMissed == 0, "DetBernsteinMin: %d of 36 Jacobians with a NaN entry give a "
+    "number", nanMissed);
 }
 
 int main(int, char*[])
