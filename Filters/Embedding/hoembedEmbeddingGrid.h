@@ -80,9 +80,9 @@ public:
           {
             const Id item = this->Items[k];
             const double* b = &this->ItemBoxes[6 * item];
-            if (!single && !this->FirstBin(b, first, bin3))
-              continue; // met again in a later bin of the query
-            if (AabbTree::BoxDistance2(b, v) < best2)
+            // the distance first (it rejects most boxes); a box met in several bins of the
+            // query is visited in the first of them only
+            if (AabbTree::BoxDistance2(b, v) < best2 && (single || this->FirstBin(b, first, bin3)))
               visit(item);
           }
         }
