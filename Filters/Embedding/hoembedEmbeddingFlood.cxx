@@ -100,9 +100,7 @@ struct FloodContext
         Entry en = queue.front();
         queue.pop_front();
         const Id t = en.Triangle;
-        Id hv = en.HintVertex;
-        VertexHint h =
-          hv >= 0 ? (*this->Out)[hv].AsHint(this->Points + 3 * hv) : VertexHint();
+        Id hv = en.HintVertex; // the vertex whose result starts the next search
         bool mapped = true;
         double maxd = 0.0;
         for (int j = 0; j < 3; ++j)
@@ -111,16 +109,14 @@ struct FloodContext
           if (this->Owner[w] != static_cast<int>(p))
             continue;
           if (!this->Done[w])
-            this->Embed(w, h, s);
+            this->Embed(w,
+              hv >= 0 ? (*this->Out)[hv].AsHint(this->Points + 3 * hv) : VertexHint(), s);
           const double dw = (*this->Out)[w].ClosestDistance;
           if (dt < 0.0)
             dt = std::max(2.0 * dw, floor);
           maxd = std::max(maxd, dw);
           if (dw < dt)
-          {
             hv = w;
-            h = (*this->Out)[w].AsHint(this->Points + 3 * w);
-          }
           else
             mapped = false;
         }
