@@ -57,7 +57,7 @@ void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
   BuildCsr(bins,
     [&](auto&& emit) {
       for (Id i = 0; i < n; ++i)
-        forBins(i, [&](Id b) { emit(b, i); });
+        forBins(i, [&](Id b) { emit(b, static_cast<std::int32_t>(i)); });
     },
     this->Offsets, this->Items);
 }

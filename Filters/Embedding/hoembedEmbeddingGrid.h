@@ -32,7 +32,8 @@ public:
    * sized for about `binsPerItem` bins per item over the boxes' bounding box (1 to 1024
    * per axis). Fewer, larger bins hold more boxes to test per query; more bins list each
    * box more often (the cells: 8; the boundary faces, which fill a surface rather than
-   * the volume: 32, measured best on the real meshes).
+   * the volume: 32, measured best on the real meshes). Fewer than 2^31 items (the bins
+   * list them as 32-bit ids).
    */
   void Build(const std::vector<double>& boxes, double binsPerItem = 8.0);
 
@@ -120,7 +121,7 @@ private:
   double InvSize = 0.0;
   int Dims[3] = { 0, 0, 0 };
   std::vector<Id> Offsets; ///< per bin, into Items (CSR)
-  std::vector<Id> Items;
+  std::vector<std::int32_t> Items; ///< item ids (fewer than 2^31 items: half the memory)
   std::vector<double> ItemBoxes;
 };
 } // namespace hoembed
