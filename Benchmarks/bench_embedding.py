@@ -99,8 +99,8 @@ def time_speedup(surface, grid, method=0):
     (1, 2, 1, 2, ...; one filter per thread count, each keeping its working memory) for
     about 2 BUDGET_S seconds: both bests then come from the same stretch of time. (Timed
     one block after the other, the bursts of load on this shared machine fall on one count
-    more than the other: fertility ~1000 elements gave 1.45-1.60 in blocks, 1.69-1.75
-    alternating.) Returns (best 1-thread wall time, best 2-thread wall time)."""
+    more than the other: fertility gave 1.45-1.86 in blocks, 1.69-1.75 alternating in
+    the same quiet stretch.) Returns (best 1-thread wall time, best 2-thread wall time)."""
     filters = {}
     for th in (1, 2):
         f = hoembed.vtkEmbeddingCoordinatesFilter()
