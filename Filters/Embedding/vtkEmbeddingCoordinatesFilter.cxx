@@ -114,10 +114,42 @@ CellScan ReadCells(vtkUnstructuredGrid* mesh, int npc, std::vector<Id>& conn,
 }
 } // namespace
 
+// What identifies a mesh input's state: the grid (its address and modification time,
+// which covers its points) and the modification times of its cell array and of the
+// arrays behind it (edited in place, those need their own Modified()).
+struct MeshState
+{
+  const void* Grid = nullptr;
+  vtkMTimeType Times[5] = { 0, 0, 0, 0, 0 };
+
+  static MeshState Of(vtkUnstructuredGrid* mesh)
+  {
+    MeshState s;
+    s.Grid = mesh;
+    vtkCellArray* cells = mesh->GetCells();
+    s.Times[0] = mesh->GetMTime();
+    s.Times[1] = cells ? cells->GetMTime() : 0;
+    s.Times[2] = cells ? cells->GetOffsetsArray()->GetMTime() : 0;
+    s.Times[3] = cells ? cells->GetConnectivityArray()->GetMTime() : 0;
+    s.Times[4] = mesh->GetCellTypesArray() ? mesh->GetCellTypesArray()->GetMTime() : 0;
+    return s;
+  }
+  bool operator==(const MeshState& o) const
+  {
+    return this->Grid == o.Grid && std::equal(this->Times, this->Times + 5, o.Times);
+  }
+};
+
 struct vtkEmbeddingCoordinatesFilter::vtkInternals
 {
   // mesh-sized: kept
   hoembed::EmbeddingMesh Mesh;
+  // the input the prepared mesh belongs to (Prepared: the last preparation succeeded)
+  bool Prepared = false;
+  MeshState PreparedState;
+  int PreparedNodesPerCell = 0;
+  bool PreparedValidated = false;
+  std::string PreparedFingerprint;
   // surface-sized: kept up to MaxKeptBytes (~350 bytes per vertex, so about 190k
   // vertices; the larger the surface, the smaller the share of its page faults: 6% of
   // the time on dragon's 50k vertices, not worth holding hundreds of MB between Updates)
@@ -179,6 +211,77 @@ int vtkEmbeddingCoordinatesFilter::FillInputPortInformation(int port, vtkInforma
   return 1;
 }
 
+bool vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
+{
+  hoembed::EmbeddingMesh& em = this->Internals->Mesh;
+  vtkIdType bad = -1;
+  std::vector<double>& meshPts = em.Points;
+  if (!CopyFinitePoints(mesh->GetPoints(), meshPts, bad))
+  {
+    vtkErrorMacro("The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".");
+    return false;
+  }
+
+  // cells: all tet10 or all tet4
+  const vtkIdType ncells = mesh->GetNumberOfCells();
+  const int type0 = mesh->GetCellType(0);
+  if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
+  {
+    vtkErrorMacro("The FE mesh has a cell of type " << type0 << " (cell 0): only VTK_TETRA (10) "
+                  "and VTK_QUADRATIC_TETRA (24) cells are supported.");
+    return false;
+  }
+  const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
+  const vtkIdType npts = mesh->GetNumberOfPoints();
+  std::vector<Id>& conn = em.Connectivity;
+  // cell types and connectivity read straight from the arrays (no vtkIdList per cell),
+  // the fingerprint in the same pass
+  hoembed::MeshFingerprint fingerprint(npts, ncells);
+  const CellScan scan = ReadCells(mesh, npc, conn, fingerprint);
+  if (scan.Cell >= 0)
+  {
+    if (scan.Type != type0)
+    {
+      vtkErrorMacro("The FE mesh mixes cell types: cell " << scan.Cell << " has type " << scan.Type
+                                                           << ", cell 0 has type " << type0
+                                                           << "; use only tet4 or only tet10 cells.");
+    }
+    else
+    {
+      vtkErrorMacro("Cell " << scan.Cell << " has " << scan.Size << " points, expected " << npc << ".");
+    }
+    return false;
+  }
+  for (vtkIdType i = 0; i < npc * ncells; ++i)
+  {
+    if (conn[i] < 0 || conn[i] >= npts)
+    {
+      vtkErrorMacro("Cell " << i / npc << " refers to node " << conn[i] << ", out of range [0, " << npts << ").");
+      return false;
+    }
+  }
+  this->UpdateProgress(0.05);
+
+  // element validity is checked in the pass that builds the cell maps
+  Id firstInvalid = ncells;
+  const std::string err = em.Prepare(npc, this->ValidateElements ? &firstInvalid : nullptr);
+  if (firstInvalid < ncells)
+  {
+    vtkErrorMacro("The FE mesh has an inverted or degenerate element: cell "
+      << firstInvalid << " has a non-positive Jacobian determinant"
+      << (npc == 10 ? " somewhere inside it." : "."));
+    return false;
+  }
+  if (!err.empty())
+  {
+    vtkErrorMacro("The FE mesh topology is not usable: " << err);
+    return false;
+  }
+  this->Internals->PreparedNodesPerCell = npc;
+  this->Internals->PreparedFingerprint = fingerprint.Hex();
+  return true;
+}
+
 int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -203,68 +306,21 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
     return 0;
   }
+  // the FE mesh: prepared anew unless the prepared one belongs to this very input
+  // (ReuseMeshPreparation) and was validated when validation is asked for
   hoembed::EmbeddingMesh& em = this->Internals->Mesh;
-  std::vector<double>& meshPts = em.Points;
-  if (!CopyFinitePoints(mesh->GetPoints(), meshPts, bad))
+  vtkInternals& internals = *this->Internals;
+  const MeshState meshState = MeshState::Of(mesh);
+  if (!(this->ReuseMeshPreparation && internals.Prepared && internals.PreparedState == meshState &&
+        (internals.PreparedValidated || !this->ValidateElements)))
   {
-    vtkErrorMacro("The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".");
-    return 0;
-  }
-
-  // cells: all tet10 or all tet4
-  const vtkIdType ncells = mesh->GetNumberOfCells();
-  const int type0 = mesh->GetCellType(0);
-  if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
-  {
-    vtkErrorMacro("The FE mesh has a cell of type " << type0 << " (cell 0): only VTK_TETRA (10) "
-                  "and VTK_QUADRATIC_TETRA (24) cells are supported.");
-    return 0;
-  }
-  const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
-  const vtkIdType npts = mesh->GetNumberOfPoints();
-  std::vector<Id>& conn = em.Connectivity;
-  // cell types and connectivity read straight from the arrays (no vtkIdList per cell),
-  // the fingerprint in the same pass
-  hoembed::MeshFingerprint fingerprint(npts, ncells);
-  const CellScan scan = ReadCells(mesh, npc, conn, fingerprint);
-  if (scan.Cell >= 0)
-  {
-    if (scan.Type != type0)
-    {
-      vtkErrorMacro("The FE mesh mixes cell types: cell " << scan.Cell << " has type " << scan.Type
-                                                           << ", cell 0 has type " << type0
-                                                           << "; use only tet4 or only tet10 cells.");
-    }
-    else
-    {
-      vtkErrorMacro("Cell " << scan.Cell << " has " << scan.Size << " points, expected " << npc << ".");
-    }
-    return 0;
-  }
-  for (vtkIdType i = 0; i < npc * ncells; ++i)
-  {
-    if (conn[i] < 0 || conn[i] >= npts)
-    {
-      vtkErrorMacro("Cell " << i / npc << " refers to node " << conn[i] << ", out of range [0, " << npts << ").");
+    internals.Prepared = false;
+    if (!this->PrepareMesh(mesh))
       return 0;
-    }
-  }
-  this->UpdateProgress(0.05);
-
-  // element validity is checked in the pass that builds the cell maps
-  Id firstInvalid = ncells;
-  const std::string err = em.Prepare(npc, this->ValidateElements ? &firstInvalid : nullptr);
-  if (firstInvalid < ncells)
-  {
-    vtkErrorMacro("The FE mesh has an inverted or degenerate element: cell "
-      << firstInvalid << " has a non-positive Jacobian determinant"
-      << (npc == 10 ? " somewhere inside it." : "."));
-    return 0;
-  }
-  if (!err.empty())
-  {
-    vtkErrorMacro("The FE mesh topology is not usable: " << err);
-    return 0;
+    internals.Prepared = true;
+    internals.PreparedState = meshState;
+    internals.PreparedValidated = this->ValidateElements;
+    ++this->NumberOfMeshPreparations;
   }
   this->UpdateProgress(0.1);
 
@@ -428,7 +484,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   methodName->InsertNextValue(this->GetMethodAsString());
   vtkNew<vtkStringArray> fp;
   fp->SetName("EmbeddingMeshFingerprint");
-  fp->InsertNextValue(fingerprint.Hex());
+  fp->InsertNextValue(internals.PreparedFingerprint);
   fd->AddArray(methodName);
   fd->AddArray(fp);
   output->SetFieldData(fd);
@@ -442,5 +498,7 @@ void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Method: " << this->GetMethodAsString() << "\n";
   os << indent << "NumberOfPartitions: " << this->NumberOfPartitions << "\n";
   os << indent << "ValidateElements: " << (this->ValidateElements ? "On" : "Off") << "\n";
+  os << indent << "ReuseMeshPreparation: " << (this->ReuseMeshPreparation ? "On" : "Off") << "\n";
+  os << indent << "NumberOfMeshPreparations: " << this->NumberOfMeshPreparations << "\n";
   os << indent << "NumberOfUncertifiedPoints: " << this->NumberOfUncertifiedPoints << "\n";
 }

@@ -48,12 +48,19 @@
  * Threading: the flood runs in patches of the surface in parallel with vtkSMPTools.
  * Progress events are fired.
  *
- * Memory: every Update prepares the mesh anew, but the filter keeps its working memory
- * (the prepared mesh's arrays; the flood's, up to 64 MB, about 190k surface vertices) for
- * the next Update, which then touches no fresh pages (kernel page faults were a fifth to a
- * quarter of the time of an Update on the small real surfaces).
+ * Memory: the filter keeps its working memory (the prepared mesh's arrays; the flood's, up
+ * to 64 MB, about 190k surface vertices) for the next Update, which then touches no fresh
+ * pages (kernel page faults were a fifth to a quarter of the time of an Update on the
+ * small real surfaces). With ReuseMeshPreparation (default on) it also keeps the prepared
+ * mesh itself while the mesh input is unmodified, as VTK's locators keep their search
+ * structures: embedding another surface, or the same one changed, in the same FE mesh
+ * then skips the preparation (topology, normals, maps, grids, element validation).
+ * "Unmodified" is VTK's modification time: of the grid (its points included), of its cell
+ * array and of the cell arrays' data; changing the mesh in place needs a Modified() call,
+ * as everywhere in VTK.
  *
- * Defaults: Method normal-offset, NumberOfPartitions 0 (automatic), ValidateElements on.
+ * Defaults: Method normal-offset, NumberOfPartitions 0 (automatic), ValidateElements on,
+ * ReuseMeshPreparation on.
  *
  * @warning The normal-offset representation need not exist everywhere (the smooth normal
  * field can fold in concave regions); when the correction finds no solution near the
@@ -117,6 +124,22 @@ public:
   vtkBooleanMacro(ValidateElements, bool);
   ///@}
 
+  ///@{
+  /**
+   * Keep the prepared FE mesh between Updates while the mesh input is unmodified (default
+   * on; see the class comment). Off: every Update prepares the mesh anew.
+   */
+  vtkSetMacro(ReuseMeshPreparation, bool);
+  vtkGetMacro(ReuseMeshPreparation, bool);
+  vtkBooleanMacro(ReuseMeshPreparation, bool);
+  ///@}
+
+  /**
+   * How many times this filter has prepared an FE mesh (Updates that reused the prepared
+   * mesh do not count).
+   */
+  vtkGetMacro(NumberOfMeshPreparations, vtkIdType);
+
   /**
    * Surface points of the last run whose closest-point search on a curved boundary face
    * ran out of its budget (hoembedClosestPointCertify.h): their distance may be a local
@@ -139,16 +162,21 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// Read, check and prepare the mesh input into the kept EmbeddingMesh; false (after an
+  /// error message) for a mesh that cannot be used.
+  bool PrepareMesh(vtkUnstructuredGrid* mesh);
 
   int Method = NORMAL_OFFSET;
   int NumberOfPartitions = 0;
   bool ValidateElements = true;
+  bool ReuseMeshPreparation = true;
   vtkIdType NumberOfUncertifiedPoints = 0;
+  vtkIdType NumberOfMeshPreparations = 0;
 
 private:
-  /// Working memory kept between Updates (the prepared mesh; the flood's arrays up to a
-  /// cap), so that an Update after the first touches no fresh pages; every Update
-  /// prepares the mesh anew.
+  /// Working memory kept between Updates (the prepared mesh and what identifies its
+  /// input; the flood's arrays up to a cap), so that an Update after the first touches no
+  /// fresh pages.
   struct vtkInternals;
   std::unique_ptr<vtkInternals> Internals;
 

@@ -1272,6 +1272,109 @@ void TestEmbedSurfaceWorkspace(vtkPolyData* surface, vtkUnstructuredGrid* grid10
   HOEMBED_CHECK(differMesh > 0, "the tet4 and tet10 meshes gave the same distances");
 }
 
+// ReuseMeshPreparation: the prepared mesh is kept while the mesh input is unmodified (a
+// new surface, or the filter's own Modified(), does not prepare again) and prepared anew
+// after any modification of the mesh: its points, its connectivity array edited in place,
+// another grid, validation asked for after an unvalidated preparation. Every output equals
+// a fresh filter's.
+void TestMeshReuse(vtkPolyData* surface, vtkUnstructuredGrid* grid10, vtkUnstructuredGrid* grid4)
+{
+  auto distances = [](vtkPolyData* out) {
+    std::vector<double> d;
+    auto* a = vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
+    for (vtkIdType i = 0; a && i < a->GetNumberOfTuples(); ++i)
+      d.push_back(a->GetValue(i));
+    return d;
+  };
+  vtkNew<vtkUnstructuredGrid> g;
+  g->DeepCopy(grid10);
+  vtkNew<vtkEmbeddingCoordinatesFilter> f;
+  vtkNew<vtkCallbackCommand> cb;
+  ErrorCatcher errors;
+  cb->SetClientData(&errors);
+  cb->SetCallback(ErrorCatcher::Callback);
+  f->AddObserver(vtkCommand::ErrorEvent, cb);
+  f->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, cb);
+  f->SetInputData(0, surface);
+  f->SetMeshData(g);
+  auto update = [&](const char* what, vtkPolyData* s, vtkUnstructuredGrid* mesh,
+                  vtkIdType preparations) {
+    errors.Count = 0;
+    f->SetInputData(0, s);
+    f->SetMeshData(mesh);
+    f->Modified();
+    f->Update();
+    HOEMBED_CHECK(errors.Count == 0, "mesh reuse, %s: error %s", what, errors.Text.c_str());
+    HOEMBED_CHECK(f->GetNumberOfMeshPreparations() == preparations,
+      "mesh reuse, %s: %lld preparations, expected %lld", what,
+      static_cast<long long>(f->GetNumberOfMeshPreparations()), static_cast<long long>(preparations));
+    auto fresh = RunFilter(s, mesh, 0);
+    HOEMBED_CHECK(distances(f->GetOutput()) == distances(fresh) && !distances(fresh).empty(),
+      "mesh reuse, %s: distances differ from a fresh filter's", what);
+  };
+  HOEMBED_CHECK(f->GetReuseMeshPreparation(), "ReuseMeshPreparation is on by default");
+  update("first Update", surface, g, 1);
+  update("filter modified", surface, g, 1);
+  auto other = MakeSurface(false, false);
+  update("another surface", other, g, 1);
+
+  // points moved in place: the points' Modified() is the grid's
+  for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    g->GetPoint(i, x);
+    g->GetPoints()->SetPoint(i, 1.1 * x[0], x[1] - 0.05, x[2]);
+  }
+  g->GetPoints()->Modified();
+  update("points moved", surface, g, 2);
+
+  // connectivity edited in place, only the array told: cell 0 inverted (corners 1, 2
+  // and the mid-edge nodes that follow them swapped), then restored
+  vtkDataArray* conn = g->GetCells()->GetConnectivityArray();
+  const vtkIdType base = g->GetCells()->GetOffsetsArray()->GetTuple1(0);
+  auto swapIds = [&](int a, int b) {
+    const double t = conn->GetTuple1(base + a);
+    conn->SetTuple1(base + a, conn->GetTuple1(base + b));
+    conn->SetTuple1(base + b, t);
+  };
+  auto invert = [&]() {
+    swapIds(1, 2);
+    swapIds(4, 6);
+    swapIds(8, 9);
+    conn->Modified();
+  };
+  invert();
+  errors.Count = 0;
+  f->Modified();
+  f->Update();
+  HOEMBED_CHECK(errors.Count > 0 && errors.Text.find("inverted or degenerate") != std::string::npos,
+    "mesh reuse: connectivity edited in place not noticed (%d errors: %s)", errors.Count,
+    errors.Text.c_str());
+  HOEMBED_CHECK(f->GetNumberOfMeshPreparations() == 2, "mesh reuse: a failed preparation counted");
+  // unvalidated, the inverted mesh is prepared; asking for validation again prepares anew
+  f->ValidateElementsOff();
+  errors.Count = 0;
+  f->Modified();
+  f->Update();
+  HOEMBED_CHECK(errors.Count == 0 && f->GetNumberOfMeshPreparations() == 3,
+    "mesh reuse: unvalidated preparation (%d errors, %lld preparations)", errors.Count,
+    static_cast<long long>(f->GetNumberOfMeshPreparations()));
+  f->ValidateElementsOn();
+  errors.Count = 0;
+  f->Modified();
+  f->Update();
+  HOEMBED_CHECK(errors.Count > 0 && errors.Text.find("inverted or degenerate") != std::string::npos,
+    "mesh reuse: validation after an unvalidated preparation skipped");
+  invert(); // back to the valid cell
+  update("connectivity restored", surface, g, 4);
+  update("another grid", surface, grid4, 5);
+  update("back to the first grid", surface, g, 6);
+  f->ReuseMeshPreparationOff();
+  update("reuse off", surface, g, 7);
+  update("reuse off, again", surface, g, 8);
+  std::printf("mesh reuse: 8 preparations over 12 Updates, as expected\n");
+}
+
 int main(int argc, char* argv[])
 {
   const std::string dataDir = hoembed_test::DataDir(argc, argv);
@@ -1323,6 +1426,7 @@ int main(int argc, char* argv[])
   }
   TestSaveLoad(out10);
   TestEmbedSurfaceWorkspace(surface, grid10, grid4, out10);
+  TestMeshReuse(surface, grid10, grid4);
   TestCrossingBoundary();
   if (!dataDir.empty())
     TestRealMeshes(dataDir);
