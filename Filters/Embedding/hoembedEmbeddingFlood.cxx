@@ -9,6 +9,7 @@
 #include <atomic>
 #include <deque>
 #include <limits>
+#include <stdexcept>
 #include <thread>
 
 namespace hoembed
@@ -181,6 +182,11 @@ struct EmbedWorkspace::Impl
   std::vector<char> Queued, Expanded;
   std::vector<double> Points;
   std::vector<VertexEmbedding> Results; // without a vertex order: before the scatter
+  // what OrderSurface leaves for FloodSurface
+  bool Ordered = false;
+  Id NumberOfPoints = 0;
+  std::vector<Id>* VertexOrder = nullptr; // the caller's, or null
+  std::vector<Id>* OldIds = nullptr;      // new -> input vertex ids (VertexOrder or OldId)
 };
 
 EmbedWorkspace::EmbedWorkspace()
@@ -207,14 +213,11 @@ void EmbedWorkspace::Release()
   this->Internal.reset(new Impl);
 }
 
-void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
-  Id numberOfPoints, const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out,
-  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats,
-  std::vector<Id>* vertexOrder, EmbedWorkspace* workspace)
+void OrderSurface(const double* points, Id numberOfPoints, const std::vector<Id>& triangles,
+  int numberOfPartitions, std::vector<Id>* vertexOrder, EmbedWorkspace& workspace)
 {
+  EmbedWorkspace::Impl& W = *workspace.Internal;
   const Id ntri = static_cast<Id>(triangles.size() / 3);
-  EmbedWorkspace local;
-  EmbedWorkspace::Impl& W = *(workspace ? workspace : &local)->Internal;
 
   // Breadth-first order of the triangles over the surface (neighbours through shared
   // vertices), one component after the other, and the vertices renumbered by their
@@ -296,19 +299,9 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
       for (int d = 0; d < 3; ++d)
         pts[3 * i + d] = points[3 * oldId[i] + d];
   });
-  // with a vertex order the results go straight to the caller, in the flood's order
-  std::vector<VertexEmbedding>& res = vertexOrder ? out : W.Results;
-  res.resize(numberOfPoints); // EmbedVertex writes every field of a vertex it embeds
-
   FloodContext& ctx = W.Context;
-  ctx.Seeds = 0;
-  ctx.Raises = 0;
-  ++ctx.Call;
-  ctx.Mesh = &mesh;
-  ctx.Method = method;
   ctx.Points = pts.data();
   ctx.Triangles = &tris;
-  ctx.Out = &res;
   VertexTriangles(tris, numberOfPoints, ctx.VertexTriOffsets, ctx.VertexTris);
 
   // partitions: contiguous ranges of the breadth-first order (a range that is not
@@ -336,7 +329,39 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
   isolated.clear();
   for (Id i = nOnTriangles; i < numberOfPoints; ++i)
     isolated.push_back(i);
+
+  W.Ordered = true;
+  W.NumberOfPoints = numberOfPoints;
+  W.VertexOrder = vertexOrder;
+  W.OldIds = &oldId;
+}
+
+void FloodSurface(const EmbeddingMesh& mesh, int method, std::vector<VertexEmbedding>& out,
+  const std::function<void(double)>& progress, FloodStatistics* stats, EmbedWorkspace& workspace)
+{
+  EmbedWorkspace::Impl& W = *workspace.Internal;
+  if (!W.Ordered)
+    throw std::logic_error("hoembed::FloodSurface: the workspace holds no surface order "
+                           "(call OrderSurface first, once per FloodSurface)");
+  W.Ordered = false;
+  const Id numberOfPoints = W.NumberOfPoints;
+  std::vector<Id>* vertexOrder = W.VertexOrder;
+  const std::vector<Id>& oldId = *W.OldIds;
+  const std::vector<double>& pts = W.Points;
+  const std::vector<Id>& isolated = W.Isolated;
   const Id nIso = static_cast<Id>(isolated.size());
+  FloodContext& ctx = W.Context;
+  const Id P = ctx.NumberOfPartitions;
+  // with a vertex order the results go straight to the caller, in the flood's order
+  std::vector<VertexEmbedding>& res = vertexOrder ? out : W.Results;
+  res.resize(numberOfPoints); // EmbedVertex writes every field of a vertex it embeds
+
+  ctx.Seeds = 0;
+  ctx.Raises = 0;
+  ++ctx.Call;
+  ctx.Mesh = &mesh;
+  ctx.Method = method;
+  ctx.Out = &res;
 
   // parallel floods, one loop over all partitions (no barrier before the last one ends);
   // progress is reported from the calling thread only (it runs partitions too), as the
@@ -385,5 +410,16 @@ void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
     stats->ThresholdRaises = ctx.Raises.load();
     stats->IsolatedVertices = nIso;
   }
+}
+
+void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
+  Id numberOfPoints, const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out,
+  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats,
+  std::vector<Id>* vertexOrder, EmbedWorkspace* workspace)
+{
+  EmbedWorkspace local;
+  EmbedWorkspace& ws = workspace ? *workspace : local;
+  OrderSurface(points, numberOfPoints, triangles, numberOfPartitions, vertexOrder, ws);
+  FloodSurface(mesh, method, out, progress, stats, ws);
 }
 } // namespace hoembed

@@ -79,6 +79,25 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedSurface(const EmbeddingMesh& mesh, int 
   int numberOfPartitions = 0, const std::function<void(double)>& progress = {},
   FloodStatistics* stats = nullptr, std::vector<EmbeddingMesh::Id>* vertexOrder = nullptr,
   EmbedWorkspace* workspace = nullptr);
+
+/**
+ * EmbedSurface in two steps, for a caller that has other work to overlap with the first:
+ * OrderSurface does the part that depends on the surface only (the breadth-first order,
+ * the renumbering, the vertex lists, the partitions and the vertices in no triangle) into
+ * `workspace`; FloodSurface then embeds the vertices in `mesh` (the floods and the
+ * isolated vertices). The arguments mean what they mean for EmbedSurface; `points`,
+ * `triangles` and `*vertexOrder` must stay alive and unchanged until FloodSurface
+ * returns. Each FloodSurface needs its own OrderSurface just before it
+ * (std::logic_error otherwise). The vtkEmbeddingCoordinatesFilter orders the surface
+ * while it prepares the mesh, on two threads.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT void OrderSurface(const double* points,
+  EmbeddingMesh::Id numberOfPoints, const std::vector<EmbeddingMesh::Id>& triangles,
+  int numberOfPartitions, std::vector<EmbeddingMesh::Id>* vertexOrder,
+  EmbedWorkspace& workspace);
+HOEMBEDFILTERSEMBEDDING_EXPORT void FloodSurface(const EmbeddingMesh& mesh, int method,
+  std::vector<VertexEmbedding>& out, const std::function<void(double)>& progress,
+  FloodStatistics* stats, EmbedWorkspace& workspace);
 } // namespace hoembed
 
 #endif

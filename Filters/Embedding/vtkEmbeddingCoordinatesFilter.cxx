@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -211,15 +212,16 @@ int vtkEmbeddingCoordinatesFilter::FillInputPortInformation(int port, vtkInforma
   return 1;
 }
 
-bool vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
+std::string vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
 {
+  std::ostringstream msg;
   hoembed::EmbeddingMesh& em = this->Internals->Mesh;
   vtkIdType bad = -1;
   std::vector<double>& meshPts = em.Points;
   if (!CopyFinitePoints(mesh->GetPoints(), meshPts, bad))
   {
-    vtkErrorMacro("The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".");
-    return false;
+    msg << "The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".";
+    return msg.str();
   }
 
   // cells: all tet10 or all tet4
@@ -227,9 +229,9 @@ bool vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
   const int type0 = mesh->GetCellType(0);
   if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
   {
-    vtkErrorMacro("The FE mesh has a cell of type " << type0 << " (cell 0): only VTK_TETRA (10) "
-                  "and VTK_QUADRATIC_TETRA (24) cells are supported.");
-    return false;
+    msg << "The FE mesh has a cell of type " << type0 << " (cell 0): only VTK_TETRA (10) "
+           "and VTK_QUADRATIC_TETRA (24) cells are supported.";
+    return msg.str();
   }
   const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
   const vtkIdType npts = mesh->GetNumberOfPoints();
@@ -242,44 +244,42 @@ bool vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
   {
     if (scan.Type != type0)
     {
-      vtkErrorMacro("The FE mesh mixes cell types: cell " << scan.Cell << " has type " << scan.Type
-                                                           << ", cell 0 has type " << type0
-                                                           << "; use only tet4 or only tet10 cells.");
+      msg << "The FE mesh mixes cell types: cell " << scan.Cell << " has type " << scan.Type
+          << ", cell 0 has type " << type0 << "; use only tet4 or only tet10 cells.";
     }
     else
     {
-      vtkErrorMacro("Cell " << scan.Cell << " has " << scan.Size << " points, expected " << npc << ".");
+      msg << "Cell " << scan.Cell << " has " << scan.Size << " points, expected " << npc << ".";
     }
-    return false;
+    return msg.str();
   }
   for (vtkIdType i = 0; i < npc * ncells; ++i)
   {
     if (conn[i] < 0 || conn[i] >= npts)
     {
-      vtkErrorMacro("Cell " << i / npc << " refers to node " << conn[i] << ", out of range [0, " << npts << ").");
-      return false;
+      msg << "Cell " << i / npc << " refers to node " << conn[i] << ", out of range [0, " << npts
+          << ").";
+      return msg.str();
     }
   }
-  this->UpdateProgress(0.05);
-
   // element validity is checked in the pass that builds the cell maps
   Id firstInvalid = ncells;
   const std::string err = em.Prepare(npc, this->ValidateElements ? &firstInvalid : nullptr);
   if (firstInvalid < ncells)
   {
-    vtkErrorMacro("The FE mesh has an inverted or degenerate element: cell "
+    msg << "The FE mesh has an inverted or degenerate element: cell "
       << firstInvalid << " has a non-positive Jacobian determinant"
-      << (npc == 10 ? " somewhere inside it." : "."));
-    return false;
+      << (npc == 10 ? " somewhere inside it." : ".");
+    return msg.str();
   }
   if (!err.empty())
   {
-    vtkErrorMacro("The FE mesh topology is not usable: " << err);
-    return false;
+    msg << "The FE mesh topology is not usable: " << err;
+    return msg.str();
   }
   this->Internals->PreparedNodesPerCell = npc;
   this->Internals->PreparedFingerprint = fingerprint.Hex();
-  return true;
+  return std::string();
 }
 
 int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
@@ -306,24 +306,6 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
     return 0;
   }
-  // the FE mesh: prepared anew unless the prepared one belongs to this very input
-  // (ReuseMeshPreparation) and was validated when validation is asked for
-  hoembed::EmbeddingMesh& em = this->Internals->Mesh;
-  vtkInternals& internals = *this->Internals;
-  const MeshState meshState = MeshState::Of(mesh);
-  if (!(this->ReuseMeshPreparation && internals.Prepared && internals.PreparedState == meshState &&
-        (internals.PreparedValidated || !this->ValidateElements)))
-  {
-    internals.Prepared = false;
-    if (!this->PrepareMesh(mesh))
-      return 0;
-    internals.Prepared = true;
-    internals.PreparedState = meshState;
-    internals.PreparedValidated = this->ValidateElements;
-    ++this->NumberOfMeshPreparations;
-  }
-  this->UpdateProgress(0.1);
-
   // surface points and triangles
   const vtkIdType ns = surface->GetNumberOfPoints();
   std::vector<Id>& tris = this->Internals->Triangles;
@@ -361,27 +343,68 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
       }
     }
   }
+  // the surface's problems are reported after the mesh's
+  std::string surfaceError;
   if (tris.size() / 3 > static_cast<size_t>(VTK_INT_MAX))
-  {
-    vtkErrorMacro("The surface has more than 2^31 triangles, which is not supported.");
-    return 0;
-  }
+    surfaceError = "The surface has more than 2^31 triangles, which is not supported.";
   for (Id id : tris)
   {
-    if (id < 0 || id >= ns)
+    if (surfaceError.empty() && (id < 0 || id >= ns))
     {
-      vtkErrorMacro("A surface polygon refers to point " << id << ", out of range [0, " << ns << ").");
-      return 0;
+      std::ostringstream os;
+      os << "A surface polygon refers to point " << id << ", out of range [0, " << ns << ").";
+      surfaceError = os.str();
     }
   }
+
+  // The FE mesh is prepared anew unless the prepared one belongs to this very input
+  // (ReuseMeshPreparation) and was validated when validation is asked for. The surface's
+  // order for the flood depends on the surface only: it is built meanwhile (two tasks;
+  // on two threads the preparation's serial parts and the ordering overlap). Both tasks
+  // only record problems; messages and progress come from this thread.
+  hoembed::EmbeddingMesh& em = this->Internals->Mesh;
+  vtkInternals& internals = *this->Internals;
+  const MeshState meshState = MeshState::Of(mesh);
+  const bool prepare = !(this->ReuseMeshPreparation && internals.Prepared &&
+    internals.PreparedState == meshState && (internals.PreparedValidated || !this->ValidateElements));
+  std::vector<Id>& order = this->Internals->Order; // res[k] belongs to surface point order[k]
+  std::string meshError;
+  if (prepare)
+    internals.Prepared = false;
+  vtkSMPTools::For(0, 2, 1, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType task = b; task < e; ++task)
+    {
+      if (task == 0 && prepare)
+        meshError = this->PrepareMesh(mesh);
+      else if (task == 1 && surfaceError.empty())
+        hoembed::OrderSurface(
+          sp.data(), ns, tris, this->NumberOfPartitions, &order, internals.Flood);
+    }
+  });
+  if (!meshError.empty())
+  {
+    vtkErrorMacro(<< meshError);
+    return 0;
+  }
+  if (prepare)
+  {
+    internals.Prepared = true;
+    internals.PreparedState = meshState;
+    internals.PreparedValidated = this->ValidateElements;
+    ++this->NumberOfMeshPreparations;
+  }
+  if (!surfaceError.empty())
+  {
+    vtkErrorMacro(<< surfaceError);
+    return 0;
+  }
+  this->UpdateProgress(0.1);
 
   std::vector<hoembed::VertexEmbedding>& res = this->Internals->Results;
   const int method =
     this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
-  std::vector<Id>& order = this->Internals->Order; // res[k] belongs to surface point order[k]
-  hoembed::EmbedSurface(em, method, sp.data(), ns, tris, res, this->NumberOfPartitions,
-    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); }, nullptr, &order,
-    &this->Internals->Flood);
+  hoembed::FloodSurface(em, method, res, [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); },
+    nullptr, internals.Flood);
   // surface-sized memory beyond the cap is given back however this Update ends
   struct Trim
   {

@@ -45,8 +45,9 @@
  * face of another part of the mesh (close parts of a thin shape), a point in that cell
  * is inside even though it lies on the outer side of its closest boundary face.
  *
- * Threading: the flood runs in patches of the surface in parallel with vtkSMPTools.
- * Progress events are fired.
+ * Threading: the flood runs in patches of the surface in parallel with vtkSMPTools; the
+ * mesh preparation (itself parallel) and the surface's ordering for the flood run as two
+ * tasks. Progress events are fired (from the calling thread).
  *
  * Memory: the filter keeps its working memory (the prepared mesh's arrays; the flood's, up
  * to 64 MB, about 190k surface vertices) for the next Update, which then touches no fresh
@@ -78,6 +79,7 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
+#include <string> // for std::string
 
 class vtkUnstructuredGrid;
 
@@ -162,9 +164,9 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// Read, check and prepare the mesh input into the kept EmbeddingMesh; false (after an
-  /// error message) for a mesh that cannot be used.
-  bool PrepareMesh(vtkUnstructuredGrid* mesh);
+  /// Read, check and prepare the mesh input into the kept EmbeddingMesh: "" or what makes
+  /// the mesh unusable (the caller reports it; this may run on a worker thread).
+  std::string PrepareMesh(vtkUnstructuredGrid* mesh);
 
   int Method = NORMAL_OFFSET;
   int NumberOfPartitions = 0;

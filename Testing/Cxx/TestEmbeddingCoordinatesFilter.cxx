@@ -43,6 +43,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 using hoembed_test::MakeBoxTetMesh;
@@ -1205,7 +1206,8 @@ void TestRealMeshes(const std::string& dir)
 } // namespace
 
 // EmbedSurface with and without a workspace, with and without the vertex order, one
-// workspace reused across two meshes: the same results, and the filter's distances.
+// workspace reused across two meshes, and in its two steps: the same results, and the
+// filter's distances.
 void TestEmbedSurfaceWorkspace(vtkPolyData* surface, vtkUnstructuredGrid* grid10,
   vtkUnstructuredGrid* grid4, vtkPolyData* filterOut)
 {
@@ -1270,6 +1272,26 @@ void TestEmbedSurfaceWorkspace(vtkPolyData* surface, vtkUnstructuredGrid* grid10
     "EmbedSurface: %d differ with a reused workspace, %d in vertex order, %d from the filter",
     differ, differOrdered, differFilter);
   HOEMBED_CHECK(differMesh > 0, "the tet4 and tet10 meshes gave the same distances");
+
+  // the two steps apart (OrderSurface, then FloodSurface) give EmbedSurface's results; a
+  // FloodSurface without its own OrderSurface is refused
+  std::vector<hoembed::VertexEmbedding> split;
+  hoembed::OrderSurface(v.data(), n, tris, 0, nullptr, ws);
+  hoembed::FloodSurface(m10, method, split, {}, nullptr, ws);
+  int differSplit = split.size() == size_t(n) ? 0 : -1;
+  for (Id k = 0; k < n && differSplit >= 0; ++k)
+    differSplit += !same(plain[k], split[k]);
+  HOEMBED_CHECK(differSplit == 0, "OrderSurface + FloodSurface: %d results differ", differSplit);
+  bool refused = false;
+  try
+  {
+    hoembed::FloodSurface(m10, method, split, {}, nullptr, ws);
+  }
+  catch (const std::logic_error&)
+  {
+    refused = true;
+  }
+  HOEMBED_CHECK(refused, "a second FloodSurface without OrderSurface was not refused");
 }
 
 // ReuseMeshPreparation: the prepared mesh is kept while the mesh input is unmodified (a
