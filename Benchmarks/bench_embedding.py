@@ -68,22 +68,27 @@ def runs_for(best):
     return max(REPEATS, min(MAX_RUNS, int(BUDGET_S / max(best, 1e-6))))
 
 
-def time_filter(surface, grid, method, threads, wall=False, repeats=None, first=None,
-                prepare=True):
+def make_filter(surface, grid, method):
+    """An embedding filter on `surface` and the FE mesh `grid`."""
+    f = hoembed.vtkEmbeddingCoordinatesFilter()
+    f.SetInputData(0, surface)
+    f.SetMeshData(grid)
+    f.SetMethod(method)
+    return f
+
+
+def time_filter(surface, grid, method, threads, repeats=None, first=None, prepare=True):
     """Best time of the filter's Update over REPEATS runs (more for short runs: about
     BUDGET_S seconds of runs in all, at most MAX_RUNS): process CPU time for 1 thread
     (less sensitive to the other jobs on this shared machine), wall time for more threads
-    or when `wall` is set. Every run is a full Update of one filter, which keeps its
+    (the 2-thread speed-up: time_speedup). Every run is a full Update of one filter, which keeps its
     working memory between Updates; with `prepare` (default) the mesh is marked modified
     before each run, so that every run prepares it (ReuseMeshPreparation would otherwise
     keep it: that is the `prepare=False` figure). The time of the first Update (fresh
     memory: page faults) is appended to the list `first` when one is given."""
     vtkSMPTools.Initialize(threads)
-    f = hoembed.vtkEmbeddingCoordinatesFilter()
-    f.SetInputData(0, surface)
-    f.SetMeshData(grid)
-    f.SetMethod(method)
-    clock = time.process_time if (threads == 1 and not wall) else time.perf_counter
+    f = make_filter(surface, grid, method)
+    clock = time.process_time if threads == 1 else time.perf_counter
     best = np.inf
     runs, n = 0, repeats or REPEATS
     while runs < n:
@@ -109,13 +114,7 @@ def time_speedup(surface, grid, method=0):
     one block after the other, the bursts of load on this shared machine fall on one count
     more than the other: fertility gave 1.45-1.86 in blocks, 1.69-1.75 alternating in
     the same quiet stretch.) Returns (best 1-thread wall time, best 2-thread wall time)."""
-    filters = {}
-    for th in (1, 2):
-        f = hoembed.vtkEmbeddingCoordinatesFilter()
-        f.SetInputData(0, surface)
-        f.SetMeshData(grid)
-        f.SetMethod(method)
-        filters[th] = f
+    filters = {th: make_filter(surface, grid, method) for th in (1, 2)}
     best = {1: np.inf, 2: np.inf}
     pairs, n = 0, REPEATS
     while pairs < n:

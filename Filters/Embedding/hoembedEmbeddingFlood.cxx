@@ -185,8 +185,7 @@ struct EmbedWorkspace::Impl
   // what OrderSurface leaves for FloodSurface
   bool Ordered = false;
   Id NumberOfPoints = 0;
-  std::vector<Id>* VertexOrder = nullptr; // the caller's, or null
-  std::vector<Id>* OldIds = nullptr;      // new -> input vertex ids (VertexOrder or OldId)
+  std::vector<Id>* VertexOrder = nullptr; // the caller's (new -> input ids), or null: OldId
 };
 
 EmbedWorkspace::EmbedWorkspace()
@@ -333,7 +332,6 @@ void OrderSurface(const double* points, Id numberOfPoints, const std::vector<Id>
   W.Ordered = true;
   W.NumberOfPoints = numberOfPoints;
   W.VertexOrder = vertexOrder;
-  W.OldIds = &oldId;
 }
 
 void FloodSurface(const EmbeddingMesh& mesh, int method, std::vector<VertexEmbedding>& out,
@@ -346,7 +344,7 @@ void FloodSurface(const EmbeddingMesh& mesh, int method, std::vector<VertexEmbed
   W.Ordered = false;
   const Id numberOfPoints = W.NumberOfPoints;
   std::vector<Id>* vertexOrder = W.VertexOrder;
-  const std::vector<Id>& oldId = *W.OldIds;
+  const std::vector<Id>& oldId = vertexOrder ? *vertexOrder : W.OldId;
   const std::vector<double>& pts = W.Points;
   const std::vector<Id>& isolated = W.Isolated;
   const Id nIso = static_cast<Id>(isolated.size());

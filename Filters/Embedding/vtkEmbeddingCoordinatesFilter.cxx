@@ -145,10 +145,8 @@ struct vtkEmbeddingCoordinatesFilter::vtkInternals
 {
   // mesh-sized: kept
   hoembed::EmbeddingMesh Mesh;
-  // the input the prepared mesh belongs to (Prepared: the last preparation succeeded)
-  bool Prepared = false;
+  // the input the prepared mesh belongs to (no grid: none, or the last preparation failed)
   MeshState PreparedState;
-  int PreparedNodesPerCell = 0;
   bool PreparedValidated = false;
   std::string PreparedFingerprint;
   // surface-sized: kept up to MaxKeptBytes (~350 bytes per vertex, so about 190k
@@ -277,7 +275,6 @@ std::string vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh
     msg << "The FE mesh topology is not usable: " << err;
     return msg.str();
   }
-  this->Internals->PreparedNodesPerCell = npc;
   this->Internals->PreparedFingerprint = fingerprint.Hex();
   return std::string();
 }
@@ -365,12 +362,12 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   hoembed::EmbeddingMesh& em = this->Internals->Mesh;
   vtkInternals& internals = *this->Internals;
   const MeshState meshState = MeshState::Of(mesh);
-  const bool prepare = !(this->ReuseMeshPreparation && internals.Prepared &&
-    internals.PreparedState == meshState && (internals.PreparedValidated || !this->ValidateElements));
+  const bool prepare = !(this->ReuseMeshPreparation && internals.PreparedState == meshState &&
+    (internals.PreparedValidated || !this->ValidateElements));
   std::vector<Id>& order = this->Internals->Order; // res[k] belongs to surface point order[k]
   std::string meshError;
   if (prepare)
-    internals.Prepared = false;
+    internals.PreparedState = MeshState();
   vtkSMPTools::For(0, 2, 1, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType task = b; task < e; ++task)
     {
@@ -388,7 +385,6 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   }
   if (prepare)
   {
-    internals.Prepared = true;
     internals.PreparedState = meshState;
     internals.PreparedValidated = this->ValidateElements;
     ++this->NumberOfMeshPreparations;
