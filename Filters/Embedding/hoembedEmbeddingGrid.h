@@ -71,16 +71,19 @@ public:
         (last[2] - first[2] + 1) > maxBins)
       return false;
     const bool single = first[0] == last[0] && first[1] == last[1] && first[2] == last[2];
+    const std::int32_t* items = this->Items.data(); // (read once: `visit` writes memory)
+    const double* boxes = this->ItemBoxes.data();
     for (int z = first[2]; z <= last[2]; ++z)
       for (int y = first[1]; y <= last[1]; ++y)
         for (int x = first[0]; x <= last[0]; ++x)
         {
           const int bin3[3] = { x, y, z };
           const Id bin = (static_cast<Id>(z) * this->Dims[1] + y) * this->Dims[0] + x;
-          for (Id k = this->Offsets[bin]; k < this->Offsets[bin + 1]; ++k)
+          const Id end = this->Offsets[bin + 1];
+          for (Id k = this->Offsets[bin]; k < end; ++k)
           {
-            const Id item = this->Items[k];
-            const double* b = &this->ItemBoxes[6 * item];
+            const Id item = items[k];
+            const double* b = boxes + 6 * item;
             // the distance first (it rejects most boxes); a box met in several bins of the
             // query is visited in the first of them only
             if (AabbTree::BoxDistance2(b, v) < best2 && (single || this->FirstBin(b, first, bin3)))

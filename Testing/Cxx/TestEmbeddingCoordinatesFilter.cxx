@@ -980,7 +980,7 @@ void TestBoxGrid()
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   int mismatches = 0, duplicates = 0, hits = 0, queries = 0, nearMismatches = 0, nearHits = 0;
-  int nearItemMismatches = 0;
+  int nearItemMismatches = 0, boxDistanceMismatches = 0;
   {
     hoembed::BoxGrid empty;
     empty.Build({});
@@ -1046,6 +1046,18 @@ void TestBoxGrid()
             ++nearItemMismatches;
         }
       }
+      // BoxDistance2 against the distance to the point clamped into the box (the same
+      // roundings: equal bit for bit), for every box: inside, on faces, beyond each side
+      for (int i = 0; i < n; ++i)
+      {
+        double s = 0.0;
+        for (int d = 0; d < 3; ++d)
+        {
+          const double c = std::min(std::max(v[d], boxes[6 * i + d]), boxes[6 * i + 3 + d]);
+          s += (v[d] - c) * (v[d] - c);
+        }
+        boxDistanceMismatches += hoembed::AabbTree::BoxDistance2(&boxes[6 * i], v) != s;
+      }
       // VisitNearer: every box nearer than the radius (as it stands when the box is
       // reached: a visit may lower it, here to 1.2 times the visited box's distance), once
       for (const double radius : { 0.01, 0.1, 0.3 })
@@ -1084,6 +1096,8 @@ void TestBoxGrid()
   HOEMBED_CHECK(nearMismatches == 0, "BoxGrid::VisitNearer: %d boxes missed or visited beyond "
     "the radius", nearMismatches);
   HOEMBED_CHECK(nearHits > 1000, "BoxGrid::VisitNearer: only %d visits (test setup)", nearHits);
+  HOEMBED_CHECK(boxDistanceMismatches == 0, "AabbTree::BoxDistance2: %d of the point-box "
+    "distances differ from the clamped point's", boxDistanceMismatches);
   HOEMBED_CHECK(nearItemMismatches == 0, "BoxGrid::NearItem: %d queries without an item, or "
     "with one whose box misses a point some box holds", nearItemMismatches);
   std::printf("box grid: %d queries, %d + %d hits, as a scan of every box\n", queries, hits,
