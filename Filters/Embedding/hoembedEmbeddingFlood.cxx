@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <atomic>
-#include <deque>
 #include <limits>
 #include <stdexcept>
 #include <thread>
@@ -45,12 +44,13 @@ struct FloodContext
   struct ThreadScratch
   {
     SearchScratch Search;
+    std::vector<Entry> FloodQueue, FloodDeferred; // FloodPartition's
     unsigned PreparedInCall = 0;
   };
   vtkSMPThreadLocal<ThreadScratch> Scratch;
   unsigned Call = 0; // EmbedSurface calls with this context, counting from 1
 
-  SearchScratch& LocalScratch()
+  ThreadScratch& LocalScratch()
   {
     ThreadScratch& s = this->Scratch.Local();
     if (s.PreparedInCall != this->Call)
@@ -58,7 +58,7 @@ struct FloodContext
       s.Search.Prepare(*this->Mesh);
       s.PreparedInCall = this->Call;
     }
-    return s.Search;
+    return s;
   }
 
   void Embed(Id w, const VertexHint& h, SearchScratch& s)
@@ -69,14 +69,19 @@ struct FloodContext
 
   void FloodPartition(Id p)
   {
-    SearchScratch& s = this->LocalScratch();
+    ThreadScratch& ts = this->LocalScratch();
+    SearchScratch& s = ts.Search;
     const Id ntri = this->NumberOfTriangles;
     const Id b = p * ntri / this->NumberOfPartitions;
     const Id e = (p + 1) * ntri / this->NumberOfPartitions;
     const std::vector<Id>& tri = *this->Triangles;
     const double floor = 1e-3 * this->Mesh->Diagonal;
-    std::deque<Entry> queue;
-    std::vector<Entry> deferred;
+    // first in, first out: entries from `head` on are waiting (a vector read from the
+    // front and emptied when it runs dry, cheaper than a deque's blocks)
+    std::vector<Entry>& queue = ts.FloodQueue;
+    std::vector<Entry>& deferred = ts.FloodDeferred;
+    deferred.clear();
+    size_t head = 0;
     for (Id k = b; k < e; ++k)
     {
       const Id t0 = k;
@@ -84,12 +89,16 @@ struct FloodContext
         continue;
       ++this->Seeds;
       this->TriangleState[t0] = 1;
+      queue.clear(); // (the last seed's flood has run dry)
+      head = 0;
       queue.push_back({ t0, -1, 0.0 });
       double dt = -1.0;
-      while (!queue.empty() || !deferred.empty())
+      while (head < queue.size() || !deferred.empty())
       {
-        if (queue.empty())
+        if (head == queue.size())
         {
+          queue.clear();
+          head = 0;
           double dmin = std::numeric_limits<double>::max();
           for (const Entry& en : deferred)
             dmin = std::min(dmin, en.MaxDistance);
@@ -98,8 +107,7 @@ struct FloodContext
           queue.insert(queue.end(), deferred.begin(), deferred.end());
           deferred.clear();
         }
-        Entry en = queue.front();
-        queue.pop_front();
+        const Entry en = queue[head++];
         const Id t = en.Triangle;
         Id hv = en.HintVertex; // the vertex whose result starts the next search
         bool mapped = true;
@@ -381,7 +389,7 @@ void FloodSurface(const EmbeddingMesh& mesh, int method, std::vector<VertexEmbed
   {
     const Id chunk = 256;
     vtkSMPTools::For(0, (nIso + chunk - 1) / chunk, 1, [&](Id begin, Id end) {
-      SearchScratch& s = ctx.LocalScratch();
+      SearchScratch& s = ctx.LocalScratch().Search;
       for (Id c = begin; c < end; ++c)
       {
         VertexHint h;
