@@ -211,7 +211,7 @@ def main():
     results = {"machine_note": "2 shared cores; ratios matter, absolute times are noisy; "
                                "1-thread times are process CPU times, 2-thread times wall times",
                "fe_meshes": "hoembed.tet10_mesh (voxel meshes where it fails)",
-               "surfaces": {}, "scaling": {}}
+               "surfaces": {}, "scaling": {}, "scaling_exponent": {}}
     rng = np.random.default_rng(1)
     for name in SURFACES:
         path = DATA / f"{name}.obj"
@@ -325,6 +325,14 @@ def main():
         for row in rows:
             row["time_ratio_fe3000_vs_fe1000"] = row["seconds_fe3000"] / row["seconds_fe1000"]
         results["scaling"][name] = rows
+        # the growth over the whole 64x range, less sensitive to one noisy size than the
+        # single 4x steps: the least-squares slope of log time against log vertices
+        # (1 = linear; a 4x step of 3.5-4.5x time is a slope of 0.90-1.08)
+        logn = np.log([r["vertices"] for r in rows])
+        results["scaling_exponent"][name] = {
+            f"{key}_fe{n}": float(np.polyfit(logn, np.log([r[f"{key}_fe{n}"] for r in rows]), 1)[0])
+            for key in ("seconds", "per_vertex_seconds") for n in (1000, 3000)}
+        print(name, "scaling exponent", json.dumps(results["scaling_exponent"][name]), flush=True)
         print(name, "scaling", json.dumps(rows, indent=1), flush=True)
 
     out_dir = ROOT / "Benchmarks" / "results"
