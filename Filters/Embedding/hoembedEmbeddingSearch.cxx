@@ -447,6 +447,47 @@ bool OutsideByFace(const EmbeddingMesh& M, const BoundaryHit& hit, double d, Id 
   return !LocateCell(M, hit.Point, -1, true, out, S, MaxWalk, reach, owner);
 }
 
+// The correction's start at the closest point: a point on an edge or at a corner of its
+// face lies on the faces around it too, and which of them the search named depends on
+// where it came from (the flood's starting points). Where v = p + d n has several
+// solutions (beyond the normal field's focal distance) the start decides which one the
+// correction reaches, so it starts from the lowest-numbered of those faces.
+void CanonicalStart(const EmbeddingMesh& M, const BoundaryHit& hit, Id& f, double uv[2])
+{
+  const TetMeshTopology& T = M.Topology;
+  const int k = PopCount(hit.Active & 7);
+  if (k == 1)
+  {
+    const int e = EdgeOfBit(hit.Active & 7);
+    const Id g = T.BoundaryFaceNeighbor[3 * f + e];
+    double uvg[2];
+    if (g >= 0 && g < f && MapAcrossEdge(M, f, e, uv, g, uvg))
+    {
+      f = g;
+      uv[0] = uvg[0];
+      uv[1] = uvg[1];
+    }
+  }
+  else if (k >= 2)
+  {
+    const int npf = T.GetNodesPerFace();
+    const Id node = T.BoundaryFaceNodes[npf * f + CornerOfBits(hit.Active)];
+    for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1]; ++i)
+    {
+      const Id g = T.NodeFaces[i];
+      if (g >= f)
+        continue;
+      for (int a = 0; a < 3; ++a)
+        if (T.BoundaryFaceNodes[npf * g + a] == node)
+        {
+          f = g;
+          uv[0] = CornerUV[a][0];
+          uv[1] = CornerUV[a][1];
+        }
+    }
+  }
+}
+
 void SetInside(VertexEmbedding& out)
 {
   out.Inside = true;
@@ -641,6 +682,7 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
   };
   Id f = hit.Face;
   double uv[2] = { hit.UV[0], hit.UV[1] };
+  CanonicalStart(M, hit, f, uv);
   double d = dist;
   bool ok = correct(f, uv, d);
   if (!ok)
