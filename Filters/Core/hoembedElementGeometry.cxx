@@ -1,4 +1,5 @@
 #include "hoembedElementGeometry.h"
+#include "hoembedLanes.h"
 #include "hoembedShapeFunctions.h"
 
 #include <Eigen/Dense>
@@ -6,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 namespace hoembed
@@ -449,15 +449,14 @@ double DetBernsteinMin(const double G[4][3][3], double* hiOut)
   DetBernsteinCoefficients(G, b);
   // pairwise minima and maxima (two lanes of a vector register; no chain of dependent
   // compares); a NaN coefficient makes the minimum NaN (never clearly positive)
-  typedef double Pair __attribute__((vector_size(16)));
-  typedef long long Mask __attribute__((vector_size(16)));
+  using lanes::Mask;
+  using lanes::Pair;
   const Pair sign = { -0.0, -0.0 };
   Pair lo = { b[0], b[1] }, hi = { 0.0, 0.0 };
   Mask nan = { 0, 0 };
   for (int k = 0; k < 20; k += 2)
   {
-    Pair c;
-    std::memcpy(&c, b + k, sizeof c);
+    const Pair c = lanes::Load(b + k);
     const Pair a = (Pair)((Mask)c & ~(Mask)sign); // |c|
     nan |= c != c;
     lo = c < lo ? c : lo;

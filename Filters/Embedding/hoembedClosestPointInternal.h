@@ -6,10 +6,10 @@
 #define hoembedClosestPointInternal_h
 
 #include "hoembedClosestPoint.h"
+#include "hoembedLanes.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace hoembed
 {
@@ -27,31 +27,27 @@ inline double Dot3(const double a[3], const double b[3])
 template <int N>
 inline void Eval(const QuadraticMap& m, const double* xi, double x[3], double J[][3])
 {
-  typedef double Pair __attribute__((vector_size(16)));
-  auto load = [](const double* p) {
-    Pair v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-  };
-  Pair acc = load(m.C);
+  using lanes::Load;
+  using lanes::Pair;
+  Pair acc = Load(m.C);
   double accz = m.C[2];
   for (int i = 0; i < N; ++i)
   {
-    const Pair l = load(m.L[i]);
+    const Pair l = Load(m.L[i]);
     Pair ji = l;
     double jz = m.L[i][2];
     for (int j = 0; j < N; ++j)
     {
-      ji += load(m.Q[i][j]) * xi[j];
+      ji += Load(m.Q[i][j]) * xi[j];
       jz += m.Q[i][j][2] * xi[j];
     }
-    std::memcpy(J[i], &ji, sizeof ji);
+    lanes::Store(J[i], ji);
     J[i][2] = jz;
     const double h = 0.5 * xi[i];
     acc += h * (l + ji);
     accz += h * (m.L[i][2] + jz);
   }
-  std::memcpy(x, &acc, sizeof acc);
+  lanes::Store(x, acc);
   x[2] = accz;
 }
 

@@ -1,10 +1,10 @@
 #include "hoembedEmbeddingGrid.h"
 #include "hoembedCsr.h"
+#include "hoembedLanes.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 
 namespace hoembed
@@ -75,8 +75,8 @@ void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) co
   // The box test without a branch per comparison (x and y in the two lanes of a vector
   // register, z apart; the same comparisons as one at a time): the outcomes follow no
   // pattern, and each branch on them was a misprediction in two of five items.
-  typedef double Pair __attribute__((vector_size(16)));
-  typedef long long Mask __attribute__((vector_size(16)));
+  using lanes::Mask;
+  using lanes::Pair;
   const Pair vxy = { v[0], v[1] };
   const Pair txy = { tol, tol };
   const double vz = v[2];
@@ -92,10 +92,7 @@ void BoxGrid::Containing(const double v[3], double tol, std::vector<Id>& out) co
         {
           const Id item = items[k];
           const double* b = boxes + 6 * item;
-          Pair lo, hi;
-          std::memcpy(&lo, b, sizeof lo);
-          std::memcpy(&hi, b + 3, sizeof hi);
-          const Mask away = (vxy < lo - txy) | (vxy > hi + txy);
+          const Mask away = (vxy < lanes::Load(b) - txy) | (vxy > lanes::Load(b + 3) + txy);
           if ((away[0] | away[1]) | (vz < b[2] - tol) | (vz > b[5] + tol))
             continue;
           const int bin3[3] = { x, y, z };

@@ -13,9 +13,9 @@
 #define hoembedEmbeddingTree_h
 
 #include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedLanes.h"
 
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 namespace hoembed
@@ -35,13 +35,10 @@ public:
   /// time (a NaN coordinate gives a gap of 0 as before).
   static double BoxDistance2(const double* b, const double v[3])
   {
-    typedef double Pair __attribute__((vector_size(16)));
+    using lanes::Pair;
     const Pair zero = { 0.0, 0.0 };
-    Pair lo, hi;
-    std::memcpy(&lo, b, sizeof lo);
-    std::memcpy(&hi, b + 3, sizeof hi);
     const Pair vxy = { v[0], v[1] };
-    const Pair below = lo - vxy, above = vxy - hi;
+    const Pair below = lanes::Load(b) - vxy, above = vxy - lanes::Load(b + 3);
     const Pair e = (below > zero ? below : zero) + (above > zero ? above : zero);
     const double ez = (b[2] - v[2] > 0.0 ? b[2] - v[2] : 0.0) + (v[2] - b[5] > 0.0 ? v[2] - b[5] : 0.0);
     return e[0] * e[0] + e[1] * e[1] + ez * ez;

@@ -285,6 +285,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   vtkPolyData* surface = vtkPolyData::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkInternals& internals = *this->Internals;
   this->NumberOfUncertifiedPoints = 0;
   if (!surface || surface->GetNumberOfPoints() == 0)
   {
@@ -297,7 +298,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     return 0;
   }
   vtkIdType bad = -1;
-  std::vector<double>& sp = this->Internals->SurfacePoints; // 3 doubles each
+  std::vector<double>& sp = internals.SurfacePoints; // 3 doubles each
   if (!CopyFinitePoints(surface->GetPoints(), sp, bad))
   {
     vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
@@ -305,7 +306,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   }
   // surface points and triangles
   const vtkIdType ns = surface->GetNumberOfPoints();
-  std::vector<Id>& tris = this->Internals->Triangles;
+  std::vector<Id>& tris = internals.Triangles;
   tris.clear();
   {
     // a polygon or strip of k points gives k - 2 triangles
@@ -359,12 +360,11 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   // order for the flood depends on the surface only: it is built meanwhile (two tasks;
   // on two threads the preparation's serial parts and the ordering overlap). Both tasks
   // only record problems; messages and progress come from this thread.
-  hoembed::EmbeddingMesh& em = this->Internals->Mesh;
-  vtkInternals& internals = *this->Internals;
+  hoembed::EmbeddingMesh& em = internals.Mesh;
   const MeshState meshState = MeshState::Of(mesh);
   const bool prepare = !(this->ReuseMeshPreparation && internals.PreparedState == meshState &&
     (internals.PreparedValidated || !this->ValidateElements));
-  std::vector<Id>& order = this->Internals->Order; // res[k] belongs to surface point order[k]
+  std::vector<Id>& order = internals.Order; // res[k] belongs to surface point order[k]
   std::string meshError;
   if (prepare)
     internals.PreparedState = MeshState();
@@ -396,7 +396,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   }
   this->UpdateProgress(0.1);
 
-  std::vector<hoembed::VertexEmbedding>& res = this->Internals->Results;
+  std::vector<hoembed::VertexEmbedding>& res = internals.Results;
   const int method =
     this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
   hoembed::FloodSurface(em, method, res, [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); },

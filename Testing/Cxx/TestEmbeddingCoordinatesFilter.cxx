@@ -287,6 +287,34 @@ vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* surface, vtkUnstructuredGrid
   return RunEmbeddingFilter(surface, mesh, method, cb);
 }
 
+// The filter's output with `partitions` flood partitions (normal-offset).
+vtkSmartPointer<vtkPolyData> RunFilterWithPartitions(
+  vtkPolyData* surface, vtkUnstructuredGrid* mesh, int partitions)
+{
+  vtkNew<vtkEmbeddingCoordinatesFilter> f;
+  f->SetInputData(0, surface);
+  f->SetMeshData(mesh);
+  f->SetNumberOfPartitions(partitions);
+  f->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(f->GetOutput());
+  return out;
+}
+
+// How many values of point-data array `name` differ by more than `tol` (or are NaN)
+// between two outputs; -1 when either lacks the array.
+int CountDiffering(vtkPolyData* x, vtkPolyData* y, const char* name, double tol)
+{
+  auto* a = vtkDoubleArray::SafeDownCast(x->GetPointData()->GetArray(name));
+  auto* b = vtkDoubleArray::SafeDownCast(y->GetPointData()->GetArray(name));
+  if (!a || !b)
+    return -1;
+  int differ = 0;
+  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+    differ += !(std::fabs(a->GetValue(i) - b->GetValue(i)) <= tol);
+  return differ;
+}
+
 // Checks one embedding against brute force and VTK's interpolation of the mesh.
 void CheckEmbedding(const char* label, vtkPolyData* surface, vtkUnstructuredGrid* grid,
   vtkPolyData* out, int method, bool checkAllResiduals, vtkIdType stride = 1)
@@ -1220,19 +1248,9 @@ void TestRealMeshes(const std::string& dir)
         // v = p + d n has several solutions (on bunny, vertex 20749 beyond the normal
         // field's focal distance: d 2.836 or 2.305), the correction starts from the
         // lowest-numbered face at the closest point, whichever face the search named.
-        vtkNew<vtkEmbeddingCoordinatesFilter> other;
-        other->SetInputData(0, surface);
-        other->SetMeshData(grid);
-        other->SetNumberOfPartitions(4);
-        other->Update();
-        auto* a = vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingDistance"));
-        auto* b = vtkDoubleArray::SafeDownCast(
-          other->GetOutput()->GetPointData()->GetArray("EmbeddingDistance"));
-        const double tol = 1e-9 * grid->GetLength();
-        int differ = 0;
-        for (vtkIdType i = 0; a && b && i < a->GetNumberOfTuples(); ++i)
-          differ += !(std::fabs(a->GetValue(i) - b->GetValue(i)) <= tol);
-        HOEMBED_CHECK(a && b && differ == 0,
+        const int differ = CountDiffering(out, RunFilterWithPartitions(surface, grid, 4),
+          "EmbeddingDistance", 1e-9 * grid->GetLength());
+        HOEMBED_CHECK(differ == 0,
           "%s: 4 flood partitions instead of the default change %d normal-offset distances",
           label.c_str(), differ);
       }
@@ -1463,18 +1481,9 @@ int main(int argc, char* argv[])
   auto seq = RunFilter(surface, grid10, 0);
   vtkSMPTools::Initialize(2);
   {
-    vtkNew<vtkEmbeddingCoordinatesFilter> f;
-    f->SetInputData(0, surface);
-    f->SetMeshData(grid10);
-    f->SetNumberOfPartitions(37);
-    f->Update();
-    auto* a = vtkDoubleArray::SafeDownCast(seq->GetPointData()->GetArray("EmbeddingClosestDistance"));
-    auto* b = vtkDoubleArray::SafeDownCast(f->GetOutput()->GetPointData()->GetArray("EmbeddingClosestDistance"));
-    int diff = 0;
-    for (vtkIdType i = 0; a && b && i < a->GetNumberOfTuples(); ++i)
-      if (std::fabs(a->GetValue(i) - b->GetValue(i)) > 1e-12)
-        ++diff;
-    HOEMBED_CHECK(a && b && diff == 0, "1 vs 2 threads / 37 partitions: %d distances differ", diff);
+    const int diff = CountDiffering(
+      seq, RunFilterWithPartitions(surface, grid10, 37), "EmbeddingClosestDistance", 1e-12);
+    HOEMBED_CHECK(diff == 0, "1 vs 2 threads / 37 partitions: %d distances differ", diff);
   }
 
   TestErrors(surface, grid10);
