@@ -1,4 +1,5 @@
 #include "hoembedBoundaryNormals.h"
+#include "hoembedVector3.h"
 #include "hoembedShapeFunctions.h"
 
 #include <cmath>
@@ -10,17 +11,7 @@ namespace
 {
 using Id = TetMeshTopology::Id;
 
-void Cross(const double a[3], const double b[3], double c[3])
-{
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
-double Dot(const double a[3], const double b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 double Norm(const double a[3])
 {

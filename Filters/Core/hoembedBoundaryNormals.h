@@ -13,7 +13,7 @@
 #ifndef hoembedBoundaryNormals_h
 #define hoembedBoundaryNormals_h
 
-#include "hoembedFiltersCoreModule.h"
+#include "hoembedCoreModule.h"
 #include "hoembedTetMeshTopology.h"
 
 namespace hoembed
@@ -26,13 +26,13 @@ namespace hoembed
  * too: its direction would be round-off, so the field would not move rigidly with the
  * mesh; the interpolated field then uses the face's other nodes.
  */
-HOEMBEDFILTERSCORE_EXPORT void ComputeBoundaryNodeNormals(
+HOEMBEDCORE_EXPORT void ComputeBoundaryNodeNormals(
   const TetMeshTopology& topo, const double* points, double* normals);
 
 /**
  * Position and exact tangents of boundary face `face` at (u, v): x, dx/du, dx/dv.
  */
-HOEMBEDFILTERSCORE_EXPORT void EvaluateBoundaryFace(const TetMeshTopology& topo,
+HOEMBEDCORE_EXPORT void EvaluateBoundaryFace(const TetMeshTopology& topo,
   const double* points, TetMeshTopology::Id face, const double uv[2], double x[3],
   double xu[3], double xv[3]);
 
@@ -41,7 +41,7 @@ HOEMBEDFILTERSCORE_EXPORT void EvaluateBoundaryFace(const TetMeshTopology& topo,
  * normalised (eq. 7). `unnormalized`, when not null, receives the sum before
  * normalisation. Returns the length of that sum (0 if degenerate: n is then (0, 0, 0)).
  */
-HOEMBEDFILTERSCORE_EXPORT double InterpolateBoundaryNormal(const TetMeshTopology& topo,
+HOEMBEDCORE_EXPORT double InterpolateBoundaryNormal(const TetMeshTopology& topo,
   const double* nodalNormals, TetMeshTopology::Id face, const double uv[2], double n[3],
   double unnormalized[3] = nullptr);
 } // namespace hoembed

@@ -1,4 +1,5 @@
 #include "hoembedElementGeometry.h"
+#include "hoembedVector3.h"
 #include "hoembedLanes.h"
 #include "hoembedShapeFunctions.h"
 
@@ -179,12 +180,6 @@ bool SubTetClearlyPositive(const double G[4][3][3], const double c[4][3], int de
   return true;
 }
 
-void Cross(const double a[3], const double b[3], double c[3])
-{
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 double Det3(const double J[3][3])
 {

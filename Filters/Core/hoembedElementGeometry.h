@@ -17,24 +17,24 @@
 #ifndef hoembedElementGeometry_h
 #define hoembedElementGeometry_h
 
-#include "hoembedFiltersCoreModule.h"
+#include "hoembedCoreModule.h"
 
 namespace hoembed
 {
 /// Jacobian J[i][j] = d x_i / d pc_j of a tet10 at parametric point pc.
-HOEMBEDFILTERSCORE_EXPORT void Tet10Jacobian(const double* x, const double pc[3], double J[3][3]);
+HOEMBEDCORE_EXPORT void Tet10Jacobian(const double* x, const double pc[3], double J[3][3]);
 /// det J of a tet10 at parametric point pc (6 x the volume scale of a straight tet).
-HOEMBEDFILTERSCORE_EXPORT double Tet10JacobianDeterminant(const double* x, const double pc[3]);
+HOEMBEDCORE_EXPORT double Tet10JacobianDeterminant(const double* x, const double pc[3]);
 /// det J of a tet4 (constant): (x1 - x0) . ((x2 - x0) x (x3 - x0)).
-HOEMBEDFILTERSCORE_EXPORT double Tet4JacobianDeterminant(const double* x);
-HOEMBEDFILTERSCORE_EXPORT double Determinant3(const double J[3][3]);
+HOEMBEDCORE_EXPORT double Tet4JacobianDeterminant(const double* x);
+HOEMBEDCORE_EXPORT double Determinant3(const double J[3][3]);
 
 /**
  * Jacobians of a tet10 (nodes in VTK order) at its 4 corners: G[k][i] = dx/dxi_i at
  * corner k (xi = 0, e_1, e_2, e_3). The Jacobian is affine in xi, so it is
  * sum_k lambda_k G[k] everywhere (lambda: barycentric coordinates).
  */
-HOEMBEDFILTERSCORE_EXPORT void Tet10CornerJacobians(const double* x, double G[4][3][3]);
+HOEMBEDCORE_EXPORT void Tet10CornerJacobians(const double* x, double G[4][3][3]);
 
 /**
  * Smallest Bernstein coefficient of det J over a tet on which J is affine, from its
@@ -42,7 +42,7 @@ HOEMBEDFILTERSCORE_EXPORT void Tet10CornerJacobians(const double* x, double G[4]
  * of a tet around the element): det(sum_a lambda_a G_a) expanded multilinearly. NaN when
  * a coefficient is NaN. `hi`, when not null, receives the largest coefficient magnitude.
  */
-HOEMBEDFILTERSCORE_EXPORT double DetBernsteinMin(const double G[4][3][3], double* hi = nullptr);
+HOEMBEDCORE_EXPORT double DetBernsteinMin(const double G[4][3][3], double* hi = nullptr);
 
 /**
  * The 20 Bernstein coefficients of det(sum_a lambda_a G_a): b[k] belongs to the
@@ -51,7 +51,7 @@ HOEMBEDFILTERSCORE_EXPORT double DetBernsteinMin(const double G[4][3][3], double
  * n3!) lambda^n. (The symmetric trilinear form of det at the matrices the multi-index
  * names, from determinants of sums.)
  */
-HOEMBEDFILTERSCORE_EXPORT void DetBernsteinCoefficients(const double G[4][3][3], double b[20]);
+HOEMBEDCORE_EXPORT void DetBernsteinCoefficients(const double G[4][3][3], double b[20]);
 
 /**
  * Bounds of det J over the whole tet10 element.
@@ -63,12 +63,12 @@ HOEMBEDFILTERSCORE_EXPORT void DetBernsteinCoefficients(const double G[4][3][3],
  * The returned lower bound is the best one found; it is positive only if det J > 0
  * everywhere in the element.
  */
-HOEMBEDFILTERSCORE_EXPORT void Tet10JacobianBounds(
+HOEMBEDCORE_EXPORT void Tet10JacobianBounds(
   const double* x, double& minBound, double& maxBound, int depth = 3);
 
 /// True when det J > 0 everywhere in the tet10 (conservative: may reject a valid element
 /// whose minimum is within round-off of zero, never accepts an invalid one).
-HOEMBEDFILTERSCORE_EXPORT bool Tet10IsValid(const double* x, int depth = 3);
+HOEMBEDCORE_EXPORT bool Tet10IsValid(const double* x, int depth = 3);
 
 /**
  * Scaled Jacobian of a tet10, Verdict's definition applied pointwise: at a point with
@@ -79,13 +79,13 @@ HOEMBEDFILTERSCORE_EXPORT bool Tet10IsValid(const double* x, int depth = 3);
  * element is not provably valid (Tet10IsValid), and at most 1.
  * For a straight tet10 this equals vtkMeshQuality's tet scaled Jacobian.
  */
-HOEMBEDFILTERSCORE_EXPORT double Tet10MinScaledJacobian(const double* x);
+HOEMBEDCORE_EXPORT double Tet10MinScaledJacobian(const double* x);
 /// Scaled Jacobian of a straight tet4, as vtkMeshQuality / Verdict computes it (min over
 /// the 4 corners, sqrt(2) normalised: 1 for a regular tet; -1 for a zero-length edge).
-HOEMBEDFILTERSCORE_EXPORT double Tet4ScaledJacobian(const double* x);
+HOEMBEDCORE_EXPORT double Tet4ScaledJacobian(const double* x);
 /// Volume of a tet10 (exact: the mean of the cubic Bernstein coefficients of det J / 6).
-HOEMBEDFILTERSCORE_EXPORT double Tet10Volume(const double* x);
-HOEMBEDFILTERSCORE_EXPORT double Tet4Volume(const double* x);
+HOEMBEDCORE_EXPORT double Tet10Volume(const double* x);
+HOEMBEDCORE_EXPORT double Tet4Volume(const double* x);
 } // namespace hoembed
 
 #endif

@@ -10,14 +10,14 @@
 #ifndef hoembedMeshFingerprint_h
 #define hoembedMeshFingerprint_h
 
-#include "hoembedFiltersCoreModule.h"
+#include "hoembedCoreModule.h"
 
 #include <cstdint>
 #include <string>
 
 namespace hoembed
 {
-class HOEMBEDFILTERSCORE_EXPORT MeshFingerprint
+class HOEMBEDCORE_EXPORT MeshFingerprint
 {
 public:
   MeshFingerprint(std::int64_t numberOfPoints, std::int64_t numberOfCells);

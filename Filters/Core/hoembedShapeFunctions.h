@@ -18,7 +18,7 @@
 #ifndef hoembedShapeFunctions_h
 #define hoembedShapeFunctions_h
 
-#include "hoembedFiltersCoreModule.h"
+#include "hoembedCoreModule.h"
 
 namespace hoembed
 {
@@ -38,22 +38,22 @@ constexpr int TetFaceOpposite[4] = { 2, 0, 1, 3 };
 constexpr int TetCornerOppositeFace[4] = { 1, 2, 0, 3 };
 
 /// Parametric coordinates (r, s, t) of the ten tet10 nodes.
-HOEMBEDFILTERSCORE_EXPORT extern const double Tet10NodeParametric[10][3];
+HOEMBEDCORE_EXPORT extern const double Tet10NodeParametric[10][3];
 
-HOEMBEDFILTERSCORE_EXPORT void Tet4Shape(const double pc[3], double N[4]);
-HOEMBEDFILTERSCORE_EXPORT void Tet4Derivs(const double pc[3], double dN[12]);
-HOEMBEDFILTERSCORE_EXPORT void Tet10Shape(const double pc[3], double N[10]);
-HOEMBEDFILTERSCORE_EXPORT void Tet10Derivs(const double pc[3], double dN[30]);
-HOEMBEDFILTERSCORE_EXPORT void Tri3Shape(const double pc[2], double N[3]);
-HOEMBEDFILTERSCORE_EXPORT void Tri3Derivs(const double pc[2], double dN[6]);
-HOEMBEDFILTERSCORE_EXPORT void Tri6Shape(const double pc[2], double N[6]);
-HOEMBEDFILTERSCORE_EXPORT void Tri6Derivs(const double pc[2], double dN[12]);
+HOEMBEDCORE_EXPORT void Tet4Shape(const double pc[3], double N[4]);
+HOEMBEDCORE_EXPORT void Tet4Derivs(const double pc[3], double dN[12]);
+HOEMBEDCORE_EXPORT void Tet10Shape(const double pc[3], double N[10]);
+HOEMBEDCORE_EXPORT void Tet10Derivs(const double pc[3], double dN[30]);
+HOEMBEDCORE_EXPORT void Tri3Shape(const double pc[2], double N[3]);
+HOEMBEDCORE_EXPORT void Tri3Derivs(const double pc[2], double dN[6]);
+HOEMBEDCORE_EXPORT void Tri6Shape(const double pc[2], double N[6]);
+HOEMBEDCORE_EXPORT void Tri6Derivs(const double pc[2], double dN[12]);
 
 /**
  * Map a point (u, v) of face `face` (tri parametric coordinates, in the face's node
  * order of TetFaceNodes) to the tet's parametric coordinates (r, s, t).
  */
-HOEMBEDFILTERSCORE_EXPORT void TetFaceToTetParametric(int face, const double uv[2], double pc[3]);
+HOEMBEDCORE_EXPORT void TetFaceToTetParametric(int face, const double uv[2], double pc[3]);
 
 /**
  * Interpolate x = sum_i N_i x_i for `n` nodes with coordinates `x` (3 doubles per node).

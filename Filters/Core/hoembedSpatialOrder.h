@@ -12,7 +12,7 @@
 #ifndef hoembedSpatialOrder_h
 #define hoembedSpatialOrder_h
 
-#include "hoembedFiltersCoreModule.h"
+#include "hoembedCoreModule.h"
 
 #include <cstdint>
 #include <vector>
@@ -27,7 +27,7 @@ namespace hoembed
  * order of first use, then the nodes no cell uses in their relative order. Ties are broken by the
  * old id: the result depends on the input alone.
  */
-HOEMBEDFILTERSCORE_EXPORT void SpatialOrder(const std::vector<double>& points,
+HOEMBEDCORE_EXPORT void SpatialOrder(const std::vector<double>& points,
   const std::vector<std::int64_t>& conn, int nodesPerCell, std::vector<std::int64_t>& cellOrder,
   std::vector<std::int64_t>& pointOrder);
 } // namespace hoembed

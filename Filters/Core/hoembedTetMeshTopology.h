@@ -10,7 +10,7 @@
 #ifndef hoembedTetMeshTopology_h
 #define hoembedTetMeshTopology_h
 
-#include "hoembedFiltersCoreModule.h"
+#include "hoembedCoreModule.h"
 
 #include <cstdint>
 #include <string>
@@ -18,7 +18,7 @@
 
 namespace hoembed
 {
-class HOEMBEDFILTERSCORE_EXPORT TetMeshTopology
+class HOEMBEDCORE_EXPORT TetMeshTopology
 {
 public:
   using Id = std::int64_t;

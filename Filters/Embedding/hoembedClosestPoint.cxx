@@ -9,7 +9,6 @@
 
 namespace hoembed
 {
-using detail::Dot3;
 using detail::Eval;
 
 namespace
@@ -308,7 +307,7 @@ void Solve(const QuadraticMap& m, const double v[3], const double* start,
   Eval<N>(m, xi, x, J);
   for (int d = 0; d < 3; ++d)
     r[d] = x[d] - v[d];
-  double f = 0.5 * Dot3(r, r);
+  double f = 0.5 * Dot(r, r);
   bool converged = false;
   int drops = 0;
   int justDropped = -1;
@@ -319,10 +318,10 @@ void Solve(const QuadraticMap& m, const double v[3], const double* start,
     double g[N], H[N][N];
     for (int i = 0; i < N; ++i)
     {
-      g[i] = Dot3(J[i], r);
+      g[i] = Dot(J[i], r);
       for (int j = 0; j <= i; ++j)
       {
-        H[i][j] = H[j][i] = Dot3(J[i], J[j]) + Dot3(r, m.Q[i][j]);
+        H[i][j] = H[j][i] = Dot(J[i], J[j]) + Dot(r, m.Q[i][j]);
       }
     }
     const int mf = T.M[W];
@@ -416,9 +415,9 @@ void Solve(const QuadraticMap& m, const double v[3], const double* start,
         Eval<N>(m, xi, x, J);
         for (int d = 0; d < 3; ++d)
           r[d] = x[d] - v[d];
-        f = 0.5 * Dot3(r, r);
+        f = 0.5 * Dot(r, r);
         for (int i = 0; i < N; ++i)
-          g[i] = Dot3(J[i], r);
+          g[i] = Dot(J[i], r);
       }
       const int na = T.NA[W];
       int worst = -1;
@@ -471,7 +470,7 @@ void Solve(const QuadraticMap& m, const double v[3], const double* start,
       Eval<N>(m, xt, xnew, Jnew);
       for (int d = 0; d < 3; ++d)
         rnew[d] = xnew[d] - v[d];
-      fnew = 0.5 * Dot3(rnew, rnew);
+      fnew = 0.5 * Dot(rnew, rnew);
       // Armijo, or a full step that does not increase f beyond round-off (near the
       // solution the decrease is below the resolution of f)
       if (fnew <= f + 1e-4 * alpha * descent || (ls == 0 && fnew <= f * (1.0 + 1e-13)))
@@ -596,7 +595,7 @@ double SingularValueBound(const double G[4][3][3])
   {
     double f2 = 0.0;
     for (int i = 0; i < 3; ++i)
-      f2 += Dot3(G[k][i], G[k][i]);
+      f2 += Dot(G[k][i], G[k][i]);
     F2 = std::max(F2, f2);
   }
   double hi = 0.0;
@@ -730,10 +729,6 @@ void EvaluateMap(const QuadraticMap& m, const double* xi, double x[3], double (*
 
 namespace
 {
-// Fast path for a patch: plain Newton from an interior start. Accepted only when every
-// iterate stays strictly inside, the Hessian stays positive definite, the step becomes
-// negligible and f did not grow: then the result is an interior local minimum (KKT with
-// no active constraint). Otherwise the caller runs the active-set solver.
 // A converged answer of the patch fast paths: parameters xi, point x, squared distance f.
 void SetPatchResult(const double xi[2], const double x[3], double f, int active,
   int iterations, ClosestPointResult& res)
@@ -795,11 +790,11 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
     for (int d = 0; d < 3; ++d)
       r[d] = x[d] - v[d];
     if (f0 < 0.0)
-      f0 = Dot3(r, r);
-    const double g0 = Dot3(J[0], r), g1 = Dot3(J[1], r);
-    const double h00 = Dot3(J[0], J[0]) + Dot3(r, m.Q[0][0]);
-    const double h01 = Dot3(J[0], J[1]) + Dot3(r, m.Q[0][1]);
-    const double h11 = Dot3(J[1], J[1]) + Dot3(r, m.Q[1][1]);
+      f0 = Dot(r, r);
+    const double g0 = Dot(J[0], r), g1 = Dot(J[1], r);
+    const double h00 = Dot(J[0], J[0]) + Dot(r, m.Q[0][0]);
+    const double h01 = Dot(J[0], J[1]) + Dot(r, m.Q[0][1]);
+    const double h11 = Dot(J[1], J[1]) + Dot(r, m.Q[1][1]);
     const double det = h00 * h11 - h01 * h01;
     if (!(h00 > 0.0) || !(det > 1e-14 * h00 * h11))
       return false;
@@ -819,7 +814,7 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
       Eval<2>(m, xi, x, J);
       for (int d = 0; d < 3; ++d)
         r[d] = x[d] - v[d];
-      const double f = Dot3(r, r);
+      const double f = Dot(r, r);
       if (f > f0)
         return false;
       SetPatchResult(xi, x, f, 0, it + 1, res);
@@ -858,12 +853,12 @@ bool EdgeNewton2(const QuadraticMap& m, const double v[3], int k, double t0,
     for (int d = 0; d < 3; ++d)
       r[d] = x[d] - v[d];
     if (f0 < 0.0)
-      f0 = Dot3(r, r);
+      f0 = Dot(r, r);
     double xt[3];
     for (int d = 0; d < 3; ++d)
       xt[d] = dir[0] * J[0][d] + dir[1] * J[1][d];
-    const double g = Dot3(xt, r);
-    const double h = Dot3(xt, xt) + Dot3(r, q);
+    const double g = Dot(xt, r);
+    const double h = Dot(xt, xt) + Dot(r, q);
     if (!(h > 0.0))
       return false;
     const double step = -g / h;
@@ -876,12 +871,12 @@ bool EdgeNewton2(const QuadraticMap& m, const double v[3], int k, double t0,
       Eval<2>(m, xi, x, J);
       for (int d = 0; d < 3; ++d)
         r[d] = x[d] - v[d];
-      const double f = Dot3(r, r);
+      const double f = Dot(r, r);
       if (f > f0)
         return false;
       // multiplier of the active constraint (gradient = mu * its normal + a tangential
       // part that vanishes at the solution)
-      const double gu = Dot3(J[0], r), gv = Dot3(J[1], r);
+      const double gu = Dot(J[0], r), gv = Dot(J[1], r);
       const double mu = k == 0 ? gu : (k == 1 ? gv : -0.5 * (gu + gv));
       if (mu < -1e-10 * std::max(std::fabs(gu), std::fabs(gv)))
         return false;

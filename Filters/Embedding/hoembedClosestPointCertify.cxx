@@ -1,4 +1,5 @@
 #include "hoembedClosestPointCertify.h"
+#include "hoembedVector3.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,10 +10,6 @@ namespace hoembed
 {
 namespace
 {
-inline double Dot(const double a[3], const double b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 inline double Dist(const double a[3], const double b[3])
 {
   const double d[3] = { a[0] - b[0], a[1] - b[1], a[2] - b[2] };

@@ -18,8 +18,8 @@
  * each minimum exact (corners, edges, interior). A cheaper first try uses one matrix
  * below all E_k (entry ranges). Near a local solution g . D >= 0, so on a patch that is
  * not too curved for its distance to v the bound over the whole triangle already proves
- * r global (SolutionCertified: a few hundred flops, enough for 98% of the faces on the
- * real meshes).
+ * r global (SolutionCertified: a few hundred flops, enough for most faces; the share is
+ * in Benchmarks/RESULTS.md).
  *
  * Where it is not, CertifyClosestPointOnPatch runs a best-first branch and bound over
  * parametric sub-triangles: a sub-triangle is dropped when the distance to the flat

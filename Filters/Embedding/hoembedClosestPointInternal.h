@@ -7,6 +7,7 @@
 
 #include "hoembedClosestPoint.h"
 #include "hoembedLanes.h"
+#include "hoembedVector3.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,11 +16,6 @@ namespace hoembed
 {
 namespace detail
 {
-/// a . b for 3-vectors.
-inline double Dot3(const double a[3], const double b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /// x(xi) and J[i] = dx/dxi_i of a map of dimension N (monomial form): coordinates x and
 /// y in the two lanes of a vector register, z apart (Q[i][j] and L[i] hold x, y, z

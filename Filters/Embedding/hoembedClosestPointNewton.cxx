@@ -8,7 +8,6 @@
 
 namespace hoembed
 {
-using detail::Dot3;
 using detail::Eval;
 using detail::Solve3;
 
@@ -20,18 +19,18 @@ bool ClosestPointOnTriangle(
     st[1] = t;
     return true;
   };
-  const double d1 = Dot3(ab, ap), d2 = Dot3(ac, ap);
+  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
   if (d1 <= 0.0 && d2 <= 0.0)
     return answer(0.0, 0.0);
   const double bp[3] = { ap[0] - ab[0], ap[1] - ab[1], ap[2] - ab[2] };
-  const double d3 = Dot3(ab, bp), d4 = Dot3(ac, bp);
+  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
   if (d3 >= 0.0 && d4 <= d3)
     return answer(1.0, 0.0);
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0)
     return answer(d1 / (d1 - d3), 0.0);
   const double cp[3] = { ap[0] - ac[0], ap[1] - ac[1], ap[2] - ac[2] };
-  const double d5 = Dot3(ab, cp), d6 = Dot3(ac, cp);
+  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
   if (d6 >= 0.0 && d5 <= d6)
     return answer(0.0, 1.0);
   const double vb = d5 * d2 - d1 * d6;
@@ -93,12 +92,12 @@ double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int&
   Eval<3>(m, pc, x, J);
   for (int d = 0; d < 3; ++d)
     F[d] = x[d] - v[d];
-  double f = Dot3(F, F);
+  double f = Dot(F, F);
   // converged: |x(pc) - v| at the round-off of the map's coordinates (a Newton step
   // from there cannot decrease it, and the line search would halve it 30 times)
   double scale = 0.0;
   for (int i = 0; i < 3; ++i)
-    scale += std::fabs(m.C[i]) + std::sqrt(Dot3(m.L[i], m.L[i]));
+    scale += std::fabs(m.C[i]) + std::sqrt(Dot(m.L[i], m.L[i]));
   const double floor2 = (1e-15 * scale) * (1e-15 * scale);
   // a search gives up sooner on a step the line search cannot make decrease f
   const int maxLineSearch = outsideStop > 0.0 ? 10 : 30;
@@ -135,7 +134,7 @@ double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int&
       Eval<3>(m, pt, xt, Jt);
       for (int d = 0; d < 3; ++d)
         Ft[d] = xt[d] - v[d];
-      ft = Dot3(Ft, Ft);
+      ft = Dot(Ft, Ft);
       if (ft < f)
       {
         accepted = true;
@@ -178,13 +177,13 @@ int SolveNormalOffset(const QuadraticMap& xm, const QuadraticMap& sm, const doub
     double x[3], s[3];
     Eval<2>(xm, w, x, Jx);
     Eval<2>(sm, w, s, Js);
-    ls = std::sqrt(Dot3(s, s));
+    ls = std::sqrt(Dot(s, s));
     for (int k = 0; k < 3; ++k)
     {
       n[k] = ls > 0.0 ? s[k] / ls : 0.0;
       F[k] = x[k] + dd * n[k] - p[k];
     }
-    return std::sqrt(Dot3(F, F));
+    return std::sqrt(Dot(F, F));
   };
   double F[3], Jx[2][3], n[3], Js[2][3], ls;
   double fn = residual(uv, d, F, Jx, n, Js, ls);
@@ -198,7 +197,7 @@ int SolveNormalOffset(const QuadraticMap& xm, const QuadraticMap& sm, const doub
     double A[3][3], b[3], delta[3];
     for (int c = 0; c < 2; ++c)
     {
-      const double ns = Dot3(n, Js[c]);
+      const double ns = Dot(n, Js[c]);
       for (int k = 0; k < 3; ++k)
         A[k][c] = Jx[c][k] + d * (Js[c][k] - n[k] * ns) / ls;
     }

@@ -1,4 +1,5 @@
 #include "hoembedEmbeddingMesh.h"
+#include "hoembedVector3.h"
 #include "hoembedBoundaryNormals.h"
 #include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
@@ -58,10 +59,6 @@ void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner,
 
 const int TriEdges[3][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 } };
 
-inline double Dot(const double* a, const double* b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 // Squared distance from p to the triangle (a, b, c); 0 (no bound) when degenerate.
 double PointTriangleDistance2(const double* p, const double* a, const double* b, const double* c)

@@ -13,8 +13,8 @@
 #define hoembedEmbeddingMesh_h
 
 #include "hoembedClosestPoint.h"
-#include "hoembedEmbeddingGrid.h"
-#include "hoembedEmbeddingTree.h"
+#include "hoembedBoxGrid.h"
+#include "hoembedAabbTree.h"
 #include "hoembedFiltersEmbeddingModule.h"
 #include "hoembedTetBarycentric.h"
 #include "hoembedTetMeshTopology.h"

@@ -1,4 +1,5 @@
 #include "hoembedEmbeddingSearch.h"
+#include "hoembedVector3.h"
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPointCertify.h"
 #include "hoembedShapeFunctions.h"
@@ -21,16 +22,6 @@ constexpr int MaxGridBins = 8; // face grid queries up to 2 x 2 x 2 bins
 
 const double CornerUV[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
 
-inline double Dot(const double a[3], const double b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-inline void Cross(const double a[3], const double b[3], double c[3])
-{
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 inline int PopCount(int b)
 {
   int n = 0;
@@ -141,12 +132,11 @@ void Keep(const ClosestPointResult& r, Id f, BoundaryHit& best)
 }
 
 // The squared distance over a curved patch is not convex: a solution (on the patch's
-// border or inside) may be a local minimum only (seen on the large boundary faces of
-// TetGen -Y meshes: an edge point at 2.65 while the interior minimum is at 0.58; a
-// re-solve from the centroid is not enough either, see TestEmbeddingNonConvexFace).
-// When the face's lower bound leaves room for a nearer point than both its solution and
-// the best so far, the exact expansion at the solution certifies it (98% of the
-// faces on the real meshes) or a branch and bound over the patch
+// border or inside) may be a local minimum only (large boundary faces of TetGen -Y
+// meshes have them; a re-solve from the centroid is not enough either, see
+// TestEmbeddingNonConvexFace). When the face's lower bound leaves room for a nearer
+// point than both its solution and the best so far, the exact expansion at the solution
+// certifies it (most faces: it is cheap) or a branch and bound over the patch
 // (hoembedClosestPointCertify.h) finds a nearer point or certifies there is none. Done
 // after the walk and the certification (SearchScratch::Retry), when the best distance is
 // final or nearly so and most of these faces are excluded by the bound.
@@ -261,10 +251,12 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
     RetryFace(M, v, sf, best, out);
 }
 
-// Find a cell containing v (distance <= tol). Walk first, then the cell grid if allowed.
-// `tolerance` (a distance; default InsideTolerance of the diagonal) and `skip` (a cell
-// not to test) serve the test of the closest boundary point (OtherCellHolds).
-bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTree,
+// Find a cell containing v (distance <= tol). Without `useCellGrid`: a short walk from
+// `start` with the cheap tests only (a hint that is usually right). With it: a
+// breadth-first walk, then the cells the cell grid lists near v. `tolerance` (a
+// distance; default InsideTolerance of the diagonal) and `skip` (a cell not to test)
+// serve the outside proof at the closest boundary point (OutsideByFace).
+bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useCellGrid,
   VertexEmbedding& out, SearchScratch& S, int maxWalk = MaxWalk, double tolerance = -1.0,
   Id skip = -1)
 {
@@ -341,8 +333,8 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
     out.Iterations += r.Iterations;
     const ClosestPointResult* hit = r.Distance2 <= tol2 ? &r : nullptr;
     // On a strongly curved cell the solve from the straight tet's coordinates can stop
-    // at a constrained local minimum on the cell's border although v is inside (seen on
-    // bunny_watertight: 1.42 away from the linear start, inside from the centroid): a
+    // at a constrained local minimum on the cell's border although v is inside (the
+    // centroid start then finds it inside; Benchmarks/RESULTS.md has the case): a
     // second try, Newton inversion from the centroid (cheaper than a second constrained
     // solve; TestEmbeddingNonConvexFace, TestCurvedCell).
     ClosestPointResult r2;
@@ -379,7 +371,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
   }
   if (maxWalk == 0)
     return start >= 0 && test(start, true);
-  if (!useTree)
+  if (!useCellGrid)
   {
     // short walk from a hint: cheap tests, leave through the face the point is beyond
     Id c = start;
@@ -408,7 +400,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useTre
       }
     }
   }
-  if (!useTree)
+  if (!useCellGrid)
     return false;
   S.Candidates.clear();
   M.CellGrid.Containing(v, tol, S.Candidates);

@@ -2,7 +2,8 @@
 
 #include "hoembedClosestPoint.h"
 #include "hoembedEmbeddingFlood.h"
-#include "hoembedMeshFingerprint.h"
+#include "hoembedArrayNames.h"
+#include "hoembedTetMeshInputVTK.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -40,8 +41,8 @@ namespace
 {
 using Id = hoembed::EmbeddingMesh::Id;
 
-// Copy the points as 3 doubles each (float and double arrays read directly); false with
-// `bad` the first point with a non-finite coordinate.
+// Copy the surface's points as 3 doubles each (float and double arrays read directly);
+// false with `bad` the first point with a non-finite coordinate.
 bool CopyFinitePoints(vtkPoints* pts, std::vector<double>& out, vtkIdType& bad)
 {
   const vtkIdType n = pts->GetNumberOfPoints();
@@ -56,63 +57,10 @@ bool CopyFinitePoints(vtkPoints* pts, std::vector<double>& out, vtkIdType& bad)
     for (vtkIdType i = 0; i < n; ++i)
       pts->GetPoint(i, &out[3 * i]);
   }
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    const double* x = &out[3 * i];
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-    {
-      bad = i;
-      return false;
-    }
-  }
-  return true;
+  bad = hoembed::FirstNonFinitePoint(out.data(), n);
+  return bad < 0;
 }
 
-// The first cell (in order) whose type differs from cell 0's or whose size is not npc;
-// Cell -1 when there is none.
-struct CellScan
-{
-  vtkIdType Cell = -1;
-  int Type = 0;
-  vtkIdType Size = 0;
-};
-
-template <typename T>
-CellScan ScanCells(const T* offsets, const T* ids, const unsigned char* types, vtkIdType ncells,
-  int npc, std::vector<Id>& conn, hoembed::MeshFingerprint& fingerprint)
-{
-  CellScan bad;
-  const int type0 = types[0];
-  for (vtkIdType c = 0; c < ncells; ++c)
-  {
-    const vtkIdType size = static_cast<vtkIdType>(offsets[c + 1] - offsets[c]);
-    if (types[c] != type0 || size != npc)
-    {
-      bad.Cell = c;
-      bad.Type = types[c];
-      bad.Size = size;
-      return bad;
-    }
-  }
-  // every cell has npc ids: they lie back to back
-  conn.assign(ids + offsets[0], ids + offsets[ncells]);
-  for (vtkIdType c = 0; c < ncells; ++c)
-    fingerprint.AddCell(type0, conn.data() + npc * c, npc);
-  return bad;
-}
-
-CellScan ReadCells(vtkUnstructuredGrid* mesh, int npc, std::vector<Id>& conn,
-  hoembed::MeshFingerprint& fingerprint)
-{
-  vtkCellArray* cells = mesh->GetCells();
-  const unsigned char* types = mesh->GetCellTypesArray()->GetPointer(0);
-  const vtkIdType ncells = mesh->GetNumberOfCells();
-  if (cells->IsStorage64Bit())
-    return ScanCells(cells->GetOffsetsArray64()->GetPointer(0),
-      cells->GetConnectivityArray64()->GetPointer(0), types, ncells, npc, conn, fingerprint);
-  return ScanCells(cells->GetOffsetsArray32()->GetPointer(0),
-    cells->GetConnectivityArray32()->GetPointer(0), types, ncells, npc, conn, fingerprint);
-}
 } // namespace
 
 // What identifies a mesh input's state: the grid (its address and modification time,
@@ -150,8 +98,8 @@ struct vtkEmbeddingCoordinatesFilter::vtkInternals
   bool PreparedValidated = false;
   std::string PreparedFingerprint;
   // surface-sized: kept up to MaxKeptBytes (~350 bytes per vertex, so about 190k
-  // vertices; the larger the surface, the smaller the share of its page faults: 6% of
-  // the time on dragon's 50k vertices, not worth holding hundreds of MB between Updates)
+  // vertices): the larger the surface, the smaller the share of its page faults in the
+  // time, so past that size the memory is not worth holding between Updates)
   hoembed::EmbedWorkspace Flood;
   std::vector<double> SurfacePoints;
   std::vector<Id> Triangles, Order;
@@ -184,7 +132,7 @@ vtkEmbeddingCoordinatesFilter::~vtkEmbeddingCoordinatesFilter() = default;
 
 const char* vtkEmbeddingCoordinatesFilter::GetMethodAsString()
 {
-  return this->Method == BARYCENTRIC ? "barycentric" : "normal-offset";
+  return hoembed::EmbeddingMethodName(this->Method == BARYCENTRIC ? hoembed::EmbeddingMethod::Barycentric : hoembed::EmbeddingMethod::NormalOffset);
 }
 
 void vtkEmbeddingCoordinatesFilter::SetMeshData(vtkUnstructuredGrid* mesh)
@@ -214,52 +162,19 @@ std::string vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh
 {
   std::ostringstream msg;
   hoembed::EmbeddingMesh& em = this->Internals->Mesh;
-  vtkIdType bad = -1;
-  std::vector<double>& meshPts = em.Points;
-  if (!CopyFinitePoints(mesh->GetPoints(), meshPts, bad))
+  // types, connectivity, node ranges, finite points and the fingerprint: the one reader
+  hoembed::TetMeshInput input;
+  std::vector<double> scratch;
+  const std::string readError = input.Read(hoembed::ViewTetMesh(mesh, true, scratch),
+    hoembed::TetMeshInput::KeepPoints | hoembed::TetMeshInput::KeepFingerprint);
+  if (!readError.empty())
   {
-    msg << "The FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad << ".";
-    return msg.str();
+    return readError + ".";
   }
-
-  // cells: all tet10 or all tet4
-  const vtkIdType ncells = mesh->GetNumberOfCells();
-  const int type0 = mesh->GetCellType(0);
-  if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
-  {
-    msg << "The FE mesh has a cell of type " << type0 << " (cell 0): only VTK_TETRA (10) "
-           "and VTK_QUADRATIC_TETRA (24) cells are supported.";
-    return msg.str();
-  }
-  const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
-  const vtkIdType npts = mesh->GetNumberOfPoints();
-  std::vector<Id>& conn = em.Connectivity;
-  // cell types and connectivity read straight from the arrays (no vtkIdList per cell),
-  // the fingerprint in the same pass
-  hoembed::MeshFingerprint fingerprint(npts, ncells);
-  const CellScan scan = ReadCells(mesh, npc, conn, fingerprint);
-  if (scan.Cell >= 0)
-  {
-    if (scan.Type != type0)
-    {
-      msg << "The FE mesh mixes cell types: cell " << scan.Cell << " has type " << scan.Type
-          << ", cell 0 has type " << type0 << "; use only tet4 or only tet10 cells.";
-    }
-    else
-    {
-      msg << "Cell " << scan.Cell << " has " << scan.Size << " points, expected " << npc << ".";
-    }
-    return msg.str();
-  }
-  for (vtkIdType i = 0; i < npc * ncells; ++i)
-  {
-    if (conn[i] < 0 || conn[i] >= npts)
-    {
-      msg << "Cell " << i / npc << " refers to node " << conn[i] << ", out of range [0, " << npts
-          << ").";
-      return msg.str();
-    }
-  }
+  em.Points.swap(input.Points);
+  em.Connectivity.swap(input.Connectivity);
+  const int npc = input.NodesPerCell;
+  const vtkIdType ncells = input.NumberOfCells;
   // element validity is checked in the pass that builds the cell maps
   Id firstInvalid = ncells;
   const std::string err = em.Prepare(npc, this->ValidateElements ? &firstInvalid : nullptr);
@@ -275,7 +190,7 @@ std::string vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh
     msg << "The FE mesh topology is not usable: " << err;
     return msg.str();
   }
-  this->Internals->PreparedFingerprint = fingerprint.Hex();
+  this->Internals->PreparedFingerprint = input.Fingerprint;
   return std::string();
 }
 
@@ -409,23 +324,23 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   } trim{ this->Internals.get() };
 
   vtkNew<vtkIdTypeArray> cellId;
-  cellId->SetName("EmbeddingCellId");
+  cellId->SetName(hoembed::ArrayNames::EmbeddingCellId);
   cellId->SetNumberOfTuples(ns);
   vtkNew<vtkDoubleArray> pcoords;
-  pcoords->SetName("EmbeddingParametricCoords");
+  pcoords->SetName(hoembed::ArrayNames::EmbeddingParametricCoords);
   pcoords->SetNumberOfComponents(3);
   pcoords->SetNumberOfTuples(ns);
   vtkNew<vtkDoubleArray> dist;
-  dist->SetName("EmbeddingDistance");
+  dist->SetName(hoembed::ArrayNames::EmbeddingDistance);
   dist->SetNumberOfTuples(ns);
   vtkNew<vtkDoubleArray> residual;
-  residual->SetName("EmbeddingResidual");
+  residual->SetName(hoembed::ArrayNames::EmbeddingResidual);
   residual->SetNumberOfTuples(ns);
   vtkNew<vtkDoubleArray> closest;
   closest->SetName("EmbeddingClosestDistance");
   closest->SetNumberOfTuples(ns);
   vtkNew<vtkSignedCharArray> face;
-  face->SetName("EmbeddingFace");
+  face->SetName(hoembed::ArrayNames::EmbeddingFace);
   face->SetNumberOfTuples(ns);
   vtkNew<vtkIntArray> iters;
   iters->SetName("EmbeddingIterations");
@@ -499,10 +414,10 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   if (surface->GetFieldData())
     fd->DeepCopy(surface->GetFieldData());
   vtkNew<vtkStringArray> methodName;
-  methodName->SetName("EmbeddingMethod");
+  methodName->SetName(hoembed::ArrayNames::EmbeddingMethod);
   methodName->InsertNextValue(this->GetMethodAsString());
   vtkNew<vtkStringArray> fp;
-  fp->SetName("EmbeddingMeshFingerprint");
+  fp->SetName(hoembed::ArrayNames::EmbeddingMeshFingerprint);
   fp->InsertNextValue(internals.PreparedFingerprint);
   fd->AddArray(methodName);
   fd->AddArray(fp);

@@ -33,9 +33,9 @@
  * get their containing cell; outside points the cell of the closest boundary point with
  * extrapolated parametric coordinates (d = 0). For tet4 the extrapolated affine map
  * reproduces v exactly; for a curved tet10 the quadratic map extrapolated beyond its cell
- * may not reach v at all (seen for 4-8% of the vertices of real scans, up to ~2.6% of
- * the diagonal away): the Newton inversion then keeps the nearest point it reaches and
- * EmbeddingResidual says how far v is from it. This is a limit of the barycentric
+ * may not reach v at all (how often on real scans: Benchmarks/RESULTS.md): the Newton
+ * inversion then keeps the nearest point it reaches and EmbeddingResidual says how far v
+ * is from it. This is a limit of the barycentric
  * baseline, one reason normal-offset is the default.
  *
  * The closest point is the global one: the flood gives each vertex a start (paper

@@ -424,6 +424,22 @@ bool CorotationalSolver::SolveStatic(int maxIterations, double tolerance, std::s
     error = "the clamped stiffness matrix is singular (clamp more nodes)";
     return false;
   }
+  // No load on the free nodes and the held nodes at rest: the equilibrium is the rest
+  // state itself. Iterating would only chase round-off (x - X has no digits for the
+  // relative convergence test), so it is returned as it is.
+  bool loaded = false;
+  for (long long k = 0; k < 3 * I.NP && !loaded; ++k)
+  {
+    loaded = I.Free[k] ? I.FExt[k] != 0.0 : I.x[k] != I.X[k];
+  }
+  if (!loaded)
+  {
+    std::copy(I.X.begin(), I.X.end(), I.x.begin());
+    std::fill(I.v.begin(), I.v.end(), 0.0);
+    std::fill(I.dv.begin(), I.dv.end(), 0.0);
+    I.HaveFactor = false;
+    return true;
+  }
   const double saveDt = I.Dt, saveA = I.Alpha, saveB = I.Beta;
   // A static increment is an implicit step with dt = 1, no mass, from zero velocity:
   // K~ dx = f_ext - f_int(x) (Step with a zero mass coefficient; the factor of K just

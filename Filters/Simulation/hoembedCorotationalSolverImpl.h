@@ -59,8 +59,8 @@ using LargeFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMD
 // values stored as T: double for small systems; for large ones, where the solves are
 // memory-bound, half precision (LargeValue, CPUs with F16C) or float. Arithmetic stays
 // double, so the preconditioner is still the exact inverse of a fixed SPD matrix.
-// Triangular solves then run on 4-vectors with one index per block (about 4x faster than
-// Eigen's scalar simplicial solve at ~1k DOF).
+// Triangular solves then run on 4-vectors with one index per block, which beats a scalar
+// simplicial solve (Benchmarks/RESULTS.md, stepper).
 //
 // Two-thread solves (hoembedCorotationalBlockFactor.cxx): the elimination tree of the
 // node blocks is cut below its top (the chain of ancestors shared by most of the work,
@@ -116,8 +116,7 @@ inline double Seconds(Clock::time_point a, Clock::time_point b)
 }
 
 // Loops shorter than `minParallel` run on the calling thread: for meshes of a few hundred
-// cells the thread hand-off costs more than it saves (measured 2x slower steps on the
-// shared 2-core machine for a 168-cell mesh).
+// cells the thread hand-off costs more than it saves (Benchmarks/RESULTS.md, stepper).
 template <typename F>
 void ParallelFor(vtkIdType n, vtkIdType minParallel, F&& f)
 {

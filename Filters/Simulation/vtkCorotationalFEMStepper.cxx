@@ -1,7 +1,9 @@
 #include "vtkCorotationalFEMStepper.h"
 
 #include "hoembedCorotationalSolver.h"
+#include "hoembedArrayNames.h"
 #include "hoembedElementGeometry.h"
+#include "hoembedTetMeshInputVTK.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -163,46 +165,29 @@ int vtkCorotationalFEMStepper::RequestData(
   {
     I.Built = false;
     I.StaticDone = false;
-    // Cells: all VTK_QUADRATIC_TETRA or all VTK_TETRA.
-    const int type0 = input->GetCellType(0);
-    if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
+    // Types, connectivity, node ranges and finite points: the one reader.
+    hoembed::TetMeshInput mesh;
+    std::vector<double> scratch;
+    const std::string readError = mesh.Read(
+      hoembed::ViewTetMesh(input, true, scratch), hoembed::TetMeshInput::KeepPoints);
+    if (!readError.empty())
     {
-      vtkErrorMacro("Unsupported cell type " << type0 << " (cell 0): the stepper needs "
-                                                         "VTK_QUADRATIC_TETRA or VTK_TETRA cells.");
+      vtkErrorMacro(<< readError << ".");
       return 0;
     }
-    const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
-    std::vector<long long> conn(static_cast<size_t>(nc) * npc);
-    std::vector<double> rest(3 * static_cast<size_t>(np));
-    for (vtkIdType p = 0; p < np; ++p)
-    {
-      input->GetPoint(p, &rest[3 * p]);
-    }
-    vtkNew<vtkIdList> ids;
+    const int npc = mesh.NodesPerCell;
+    const std::vector<double>& rest = mesh.Points;
+    // The solver's id type is long long (the reader's std::int64_t may be another 64-bit
+    // type of the same width).
+    const std::vector<long long> conn(mesh.Connectivity.begin(), mesh.Connectivity.end());
     double xe[30];
     for (vtkIdType c = 0; c < nc; ++c)
     {
-      if (input->GetCellType(c) != type0)
-      {
-        vtkErrorMacro("Unsupported cell " << c << " of type " << input->GetCellType(c)
-                                          << ": all cells must be "
-                                          << (npc == 10 ? "VTK_QUADRATIC_TETRA" : "VTK_TETRA")
-                                          << " (mixed or other cell types are not supported).");
-        return 0;
-      }
-      input->GetCellPoints(c, ids);
-      if (ids->GetNumberOfIds() != npc)
-      {
-        vtkErrorMacro("Cell " << c << " has " << ids->GetNumberOfIds() << " points, expected "
-                              << npc << ".");
-        return 0;
-      }
       for (int a = 0; a < npc; ++a)
       {
-        conn[c * npc + a] = ids->GetId(a);
         for (int i = 0; i < 3; ++i)
         {
-          xe[3 * a + i] = rest[3 * ids->GetId(a) + i];
+          xe[3 * a + i] = rest[3 * conn[c * npc + a] + i];
         }
       }
       const bool valid =
@@ -230,14 +215,41 @@ int vtkCorotationalFEMStepper::RequestData(
     }
     // Clamps.
     std::vector<unsigned char> fixed(np, 0);
-    vtkDataArray* fixedArray = (this->FixedArrayName && *this->FixedArrayName)
-      ? input->GetPointData()->GetArray(this->FixedArrayName)
-      : nullptr;
-    if (!fixedArray && this->FixedArrayName && *this->FixedArrayName &&
-      std::string(this->FixedArrayName) != "Fixed")
+    const bool named = this->FixedArrayName && *this->FixedArrayName;
+    vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
+    if (!fixedArray && named)
     {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                       << "' is not a point-data array of the input.");
+      // An array of that name that is not numeric point data would clamp nothing
+      // silently: refuse it, whether named by the user or the default "Fixed".
+      const bool asString = input->GetPointData()->GetAbstractArray(this->FixedArrayName);
+      const bool asCells = input->GetCellData()->GetAbstractArray(this->FixedArrayName) ||
+        input->GetFieldData()->GetAbstractArray(this->FixedArrayName);
+      if (asString)
+      {
+        vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                         << "' is a point-data array that is not numeric (e.g. "
+                                            "strings): the clamps need numbers (nonzero = clamped).");
+        return 0;
+      }
+      if (asCells)
+      {
+        vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                         << "' is cell or field data, not point data: the clamps "
+                                            "are per node (nonzero = clamped).");
+        return 0;
+      }
+      if (std::string(this->FixedArrayName) != hoembed::ArrayNames::Fixed)
+      {
+        vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                         << "' is not a point-data array of the input.");
+        return 0;
+      }
+    }
+    if (fixedArray && fixedArray->GetNumberOfTuples() != np)
+    {
+      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName << "' has "
+                                       << fixedArray->GetNumberOfTuples() << " tuples, expected "
+                                       << np << " (one per point).");
       return 0;
     }
     double bounds[6];
@@ -408,16 +420,16 @@ int vtkCorotationalFEMStepper::RequestData(
   const double* v = I.Solver.GetVelocities();
   const double* X = I.Solver.GetRestPositions();
   vtkNew<vtkDoubleArray> disp, vel, rot, vm;
-  disp->SetName("Displacement");
+  disp->SetName(hoembed::ArrayNames::Displacement);
   disp->SetNumberOfComponents(3);
   disp->SetNumberOfTuples(np);
-  vel->SetName("Velocity");
+  vel->SetName(hoembed::ArrayNames::Velocity);
   vel->SetNumberOfComponents(3);
   vel->SetNumberOfTuples(np);
-  rot->SetName("NodalRotation");
+  rot->SetName(hoembed::ArrayNames::NodalRotation);
   rot->SetNumberOfComponents(9);
   rot->SetNumberOfTuples(np);
-  vm->SetName("VonMisesStress");
+  vm->SetName(hoembed::ArrayNames::VonMisesStress);
   vm->SetNumberOfTuples(nc);
   for (vtkIdType p = 0; p < np; ++p)
   {

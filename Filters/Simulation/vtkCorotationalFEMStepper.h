@@ -44,10 +44,11 @@
  * Defaults: YoungModulus 1e5 (Pa), PoissonRatio 0.49, Density 1000 (kg/m^3), Gravity
  * (0, 0, -9.81), RayleighMass 0.1 (1/s), RayleighStiffness 0.01 (s), TimeStep 0.01 (s),
  * NumberOfTimeSteps 100, StaticSolve off, LumpedMass off, SolverTolerance 1e-4 (CG stops
- * at |r| <= tol * max(|b|, dt |f_ext|); measured on a 3000-tet10 beam over 60 steps: the
- * displacements differ from a 1e-10 solve by ~1e-7 to 2e-6 relative, see
- * Benchmarks/bench_stepper.py), MaxSolverIterations 200, FixedArrayName "Fixed"
- * (a missing "Fixed" array means no clamps; a missing array of another name is an error),
+ * at |r| <= tol * max(|b|, dt |f_ext|); how far that is from a tight solve:
+ * Benchmarks/bench_stepper.py and Benchmarks/RESULTS.md), MaxSolverIterations 200,
+ * FixedArrayName "Fixed" (a missing "Fixed" array means no clamps; a missing array of
+ * another name is an error, and so is an array of that name that is not numeric point
+ * data: cell or field data, strings),
  * no force / initial arrays, no clamp plane or box.
  *
  * Errors (vtkErrorMacro, empty output): PoissonRatio >= 0.5 or <= -1, YoungModulus <= 0,

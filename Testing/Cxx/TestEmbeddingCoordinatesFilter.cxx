@@ -8,7 +8,7 @@
 #include "hoembedClosestPoint.h"
 #include "hoembedElementGeometry.h"
 #include "hoembedEmbeddingFlood.h"
-#include "hoembedEmbeddingGrid.h"
+#include "hoembedBoxGrid.h"
 #include "hoembedEmbeddingSearch.h"
 #include "hoembedShapeFunctions.h"
 #include "hoembedTetBarycentric.h"

@@ -5,7 +5,7 @@ import pyvista
 __all__ = ["transfer"]
 
 from ._errors import run_filter
-from .hoembedFiltersEmbedding import vtkDeformationTransferFilter
+from .hoembedFiltersTransfer import vtkDeformationTransferFilter
 
 _NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
 

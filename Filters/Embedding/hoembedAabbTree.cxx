@@ -1,4 +1,4 @@
-#include "hoembedEmbeddingTree.h"
+#include "hoembedAabbTree.h"
 
 #include <algorithm>
 #include <limits>

@@ -1,16 +1,16 @@
 /**
- * @file hoembedEmbeddingTree.h
+ * @file hoembedAabbTree.h
  * @brief A static axis-aligned bounding-box tree over items (the boundary faces), used
  * to certify that a closest point is the global one when the search radius is too large
- * for the face grid (hoembedEmbeddingGrid.h), nearest boxes first.
+ * for the face grid (hoembedBoxGrid.h), nearest boxes first.
  *
  * The boxes of curved items are the boxes of their Bezier control points (the convex
  * hull property of the Bernstein form), so an item can never reach outside its box.
  * Traversals use an explicit stack (no recursion). Plain C++ kernel, read-only after
  * Build (thread safe).
  */
-#ifndef hoembedEmbeddingTree_h
-#define hoembedEmbeddingTree_h
+#ifndef hoembedAabbTree_h
+#define hoembedAabbTree_h
 
 #include "hoembedFiltersEmbeddingModule.h"
 #include "hoembedLanes.h"

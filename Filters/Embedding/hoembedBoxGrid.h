@@ -1,5 +1,5 @@
 /**
- * @file hoembedEmbeddingGrid.h
+ * @file hoembedBoxGrid.h
  * @brief A uniform grid over item boxes (the control-point boxes of the cells or of the
  * boundary faces), for the point query "which boxes hold this point" and the short-range
  * query "which boxes are nearer than r": a few bin lookups instead of a tree descent
@@ -8,10 +8,10 @@
  * Each item is listed in every bin its box meets (in increasing item order). Plain C++
  * kernel, read-only after Build (thread safe).
  */
-#ifndef hoembedEmbeddingGrid_h
-#define hoembedEmbeddingGrid_h
+#ifndef hoembedBoxGrid_h
+#define hoembedBoxGrid_h
 
-#include "hoembedEmbeddingTree.h"
+#include "hoembedAabbTree.h"
 #include "hoembedFiltersEmbeddingModule.h"
 
 #include <algorithm>
@@ -32,8 +32,8 @@ public:
    * sized for about `binsPerItem` bins per item over the boxes' bounding box (1 to 1024
    * per axis). Fewer, larger bins hold more boxes to test per query; more bins list each
    * box more often (the cells: 8; the boundary faces, which fill a surface rather than
-   * the volume: 32, measured best on the real meshes). Fewer than 2^31 items (the bins
-   * list them as 32-bit ids).
+   * the volume: 32, the best on the real meshes, Benchmarks/RESULTS.md). Fewer than 2^31
+   * items (the bins list them as 32-bit ids).
    */
   void Build(const std::vector<double>& boxes, double binsPerItem = 8.0);
 

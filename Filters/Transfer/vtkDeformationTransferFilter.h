@@ -76,12 +76,12 @@
 #ifndef vtkDeformationTransferFilter_h
 #define vtkDeformationTransferFilter_h
 
-#include "hoembedFiltersEmbeddingModule.h" // for export macro
+#include "hoembedFiltersTransferModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
 
-class HOEMBEDFILTERSEMBEDDING_EXPORT vtkDeformationTransferFilter : public vtkPolyDataAlgorithm
+class HOEMBEDFILTERSTRANSFER_EXPORT vtkDeformationTransferFilter : public vtkPolyDataAlgorithm
 {
 public:
   static vtkDeformationTransferFilter* New();

@@ -23,7 +23,7 @@
 #ifndef hoembedTransferKernel_h
 #define hoembedTransferKernel_h
 
-#include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedFiltersTransferModule.h"
 #include "hoembedTetMeshTopology.h"
 
 #include <cstdint>
@@ -54,14 +54,14 @@ inline int FaceCoefficientSize(int nodesPerCell)
  * Map coefficients of cells [begin, end): `conn` holds nodesPerCell ids per cell, `points`
  * 3 doubles per node; `coeffs` receives CellCoefficientSize doubles per cell.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT void ComputeCellMapCoefficients(const std::int64_t* conn,
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeCellMapCoefficients(const std::int64_t* conn,
   int nodesPerCell, const double* points, std::int64_t begin, std::int64_t end, double* coeffs);
 
 /**
  * Normal-field coefficients of boundary faces [begin, end) of `topo` from nodal normals
  * (3 doubles per node); `coeffs` receives FaceCoefficientSize doubles per face.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT void ComputeFaceNormalCoefficients(const TetMeshTopology& topo,
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeFaceNormalCoefficients(const TetMeshTopology& topo,
   const double* nodalNormals, std::int64_t begin, std::int64_t end, double* coeffs);
 
 /**
@@ -70,7 +70,7 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void ComputeFaceNormalCoefficients(const TetMeshT
  * barycentric coordinates of the face's corners b and c, divided by the sum of those of
  * a, b, c (so a point slightly off the face is projected along the opposite corner).
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT void TetParametricToFace(int face, const double pc[3], double uv[2]);
+HOEMBEDFILTERSTRANSFER_EXPORT void TetParametricToFace(int face, const double pc[3], double uv[2]);
 
 /**
  * The boundary face of `cell` on which the parametric point `pc` lies: among the cell's
@@ -78,7 +78,7 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void TetParametricToFace(int face, const double p
  * smallest in magnitude, if that is <= tol. Returns 4 * boundary face + local face
  * (the TransferEntry::Face encoding), or -1 when there is none.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT std::int32_t DeduceBoundaryFace(
+HOEMBEDFILTERSTRANSFER_EXPORT std::int32_t DeduceBoundaryFace(
   const TetMeshTopology& topo, std::int64_t cell, const double pc[3], double tol);
 
 /**
@@ -87,11 +87,11 @@ HOEMBEDFILTERSEMBEDDING_EXPORT std::int32_t DeduceBoundaryFace(
  * entries with Face < 0 or Distance == 0 give p'). `faceCoeffs` may be null when no entry
  * has an offset. A degenerate normal (zero interpolated sum) gives p' alone.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
   const double* cellCoeffs, const double* faceCoeffs, std::int64_t begin, std::int64_t end,
   double* out);
 /// The same, writing single precision.
-HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
   const double* cellCoeffs, const double* faceCoeffs, std::int64_t begin, std::int64_t end,
   float* out);
 
@@ -100,7 +100,7 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateTransfer(const TransferEntry* plan, 
  * out_I = normalise(R_I restNormals_I), R_I 9 doubles row-major per node. Nodes with a zero
  * rest normal (interior nodes) get (0, 0, 0).
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT void RotateNodalNormals(const double* restNormals,
+HOEMBEDFILTERSTRANSFER_EXPORT void RotateNodalNormals(const double* restNormals,
   const double* rotations, std::int64_t begin, std::int64_t end, double* out);
 
 /**
@@ -114,7 +114,7 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void RotateNodalNormals(const double* restNormals
  * rest normal and nodes whose cells are all degenerate at rest get (0, 0, 0).
  * `connectivity` holds nodesPerCell ids per cell, the points 3 doubles per node.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT void DeformNodalNormals(const TetMeshTopology& topology,
+HOEMBEDFILTERSTRANSFER_EXPORT void DeformNodalNormals(const TetMeshTopology& topology,
   const std::int64_t* connectivity, int nodesPerCell, const double* restPoints,
   const double* points, const double* restNormals, std::int64_t begin, std::int64_t end,
   double* out);
@@ -123,7 +123,7 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void DeformNodalNormals(const TetMeshTopology& to
  * Number of cells in [begin, end) that are inverted or degenerate: det J <= 0 at one of the
  * corners or at the centroid (tet10), or the constant det J <= 0 (tet4).
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT std::int64_t CountInvertedCells(const std::int64_t* conn,
+HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t CountInvertedCells(const std::int64_t* conn,
   int nodesPerCell, const double* points, std::int64_t begin, std::int64_t end);
 } // namespace hoembed
 

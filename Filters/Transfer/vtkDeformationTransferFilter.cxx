@@ -1,7 +1,8 @@
 #include "vtkDeformationTransferFilter.h"
 
 #include "hoembedBoundaryNormals.h"
-#include "hoembedMeshFingerprint.h"
+#include "hoembedArrayNames.h"
+#include "hoembedTetMeshInputVTK.h"
 #include "hoembedTetMeshTopology.h"
 #include "hoembedTransferKernel.h"
 #include "hoembedTransferNormals.h"
@@ -232,39 +233,21 @@ int vtkDeformationTransferFilter::RequestData(
   if (cells != I.CellsKey || cells->GetMTime() != I.CellsMTime || types != I.TypesKey ||
     (types && types->GetMTime() != I.TypesMTime) || numMeshPoints != I.NumberOfPointsKey)
   {
-    const int type0 = mesh->GetCellType(0);
-    if (type0 != VTK_QUADRATIC_TETRA && type0 != VTK_TETRA)
+    // types, connectivity, node ranges and the fingerprint: the one reader (the points
+    // are checked per frame below)
+    hoembed::TetMeshInput input;
+    std::vector<double> unused;
+    const std::string readError = input.Read(
+      hoembed::ViewTetMesh(mesh, false, unused), hoembed::TetMeshInput::KeepFingerprint);
+    if (!readError.empty())
     {
-      vtkErrorMacro("the FE mesh must consist of VTK_QUADRATIC_TETRA or VTK_TETRA cells; cell 0 "
-                    "has type "
-        << type0);
+      vtkErrorMacro(<< readError);
       I.CellsKey = nullptr;
       return 0;
     }
-    const int npc = type0 == VTK_QUADRATIC_TETRA ? 10 : 4;
-    std::vector<std::int64_t> conn(static_cast<size_t>(npc) * numCells);
-    hoembed::MeshFingerprint fp(numMeshPoints, numCells);
-    for (vtkIdType c = 0; c < numCells; ++c)
-    {
-      vtkIdType n = 0;
-      const vtkIdType* ids = nullptr;
-      cells->GetCellAtId(c, n, ids);
-      if (mesh->GetCellType(c) != type0 || n != npc)
-      {
-        vtkErrorMacro("the FE mesh mixes cell types or node counts (cell "
-          << c << " has type " << mesh->GetCellType(c) << " with " << n
-          << " nodes); all cells must be VTK_QUADRATIC_TETRA or all VTK_TETRA");
-        I.CellsKey = nullptr;
-        return 0;
-      }
-      std::int64_t* dst = &conn[static_cast<size_t>(npc) * c];
-      for (int a = 0; a < npc; ++a)
-      {
-        dst[a] = static_cast<std::int64_t>(ids[a]);
-      }
-      fp.AddCell(type0, dst, npc);
-    }
-    const std::string hex = fp.Hex();
+    const int npc = input.NodesPerCell;
+    std::vector<std::int64_t>& conn = input.Connectivity;
+    const std::string& hex = input.Fingerprint;
     if (hex != I.Fingerprint || npc != I.NodesPerCell || I.Topology.NumberOfPoints != numMeshPoints)
     {
       const std::string problem = I.Topology.Build(conn.data(), numCells, npc, numMeshPoints);
@@ -297,7 +280,7 @@ int vtkDeformationTransferFilter::RequestData(
   this->UpdateProgress(0.1);
 
   // --- The embedding: field data, then the per-vertex plan (cached).
-  const vtkStdString* methodValue = FieldString(surface->GetFieldData(), "EmbeddingMethod");
+  const vtkStdString* methodValue = FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMethod);
   if (!methodValue)
   {
     vtkErrorMacro("the surface (port 0) has no field data EmbeddingMethod: is it the output of "
@@ -311,7 +294,7 @@ int vtkDeformationTransferFilter::RequestData(
                                               << "' (expected normal-offset or barycentric)");
     return 0;
   }
-  const vtkStdString* fpValue = FieldString(surface->GetFieldData(), "EmbeddingMeshFingerprint");
+  const vtkStdString* fpValue = FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMeshFingerprint);
   if (!fpValue)
   {
     vtkErrorMacro("the surface (port 0) has no field data EmbeddingMeshFingerprint");
@@ -333,10 +316,10 @@ int vtkDeformationTransferFilter::RequestData(
     I.ResetPlan();
     vtkPointData* pd = surface->GetPointData();
     const bool offset = method == "normal-offset";
-    vtkDataArray* cellIds = pd->GetArray("EmbeddingCellId");
-    vtkDataArray* pcoords = pd->GetArray("EmbeddingParametricCoords");
-    vtkDataArray* dist = pd->GetArray("EmbeddingDistance");
-    vtkDataArray* faces = pd->GetArray("EmbeddingFace");
+    vtkDataArray* cellIds = pd->GetArray(hoembed::ArrayNames::EmbeddingCellId);
+    vtkDataArray* pcoords = pd->GetArray(hoembed::ArrayNames::EmbeddingParametricCoords);
+    vtkDataArray* dist = pd->GetArray(hoembed::ArrayNames::EmbeddingDistance);
+    vtkDataArray* faces = pd->GetArray(hoembed::ArrayNames::EmbeddingFace);
     std::string missing;
     if (!cellIds || cellIds->GetNumberOfComponents() != 1 ||
       cellIds->GetNumberOfTuples() != numVerts)
@@ -369,14 +352,26 @@ int vtkDeformationTransferFilter::RequestData(
     auto* dFast = vtkDoubleArray::SafeDownCast(dist);
     auto* fFast = vtkSignedCharArray::SafeDownCast(faces);
     I.Plan.resize(static_cast<size_t>(numVerts));
-    vtkIdType badCell = 0, badValue = 0, badFace = 0, firstBad = -1;
+    vtkIdType badCell = 0, badValue = 0, badRange = 0, badFace = 0, firstBad = -1;
     bool hasOffsets = false;
+    // What the filter can check of an embedding read back from a file. p lies in its
+    // cell for a normal-offset embedding and a few cell sizes outside it at most for a
+    // barycentric one (extrapolated), but hand-made embeddings (a face plane's projection
+    // with a distance) extrapolate too, and that maps nothing wrong: parametric
+    // coordinates are refused only beyond MaxExtrapolation cell sizes, which no surface
+    // the mesh approximates comes near. Likewise |d| beyond MaxDistance mesh diagonals
+    // cannot come from an embedding in this mesh (and 1e300 would overflow the output).
+    constexpr double MaxExtrapolation = 1e3;
+    constexpr double MaxDistance = 10.0;
+    const double meshLength = mesh->GetLength();
+    const double maxDistance =
+      std::isfinite(meshLength) && meshLength > 0.0 ? MaxDistance * meshLength : VTK_DOUBLE_MAX;
     const hoembed::TetMeshTopology& topo = I.Topology;
     for (vtkIdType i = 0; i < numVerts; ++i)
     {
       hoembed::TransferEntry& e = I.Plan[i];
       const double cid = idsFast ? static_cast<double>(idsFast->GetValue(i)) : cellIds->GetComponent(i, 0);
-      if (!(cid >= 0 && cid < numCells))
+      if (!(cid >= 0 && cid < numCells && cid == std::floor(cid)))
       {
         ++badCell;
         firstBad = firstBad < 0 ? i : firstBad;
@@ -398,6 +393,16 @@ int vtkDeformationTransferFilter::RequestData(
         !std::isfinite(e.Distance))
       {
         ++badValue;
+        firstBad = firstBad < 0 ? i : firstBad;
+        e.Distance = 0.0;
+        e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
+        continue;
+      }
+      const bool pcNear = std::fabs(e.PC[0]) <= MaxExtrapolation &&
+        std::fabs(e.PC[1]) <= MaxExtrapolation && std::fabs(e.PC[2]) <= MaxExtrapolation;
+      if (!pcNear || std::fabs(e.Distance) > maxDistance)
+      {
+        ++badRange;
         firstBad = firstBad < 0 ? i : firstBad;
         e.Distance = 0.0;
         e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
@@ -428,13 +433,17 @@ int vtkDeformationTransferFilter::RequestData(
       }
       hasOffsets = true;
     }
-    if (badCell || badValue || badFace)
+    if (badCell || badValue || badRange || badFace)
     {
       vtkErrorMacro("invalid embedding for this mesh: "
-        << badCell << " vertices with a cell id outside [0, " << numCells << "), " << badValue
-        << " with non-finite coordinates or distance, " << badFace
-        << " with a distance but no boundary face of their cell (first bad vertex " << firstBad
-        << ")");
+        << badCell << " vertices with a cell id outside [0, " << numCells
+        << ") or not a whole number (EmbeddingCellId), " << badValue
+        << " with non-finite EmbeddingParametricCoords or EmbeddingDistance, " << badRange
+        << " with EmbeddingParametricCoords over " << MaxExtrapolation
+        << " (far outside their cell) or an |EmbeddingDistance| over " << MaxDistance << " mesh diagonals, " << badFace
+        << " with a distance but no boundary face of their cell (EmbeddingFace) (first bad "
+           "vertex "
+        << firstBad << ")");
       return 0;
     }
     I.PlanHasOffsets = hasOffsets;
@@ -487,8 +496,8 @@ int vtkDeformationTransferFilter::RequestData(
     // ROTATE_NORMALS and DEFORM_NORMALS start from the rest normals (rest points x - u).
     const bool rotate = this->NormalMode == ROTATE_NORMALS;
     bool fromRest = this->NormalMode != RECOMPUTE_NORMALS;
-    vtkDataArray* rot = mesh->GetPointData()->GetArray("NodalRotation");
-    vtkDataArray* disp = mesh->GetPointData()->GetArray("Displacement");
+    vtkDataArray* rot = mesh->GetPointData()->GetArray(hoembed::ArrayNames::NodalRotation);
+    vtkDataArray* disp = mesh->GetPointData()->GetArray(hoembed::ArrayNames::Displacement);
     const bool haveDisp =
       disp && disp->GetNumberOfComponents() == 3 && disp->GetNumberOfTuples() == numMeshPoints;
     const bool haveRot =
@@ -632,7 +641,7 @@ int vtkDeformationTransferFilter::RequestData(
   for (int a = output->GetPointData()->GetNumberOfArrays() - 1; a >= 0; --a)
   {
     const char* name = output->GetPointData()->GetArrayName(a);
-    if (name && std::strncmp(name, "Embedding", 9) == 0)
+    if (name && std::strncmp(name, hoembed::ArrayNames::EmbeddingPrefix, std::strlen(hoembed::ArrayNames::EmbeddingPrefix)) == 0)
     {
       output->GetPointData()->RemoveArray(a);
     }

@@ -12,7 +12,7 @@
 #ifndef hoembedTransferNormals_h
 #define hoembedTransferNormals_h
 
-#include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedFiltersTransferModule.h"
 
 #include <cstdint>
 #include <vector>
@@ -21,20 +21,20 @@ namespace hoembed
 {
 /// Vertex -> polygon incidence (CSR): polygons of vertex i are
 /// incPolys[incOffsets[i] .. incOffsets[i + 1]).
-HOEMBEDFILTERSEMBEDDING_EXPORT void BuildVertexPolygonIncidence(const std::int64_t* offsets,
+HOEMBEDFILTERSTRANSFER_EXPORT void BuildVertexPolygonIncidence(const std::int64_t* offsets,
   const std::int64_t* conn, std::int64_t numberOfPolys, std::int64_t numberOfPoints,
   std::vector<std::int64_t>& incOffsets, std::vector<std::int64_t>& incPolys);
 
 /// Unnormalised (area-weighted) normals of polygons [begin, end), 3 doubles each.
-HOEMBEDFILTERSEMBEDDING_EXPORT void ComputePolygonNormals(const std::int64_t* offsets,
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputePolygonNormals(const std::int64_t* offsets,
   const std::int64_t* conn, const double* points, std::int64_t begin, std::int64_t end,
   double* polyNormals);
-HOEMBEDFILTERSEMBEDDING_EXPORT void ComputePolygonNormals(const std::int64_t* offsets,
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputePolygonNormals(const std::int64_t* offsets,
   const std::int64_t* conn, const float* points, std::int64_t begin, std::int64_t end,
   double* polyNormals);
 
 /// Unit vertex normals of vertices [begin, end) from the polygon normals, as floats.
-HOEMBEDFILTERSEMBEDDING_EXPORT void ComputeVertexNormals(const std::int64_t* incOffsets,
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormals(const std::int64_t* incOffsets,
   const std::int64_t* incPolys, const double* polyNormals, std::int64_t begin, std::int64_t end,
   float* normals);
 } // namespace hoembed

@@ -1,4 +1,4 @@
-#include "hoembedEmbeddingGrid.h"
+#include "hoembedBoxGrid.h"
 #include "hoembedCsr.h"
 #include "hoembedLanes.h"
 

@@ -1,0 +1,81 @@
+/**
+ * @file hoembedArrayNames.h
+ * @brief The array-name contract between the stages, and the embedding methods.
+ *
+ * Array names are part of the API (tests, examples and users rely on them): every stage
+ * reads and writes them through these constants, so a name is spelled once.
+ *
+ * FE mesh (mesher output, stepper input/output):
+ *  - cells: MinScaledJacobian (double); points: BoundaryNode (uchar)
+ *  - stepper input points: Fixed (nonzero = clamped)
+ *  - stepper output points: Displacement, Velocity (3 doubles), NodalRotation (9 doubles,
+ *    row-major); cells: VonMisesStress
+ * Embedded surface (embedding output, transfer input), point data:
+ *  - EmbeddingCellId (vtkIdType), EmbeddingParametricCoords (3 doubles, VTK r s t),
+ *    EmbeddingDistance (double), EmbeddingResidual (double), EmbeddingFace (signed char)
+ *  - field data: EmbeddingMethod (string, see EmbeddingMethodName),
+ *    EmbeddingMeshFingerprint (string, hoembed::MeshFingerprint of the rest mesh)
+ */
+#ifndef hoembedArrayNames_h
+#define hoembedArrayNames_h
+
+#include <cstring>
+
+namespace hoembed
+{
+namespace ArrayNames
+{
+// FE mesh
+constexpr const char* MinScaledJacobian = "MinScaledJacobian";
+constexpr const char* BoundaryNode = "BoundaryNode";
+constexpr const char* Fixed = "Fixed";
+constexpr const char* Displacement = "Displacement";
+constexpr const char* Velocity = "Velocity";
+constexpr const char* NodalRotation = "NodalRotation";
+constexpr const char* VonMisesStress = "VonMisesStress";
+// embedded surface, point data
+constexpr const char* EmbeddingCellId = "EmbeddingCellId";
+constexpr const char* EmbeddingParametricCoords = "EmbeddingParametricCoords";
+constexpr const char* EmbeddingDistance = "EmbeddingDistance";
+constexpr const char* EmbeddingResidual = "EmbeddingResidual";
+constexpr const char* EmbeddingFace = "EmbeddingFace";
+/// Every array of the embedding (and its diagnostics) starts with this: a transfer drops
+/// them from its output, since they describe the rest state.
+constexpr const char* EmbeddingPrefix = "Embedding";
+// embedded surface, field data
+constexpr const char* EmbeddingMethod = "EmbeddingMethod";
+constexpr const char* EmbeddingMeshFingerprint = "EmbeddingMeshFingerprint";
+} // namespace ArrayNames
+
+/// The two embeddings (values equal vtkEmbeddingCoordinatesFilter's NORMAL_OFFSET and
+/// BARYCENTRIC, and the kernels' method argument).
+enum class EmbeddingMethod : int
+{
+  NormalOffset = 0,
+  Barycentric = 1
+};
+
+/// The value written to / read from the EmbeddingMethod field array.
+inline const char* EmbeddingMethodName(EmbeddingMethod m)
+{
+  return m == EmbeddingMethod::Barycentric ? "barycentric" : "normal-offset";
+}
+
+/// False for a name that is neither method.
+inline bool ParseEmbeddingMethod(const char* name, EmbeddingMethod& m)
+{
+  if (name && std::strcmp(name, "normal-offset") == 0)
+  {
+    m = EmbeddingMethod::NormalOffset;
+    return true;
+  }
+  if (name && std::strcmp(name, "barycentric") == 0)
+  {
+    m = EmbeddingMethod::Barycentric;
+    return true;
+  }
+  return false;
+}
+} // namespace hoembed
+
+#endif

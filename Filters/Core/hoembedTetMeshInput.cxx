@@ -1,0 +1,147 @@
+#include "hoembedTetMeshInput.h"
+
+#include "hoembedMeshFingerprint.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace hoembed
+{
+namespace
+{
+template <typename T>
+std::int64_t FirstNonFinite(const T* xyz, std::int64_t n)
+{
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    const T* x = xyz + 3 * i;
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    {
+      return i;
+    }
+  }
+  return -1;
+}
+
+// Steps 2 and 3 over one id width: types and sizes first (so a mixed mesh is reported
+// as such, not as a range error of a cell read with the wrong size), then the ids.
+template <typename T>
+std::string ReadCells(const T* offsets, const T* ids, const unsigned char* types,
+  std::int64_t ncells, std::int64_t npts, TetMeshInput& out)
+{
+  std::ostringstream msg;
+  const int type0 = types[0];
+  const int npc = out.NodesPerCell;
+  for (std::int64_t c = 0; c < ncells; ++c)
+  {
+    const std::int64_t size = static_cast<std::int64_t>(offsets[c + 1] - offsets[c]);
+    if (types[c] != type0)
+    {
+      msg << "the FE mesh mixes cell types: cell " << c << " has type " << int(types[c])
+          << ", cell 0 has type " << type0
+          << "; use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells";
+      return msg.str();
+    }
+    if (size != npc)
+    {
+      msg << "cell " << c << " of the FE mesh has " << size << " points, expected " << npc;
+      return msg.str();
+    }
+  }
+  // every cell has npc ids: they lie back to back
+  out.Connectivity.assign(ids + offsets[0], ids + offsets[ncells]);
+  const std::int64_t* conn = out.Connectivity.data();
+  for (std::int64_t i = 0; i < npc * ncells; ++i)
+  {
+    if (conn[i] < 0 || conn[i] >= npts)
+    {
+      msg << "cell " << i / npc << " of the FE mesh refers to node " << conn[i]
+          << ", out of range [0, " << npts << ")";
+      return msg.str();
+    }
+  }
+  return std::string();
+}
+} // namespace
+
+std::int64_t FirstNonFinitePoint(const double* xyz, std::int64_t n)
+{
+  return FirstNonFinite(xyz, n);
+}
+
+std::int64_t FirstNonFinitePoint(const float* xyz, std::int64_t n)
+{
+  return FirstNonFinite(xyz, n);
+}
+
+std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
+{
+  std::ostringstream msg;
+  this->NumberOfPoints = in.NumberOfPoints;
+  this->NumberOfCells = in.NumberOfCells;
+  this->Fingerprint.clear();
+  const bool has64 = in.Offsets64 && in.Connectivity64;
+  const bool has32 = in.Offsets32 && in.Connectivity32;
+  if (in.NumberOfPoints <= 0 || in.NumberOfCells <= 0 || !in.CellTypes || !(has64 || has32))
+  {
+    return "the FE mesh is empty: it needs points and VTK_QUADRATIC_TETRA or VTK_TETRA cells";
+  }
+  const int type0 = in.CellTypes[0];
+  if (type0 != QuadraticTetra && type0 != LinearTetra)
+  {
+    msg << "Unsupported cell type " << type0
+        << " (cell 0): the FE mesh must have only VTK_QUADRATIC_TETRA (24) or only VTK_TETRA "
+           "(10) cells";
+    return msg.str();
+  }
+  this->CellType = type0;
+  this->NodesPerCell = type0 == QuadraticTetra ? 10 : 4;
+  const std::string cells = has64
+    ? ReadCells(in.Offsets64, in.Connectivity64, in.CellTypes, in.NumberOfCells,
+        in.NumberOfPoints, *this)
+    : ReadCells(in.Offsets32, in.Connectivity32, in.CellTypes, in.NumberOfCells,
+        in.NumberOfPoints, *this);
+  if (!cells.empty())
+  {
+    return cells;
+  }
+  if (in.PointsDouble || in.PointsFloat)
+  {
+    const std::int64_t bad = in.PointsDouble
+      ? FirstNonFinitePoint(in.PointsDouble, in.NumberOfPoints)
+      : FirstNonFinitePoint(in.PointsFloat, in.NumberOfPoints);
+    if (bad >= 0)
+    {
+      msg << "the FE mesh has a non-finite (NaN or infinite) coordinate at node " << bad;
+      return msg.str();
+    }
+    if (keep & KeepPoints)
+    {
+      const std::size_t n = 3 * static_cast<std::size_t>(in.NumberOfPoints);
+      if (in.PointsDouble)
+      {
+        this->Points.assign(in.PointsDouble, in.PointsDouble + n);
+      }
+      else
+      {
+        this->Points.assign(in.PointsFloat, in.PointsFloat + n);
+      }
+    }
+  }
+  else if (keep & KeepPoints)
+  {
+    return "the FE mesh has no point coordinates";
+  }
+  if (keep & KeepFingerprint)
+  {
+    MeshFingerprint fp(in.NumberOfPoints, in.NumberOfCells);
+    const std::int64_t* conn = this->Connectivity.data();
+    for (std::int64_t c = 0; c < in.NumberOfCells; ++c)
+    {
+      fp.AddCell(type0, conn + this->NodesPerCell * c, this->NodesPerCell);
+    }
+    this->Fingerprint = fp.Hex();
+  }
+  return std::string();
+}
+} // namespace hoembed

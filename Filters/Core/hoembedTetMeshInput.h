@@ -1,0 +1,80 @@
+/**
+ * @file hoembedTetMeshInput.h
+ * @brief The one reader of an FE mesh (tet10 or tet4) that every stage uses.
+ *
+ * Reads plain arrays (points, VTK cell types, offsets and connectivity in VTK's
+ * vtkCellArray layout) and checks them in one order with one set of messages:
+ *  1. there are points and cells;
+ *  2. every cell is VTK_QUADRATIC_TETRA (24) or every cell is VTK_TETRA (10), each with
+ *     10 or 4 node ids;
+ *  3. every node id is in [0, number of points);
+ *  4. every coordinate is finite (when points are given).
+ * It keeps the connectivity (64-bit ids, npc per cell, back to back), optionally the
+ * points as doubles, and the topology fingerprint (hoembed::MeshFingerprint). Element
+ * validity (det J > 0) is not checked here: the stages differ in when they need it.
+ *
+ * VTK-free: a binding fills TetMeshArrays from its own data (see
+ * hoembedTetMeshInputVTK.h for vtkUnstructuredGrid).
+ */
+#ifndef hoembedTetMeshInput_h
+#define hoembedTetMeshInput_h
+
+#include "hoembedCoreModule.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hoembed
+{
+/// Views of a mesh's arrays (nothing owned). Points: exactly one of PointsDouble and
+/// PointsFloat (3 values per point), or neither when only the topology is read. Cells:
+/// either the 64-bit or the 32-bit pair of offsets (NumberOfCells + 1 values) and
+/// connectivity.
+struct TetMeshArrays
+{
+  std::int64_t NumberOfPoints = 0;
+  const double* PointsDouble = nullptr;
+  const float* PointsFloat = nullptr;
+  std::int64_t NumberOfCells = 0;
+  const unsigned char* CellTypes = nullptr;
+  const std::int64_t* Offsets64 = nullptr;
+  const std::int64_t* Connectivity64 = nullptr;
+  const std::int32_t* Offsets32 = nullptr;
+  const std::int32_t* Connectivity32 = nullptr;
+};
+
+class HOEMBEDCORE_EXPORT TetMeshInput
+{
+public:
+  /// What Read keeps besides the connectivity.
+  enum Keep
+  {
+    KeepTopology = 0,
+    KeepPoints = 1,      ///< the points as doubles (Points)
+    KeepFingerprint = 2  ///< the fingerprint (Fingerprint)
+  };
+
+  /// Read and check; the empty string on success, else one sentence naming the problem
+  /// (the caller prefixes its own name, e.g. through vtkErrorMacro). `keep` is a sum of
+  /// Keep values. On failure the members are unspecified.
+  std::string Read(const TetMeshArrays& in, int keep);
+
+  int CellType = 0;     ///< 24 (VTK_QUADRATIC_TETRA) or 10 (VTK_TETRA)
+  int NodesPerCell = 0; ///< 10 or 4
+  std::int64_t NumberOfPoints = 0;
+  std::int64_t NumberOfCells = 0;
+  std::vector<std::int64_t> Connectivity; ///< NodesPerCell ids per cell
+  std::vector<double> Points;             ///< 3 per point (KeepPoints)
+  std::string Fingerprint;                ///< 16 hex digits (KeepFingerprint)
+
+  static constexpr int QuadraticTetra = 24; // VTK_QUADRATIC_TETRA
+  static constexpr int LinearTetra = 10;    // VTK_TETRA
+};
+
+/// The first point (index) with a non-finite coordinate, or -1; `xyz` holds 3 per point.
+HOEMBEDCORE_EXPORT std::int64_t FirstNonFinitePoint(const double* xyz, std::int64_t n);
+HOEMBEDCORE_EXPORT std::int64_t FirstNonFinitePoint(const float* xyz, std::int64_t n);
+} // namespace hoembed
+
+#endif
