@@ -1,20 +1,15 @@
 #include "vtkDeformationTransferFilter.h"
 
-#include "hoembedBoundaryNormals.h"
 #include "hoembedArrayNames.h"
 #include "hoembedTetMeshInputVTK.h"
-#include "hoembedTetMeshTopology.h"
-#include "hoembedTransferKernel.h"
-#include "hoembedTransferNormals.h"
+#include "hoembedTransferDriver.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
-#include "vtkCellType.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
-#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -23,16 +18,11 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
-#include "vtkSignedCharArray.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
-#include "vtkTypeInt64Array.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
-#include <algorithm>
-#include <atomic>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -42,23 +32,16 @@ vtkStandardNewMacro(vtkDeformationTransferFilter);
 
 namespace
 {
+using hoembed::ArrayNames::EmbeddingCellId;
+using hoembed::ArrayNames::EmbeddingDistance;
+using hoembed::ArrayNames::EmbeddingFace;
+using hoembed::ArrayNames::EmbeddingParametricCoords;
+
 // The first value of a string array in field data, or null (no per-frame copy).
 const vtkStdString* FieldString(vtkFieldData* fd, const char* name)
 {
   auto* a = fd ? vtkStringArray::SafeDownCast(fd->GetAbstractArray(name)) : nullptr;
   return a && a->GetNumberOfValues() > 0 ? &a->GetValue(0) : nullptr;
-}
-
-bool AllFinite(const double* x, std::int64_t n)
-{
-  for (std::int64_t i = 0; i < n; ++i)
-  {
-    if (!std::isfinite(x[i]))
-    {
-      return false;
-    }
-  }
-  return true;
 }
 
 // The values of `a` (n tuples) as contiguous doubles: its own storage when it is a
@@ -77,46 +60,44 @@ const double* ContiguousDoubles(vtkDataArray* a, vtkIdType n, std::vector<double
   }
   return buffer.data();
 }
+
+// A point-data array with `nc` components and one tuple per point, or null.
+vtkDataArray* PointArray(vtkPointData* pd, const char* name, int nc, vtkIdType n)
+{
+  vtkDataArray* a = pd->GetArray(name);
+  return a && a->GetNumberOfComponents() == nc && a->GetNumberOfTuples() == n ? a : nullptr;
+}
+
+// The driver's loops on VTK's SMP backend.
+void SMPFor(std::int64_t n, std::int64_t grain,
+  const std::function<void(std::int64_t, std::int64_t)>& body)
+{
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+    [&](vtkIdType b, vtkIdType e) { body(b, e); });
+}
 } // namespace
 
+// The algorithm and its caches live in hoembed::TransferDriver; this keeps what only the
+// VTK binding knows: which input objects (and modification times) the driver's mesh
+// topology, plan and polygons were built from, and buffers for non-double arrays.
 struct vtkDeformationTransferFilter::Internals
 {
-  // Mesh topology cache (key: the cell array and cell types objects and their MTimes).
+  hoembed::TransferDriver Driver{ SMPFor };
+  // mesh topology key: the cell array and cell types objects and their MTimes
   vtkCellArray* CellsKey = nullptr;
   vtkMTimeType CellsMTime = 0;
   vtkUnsignedCharArray* TypesKey = nullptr;
   vtkMTimeType TypesMTime = 0;
   vtkIdType NumberOfPointsKey = -1;
-  std::string Fingerprint;
-  int NodesPerCell = 0;
-  std::vector<std::int64_t> Conn;
-  hoembed::TetMeshTopology Topology;
-  int TopologyVersion = 0;
-
-  // Per-vertex plan cache (key: surface object, its MTime, topology version, method).
+  // plan key: surface object, its MTime, method
   vtkPolyData* SurfaceKey = nullptr;
   vtkMTimeType SurfaceMTime = 0;
-  int PlanTopologyVersion = -1;
   std::string PlanMethod;
-  std::vector<hoembed::TransferEntry> Plan;
-  bool PlanHasOffsets = false;
-
-  // Output normals cache (key: the surface's polygon cell array and its MTime).
+  // polygon key: the surface's polygon cell array and its MTime
   vtkCellArray* PolysKey = nullptr;
   vtkMTimeType PolysMTime = 0;
-  std::vector<std::int64_t> PolyOffsets, PolyConn, IncOffsets, IncPolys;
-  std::vector<double> PolyNormals;
-
-  // Per-frame tables, reused.
-  std::vector<double> Points, NodalNormals, CellCoeffs, FaceCoeffs;
-  std::vector<double> RestPoints, RestNormals, Rotations;
-  bool RestValid = false;
-
-  void ResetPlan()
-  {
-    this->SurfaceKey = nullptr;
-    this->PlanTopologyVersion = -1;
-  }
+  // buffers for arrays that are not vtkDoubleArray
+  std::vector<double> Points, Displacements, Rotations, CellIds, PCoords, Distances, Faces;
 };
 
 //------------------------------------------------------------------------------
@@ -198,7 +179,6 @@ int vtkDeformationTransferFilter::RequestData(
   vtkPolyData* surface = vtkPolyData::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  Internals& I = *this->Internal;
   this->NumberOfInvertedElements = 0;
   if (!surface || !mesh || !output)
   {
@@ -214,391 +194,190 @@ int vtkDeformationTransferFilter::RequestData(
   {
     output->GetInformation()->Remove(vtkDataObject::DATA_TIME_STEP());
   }
+  if (!this->PrepareMesh(mesh))
+  {
+    return 0;
+  }
+  this->UpdateProgress(0.1);
+  if (!this->PreparePlan(surface, mesh))
+  {
+    return 0;
+  }
+  this->UpdateProgress(0.3);
+  vtkNew<vtkPoints> newPoints;
+  if (!this->TransferPoints(surface, mesh, newPoints))
+  {
+    return 0;
+  }
+  this->UpdateProgress(0.8);
+  this->WriteOutput(surface, newPoints, output);
+  this->UpdateProgress(1.0);
+  return 1;
+}
 
-  // --- The deformed mesh: cell types, topology (cached) and fingerprint.
+//------------------------------------------------------------------------------
+bool vtkDeformationTransferFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
+{
+  Internals& I = *this->Internal;
   const vtkIdType numMeshPoints = mesh->GetNumberOfPoints();
   const vtkIdType numCells = mesh->GetNumberOfCells();
   if (numMeshPoints < 4 || numCells < 1 || !mesh->GetCells())
   {
     vtkErrorMacro("the deformed FE mesh (port 1) is empty");
-    return 0;
+    return false;
   }
   if (numCells > INT32_MAX)
   {
     vtkErrorMacro("the deformed FE mesh has too many cells (" << numCells << ")");
-    return 0;
+    return false;
   }
   vtkCellArray* cells = mesh->GetCells();
   vtkUnsignedCharArray* types = mesh->GetCellTypesArray();
-  if (cells != I.CellsKey || cells->GetMTime() != I.CellsMTime || types != I.TypesKey ||
-    (types && types->GetMTime() != I.TypesMTime) || numMeshPoints != I.NumberOfPointsKey)
+  if (cells == I.CellsKey && cells->GetMTime() == I.CellsMTime && types == I.TypesKey &&
+    (!types || types->GetMTime() == I.TypesMTime) && numMeshPoints == I.NumberOfPointsKey)
   {
-    // types, connectivity, node ranges and the fingerprint: the one reader (the points
-    // are checked per frame below)
-    hoembed::TetMeshInput input;
-    std::vector<double> unused;
-    const std::string readError = input.Read(
-      hoembed::ViewTetMesh(mesh, false, unused), hoembed::TetMeshInput::KeepFingerprint);
-    if (!readError.empty())
-    {
-      vtkErrorMacro(<< readError);
-      I.CellsKey = nullptr;
-      return 0;
-    }
-    const int npc = input.NodesPerCell;
-    std::vector<std::int64_t>& conn = input.Connectivity;
-    const std::string& hex = input.Fingerprint;
-    if (hex != I.Fingerprint || npc != I.NodesPerCell || I.Topology.NumberOfPoints != numMeshPoints)
-    {
-      const std::string problem = I.Topology.Build(conn.data(), numCells, npc, numMeshPoints);
-      if (!problem.empty())
-      {
-        vtkErrorMacro("invalid FE mesh topology: " << problem);
-        I.CellsKey = nullptr;
-        I.Fingerprint.clear();
-        return 0;
-      }
-      I.Conn.swap(conn);
-      I.Fingerprint = hex;
-      I.NodesPerCell = npc;
-      ++I.TopologyVersion;
-      ++this->TopologyBuildCount;
-      const int csize = hoembed::CellCoefficientSize(npc);
-      const int fsize = hoembed::FaceCoefficientSize(npc);
-      I.CellCoeffs.assign(static_cast<size_t>(csize) * numCells, 0.0);
-      I.FaceCoeffs.assign(static_cast<size_t>(fsize) * I.Topology.GetNumberOfBoundaryFaces(), 0.0);
-      I.NodalNormals.assign(3 * static_cast<size_t>(numMeshPoints), 0.0);
-      I.RestValid = false;
-    }
-    I.CellsKey = cells;
-    I.CellsMTime = cells->GetMTime();
-    I.TypesKey = types;
-    I.TypesMTime = types ? types->GetMTime() : 0;
-    I.NumberOfPointsKey = numMeshPoints;
+    return true;
   }
-  const int npc = I.NodesPerCell;
-  this->UpdateProgress(0.1);
+  std::vector<double> unused;
+  bool rebuilt = false;
+  const std::string error =
+    I.Driver.SetMeshTopology(hoembed::ViewTetMesh(mesh, false, unused), rebuilt);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    I.CellsKey = nullptr;
+    return false;
+  }
+  if (rebuilt)
+  {
+    ++this->TopologyBuildCount;
+  }
+  I.CellsKey = cells;
+  I.CellsMTime = cells->GetMTime();
+  I.TypesKey = types;
+  I.TypesMTime = types ? types->GetMTime() : 0;
+  I.NumberOfPointsKey = numMeshPoints;
+  return true;
+}
 
-  // --- The embedding: field data, then the per-vertex plan (cached).
-  const vtkStdString* methodValue = FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMethod);
+//------------------------------------------------------------------------------
+bool vtkDeformationTransferFilter::PreparePlan(vtkPolyData* surface, vtkUnstructuredGrid* mesh)
+{
+  Internals& I = *this->Internal;
+  hoembed::TransferDriver& driver = I.Driver;
+  const vtkStdString* methodValue =
+    FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMethod);
   if (!methodValue)
   {
     vtkErrorMacro("the surface (port 0) has no field data EmbeddingMethod: is it the output of "
                   "vtkEmbeddingCoordinatesFilter?");
-    return 0;
+    return false;
   }
   const std::string& method = *methodValue;
-  if (method != "normal-offset" && method != "barycentric")
+  hoembed::EmbeddingMethod m;
+  if (!hoembed::ParseEmbeddingMethod(method.c_str(), m))
   {
     vtkErrorMacro("unknown EmbeddingMethod '" << method
                                               << "' (expected normal-offset or barycentric)");
-    return 0;
+    return false;
   }
-  const vtkStdString* fpValue = FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMeshFingerprint);
+  const vtkStdString* fpValue =
+    FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMeshFingerprint);
   if (!fpValue)
   {
     vtkErrorMacro("the surface (port 0) has no field data EmbeddingMeshFingerprint");
-    return 0;
+    return false;
   }
-  const std::string& surfaceFp = *fpValue;
-  if (surfaceFp != I.Fingerprint)
+  if (*fpValue != driver.GetFingerprint())
   {
     vtkErrorMacro("the FE mesh (port 1) is not the mesh the surface was embedded in: mesh "
                   "fingerprint "
-      << I.Fingerprint << " (" << numMeshPoints << " points, " << numCells
-      << " cells), embedding fingerprint " << surfaceFp);
-    return 0;
+      << driver.GetFingerprint() << " (" << mesh->GetNumberOfPoints() << " points, "
+      << mesh->GetNumberOfCells() << " cells), embedding fingerprint " << *fpValue);
+    return false;
   }
+  if (surface == I.SurfaceKey && surface->GetMTime() == I.SurfaceMTime && driver.HasPlan() &&
+    method == I.PlanMethod)
+  {
+    return true;
+  }
+  I.SurfaceKey = nullptr;
   const vtkIdType numVerts = surface->GetNumberOfPoints();
-  if (surface != I.SurfaceKey || surface->GetMTime() != I.SurfaceMTime ||
-    I.PlanTopologyVersion != I.TopologyVersion || method != I.PlanMethod)
+  vtkPointData* pd = surface->GetPointData();
+  const bool offset = m == hoembed::EmbeddingMethod::NormalOffset;
+  vtkDataArray* cellIds = PointArray(pd, EmbeddingCellId, 1, numVerts);
+  vtkDataArray* pcoords = PointArray(pd, EmbeddingParametricCoords, 3, numVerts);
+  vtkDataArray* dist = PointArray(pd, EmbeddingDistance, 1, numVerts);
+  vtkDataArray* faces = pd->GetArray(EmbeddingFace);
+  std::string missing;
+  if (!cellIds)
   {
-    I.ResetPlan();
-    vtkPointData* pd = surface->GetPointData();
-    const bool offset = method == "normal-offset";
-    vtkDataArray* cellIds = pd->GetArray(hoembed::ArrayNames::EmbeddingCellId);
-    vtkDataArray* pcoords = pd->GetArray(hoembed::ArrayNames::EmbeddingParametricCoords);
-    vtkDataArray* dist = pd->GetArray(hoembed::ArrayNames::EmbeddingDistance);
-    vtkDataArray* faces = pd->GetArray(hoembed::ArrayNames::EmbeddingFace);
-    std::string missing;
-    if (!cellIds || cellIds->GetNumberOfComponents() != 1 ||
-      cellIds->GetNumberOfTuples() != numVerts)
-    {
-      missing += " EmbeddingCellId (1 component)";
-    }
-    if (!pcoords || pcoords->GetNumberOfComponents() != 3 ||
-      pcoords->GetNumberOfTuples() != numVerts)
-    {
-      missing += " EmbeddingParametricCoords (3 components)";
-    }
-    if (offset &&
-      (!dist || dist->GetNumberOfComponents() != 1 || dist->GetNumberOfTuples() != numVerts))
-    {
-      missing += " EmbeddingDistance (1 component)";
-    }
-    if (faces && (faces->GetNumberOfComponents() != 1 || faces->GetNumberOfTuples() != numVerts))
-    {
-      missing += " EmbeddingFace (1 component)";
-    }
-    if (!missing.empty())
-    {
-      vtkErrorMacro("the surface (port 0) lacks point data arrays, or they do not have one tuple "
-                    "per point:"
-        << missing);
-      return 0;
-    }
-    auto* idsFast = vtkIdTypeArray::SafeDownCast(cellIds);
-    auto* pcFast = vtkDoubleArray::SafeDownCast(pcoords);
-    auto* dFast = vtkDoubleArray::SafeDownCast(dist);
-    auto* fFast = vtkSignedCharArray::SafeDownCast(faces);
-    I.Plan.resize(static_cast<size_t>(numVerts));
-    vtkIdType badCell = 0, badValue = 0, badRange = 0, badFace = 0, firstBad = -1;
-    bool hasOffsets = false;
-    // What the filter can check of an embedding read back from a file. p lies in its
-    // cell for a normal-offset embedding and a few cell sizes outside it at most for a
-    // barycentric one (extrapolated), but hand-made embeddings (a face plane's projection
-    // with a distance) extrapolate too, and that maps nothing wrong: parametric
-    // coordinates are refused only beyond MaxExtrapolation cell sizes, which no surface
-    // the mesh approximates comes near. Likewise |d| beyond MaxDistance mesh diagonals
-    // cannot come from an embedding in this mesh (and 1e300 would overflow the output).
-    constexpr double MaxExtrapolation = 1e3;
-    constexpr double MaxDistance = 10.0;
-    const double meshLength = mesh->GetLength();
-    const double maxDistance =
-      std::isfinite(meshLength) && meshLength > 0.0 ? MaxDistance * meshLength : VTK_DOUBLE_MAX;
-    const hoembed::TetMeshTopology& topo = I.Topology;
-    for (vtkIdType i = 0; i < numVerts; ++i)
-    {
-      hoembed::TransferEntry& e = I.Plan[i];
-      const double cid = idsFast ? static_cast<double>(idsFast->GetValue(i)) : cellIds->GetComponent(i, 0);
-      if (!(cid >= 0 && cid < numCells && cid == std::floor(cid)))
-      {
-        ++badCell;
-        firstBad = firstBad < 0 ? i : firstBad;
-        e = hoembed::TransferEntry{ { 0, 0, 0 }, 0.0, 0, -1 };
-        continue;
-      }
-      e.Cell = static_cast<std::int32_t>(cid);
-      for (int k = 0; k < 3; ++k)
-      {
-        e.PC[k] = pcFast ? pcFast->GetTypedComponent(i, k) : pcoords->GetComponent(i, k);
-      }
-      e.Distance = 0.0;
-      e.Face = -1;
-      if (offset)
-      {
-        e.Distance = dFast ? dFast->GetValue(i) : dist->GetComponent(i, 0);
-      }
-      if (!std::isfinite(e.PC[0]) || !std::isfinite(e.PC[1]) || !std::isfinite(e.PC[2]) ||
-        !std::isfinite(e.Distance))
-      {
-        ++badValue;
-        firstBad = firstBad < 0 ? i : firstBad;
-        e.Distance = 0.0;
-        e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
-        continue;
-      }
-      const bool pcNear = std::fabs(e.PC[0]) <= MaxExtrapolation &&
-        std::fabs(e.PC[1]) <= MaxExtrapolation && std::fabs(e.PC[2]) <= MaxExtrapolation;
-      if (!pcNear || std::fabs(e.Distance) > maxDistance)
-      {
-        ++badRange;
-        firstBad = firstBad < 0 ? i : firstBad;
-        e.Distance = 0.0;
-        e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
-        continue;
-      }
-      if (e.Distance == 0.0)
-      {
-        continue;
-      }
-      int local = -1;
-      if (faces)
-      {
-        local = static_cast<int>(fFast ? fFast->GetValue(i) : faces->GetComponent(i, 0));
-      }
-      if (local >= 0 && local < 4 && topo.CellBoundaryFace[4 * e.Cell + local] >= 0)
-      {
-        e.Face = static_cast<std::int32_t>(4 * topo.CellBoundaryFace[4 * e.Cell + local] + local);
-      }
-      else if (local < 0)
-      {
-        e.Face = hoembed::DeduceBoundaryFace(topo, e.Cell, e.PC, this->FaceTolerance);
-      }
-      if (e.Face < 0)
-      {
-        ++badFace;
-        firstBad = firstBad < 0 ? i : firstBad;
-        continue;
-      }
-      hasOffsets = true;
-    }
-    if (badCell || badValue || badRange || badFace)
-    {
-      vtkErrorMacro("invalid embedding for this mesh: "
-        << badCell << " vertices with a cell id outside [0, " << numCells
-        << ") or not a whole number (EmbeddingCellId), " << badValue
-        << " with non-finite EmbeddingParametricCoords or EmbeddingDistance, " << badRange
-        << " with EmbeddingParametricCoords over " << MaxExtrapolation
-        << " (far outside their cell) or an |EmbeddingDistance| over " << MaxDistance << " mesh diagonals, " << badFace
-        << " with a distance but no boundary face of their cell (EmbeddingFace) (first bad "
-           "vertex "
-        << firstBad << ")");
-      return 0;
-    }
-    I.PlanHasOffsets = hasOffsets;
-    I.SurfaceKey = surface;
-    I.SurfaceMTime = surface->GetMTime();
-    I.PlanTopologyVersion = I.TopologyVersion;
-    I.PlanMethod = method;
-    ++this->PlanBuildCount;
+    missing += " EmbeddingCellId (1 component)";
   }
-  this->UpdateProgress(0.3);
+  if (!pcoords)
+  {
+    missing += " EmbeddingParametricCoords (3 components)";
+  }
+  if (offset && !dist)
+  {
+    missing += " EmbeddingDistance (1 component)";
+  }
+  if (faces && !PointArray(pd, EmbeddingFace, 1, numVerts))
+  {
+    missing += " EmbeddingFace (1 component)";
+  }
+  if (!missing.empty())
+  {
+    vtkErrorMacro("the surface (port 0) lacks point data arrays, or they do not have one tuple "
+                  "per point:"
+      << missing);
+    return false;
+  }
+  hoembed::TransferEmbedding em;
+  em.NumberOfVertices = numVerts;
+  em.Method = m;
+  em.CellIds = ContiguousDoubles(cellIds, numVerts, I.CellIds);
+  em.ParametricCoords = ContiguousDoubles(pcoords, numVerts, I.PCoords);
+  em.Distances = offset ? ContiguousDoubles(dist, numVerts, I.Distances) : nullptr;
+  em.Faces = faces ? ContiguousDoubles(faces, numVerts, I.Faces) : nullptr;
+  const std::string error = driver.BuildPlan(em, this->FaceTolerance, mesh->GetLength());
+  // the copies are needed only while the plan is built
+  std::vector<double>().swap(I.CellIds);
+  std::vector<double>().swap(I.PCoords);
+  std::vector<double>().swap(I.Distances);
+  std::vector<double>().swap(I.Faces);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return false;
+  }
+  I.SurfaceKey = surface;
+  I.SurfaceMTime = surface->GetMTime();
+  I.PlanMethod = method;
+  ++this->PlanBuildCount;
+  return true;
+}
 
-  // --- Deformed points: contiguous doubles, finite.
-  const double* pts = ContiguousDoubles(mesh->GetPoints()->GetData(), numMeshPoints, I.Points);
-  if (!AllFinite(pts, 3 * static_cast<std::int64_t>(numMeshPoints)))
+//------------------------------------------------------------------------------
+bool vtkDeformationTransferFilter::TransferPoints(
+  vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints)
+{
+  Internals& I = *this->Internal;
+  const vtkIdType numMeshPoints = mesh->GetNumberOfPoints();
+  hoembed::TransferFrame frame;
+  frame.Points = ContiguousDoubles(mesh->GetPoints()->GetData(), numMeshPoints, I.Points);
+  frame.Normals = static_cast<hoembed::TransferNormals>(this->NormalMode);
+  frame.CountInverted = this->CheckInvertedElements;
+  if (this->NormalMode != RECOMPUTE_NORMALS)
   {
-    vtkErrorMacro("the deformed FE mesh has non-finite (NaN or infinite) point coordinates");
-    return 0;
+    vtkPointData* pd = mesh->GetPointData();
+    vtkDataArray* disp = PointArray(pd, hoembed::ArrayNames::Displacement, 3, numMeshPoints);
+    vtkDataArray* rot = PointArray(pd, hoembed::ArrayNames::NodalRotation, 9, numMeshPoints);
+    frame.Displacements = disp ? ContiguousDoubles(disp, numMeshPoints, I.Displacements) : nullptr;
+    frame.Rotations = rot && this->NormalMode == ROTATE_NORMALS
+      ? ContiguousDoubles(rot, numMeshPoints, I.Rotations)
+      : nullptr;
   }
-
-  // --- Inverted elements: warn, still map.
-  if (this->CheckInvertedElements)
-  {
-    std::atomic<std::int64_t> inverted(0);
-    const std::int64_t* conn = I.Conn.data();
-    vtkSMPTools::For(0, numCells, 256, [&](vtkIdType b, vtkIdType e) {
-      inverted += hoembed::CountInvertedCells(conn, npc, pts, b, e);
-    });
-    const std::int64_t total = inverted.load();
-    this->NumberOfInvertedElements = static_cast<vtkIdType>(total);
-    if (total > 0)
-    {
-      vtkWarningMacro(<< total << " of " << numCells
-                      << " deformed FE elements are inverted or degenerate (det J <= 0 at a "
-                         "corner or the centroid); the surface is still mapped through them");
-    }
-  }
-  this->UpdateProgress(0.4);
-
-  // --- Nodal normals and the per-frame coefficient tables.
-  {
-    const std::int64_t* conn = I.Conn.data();
-    double* cc = I.CellCoeffs.data();
-    vtkSMPTools::For(0, numCells, 1024, [&](vtkIdType b, vtkIdType e) {
-      hoembed::ComputeCellMapCoefficients(conn, npc, pts, b, e, cc);
-    });
-  }
-  const bool offsets = I.PlanHasOffsets && I.PlanMethod == "normal-offset";
-  if (offsets)
-  {
-    // ROTATE_NORMALS and DEFORM_NORMALS start from the rest normals (rest points x - u).
-    const bool rotate = this->NormalMode == ROTATE_NORMALS;
-    bool fromRest = this->NormalMode != RECOMPUTE_NORMALS;
-    vtkDataArray* rot = mesh->GetPointData()->GetArray(hoembed::ArrayNames::NodalRotation);
-    vtkDataArray* disp = mesh->GetPointData()->GetArray(hoembed::ArrayNames::Displacement);
-    const bool haveDisp =
-      disp && disp->GetNumberOfComponents() == 3 && disp->GetNumberOfTuples() == numMeshPoints;
-    const bool haveRot =
-      rot && rot->GetNumberOfComponents() == 9 && rot->GetNumberOfTuples() == numMeshPoints;
-    if (rotate && !(haveRot && haveDisp))
-    {
-      vtkWarningMacro("NormalMode is ROTATE_NORMALS but the FE mesh lacks point data NodalRotation "
-                      "(9 components) or Displacement (3 components): recomputing the normals "
-                      "from the deformed boundary");
-      fromRest = false;
-    }
-    else if (fromRest && !haveDisp)
-    {
-      vtkWarningMacro("NormalMode is DEFORM_NORMALS but the FE mesh lacks point data "
-                      "Displacement (3 components): recomputing the normals from the deformed "
-                      "boundary");
-      fromRest = false;
-    }
-    if (!fromRest)
-    {
-      hoembed::ComputeBoundaryNodeNormals(I.Topology, pts, I.NodalNormals.data());
-    }
-    else
-    {
-      // Rest points x - u; the rest normals are recomputed only when these change.
-      I.RestPoints.resize(3 * static_cast<size_t>(numMeshPoints));
-      if (I.RestNormals.size() != I.RestPoints.size())
-      {
-        I.RestNormals.assign(I.RestPoints.size(), 0.0);
-        I.RestValid = false;
-      }
-      double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
-      double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
-      double change = I.RestValid ? 0.0 : VTK_DOUBLE_MAX;
-      for (vtkIdType i = 0; i < numMeshPoints; ++i)
-      {
-        double u[3];
-        disp->GetTuple(i, u);
-        for (int d = 0; d < 3; ++d)
-        {
-          const double x = pts[3 * i + d] - u[d];
-          if (!std::isfinite(x))
-          {
-            change = -1.0;
-          }
-          if (I.RestValid)
-          {
-            change = std::max(change, std::fabs(x - I.RestPoints[3 * i + d]));
-          }
-          I.RestPoints[3 * i + d] = x;
-          lo[d] = std::min(lo[d], x);
-          hi[d] = std::max(hi[d], x);
-        }
-      }
-      if (change < 0.0)
-      {
-        vtkErrorMacro("the FE mesh's Displacement array has non-finite values");
-        return 0;
-      }
-      const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-        (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-      if (change > 1e-9 * diag)
-      {
-        hoembed::ComputeBoundaryNodeNormals(I.Topology, I.RestPoints.data(), I.RestNormals.data());
-        I.RestValid = true;
-      }
-      if (!rotate) // DEFORM_NORMALS
-      {
-        const double* rest = I.RestNormals.data();
-        const double* restPts = I.RestPoints.data();
-        const std::int64_t* conn = I.Conn.data();
-        double* nn = I.NodalNormals.data();
-        vtkSMPTools::For(0, numMeshPoints, 1024, [&](vtkIdType b, vtkIdType e) {
-          hoembed::DeformNodalNormals(I.Topology, conn, npc, restPts, pts, rest, b, e, nn);
-        });
-      }
-    }
-    if (fromRest && rotate)
-    {
-      const double* rotations = ContiguousDoubles(rot, numMeshPoints, I.Rotations);
-      if (!AllFinite(rotations, 9 * static_cast<std::int64_t>(numMeshPoints)))
-      {
-        vtkErrorMacro("the FE mesh's NodalRotation array has non-finite values");
-        return 0;
-      }
-      const double* rest = I.RestNormals.data();
-      double* nn = I.NodalNormals.data();
-      vtkSMPTools::For(0, numMeshPoints, 4096, [&](vtkIdType b, vtkIdType e) {
-        hoembed::RotateNodalNormals(rest, rotations, b, e, nn);
-      });
-    }
-    const double* nn = I.NodalNormals.data();
-    double* fc = I.FaceCoeffs.data();
-    vtkSMPTools::For(0, I.Topology.GetNumberOfBoundaryFaces(), 1024,
-      [&](vtkIdType b, vtkIdType e) {
-        hoembed::ComputeFaceNormalCoefficients(I.Topology, nn, b, e, fc);
-      });
-  }
-  this->UpdateProgress(0.5);
-
-  // --- The per-vertex evaluation into the new output points.
   int precision = VTK_DOUBLE;
   if (this->OutputPointsPrecision == SINGLE_PRECISION ||
     (this->OutputPointsPrecision == DEFAULT_PRECISION && surface->GetPoints() &&
@@ -606,31 +385,31 @@ int vtkDeformationTransferFilter::RequestData(
   {
     precision = VTK_FLOAT;
   }
-  vtkNew<vtkPoints> newPoints;
   newPoints->SetDataType(precision);
-  newPoints->SetNumberOfPoints(numVerts);
+  newPoints->SetNumberOfPoints(surface->GetNumberOfPoints());
+  void* out = newPoints->GetVoidPointer(0);
+  std::vector<std::string> warnings;
+  const std::string error = I.Driver.EvaluateFrame(frame,
+    precision == VTK_DOUBLE ? static_cast<double*>(out) : nullptr,
+    precision == VTK_FLOAT ? static_cast<float*>(out) : nullptr, warnings);
+  this->NumberOfInvertedElements = static_cast<vtkIdType>(I.Driver.GetNumberOfInvertedCells());
+  for (const std::string& w : warnings)
   {
-    const hoembed::TransferEntry* plan = I.Plan.data();
-    const double* cc = I.CellCoeffs.data();
-    const double* fc = offsets ? I.FaceCoeffs.data() : nullptr;
-    if (precision == VTK_DOUBLE)
-    {
-      double* out = static_cast<double*>(newPoints->GetVoidPointer(0));
-      vtkSMPTools::For(0, numVerts, 8192, [&](vtkIdType b, vtkIdType e) {
-        hoembed::EvaluateTransfer(plan, npc, cc, fc, b, e, out);
-      });
-    }
-    else
-    {
-      float* out = static_cast<float*>(newPoints->GetVoidPointer(0));
-      vtkSMPTools::For(0, numVerts, 8192, [&](vtkIdType b, vtkIdType e) {
-        hoembed::EvaluateTransfer(plan, npc, cc, fc, b, e, out);
-      });
-    }
+    vtkWarningMacro(<< w);
   }
-  this->UpdateProgress(0.8);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return false;
+  }
+  return true;
+}
 
-  // --- Output: the surface's structure and data, new points, optional normals.
+//------------------------------------------------------------------------------
+void vtkDeformationTransferFilter::WriteOutput(
+  vtkPolyData* surface, vtkPoints* newPoints, vtkPolyData* output)
+{
+  Internals& I = *this->Internal;
   output->CopyStructure(surface);
   output->SetPoints(newPoints);
   output->GetPointData()->ShallowCopy(surface->GetPointData());
@@ -638,10 +417,11 @@ int vtkDeformationTransferFilter::RequestData(
   output->GetFieldData()->ShallowCopy(surface->GetFieldData());
   // Every Embedding* point array (the embedding's own, and its diagnostics) describes the
   // rest state, not this frame.
+  const char* prefix = hoembed::ArrayNames::EmbeddingPrefix;
   for (int a = output->GetPointData()->GetNumberOfArrays() - 1; a >= 0; --a)
   {
     const char* name = output->GetPointData()->GetArrayName(a);
-    if (name && std::strncmp(name, hoembed::ArrayNames::EmbeddingPrefix, std::strlen(hoembed::ArrayNames::EmbeddingPrefix)) == 0)
+    if (name && std::strncmp(name, prefix, std::strlen(prefix)) == 0)
     {
       output->GetPointData()->RemoveArray(a);
     }
@@ -656,59 +436,44 @@ int vtkDeformationTransferFilter::RequestData(
     output->GetCellData()->RemoveArray(stale->GetName());
     output->GetCellData()->SetNormals(nullptr);
   }
-  if (this->ComputePointNormals)
+  if (!this->ComputePointNormals)
   {
-    vtkCellArray* polys = surface->GetPolys();
-    const vtkIdType numPolys = polys ? polys->GetNumberOfCells() : 0;
-    if (polys != I.PolysKey || (polys && polys->GetMTime() != I.PolysMTime))
-    {
-      I.PolyOffsets.resize(numPolys + 1);
-      I.PolyConn.resize(polys ? polys->GetNumberOfConnectivityIds() : 0);
-      vtkDataArray* offs = polys ? polys->GetOffsetsArray() : nullptr;
-      vtkDataArray* conn = polys ? polys->GetConnectivityArray() : nullptr;
-      I.PolyOffsets[0] = 0;
-      for (vtkIdType p = 0; offs && p <= numPolys; ++p)
-      {
-        I.PolyOffsets[p] = static_cast<std::int64_t>(offs->GetComponent(p, 0));
-      }
-      for (size_t k = 0; conn && k < I.PolyConn.size(); ++k)
-      {
-        I.PolyConn[k] = static_cast<std::int64_t>(conn->GetComponent(static_cast<vtkIdType>(k), 0));
-      }
-      hoembed::BuildVertexPolygonIncidence(
-        I.PolyOffsets.data(), I.PolyConn.data(), numPolys, numVerts, I.IncOffsets, I.IncPolys);
-      I.PolyNormals.resize(3 * static_cast<size_t>(numPolys));
-      I.PolysKey = polys;
-      I.PolysMTime = polys ? polys->GetMTime() : 0;
-    }
-    const std::int64_t* po = I.PolyOffsets.data();
-    const std::int64_t* pc = I.PolyConn.data();
-    double* pn = I.PolyNormals.data();
-    void* raw = newPoints->GetVoidPointer(0);
-    vtkSMPTools::For(0, numPolys, 8192, [&](vtkIdType b, vtkIdType e) {
-      if (precision == VTK_DOUBLE)
-      {
-        hoembed::ComputePolygonNormals(po, pc, static_cast<const double*>(raw), b, e, pn);
-      }
-      else
-      {
-        hoembed::ComputePolygonNormals(po, pc, static_cast<const float*>(raw), b, e, pn);
-      }
-    });
-    vtkNew<vtkFloatArray> normals;
-    normals->SetName("Normals");
-    normals->SetNumberOfComponents(3);
-    normals->SetNumberOfTuples(numVerts);
-    float* nout = normals->GetPointer(0);
-    const std::int64_t* io = I.IncOffsets.data();
-    const std::int64_t* ip = I.IncPolys.data();
-    vtkSMPTools::For(0, numVerts, 8192, [&](vtkIdType b, vtkIdType e) {
-      hoembed::ComputeVertexNormals(io, ip, pn, b, e, nout);
-    });
-    output->GetPointData()->SetNormals(normals);
+    return;
   }
-  this->UpdateProgress(1.0);
-  return 1;
+  const vtkIdType numVerts = surface->GetNumberOfPoints();
+  vtkCellArray* polys = surface->GetPolys();
+  if (polys != I.PolysKey || (polys && polys->GetMTime() != I.PolysMTime))
+  {
+    const vtkIdType numPolys = polys ? polys->GetNumberOfCells() : 0;
+    std::vector<std::int64_t> offsets(numPolys + 1, 0), conn;
+    vtkDataArray* offs = polys ? polys->GetOffsetsArray() : nullptr;
+    vtkDataArray* ids = polys ? polys->GetConnectivityArray() : nullptr;
+    for (vtkIdType p = 0; offs && p <= numPolys; ++p)
+    {
+      offsets[p] = static_cast<std::int64_t>(offs->GetComponent(p, 0));
+    }
+    conn.resize(polys ? polys->GetNumberOfConnectivityIds() : 0);
+    for (size_t k = 0; ids && k < conn.size(); ++k)
+    {
+      conn[k] = static_cast<std::int64_t>(ids->GetComponent(static_cast<vtkIdType>(k), 0));
+    }
+    I.Driver.SetPolygons(offsets.data(), conn.data(), numPolys, numVerts);
+    I.PolysKey = polys;
+    I.PolysMTime = polys ? polys->GetMTime() : 0;
+  }
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(numVerts);
+  if (newPoints->GetDataType() == VTK_DOUBLE)
+  {
+    I.Driver.ComputeVertexNormals(static_cast<const double*>(newPoints->GetVoidPointer(0)), normals->GetPointer(0));
+  }
+  else
+  {
+    I.Driver.ComputeVertexNormals(static_cast<const float*>(newPoints->GetVoidPointer(0)), normals->GetPointer(0));
+  }
+  output->GetPointData()->SetNormals(normals);
 }
 
 //------------------------------------------------------------------------------

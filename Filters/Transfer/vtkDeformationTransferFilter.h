@@ -81,6 +81,9 @@
 
 #include <memory> // for std::unique_ptr
 
+class vtkPoints;
+class vtkUnstructuredGrid;
+
 class HOEMBEDFILTERSTRANSFER_EXPORT vtkDeformationTransferFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -175,6 +178,14 @@ protected:
 private:
   vtkDeformationTransferFilter(const vtkDeformationTransferFilter&) = delete;
   void operator=(const vtkDeformationTransferFilter&) = delete;
+
+  // The steps of RequestData (the algorithm itself is hoembed::TransferDriver): read the
+  // mesh's cells into the driver (cached), read the embedding into its plan (cached),
+  // run one frame into `newPoints`, write the output (and its optional normals).
+  bool PrepareMesh(vtkUnstructuredGrid* mesh);
+  bool PreparePlan(vtkPolyData* surface, vtkUnstructuredGrid* mesh);
+  bool TransferPoints(vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints);
+  void WriteOutput(vtkPolyData* surface, vtkPoints* newPoints, vtkPolyData* output);
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

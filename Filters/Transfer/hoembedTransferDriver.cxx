@@ -1,0 +1,425 @@
+#include "hoembedTransferDriver.h"
+
+#include "hoembedBoundaryNormals.h"
+#include "hoembedTransferNormals.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cfloat>
+#include <cmath>
+#include <sstream>
+
+namespace hoembed
+{
+namespace
+{
+bool AllFinite(const double* x, std::int64_t n)
+{
+  for (std::int64_t i = 0; i < n; ++i)
+  {
+    if (!std::isfinite(x[i]))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// What the plan can check of an embedding read back from a file. p lies in its cell for
+// a normal-offset embedding and a few cell sizes outside it at most for a barycentric one
+// (extrapolated), but hand-made embeddings (a face plane's projection with a distance)
+// extrapolate too, and that maps nothing wrong: parametric coordinates are refused only
+// beyond MaxExtrapolation cell sizes, which no surface the mesh approximates comes near.
+// Likewise |d| beyond MaxDistance mesh diagonals cannot come from an embedding in this
+// mesh (and 1e300 would overflow the output).
+constexpr double MaxExtrapolation = 1e3;
+constexpr double MaxDistance = 10.0;
+} // namespace
+
+TransferDriver::TransferDriver(ParallelFor parallelFor)
+  : Parallel(std::move(parallelFor))
+{
+}
+
+void TransferDriver::For(std::int64_t n, std::int64_t grain,
+  const std::function<void(std::int64_t, std::int64_t)>& body) const
+{
+  if (n <= 0)
+  {
+    return;
+  }
+  if (this->Parallel)
+  {
+    this->Parallel(n, grain, body);
+  }
+  else
+  {
+    body(0, n);
+  }
+}
+
+//------------------------------------------------------------------------------
+std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& rebuilt)
+{
+  rebuilt = false;
+  TetMeshInput input;
+  const std::string readError = input.Read(cells, TetMeshInput::KeepFingerprint);
+  if (!readError.empty())
+  {
+    return readError;
+  }
+  const int npc = input.NodesPerCell;
+  if (input.Fingerprint == this->Fingerprint && npc == this->NodesPerCell &&
+    this->Topology.NumberOfPoints == input.NumberOfPoints)
+  {
+    return std::string();
+  }
+  const std::string problem = this->Topology.Build(
+    input.Connectivity.data(), input.NumberOfCells, npc, input.NumberOfPoints);
+  if (!problem.empty())
+  {
+    this->ForgetMesh();
+    return "invalid FE mesh topology: " + problem;
+  }
+  this->Conn.swap(input.Connectivity);
+  this->Fingerprint = input.Fingerprint;
+  this->NodesPerCell = npc;
+  this->NumberOfCells = input.NumberOfCells;
+  ++this->TopologyVersion;
+  this->CellCoeffs.assign(static_cast<size_t>(CellCoefficientSize(npc)) * input.NumberOfCells, 0.0);
+  this->FaceCoeffs.assign(
+    static_cast<size_t>(FaceCoefficientSize(npc)) * this->Topology.GetNumberOfBoundaryFaces(), 0.0);
+  this->NodalNormals.assign(3 * static_cast<size_t>(input.NumberOfPoints), 0.0);
+  this->RestValid = false;
+  rebuilt = true;
+  return std::string();
+}
+
+void TransferDriver::ForgetMesh()
+{
+  this->Fingerprint.clear();
+  this->NodesPerCell = 0;
+  this->PlanVersion = -1;
+}
+
+//------------------------------------------------------------------------------
+std::string TransferDriver::BuildPlan(
+  const TransferEmbedding& em, double faceTolerance, double meshLength)
+{
+  this->PlanVersion = -1;
+  const std::int64_t numVerts = em.NumberOfVertices;
+  const std::int64_t numCells = this->NumberOfCells;
+  const bool offset = em.Method == EmbeddingMethod::NormalOffset;
+  this->Plan.resize(static_cast<size_t>(numVerts));
+  std::int64_t badCell = 0, badValue = 0, badRange = 0, badFace = 0, firstBad = -1;
+  bool hasOffsets = false;
+  const double maxDistance = std::isfinite(meshLength) && meshLength > 0.0
+    ? MaxDistance * meshLength
+    : DBL_MAX;
+  const TetMeshTopology& topo = this->Topology;
+  for (std::int64_t i = 0; i < numVerts; ++i)
+  {
+    TransferEntry& e = this->Plan[i];
+    const double cid = em.CellIds[i];
+    if (!(cid >= 0 && cid < numCells && cid == std::floor(cid)))
+    {
+      ++badCell;
+      firstBad = firstBad < 0 ? i : firstBad;
+      e = TransferEntry{ { 0, 0, 0 }, 0.0, 0, -1 };
+      continue;
+    }
+    e.Cell = static_cast<std::int32_t>(cid);
+    for (int k = 0; k < 3; ++k)
+    {
+      e.PC[k] = em.ParametricCoords[3 * i + k];
+    }
+    e.Distance = 0.0;
+    e.Face = -1;
+    if (offset)
+    {
+      e.Distance = em.Distances[i];
+    }
+    if (!std::isfinite(e.PC[0]) || !std::isfinite(e.PC[1]) || !std::isfinite(e.PC[2]) ||
+      !std::isfinite(e.Distance))
+    {
+      ++badValue;
+      firstBad = firstBad < 0 ? i : firstBad;
+      e.Distance = 0.0;
+      e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
+      continue;
+    }
+    const bool pcNear = std::fabs(e.PC[0]) <= MaxExtrapolation &&
+      std::fabs(e.PC[1]) <= MaxExtrapolation && std::fabs(e.PC[2]) <= MaxExtrapolation;
+    if (!pcNear || std::fabs(e.Distance) > maxDistance)
+    {
+      ++badRange;
+      firstBad = firstBad < 0 ? i : firstBad;
+      e.Distance = 0.0;
+      e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
+      continue;
+    }
+    if (e.Distance == 0.0)
+    {
+      continue;
+    }
+    int local = -1;
+    if (em.Faces)
+    {
+      local = static_cast<int>(em.Faces[i]);
+    }
+    if (local >= 0 && local < 4 && topo.CellBoundaryFace[4 * e.Cell + local] >= 0)
+    {
+      e.Face = static_cast<std::int32_t>(4 * topo.CellBoundaryFace[4 * e.Cell + local] + local);
+    }
+    else if (local < 0)
+    {
+      e.Face = DeduceBoundaryFace(topo, e.Cell, e.PC, faceTolerance);
+    }
+    if (e.Face < 0)
+    {
+      ++badFace;
+      firstBad = firstBad < 0 ? i : firstBad;
+      continue;
+    }
+    hasOffsets = true;
+  }
+  if (badCell || badValue || badRange || badFace)
+  {
+    std::ostringstream msg;
+    msg << "invalid embedding for this mesh: " << badCell << " vertices with a cell id outside [0, "
+        << numCells << ") or not a whole number (" << ArrayNames::EmbeddingCellId << "), "
+        << badValue << " with non-finite " << ArrayNames::EmbeddingParametricCoords << " or "
+        << ArrayNames::EmbeddingDistance << ", " << badRange << " with "
+        << ArrayNames::EmbeddingParametricCoords << " over " << MaxExtrapolation
+        << " (far outside their cell) or an |" << ArrayNames::EmbeddingDistance << "| over "
+        << MaxDistance << " mesh diagonals, " << badFace
+        << " with a distance but no boundary face of their cell (" << ArrayNames::EmbeddingFace
+        << ") (first bad vertex " << firstBad << ")";
+    return msg.str();
+  }
+  this->PlanHasOffsets = hasOffsets;
+  this->PlanMethod = em.Method;
+  this->PlanVersion = this->TopologyVersion;
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* outDouble,
+  float* outFloat, std::vector<std::string>& warnings)
+{
+  this->InvertedCells = 0;
+  if (!this->HasPlan())
+  {
+    return "no transfer plan for this mesh (BuildPlan first)";
+  }
+  const std::int64_t numMeshPoints = this->Topology.NumberOfPoints;
+  const std::int64_t numCells = this->NumberOfCells;
+  const int npc = this->NodesPerCell;
+  const double* pts = frame.Points;
+  if (!AllFinite(pts, 3 * numMeshPoints))
+  {
+    return "the deformed FE mesh has non-finite (NaN or infinite) point coordinates";
+  }
+
+  // Inverted elements: a warning, still mapped.
+  if (frame.CountInverted)
+  {
+    std::atomic<std::int64_t> inverted(0);
+    const std::int64_t* conn = this->Conn.data();
+    this->For(numCells, 256, [&](std::int64_t b, std::int64_t e) {
+      inverted += CountInvertedCells(conn, npc, pts, b, e);
+    });
+    this->InvertedCells = inverted.load();
+    if (this->InvertedCells > 0)
+    {
+      std::ostringstream msg;
+      msg << this->InvertedCells << " of " << numCells
+          << " deformed FE elements are inverted or degenerate (det J <= 0 at a corner or the "
+             "centroid); the surface is still mapped through them";
+      warnings.push_back(msg.str());
+    }
+  }
+
+  // The per-frame coefficient tables: cell maps, then (offset vertices only) normals.
+  {
+    const std::int64_t* conn = this->Conn.data();
+    double* cc = this->CellCoeffs.data();
+    this->For(numCells, 1024, [&](std::int64_t b, std::int64_t e) {
+      ComputeCellMapCoefficients(conn, npc, pts, b, e, cc);
+    });
+  }
+  const bool offsets = this->PlanHasOffsets && this->PlanMethod == EmbeddingMethod::NormalOffset;
+  if (offsets)
+  {
+    const std::string error = this->ComputeNodalNormals(frame, warnings);
+    if (!error.empty())
+    {
+      return error;
+    }
+    const double* nn = this->NodalNormals.data();
+    double* fc = this->FaceCoeffs.data();
+    this->For(this->Topology.GetNumberOfBoundaryFaces(), 1024,
+      [&](std::int64_t b, std::int64_t e) { ComputeFaceNormalCoefficients(this->Topology, nn, b, e, fc); });
+  }
+
+  // The per-vertex evaluation.
+  const TransferEntry* plan = this->Plan.data();
+  const double* cc = this->CellCoeffs.data();
+  const double* fc = offsets ? this->FaceCoeffs.data() : nullptr;
+  const std::int64_t numVerts = this->GetNumberOfVertices();
+  if (outDouble)
+  {
+    this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
+      EvaluateTransfer(plan, npc, cc, fc, b, e, outDouble);
+    });
+  }
+  else
+  {
+    this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
+      EvaluateTransfer(plan, npc, cc, fc, b, e, outFloat);
+    });
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string TransferDriver::ComputeNodalNormals(
+  const TransferFrame& frame, std::vector<std::string>& warnings)
+{
+  const std::int64_t numMeshPoints = this->Topology.NumberOfPoints;
+  const double* pts = frame.Points;
+  // ROTATE and DEFORM start from the rest normals (rest points x - u).
+  const bool rotate = frame.Normals == TransferNormals::Rotate;
+  bool fromRest = frame.Normals != TransferNormals::Recompute;
+  const bool haveDisp = frame.Displacements != nullptr;
+  const bool haveRot = frame.Rotations != nullptr;
+  if (rotate && !(haveRot && haveDisp))
+  {
+    warnings.push_back(std::string("NormalMode is ROTATE_NORMALS but the FE mesh lacks point data ") +
+      ArrayNames::NodalRotation + " (9 components) or " + ArrayNames::Displacement +
+      " (3 components): recomputing the normals from the deformed boundary");
+    fromRest = false;
+  }
+  else if (fromRest && !haveDisp)
+  {
+    warnings.push_back(std::string("NormalMode is DEFORM_NORMALS but the FE mesh lacks point data ") +
+      ArrayNames::Displacement +
+      " (3 components): recomputing the normals from the deformed boundary");
+    fromRest = false;
+  }
+  if (!fromRest)
+  {
+    ComputeBoundaryNodeNormals(this->Topology, pts, this->NodalNormals.data());
+    return std::string();
+  }
+  // Rest points x - u; the rest normals are recomputed only when these change.
+  this->RestPoints.resize(3 * static_cast<size_t>(numMeshPoints));
+  if (this->RestNormals.size() != this->RestPoints.size())
+  {
+    this->RestNormals.assign(this->RestPoints.size(), 0.0);
+    this->RestValid = false;
+  }
+  double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX };
+  double hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+  double change = this->RestValid ? 0.0 : DBL_MAX;
+  const double* disp = frame.Displacements;
+  for (std::int64_t i = 0; i < numMeshPoints; ++i)
+  {
+    for (int d = 0; d < 3; ++d)
+    {
+      const double x = pts[3 * i + d] - disp[3 * i + d];
+      if (!std::isfinite(x))
+      {
+        change = -1.0;
+      }
+      if (this->RestValid)
+      {
+        change = std::max(change, std::fabs(x - this->RestPoints[3 * i + d]));
+      }
+      this->RestPoints[3 * i + d] = x;
+      lo[d] = std::min(lo[d], x);
+      hi[d] = std::max(hi[d], x);
+    }
+  }
+  if (change < 0.0)
+  {
+    return std::string("the FE mesh's ") + ArrayNames::Displacement + " array has non-finite values";
+  }
+  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  if (change > 1e-9 * diag)
+  {
+    ComputeBoundaryNodeNormals(this->Topology, this->RestPoints.data(), this->RestNormals.data());
+    this->RestValid = true;
+  }
+  const double* rest = this->RestNormals.data();
+  double* nn = this->NodalNormals.data();
+  if (!rotate) // DEFORM
+  {
+    const double* restPts = this->RestPoints.data();
+    const std::int64_t* conn = this->Conn.data();
+    const int npc = this->NodesPerCell;
+    this->For(numMeshPoints, 1024, [&](std::int64_t b, std::int64_t e) {
+      DeformNodalNormals(this->Topology, conn, npc, restPts, pts, rest, b, e, nn);
+    });
+    return std::string();
+  }
+  const double* rotations = frame.Rotations;
+  if (!AllFinite(rotations, 9 * numMeshPoints))
+  {
+    return std::string("the FE mesh's ") + ArrayNames::NodalRotation + " array has non-finite values";
+  }
+  this->For(numMeshPoints, 4096, [&](std::int64_t b, std::int64_t e) {
+    RotateNodalNormals(rest, rotations, b, e, nn);
+  });
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+void TransferDriver::SetPolygons(const std::int64_t* offsets, const std::int64_t* connectivity,
+  std::int64_t numberOfPolygons, std::int64_t numberOfVertices)
+{
+  this->PolyOffsets.assign(1, 0);
+  this->PolyConn.clear();
+  if (offsets && numberOfPolygons > 0)
+  {
+    this->PolyOffsets.assign(offsets, offsets + numberOfPolygons + 1);
+    this->PolyConn.assign(connectivity, connectivity + offsets[numberOfPolygons]);
+  }
+  else
+  {
+    numberOfPolygons = 0;
+  }
+  BuildVertexPolygonIncidence(this->PolyOffsets.data(), this->PolyConn.data(), numberOfPolygons,
+    numberOfVertices, this->IncOffsets, this->IncPolys);
+  this->PolyNormals.resize(3 * static_cast<size_t>(numberOfPolygons));
+}
+
+template <typename T>
+void TransferDriver::VertexNormals(const T* points, float* normals)
+{
+  const std::int64_t numPolys = static_cast<std::int64_t>(this->PolyOffsets.size()) - 1;
+  const std::int64_t numVerts = static_cast<std::int64_t>(this->IncOffsets.size()) - 1;
+  const std::int64_t* po = this->PolyOffsets.data();
+  const std::int64_t* pc = this->PolyConn.data();
+  double* pn = this->PolyNormals.data();
+  this->For(numPolys, 8192, [&](std::int64_t b, std::int64_t e) {
+    ComputePolygonNormals(po, pc, points, b, e, pn);
+  });
+  const std::int64_t* io = this->IncOffsets.data();
+  const std::int64_t* ip = this->IncPolys.data();
+  this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
+    hoembed::ComputeVertexNormals(io, ip, pn, b, e, normals);
+  });
+}
+
+void TransferDriver::ComputeVertexNormals(const double* points, float* normals)
+{
+  this->VertexNormals(points, normals);
+}
+
+void TransferDriver::ComputeVertexNormals(const float* points, float* normals)
+{
+  this->VertexNormals(points, normals);
+}
+} // namespace hoembed

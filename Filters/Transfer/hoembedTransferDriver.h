@@ -1,0 +1,141 @@
+/**
+ * @file hoembedTransferDriver.h
+ * @brief The deformation transfer as one VTK-free driver: plain arrays in, plain arrays out.
+ *
+ * What vtkDeformationTransferFilter does between reading its inputs and writing its
+ * output, so that any binding (VTK's, or a Python module over plain arrays) runs the same
+ * code. Four steps, each cached across frames by the driver:
+ *  1. SetMeshTopology: the FE mesh's cells (hoembed::TetMeshInput: types, connectivity,
+ *     node ranges, fingerprint) and the boundary topology; rebuilt only when the
+ *     fingerprint, the cell order or the number of points changes.
+ *  2. BuildPlan: one TransferEntry per surface vertex from the embedding arrays, checked
+ *     (cell ids whole and in range, finite values, parametric coordinates and distances
+ *     in range, a boundary face for every offset vertex).
+ *  3. EvaluateFrame: per frame, from the deformed points: finite check, inverted cells
+ *     (counted, a warning), the cell maps, the nodal normals (recompute, rotate or
+ *     deform, paper eq. 6-7 and §5.1), the face normal fields, then v' = p' + d n'.
+ *  4. SetPolygons / ComputeVertexNormals: optional area-weighted vertex normals of the
+ *     transferred surface (polygon incidence cached).
+ * Errors come back as one sentence (empty: success); the binding adds its name.
+ *
+ * Threading: every loop runs through the ParallelFor given to the constructor (serial by
+ * default); the results do not depend on how the ranges are split.
+ */
+#ifndef hoembedTransferDriver_h
+#define hoembedTransferDriver_h
+
+#include "hoembedArrayNames.h"
+#include "hoembedFiltersTransferModule.h"
+#include "hoembedTetMeshInput.h"
+#include "hoembedTetMeshTopology.h"
+#include "hoembedTransferKernel.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hoembed
+{
+/// Runs body(begin, end) over subranges of [0, n), ranges of about `grain` items.
+using ParallelFor = std::function<void(std::int64_t n, std::int64_t grain,
+  const std::function<void(std::int64_t, std::int64_t)>& body)>;
+
+/// The embedding arrays of the surface, one value (or 3) per vertex, as doubles.
+struct TransferEmbedding
+{
+  std::int64_t NumberOfVertices = 0;
+  EmbeddingMethod Method = EmbeddingMethod::NormalOffset;
+  const double* CellIds = nullptr;          ///< EmbeddingCellId
+  const double* ParametricCoords = nullptr; ///< EmbeddingParametricCoords (3 per vertex)
+  const double* Distances = nullptr;        ///< EmbeddingDistance (normal-offset only)
+  const double* Faces = nullptr;            ///< EmbeddingFace, or null: deduced from pcoords
+};
+
+/// How the deformed normals n' are obtained (values of vtkDeformationTransferFilter's
+/// NormalMode).
+enum class TransferNormals : int
+{
+  Recompute = 0, ///< smooth normals of the deformed boundary (paper eq. 6-7)
+  Rotate = 1,    ///< rest normals rotated by the nodal rotations (paper §5.1)
+  Deform = 2     ///< rest normals pushed forward by the nodal deformation gradient
+};
+
+/// One frame of the deformed mesh (3 doubles per node unless said otherwise).
+struct TransferFrame
+{
+  const double* Points = nullptr;
+  TransferNormals Normals = TransferNormals::Recompute;
+  const double* Displacements = nullptr; ///< x - X, or null
+  const double* Rotations = nullptr;     ///< 9 per node (row-major), or null
+  bool CountInverted = true;
+};
+
+class HOEMBEDFILTERSTRANSFER_EXPORT TransferDriver
+{
+public:
+  explicit TransferDriver(ParallelFor parallelFor = ParallelFor());
+
+  /// Step 1. `cells` needs no points. Sets `rebuilt` when the topology was built anew.
+  std::string SetMeshTopology(const TetMeshArrays& cells, bool& rebuilt);
+  /// Drop the topology (and so the plan): the next SetMeshTopology rebuilds.
+  void ForgetMesh();
+  const std::string& GetFingerprint() const { return this->Fingerprint; }
+  int GetNodesPerCell() const { return this->NodesPerCell; }
+  std::int64_t GetNumberOfCells() const { return this->NumberOfCells; }
+  std::int64_t GetNumberOfPoints() const { return this->Topology.NumberOfPoints; }
+
+  /// Step 2 (after step 1). `faceTolerance`: see DeduceBoundaryFace; `meshLength`: the
+  /// mesh's bounding-box diagonal (scale of the distance check; <= 0 or not finite: no
+  /// distance bound).
+  std::string BuildPlan(const TransferEmbedding& embedding, double faceTolerance, double meshLength);
+  /// False until a plan is built for the current topology.
+  bool HasPlan() const { return this->PlanVersion == this->TopologyVersion; }
+  std::int64_t GetNumberOfVertices() const { return static_cast<std::int64_t>(this->Plan.size()); }
+
+  /// Step 3 (after step 2): deformed vertices into `outDouble` or `outFloat` (3 per
+  /// vertex; exactly one given). `warnings` receives what the binding should report
+  /// (inverted cells, a normal mode that falls back to recompute).
+  std::string EvaluateFrame(const TransferFrame& frame, double* outDouble, float* outFloat,
+    std::vector<std::string>& warnings);
+  /// Inverted or degenerate cells of the last frame (0 unless counted).
+  std::int64_t GetNumberOfInvertedCells() const { return this->InvertedCells; }
+
+  /// Step 4: the surface's polygons (VTK offsets/connectivity layout) for vertex normals.
+  void SetPolygons(const std::int64_t* offsets, const std::int64_t* connectivity,
+    std::int64_t numberOfPolygons, std::int64_t numberOfVertices);
+  /// Unit area-weighted vertex normals (3 floats per vertex) of the transferred points.
+  void ComputeVertexNormals(const double* points, float* normals);
+  void ComputeVertexNormals(const float* points, float* normals);
+
+private:
+  void For(std::int64_t n, std::int64_t grain, const std::function<void(std::int64_t, std::int64_t)>& body) const;
+  std::string ComputeNodalNormals(const TransferFrame& frame, std::vector<std::string>& warnings);
+  template <typename T>
+  void VertexNormals(const T* points, float* normals);
+
+  ParallelFor Parallel;
+  // step 1
+  std::string Fingerprint;
+  int NodesPerCell = 0;
+  std::int64_t NumberOfCells = 0;
+  std::vector<std::int64_t> Conn;
+  TetMeshTopology Topology;
+  int TopologyVersion = 0;
+  // step 2
+  std::vector<TransferEntry> Plan;
+  bool PlanHasOffsets = false;
+  EmbeddingMethod PlanMethod = EmbeddingMethod::NormalOffset;
+  int PlanVersion = -1;
+  // step 3 (per-frame tables, reused)
+  std::vector<double> NodalNormals, CellCoeffs, FaceCoeffs;
+  std::vector<double> RestPoints, RestNormals;
+  bool RestValid = false;
+  std::int64_t InvertedCells = 0;
+  // step 4
+  std::vector<std::int64_t> PolyOffsets, PolyConn, IncOffsets, IncPolys;
+  std::vector<double> PolyNormals;
+};
+} // namespace hoembed
+
+#endif
