@@ -158,194 +158,12 @@ int vtkCorotationalFEMStepper::RequestData(
     I.Built = false;
     return 0;
   }
-  const vtkIdType nc = input->GetNumberOfCells();
-  const vtkIdType np = input->GetNumberOfPoints();
-
   if (!I.Built || input->GetMTime() > I.BuildTime || this->GetMTime() > I.BuildTime)
   {
-    I.Built = false;
-    I.StaticDone = false;
-    // Types, connectivity, node ranges and finite points: the one reader.
-    hoembed::TetMeshInput mesh;
-    std::vector<double> scratch;
-    const std::string readError = mesh.Read(
-      hoembed::ViewTetMesh(input, true, scratch), hoembed::TetMeshInput::KeepPoints);
-    if (!readError.empty())
+    if (!this->BuildSolver(input))
     {
-      vtkErrorMacro(<< readError << ".");
       return 0;
     }
-    const int npc = mesh.NodesPerCell;
-    const std::vector<double>& rest = mesh.Points;
-    // The solver's id type is long long (the reader's std::int64_t may be another 64-bit
-    // type of the same width).
-    const std::vector<long long> conn(mesh.Connectivity.begin(), mesh.Connectivity.end());
-    double xe[30];
-    for (vtkIdType c = 0; c < nc; ++c)
-    {
-      for (int a = 0; a < npc; ++a)
-      {
-        for (int i = 0; i < 3; ++i)
-        {
-          xe[3 * a + i] = rest[3 * conn[c * npc + a] + i];
-        }
-      }
-      const bool valid =
-        npc == 10 ? hoembed::Tet10IsValid(xe) : hoembed::Tet4JacobianDeterminant(xe) > 0.0;
-      if (!valid)
-      {
-        vtkErrorMacro("Rest cell " << c << " is inverted or has zero volume (det J <= 0).");
-        return 0;
-      }
-    }
-    std::string error;
-    long long bad = -1;
-    if (!I.Solver.Initialize(npc, nc, conn.data(), np, rest.data(), this->YoungModulus,
-          this->PoissonRatio, this->Density, this->LumpedMass, error, bad))
-    {
-      if (bad >= 0)
-      {
-        vtkErrorMacro("Cell " << bad << ": " << error << ".");
-      }
-      else
-      {
-        vtkErrorMacro(<< error << ".");
-      }
-      return 0;
-    }
-    // Clamps.
-    std::vector<unsigned char> fixed(np, 0);
-    const bool named = this->FixedArrayName && *this->FixedArrayName;
-    vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
-    if (!fixedArray && named)
-    {
-      // An array of that name that is not numeric point data would clamp nothing
-      // silently: refuse it, whether named by the user or the default "Fixed".
-      const bool asString = input->GetPointData()->GetAbstractArray(this->FixedArrayName);
-      const bool asCells = input->GetCellData()->GetAbstractArray(this->FixedArrayName) ||
-        input->GetFieldData()->GetAbstractArray(this->FixedArrayName);
-      if (asString)
-      {
-        vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                         << "' is a point-data array that is not numeric (e.g. "
-                                            "strings): the clamps need numbers (nonzero = clamped).");
-        return 0;
-      }
-      if (asCells)
-      {
-        vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                         << "' is cell or field data, not point data: the clamps "
-                                            "are per node (nonzero = clamped).");
-        return 0;
-      }
-      if (std::string(this->FixedArrayName) != hoembed::ArrayNames::Fixed)
-      {
-        vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                         << "' is not a point-data array of the input.");
-        return 0;
-      }
-    }
-    if (fixedArray && fixedArray->GetNumberOfTuples() != np)
-    {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName << "' has "
-                                       << fixedArray->GetNumberOfTuples() << " tuples, expected "
-                                       << np << " (one per point).");
-      return 0;
-    }
-    double bounds[6];
-    input->GetBounds(bounds);
-    const double diag = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-      (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
-      (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
-    const double tol = 1e-9 * diag;
-    double nrm[3] = { this->ClampPlaneNormal[0], this->ClampPlaneNormal[1],
-      this->ClampPlaneNormal[2] };
-    const double nlen = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-    if (this->UseClampPlane && !(nlen > 0.0))
-    {
-      vtkErrorMacro("ClampPlaneNormal must be a nonzero vector.");
-      return 0;
-    }
-    for (vtkIdType p = 0; p < np; ++p)
-    {
-      const double* x = &rest[3 * p];
-      bool f = fixedArray && fixedArray->GetComponent(p, 0) != 0.0;
-      if (this->UseClampPlane)
-      {
-        double d = 0.0;
-        for (int i = 0; i < 3; ++i)
-        {
-          d += (x[i] - this->ClampPlaneOrigin[i]) * nrm[i] / nlen;
-        }
-        f = f || d <= tol;
-      }
-      if (this->UseClampBox)
-      {
-        const double* b = this->ClampBox;
-        f = f ||
-          (x[0] >= b[0] - tol && x[0] <= b[1] + tol && x[1] >= b[2] - tol && x[1] <= b[3] + tol &&
-            x[2] >= b[4] - tol && x[2] <= b[5] + tol);
-      }
-      fixed[p] = f ? 1 : 0;
-    }
-    I.Solver.SetFixed(fixed.data());
-    // Loads.
-    bool bad3 = false;
-    vtkDataArray* forceArray = GetVectorArray(input, this->ExternalForceArrayName, bad3);
-    if (bad3)
-    {
-      vtkErrorMacro("ExternalForceArrayName '" << this->ExternalForceArrayName
-                                               << "' is not a 3-component point-data array.");
-      return 0;
-    }
-    std::vector<double> forces;
-    if (forceArray)
-    {
-      forces.resize(3 * np);
-      for (vtkIdType p = 0; p < np; ++p)
-      {
-        forceArray->GetTuple(p, &forces[3 * p]);
-      }
-    }
-    I.Solver.SetExternalForces(this->Gravity, forceArray ? forces.data() : nullptr);
-    // Initial state.
-    vtkDataArray* u0 = GetVectorArray(input, this->InitialDisplacementArrayName, bad3);
-    if (bad3)
-    {
-      vtkErrorMacro("InitialDisplacementArrayName '" << this->InitialDisplacementArrayName
-                                                     << "' is not a 3-component point-data array.");
-      return 0;
-    }
-    vtkDataArray* v0 = GetVectorArray(input, this->InitialVelocityArrayName, bad3);
-    if (bad3)
-    {
-      vtkErrorMacro("InitialVelocityArrayName '" << this->InitialVelocityArrayName
-                                                 << "' is not a 3-component point-data array.");
-      return 0;
-    }
-    I.InitialX = rest;
-    I.InitialV.assign(3 * np, 0.0);
-    for (vtkIdType p = 0; p < np; ++p)
-    {
-      for (int i = 0; i < 3; ++i)
-      {
-        if (u0)
-        {
-          I.InitialX[3 * p + i] += u0->GetComponent(p, i);
-        }
-        if (v0)
-        {
-          I.InitialV[3 * p + i] = v0->GetComponent(p, i);
-        }
-      }
-    }
-    I.Solver.SetTimeStep(this->TimeStep);
-    I.Solver.SetRayleighDamping(this->RayleighMass, this->RayleighStiffness);
-    I.Solver.SetSolverControls(this->SolverTolerance, this->MaxSolverIterations);
-    I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
-    I.CurrentStep = 0;
-    I.Built = true;
-    I.BuildTime.Modified();
   }
 
   // Requested step.
@@ -358,6 +176,222 @@ int vtkCorotationalFEMStepper::RequestData(
   k = std::max(0LL, std::min<long long>(k, this->NumberOfTimeSteps));
   const double tk = static_cast<double>(k) * this->TimeStep;
 
+  if (!this->Advance(k, output))
+  {
+    return 0;
+  }
+  const auto& T = I.Solver.GetTimings();
+  this->LastNumberOfSteps = static_cast<int>(T.Steps);
+  this->LastRotationTime = T.Rotation;
+  this->LastAssemblyTime = T.Assembly;
+  this->LastSolveTime = T.Solve;
+  this->LastSolverIterations = static_cast<int>(T.Iterations);
+  this->LastNumberOfFactorizations = static_cast<int>(T.Factorizations);
+  this->LastFactorizationTime = T.Factorization;
+
+  this->WriteOutput(input, output, tk);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+// Read the mesh (the one reader, then the rest validity of every cell), set up the
+// solver, its clamps, loads and initial state.
+bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
+{
+  Internals& I = *this->Internal;
+  const vtkIdType nc = input->GetNumberOfCells();
+  const vtkIdType np = input->GetNumberOfPoints();
+  I.Built = false;
+  I.StaticDone = false;
+  // Types, connectivity, node ranges and finite points: the one reader.
+  hoembed::TetMeshInput mesh;
+  std::vector<double> scratch;
+  const std::string readError = mesh.Read(
+    hoembed::ViewTetMesh(input, true, scratch), hoembed::TetMeshInput::KeepPoints);
+  if (!readError.empty())
+  {
+    vtkErrorMacro(<< readError << ".");
+    return 0;
+  }
+  const int npc = mesh.NodesPerCell;
+  const std::vector<double>& rest = mesh.Points;
+  // The solver's id type is long long (the reader's std::int64_t may be another 64-bit
+  // type of the same width).
+  const std::vector<long long> conn(mesh.Connectivity.begin(), mesh.Connectivity.end());
+  double xe[30];
+  for (vtkIdType c = 0; c < nc; ++c)
+  {
+    for (int a = 0; a < npc; ++a)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        xe[3 * a + i] = rest[3 * conn[c * npc + a] + i];
+      }
+    }
+    const bool valid =
+      npc == 10 ? hoembed::Tet10IsValid(xe) : hoembed::Tet4JacobianDeterminant(xe) > 0.0;
+    if (!valid)
+    {
+      vtkErrorMacro("Rest cell " << c << " is inverted or has zero volume (det J <= 0).");
+      return 0;
+    }
+  }
+  std::string error;
+  long long bad = -1;
+  if (!I.Solver.Initialize(npc, nc, conn.data(), np, rest.data(), this->YoungModulus,
+        this->PoissonRatio, this->Density, this->LumpedMass, error, bad))
+  {
+    if (bad >= 0)
+    {
+      vtkErrorMacro("Cell " << bad << ": " << error << ".");
+    }
+    else
+    {
+      vtkErrorMacro(<< error << ".");
+    }
+    return 0;
+  }
+  // Clamps.
+  std::vector<unsigned char> fixed(np, 0);
+  const bool named = this->FixedArrayName && *this->FixedArrayName;
+  vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
+  if (!fixedArray && named)
+  {
+    // An array of that name that is not numeric point data would clamp nothing
+    // silently: refuse it, whether named by the user or the default "Fixed".
+    const bool asString = input->GetPointData()->GetAbstractArray(this->FixedArrayName);
+    const bool asCells = input->GetCellData()->GetAbstractArray(this->FixedArrayName) ||
+      input->GetFieldData()->GetAbstractArray(this->FixedArrayName);
+    if (asString)
+    {
+      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                       << "' is a point-data array that is not numeric (e.g. "
+                                          "strings): the clamps need numbers (nonzero = clamped).");
+      return 0;
+    }
+    if (asCells)
+    {
+      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                       << "' is cell or field data, not point data: the clamps "
+                                          "are per node (nonzero = clamped).");
+      return 0;
+    }
+    if (std::string(this->FixedArrayName) != hoembed::ArrayNames::Fixed)
+    {
+      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
+                                       << "' is not a point-data array of the input.");
+      return 0;
+    }
+  }
+  if (fixedArray && fixedArray->GetNumberOfTuples() != np)
+  {
+    vtkErrorMacro("FixedArrayName '" << this->FixedArrayName << "' has "
+                                     << fixedArray->GetNumberOfTuples() << " tuples, expected "
+                                     << np << " (one per point).");
+    return 0;
+  }
+  double bounds[6];
+  input->GetBounds(bounds);
+  const double diag = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  const double tol = 1e-9 * diag;
+  double nrm[3] = { this->ClampPlaneNormal[0], this->ClampPlaneNormal[1],
+    this->ClampPlaneNormal[2] };
+  const double nlen = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  if (this->UseClampPlane && !(nlen > 0.0))
+  {
+    vtkErrorMacro("ClampPlaneNormal must be a nonzero vector.");
+    return 0;
+  }
+  for (vtkIdType p = 0; p < np; ++p)
+  {
+    const double* x = &rest[3 * p];
+    bool f = fixedArray && fixedArray->GetComponent(p, 0) != 0.0;
+    if (this->UseClampPlane)
+    {
+      double d = 0.0;
+      for (int i = 0; i < 3; ++i)
+      {
+        d += (x[i] - this->ClampPlaneOrigin[i]) * nrm[i] / nlen;
+      }
+      f = f || d <= tol;
+    }
+    if (this->UseClampBox)
+    {
+      const double* b = this->ClampBox;
+      f = f ||
+        (x[0] >= b[0] - tol && x[0] <= b[1] + tol && x[1] >= b[2] - tol && x[1] <= b[3] + tol &&
+          x[2] >= b[4] - tol && x[2] <= b[5] + tol);
+    }
+    fixed[p] = f ? 1 : 0;
+  }
+  I.Solver.SetFixed(fixed.data());
+  // Loads.
+  bool bad3 = false;
+  vtkDataArray* forceArray = GetVectorArray(input, this->ExternalForceArrayName, bad3);
+  if (bad3)
+  {
+    vtkErrorMacro("ExternalForceArrayName '" << this->ExternalForceArrayName
+                                             << "' is not a 3-component point-data array.");
+    return 0;
+  }
+  std::vector<double> forces;
+  if (forceArray)
+  {
+    forces.resize(3 * np);
+    for (vtkIdType p = 0; p < np; ++p)
+    {
+      forceArray->GetTuple(p, &forces[3 * p]);
+    }
+  }
+  I.Solver.SetExternalForces(this->Gravity, forceArray ? forces.data() : nullptr);
+  // Initial state.
+  vtkDataArray* u0 = GetVectorArray(input, this->InitialDisplacementArrayName, bad3);
+  if (bad3)
+  {
+    vtkErrorMacro("InitialDisplacementArrayName '" << this->InitialDisplacementArrayName
+                                                   << "' is not a 3-component point-data array.");
+    return 0;
+  }
+  vtkDataArray* v0 = GetVectorArray(input, this->InitialVelocityArrayName, bad3);
+  if (bad3)
+  {
+    vtkErrorMacro("InitialVelocityArrayName '" << this->InitialVelocityArrayName
+                                               << "' is not a 3-component point-data array.");
+    return 0;
+  }
+  I.InitialX = rest;
+  I.InitialV.assign(3 * np, 0.0);
+  for (vtkIdType p = 0; p < np; ++p)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      if (u0)
+      {
+        I.InitialX[3 * p + i] += u0->GetComponent(p, i);
+      }
+      if (v0)
+      {
+        I.InitialV[3 * p + i] = v0->GetComponent(p, i);
+      }
+    }
+  }
+  I.Solver.SetTimeStep(this->TimeStep);
+  I.Solver.SetRayleighDamping(this->RayleighMass, this->RayleighStiffness);
+  I.Solver.SetSolverControls(this->SolverTolerance, this->MaxSolverIterations);
+  I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
+  I.CurrentStep = 0;
+  I.Built = true;
+  I.BuildTime.Modified();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Bring the solver to step k (or to the static equilibrium); false with an error.
+bool vtkCorotationalFEMStepper::Advance(long long k, vtkUnstructuredGrid* output)
+{
+  Internals& I = *this->Internal;
   I.Solver.ResetTimings();
   if (this->StaticSolve)
   {
@@ -369,7 +403,7 @@ int vtkCorotationalFEMStepper::RequestData(
       {
         vtkErrorMacro("StaticSolve failed: " << error << ".");
         I.Built = false;
-        return 0;
+        return false;
       }
       I.StaticDone = true;
     }
@@ -391,7 +425,7 @@ int vtkCorotationalFEMStepper::RequestData(
                                                        << "): reduce TimeStep or the loads.");
         I.Built = false; // restart from the initial state next time
         output->Initialize();
-        return 0;
+        return false;
       }
       ++I.CurrentStep;
       if (todo > 1 && (s % 16 == 0 || s + 1 == todo))
@@ -400,16 +434,17 @@ int vtkCorotationalFEMStepper::RequestData(
       }
     }
   }
-  const auto& T = I.Solver.GetTimings();
-  this->LastNumberOfSteps = static_cast<int>(T.Steps);
-  this->LastRotationTime = T.Rotation;
-  this->LastAssemblyTime = T.Assembly;
-  this->LastSolveTime = T.Solve;
-  this->LastSolverIterations = static_cast<int>(T.Iterations);
-  this->LastNumberOfFactorizations = static_cast<int>(T.Factorizations);
-  this->LastFactorizationTime = T.Factorization;
+  return true;
+}
 
-  // Output.
+//------------------------------------------------------------------------------
+// The input's structure and data, the current positions and the stepper's arrays.
+void vtkCorotationalFEMStepper::WriteOutput(
+  vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, double tk)
+{
+  Internals& I = *this->Internal;
+  const vtkIdType nc = input->GetNumberOfCells();
+  const vtkIdType np = input->GetNumberOfPoints();
   output->CopyStructure(input);
   output->GetPointData()->PassData(input->GetPointData());
   output->GetCellData()->PassData(input->GetCellData());
@@ -459,7 +494,6 @@ int vtkCorotationalFEMStepper::RequestData(
   addField("SolverIterations", I.Solver.GetLastIterations());
   output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), tk);
   this->UpdateProgress(1.0);
-  return 1;
 }
 
 void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)

@@ -224,6 +224,11 @@ private:
   void operator=(const vtkCorotationalFEMStepper&) = delete;
 
   bool CheckProperties();
+  // The steps of RequestData: read the mesh and set up the solver (clamps, loads, initial
+  // state), advance it to step k, write the output at time tk.
+  bool BuildSolver(vtkUnstructuredGrid* input);
+  bool Advance(long long k, vtkUnstructuredGrid* output);
+  void WriteOutput(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, double tk);
   struct Internals;
   Internals* Internal;
 };
