@@ -211,7 +211,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
   if (!readError.empty())
   {
     vtkErrorMacro(<< readError << ".");
-    return 0;
+    return false;
   }
   const int npc = mesh.NodesPerCell;
   const std::vector<double>& rest = mesh.Points;
@@ -233,7 +233,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
     if (!valid)
     {
       vtkErrorMacro("Rest cell " << c << " is inverted or has zero volume (det J <= 0).");
-      return 0;
+      return false;
     }
   }
   std::string error;
@@ -249,8 +249,28 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
     {
       vtkErrorMacro(<< error << ".");
     }
-    return 0;
+    return false;
   }
+  if (!this->SetupClamps(input, rest) || !this->SetupLoadsAndState(input, rest))
+  {
+    return false;
+  }
+  I.Solver.SetTimeStep(this->TimeStep);
+  I.Solver.SetRayleighDamping(this->RayleighMass, this->RayleighStiffness);
+  I.Solver.SetSolverControls(this->SolverTolerance, this->MaxSolverIterations);
+  I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
+  I.CurrentStep = 0;
+  I.Built = true;
+  I.BuildTime.Modified();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Clamped nodes: the Fixed array (numeric point data), the clamp plane and the clamp box.
+bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const std::vector<double>& rest)
+{
+  Internals& I = *this->Internal;
+  const vtkIdType np = input->GetNumberOfPoints();
   // Clamps.
   std::vector<unsigned char> fixed(np, 0);
   const bool named = this->FixedArrayName && *this->FixedArrayName;
@@ -267,20 +287,20 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
       vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
                                        << "' is a point-data array that is not numeric (e.g. "
                                           "strings): the clamps need numbers (nonzero = clamped).");
-      return 0;
+      return false;
     }
     if (asCells)
     {
       vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
                                        << "' is cell or field data, not point data: the clamps "
                                           "are per node (nonzero = clamped).");
-      return 0;
+      return false;
     }
     if (std::string(this->FixedArrayName) != hoembed::ArrayNames::Fixed)
     {
       vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
                                        << "' is not a point-data array of the input.");
-      return 0;
+      return false;
     }
   }
   if (fixedArray && fixedArray->GetNumberOfTuples() != np)
@@ -288,7 +308,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
     vtkErrorMacro("FixedArrayName '" << this->FixedArrayName << "' has "
                                      << fixedArray->GetNumberOfTuples() << " tuples, expected "
                                      << np << " (one per point).");
-    return 0;
+    return false;
   }
   double bounds[6];
   input->GetBounds(bounds);
@@ -302,7 +322,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
   if (this->UseClampPlane && !(nlen > 0.0))
   {
     vtkErrorMacro("ClampPlaneNormal must be a nonzero vector.");
-    return 0;
+    return false;
   }
   for (vtkIdType p = 0; p < np; ++p)
   {
@@ -327,6 +347,16 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
     fixed[p] = f ? 1 : 0;
   }
   I.Solver.SetFixed(fixed.data());
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Loads (gravity, nodal forces) and the initial state (displacement, velocity).
+bool vtkCorotationalFEMStepper::SetupLoadsAndState(
+  vtkUnstructuredGrid* input, const std::vector<double>& rest)
+{
+  Internals& I = *this->Internal;
+  const vtkIdType np = input->GetNumberOfPoints();
   // Loads.
   bool bad3 = false;
   vtkDataArray* forceArray = GetVectorArray(input, this->ExternalForceArrayName, bad3);
@@ -334,7 +364,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
   {
     vtkErrorMacro("ExternalForceArrayName '" << this->ExternalForceArrayName
                                              << "' is not a 3-component point-data array.");
-    return 0;
+    return false;
   }
   std::vector<double> forces;
   if (forceArray)
@@ -352,14 +382,14 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
   {
     vtkErrorMacro("InitialDisplacementArrayName '" << this->InitialDisplacementArrayName
                                                    << "' is not a 3-component point-data array.");
-    return 0;
+    return false;
   }
   vtkDataArray* v0 = GetVectorArray(input, this->InitialVelocityArrayName, bad3);
   if (bad3)
   {
     vtkErrorMacro("InitialVelocityArrayName '" << this->InitialVelocityArrayName
                                                << "' is not a 3-component point-data array.");
-    return 0;
+    return false;
   }
   I.InitialX = rest;
   I.InitialV.assign(3 * np, 0.0);
@@ -377,13 +407,6 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
       }
     }
   }
-  I.Solver.SetTimeStep(this->TimeStep);
-  I.Solver.SetRayleighDamping(this->RayleighMass, this->RayleighStiffness);
-  I.Solver.SetSolverControls(this->SolverTolerance, this->MaxSolverIterations);
-  I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
-  I.CurrentStep = 0;
-  I.Built = true;
-  I.BuildTime.Modified();
   return true;
 }
 

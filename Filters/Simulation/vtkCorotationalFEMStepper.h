@@ -75,6 +75,8 @@
 #include "hoembedFiltersSimulationModule.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
+#include <vector> // for std::vector
+
 class HOEMBEDFILTERSSIMULATION_EXPORT vtkCorotationalFEMStepper : public vtkUnstructuredGridAlgorithm
 {
 public:
@@ -227,6 +229,8 @@ private:
   // The steps of RequestData: read the mesh and set up the solver (clamps, loads, initial
   // state), advance it to step k, write the output at time tk.
   bool BuildSolver(vtkUnstructuredGrid* input);
+  bool SetupClamps(vtkUnstructuredGrid* input, const std::vector<double>& rest);
+  bool SetupLoadsAndState(vtkUnstructuredGrid* input, const std::vector<double>& rest);
   bool Advance(long long k, vtkUnstructuredGrid* output);
   void WriteOutput(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, double tk);
   struct Internals;
