@@ -2,6 +2,7 @@
 
 #include "hoembedClosestPoint.h"
 #include "hoembedEmbeddingFlood.h"
+#include "hoembedSurfaceTriangles.h"
 #include "hoembedArrayNames.h"
 #include "hoembedTetMeshInputVTK.h"
 
@@ -40,6 +41,28 @@ vtkStandardNewMacro(vtkEmbeddingCoordinatesFilter);
 namespace
 {
 using Id = hoembed::EmbeddingMesh::Id;
+
+// Views of a vtkCellArray's offsets and connectivity for the triangle kernel.
+hoembed::CellArrayView ViewCells(vtkCellArray* ca)
+{
+  hoembed::CellArrayView v;
+  v.NumberOfCells = ca ? ca->GetNumberOfCells() : 0;
+  if (v.NumberOfCells == 0)
+    return v;
+  if (ca->IsStorage64Bit())
+  {
+    v.Offsets64 = reinterpret_cast<const std::int64_t*>(ca->GetOffsetsArray64()->GetPointer(0));
+    v.Connectivity64 =
+      reinterpret_cast<const std::int64_t*>(ca->GetConnectivityArray64()->GetPointer(0));
+  }
+  else
+  {
+    v.Offsets32 = reinterpret_cast<const std::int32_t*>(ca->GetOffsetsArray32()->GetPointer(0));
+    v.Connectivity32 =
+      reinterpret_cast<const std::int32_t*>(ca->GetConnectivityArray32()->GetPointer(0));
+  }
+  return v;
+}
 
 // Copy the surface's points as 3 doubles each (float and double arrays read directly);
 // false with `bad` the first point with a non-finite coordinate.
@@ -213,69 +236,54 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     return 0;
   }
   vtkIdType bad = -1;
-  std::vector<double>& sp = internals.SurfacePoints; // 3 doubles each
-  if (!CopyFinitePoints(surface->GetPoints(), sp, bad))
+  if (!CopyFinitePoints(surface->GetPoints(), internals.SurfacePoints, bad))
   {
     vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
     return 0;
   }
-  // surface points and triangles
-  const vtkIdType ns = surface->GetNumberOfPoints();
+  // the surface's triangles (polygons fanned, strips split); their problems are reported
+  // after the mesh's
   std::vector<Id>& tris = internals.Triangles;
   tris.clear();
+  hoembed::AppendSurfaceTriangles(ViewCells(surface->GetPolys()), ViewCells(surface->GetStrips()), tris);
+  const std::string surfaceError = hoembed::CheckSurfaceTriangles(tris, surface->GetNumberOfPoints());
+  if (!this->PrepareMeshAndOrder(mesh, surface->GetNumberOfPoints(), surfaceError))
   {
-    // a polygon or strip of k points gives k - 2 triangles
-    vtkIdType ntri = 0;
-    for (vtkCellArray* ca : { surface->GetPolys(), surface->GetStrips() })
-      ntri += std::max<vtkIdType>(0, ca->GetNumberOfConnectivityIds() - 2 * ca->GetNumberOfCells());
-    tris.reserve(3 * static_cast<size_t>(ntri));
-    auto it = vtk::TakeSmartPointer(surface->GetPolys()->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType n;
-      const vtkIdType* p;
-      it->GetCurrentCell(n, p);
-      for (vtkIdType k = 1; k + 1 < n; ++k)
-      {
-        tris.push_back(p[0]);
-        tris.push_back(p[k]);
-        tris.push_back(p[k + 1]);
-      }
-    }
-    auto st = vtk::TakeSmartPointer(surface->GetStrips()->NewIterator());
-    for (st->GoToFirstCell(); !st->IsDoneWithTraversal(); st->GoToNextCell())
-    {
-      vtkIdType n;
-      const vtkIdType* p;
-      st->GetCurrentCell(n, p);
-      for (vtkIdType k = 0; k + 2 < n; ++k)
-      {
-        tris.push_back(p[k]);
-        tris.push_back(p[k + 1]);
-        tris.push_back(p[k + 2]);
-      }
-    }
+    return 0;
   }
-  // the surface's problems are reported after the mesh's
-  std::string surfaceError;
-  if (tris.size() / 3 > static_cast<size_t>(VTK_INT_MAX))
-    surfaceError = "The surface has more than 2^31 triangles, which is not supported.";
-  for (Id id : tris)
-  {
-    if (surfaceError.empty() && (id < 0 || id >= ns))
-    {
-      std::ostringstream os;
-      os << "A surface polygon refers to point " << id << ", out of range [0, " << ns << ").";
-      surfaceError = os.str();
-    }
-  }
+  this->UpdateProgress(0.1);
 
+  const int method =
+    this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
+  hoembed::FloodSurface(internals.Mesh, method, internals.Results,
+    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); }, nullptr, internals.Flood);
+  // surface-sized memory beyond the cap is given back however this Update ends
+  struct Trim
+  {
+    vtkInternals* Internals;
+    ~Trim() { this->Internals->ReleaseLargeSurfaceMemory(); }
+  } trim{ this->Internals.get() };
+  if (!this->WriteOutput(surface, method, output))
+  {
+    return 0;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+// Prepare the FE mesh (unless the prepared one serves) and order the surface for the
+// flood; report the mesh's problem, else `surfaceError`, else none.
+bool vtkEmbeddingCoordinatesFilter::PrepareMeshAndOrder(
+  vtkUnstructuredGrid* mesh, vtkIdType ns, const std::string& surfaceError)
+{
+  vtkInternals& internals = *this->Internals;
+  const std::vector<double>& sp = internals.SurfacePoints;
+  const std::vector<Id>& tris = internals.Triangles;
   // The FE mesh is prepared anew unless the prepared one belongs to this very input
   // (ReuseMeshPreparation) and was validated when validation is asked for. The surface's
   // order for the flood depends on the surface only: it is built meanwhile (two tasks;
   // on two threads the preparation's serial parts and the ordering overlap). Both tasks
   // only record problems; messages and progress come from this thread.
-  hoembed::EmbeddingMesh& em = internals.Mesh;
   const MeshState meshState = MeshState::Of(mesh);
   const bool prepare = !(this->ReuseMeshPreparation && internals.PreparedState == meshState &&
     (internals.PreparedValidated || !this->ValidateElements));
@@ -296,7 +304,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   if (!meshError.empty())
   {
     vtkErrorMacro(<< meshError);
-    return 0;
+    return false;
   }
   if (prepare)
   {
@@ -307,22 +315,19 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   if (!surfaceError.empty())
   {
     vtkErrorMacro(<< surfaceError);
-    return 0;
+    return false;
   }
-  this->UpdateProgress(0.1);
+  return true;
+}
 
-  std::vector<hoembed::VertexEmbedding>& res = internals.Results;
-  const int method =
-    this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
-  hoembed::FloodSurface(em, method, res, [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); },
-    nullptr, internals.Flood);
-  // surface-sized memory beyond the cap is given back however this Update ends
-  struct Trim
-  {
-    vtkInternals* Internals;
-    ~Trim() { this->Internals->ReleaseLargeSurfaceMemory(); }
-  } trim{ this->Internals.get() };
-
+// The embedding arrays (in surface point order) and field data on a shallow copy of the
+// surface; false with an error when a point has no finite result.
+bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method, vtkPolyData* output)
+{
+  vtkInternals& internals = *this->Internals;
+  const vtkIdType ns = surface->GetNumberOfPoints();
+  const std::vector<hoembed::VertexEmbedding>& res = internals.Results;
+  const std::vector<Id>& order = internals.Order; // res[k] belongs to surface point order[k]
   vtkNew<vtkIdTypeArray> cellId;
   cellId->SetName(hoembed::ArrayNames::EmbeddingCellId);
   cellId->SetNumberOfTuples(ns);
@@ -388,7 +393,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   {
     vtkErrorMacro("Surface point " << firstFailed.load()
                                    << " could not be embedded (non-finite result).");
-    return 0;
+    return false;
   }
   this->NumberOfUncertifiedPoints = uncertified.load();
   if (this->NumberOfUncertifiedPoints > 0)
@@ -423,7 +428,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   fd->AddArray(fp);
   output->SetFieldData(fd);
   this->UpdateProgress(1.0);
-  return 1;
+  return true;
 }
 
 void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
