@@ -21,6 +21,37 @@
 
 namespace hoembed
 {
+/// The coordinates of `pts` without a copy when they are doubles or floats (`d` or `f`
+/// set, the other null); other types are converted into `scratch` (`d` points there).
+inline void ViewPoints(vtkPoints* pts, const double*& d, const float*& f, std::vector<double>& scratch)
+{
+  d = nullptr;
+  f = nullptr;
+  const vtkIdType n = pts ? pts->GetNumberOfPoints() : 0;
+  if (n == 0)
+  {
+    return;
+  }
+  vtkDataArray* data = pts->GetData();
+  if (auto* da = vtkDoubleArray::FastDownCast(data))
+  {
+    d = da->GetPointer(0);
+  }
+  else if (auto* fa = vtkFloatArray::FastDownCast(data))
+  {
+    f = fa->GetPointer(0);
+  }
+  else
+  {
+    scratch.resize(3 * static_cast<std::size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      pts->GetPoint(i, &scratch[3 * i]);
+    }
+    d = scratch.data();
+  }
+}
+
 /// Fill `a` with views of `mesh` (cells always; points when `withPoints`). Points of a
 /// type other than float or double are copied into `scratch`.
 inline TetMeshArrays ViewTetMesh(
@@ -33,26 +64,9 @@ inline TetMeshArrays ViewTetMesh(
   }
   vtkPoints* pts = mesh->GetPoints();
   a.NumberOfPoints = pts ? pts->GetNumberOfPoints() : 0;
-  if (withPoints && pts && a.NumberOfPoints > 0)
+  if (withPoints && a.NumberOfPoints > 0)
   {
-    vtkDataArray* data = pts->GetData();
-    if (auto* d = vtkDoubleArray::FastDownCast(data))
-    {
-      a.PointsDouble = d->GetPointer(0);
-    }
-    else if (auto* f = vtkFloatArray::FastDownCast(data))
-    {
-      a.PointsFloat = f->GetPointer(0);
-    }
-    else
-    {
-      scratch.resize(3 * static_cast<std::size_t>(a.NumberOfPoints));
-      for (vtkIdType i = 0; i < a.NumberOfPoints; ++i)
-      {
-        pts->GetPoint(i, &scratch[3 * i]);
-      }
-      a.PointsDouble = scratch.data();
-    }
+    ViewPoints(pts, a.PointsDouble, a.PointsFloat, scratch);
   }
   vtkCellArray* cells = mesh->GetCells();
   vtkUnsignedCharArray* types = mesh->GetCellTypesArray();

@@ -69,17 +69,13 @@ hoembed::CellArrayView ViewCells(vtkCellArray* ca)
 bool CopyFinitePoints(vtkPoints* pts, std::vector<double>& out, vtkIdType& bad)
 {
   const vtkIdType n = pts->GetNumberOfPoints();
-  vtkDataArray* data = pts->GetData();
-  if (auto* d = vtkDoubleArray::FastDownCast(data))
-    out.assign(d->GetPointer(0), d->GetPointer(0) + 3 * n);
-  else if (auto* f = vtkFloatArray::FastDownCast(data))
-    out.assign(f->GetPointer(0), f->GetPointer(0) + 3 * n);
-  else
-  {
-    out.resize(3 * static_cast<size_t>(n));
-    for (vtkIdType i = 0; i < n; ++i)
-      pts->GetPoint(i, &out[3 * i]);
-  }
+  const double* d = nullptr;
+  const float* f = nullptr;
+  hoembed::ViewPoints(pts, d, f, out);
+  if (d && d != out.data())
+    out.assign(d, d + 3 * n);
+  else if (f)
+    out.assign(f, f + 3 * n);
   bad = hoembed::FirstNonFinitePoint(out.data(), n);
   return bad < 0;
 }

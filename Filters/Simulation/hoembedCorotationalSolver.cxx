@@ -15,45 +15,20 @@ CorotationalSolver::CorotationalSolver()
 
 CorotationalSolver::~CorotationalSolver() = default;
 
-bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
-  const long long* connectivity, long long numberOfPoints, const double* restPoints,
-  double young, double poisson, double density, bool lumpedMass, std::string& error,
-  long long& badCell)
+namespace
 {
-  Impl& I = *this->P;
-  badCell = -1;
-  if (nodesPerCell != 4 && nodesPerCell != 10)
-  {
-    error = "only 4- or 10-node tetrahedra are supported";
-    return false;
-  }
-  I.N = nodesPerCell;
-  I.D = 3 * nodesPerCell;
-  I.NC = numberOfCells;
-  I.NP = numberOfPoints;
-  I.Young = young;
-  I.Poisson = poisson;
-  I.Density = density;
-  I.Conn.assign(connectivity, connectivity + numberOfCells * nodesPerCell);
-  for (long long k = 0; k < numberOfCells * nodesPerCell; ++k)
-  {
-    if (connectivity[k] < 0 || connectivity[k] >= numberOfPoints)
-    {
-      badCell = k / nodesPerCell;
-      error = "a cell references a point id out of range";
-      return false;
-    }
-  }
-  I.X.assign(restPoints, restPoints + 3 * numberOfPoints);
+// The steps of CorotationalSolver::Initialize.
+
+// Per cell (in parallel): rest stiffness Ke (made exactly symmetric), centroid shape
+// gradients G, the per-component mass block Me (consistent or HRZ-lumped) and the
+// integral of each shape function times density fg; bad[e] = 1 for a cell of zero or
+// negative volume.
+void ComputeElementMatrices(CorotationalSolver::Impl& I, double young, double poisson,
+  double density, bool lumpedMass, std::vector<double>& Me, std::vector<double>& fg,
+  std::vector<char>& bad)
+{
   const int N = I.N, D = I.D;
   const long long NC = I.NC;
-  I.Ke.assign(NC * D * D, 0.0);
-  I.G.assign(NC * N * 3, 0.0);
-  I.Rot.assign(NC * 9, 0.0);
-  std::vector<double> Me(NC * N * N, 0.0); // per-component mass block
-  std::vector<double> fg(NC * N, 0.0);    // integral of N_a (times density)
-  std::vector<char> bad(NC, 0);
-
   ParallelFor(NC, 64, // heavy per cell: worth threads early
     [&](vtkIdType begin, vtkIdType end)
     {
@@ -113,16 +88,13 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
         }
       }
     });
-  for (long long e = 0; e < NC; ++e)
-  {
-    if (bad[e])
-    {
-      badCell = e;
-      error = "a cell has zero or negative volume (det J <= 0 at a quadrature point)";
-      return false;
-    }
-  }
+}
 
+// The sparsity pattern of the 3x3 node blocks (node adjacency) into I.A.
+void BuildBlockPattern(CorotationalSolver::Impl& I)
+{
+  const int N = I.N;
+  const long long NC = I.NC;
   // Sparsity pattern: node adjacency -> 3x3 blocks.
   std::vector<std::vector<int>> adj(I.NP);
   for (long long e = 0; e < NC; ++e)
@@ -159,6 +131,15 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   I.A.resize(3 * I.NP, 3 * I.NP);
   I.A.setFromTriplets(trip.begin(), trip.end());
   I.A.makeCompressed();
+}
+
+// The global stiffness and mass values on I.A's pattern, the nodal body force, the node
+// cell counts, the mass matrix M and its per-component form MN.
+void AssembleGlobalMatrices(
+  CorotationalSolver::Impl& I, const std::vector<double>& Me, const std::vector<double>& fg)
+{
+  const int N = I.N, D = I.D;
+  const long long NC = I.NC;
   const int* outer = I.A.outerIndexPtr();
   const int* inner = I.A.innerIndexPtr();
   auto position = [&](int row, int col)
@@ -217,6 +198,61 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
     I.MN.setFromTriplets(mt.begin(), mt.end());
     I.MN.makeCompressed();
   }
+}
+} // namespace
+
+bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
+  const long long* connectivity, long long numberOfPoints, const double* restPoints,
+  double young, double poisson, double density, bool lumpedMass, std::string& error,
+  long long& badCell)
+{
+  Impl& I = *this->P;
+  badCell = -1;
+  if (nodesPerCell != 4 && nodesPerCell != 10)
+  {
+    error = "only 4- or 10-node tetrahedra are supported";
+    return false;
+  }
+  I.N = nodesPerCell;
+  I.D = 3 * nodesPerCell;
+  I.NC = numberOfCells;
+  I.NP = numberOfPoints;
+  I.Young = young;
+  I.Poisson = poisson;
+  I.Density = density;
+  I.Conn.assign(connectivity, connectivity + numberOfCells * nodesPerCell);
+  for (long long k = 0; k < numberOfCells * nodesPerCell; ++k)
+  {
+    if (connectivity[k] < 0 || connectivity[k] >= numberOfPoints)
+    {
+      badCell = k / nodesPerCell;
+      error = "a cell references a point id out of range";
+      return false;
+    }
+  }
+  I.X.assign(restPoints, restPoints + 3 * numberOfPoints);
+  const int N = I.N, D = I.D;
+  const long long NC = I.NC;
+  I.Ke.assign(NC * D * D, 0.0);
+  I.G.assign(NC * N * 3, 0.0);
+  I.Rot.assign(NC * 9, 0.0);
+  std::vector<double> Me(NC * N * N, 0.0); // per-component mass block
+  std::vector<double> fg(NC * N, 0.0);    // integral of N_a (times density)
+  std::vector<char> bad(NC, 0);
+
+  ComputeElementMatrices(I, young, poisson, density, lumpedMass, Me, fg, bad);
+  for (long long e = 0; e < NC; ++e)
+  {
+    if (bad[e])
+    {
+      badCell = e;
+      error = "a cell has zero or negative volume (det J <= 0 at a quadrature point)";
+      return false;
+    }
+  }
+
+  BuildBlockPattern(I);
+  AssembleGlobalMatrices(I, Me, fg);
   I.BuildBlocks();
   I.Free.assign(3 * I.NP, 1);
   this->SetFixed(nullptr);

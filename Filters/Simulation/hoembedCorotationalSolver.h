@@ -139,8 +139,11 @@ public:
   int GetLastIterations() const;
   double GetLastRelativeResidual() const;
 
-private:
+  /// The solver's state (hoembedCorotationalSolverImpl.h); named here so that the steps
+  /// of Initialize can be plain functions over it.
   struct Impl;
+
+private:
   std::unique_ptr<Impl> P;
 };
 } // namespace hoembed
