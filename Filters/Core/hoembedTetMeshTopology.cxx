@@ -84,6 +84,10 @@ std::string TetMeshTopology::Build(
   return err;
 }
 
+// One function (~190 lines) in five marked sections (checks, face neighbours, boundary
+// faces, boundary edges, faces around nodes): each fills the tables the next reads, and
+// they share the face hash and scratch of the first passes; Build wraps it so that a
+// failure leaves an empty topology, never a half-built one.
 std::string TetMeshTopology::BuildImpl(
   const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints)
 {

@@ -278,6 +278,12 @@ inline bool SolveReduced(int m, const double H[3][3], const double* b, double* y
   return SolveReducedDamped(m, H, b, y);
 }
 
+// The active-set solve, one function on purpose (~260 lines): its steps (start, Newton
+// step on the free directions, ratio test against the inactive constraints, release of
+// constraints with a wrong-signed multiplier, convergence) are the branches of one loop
+// that carries xi, the active set, g and H between them; as separate functions they
+// would pass that state through memory in the innermost loop of the embedding (every
+// outside vertex runs it), and the loop's control flow would be spread over them.
 template <int N>
 void Solve(const QuadraticMap& m, const double v[3], const double* start,
   ClosestPointResult& res, int maxIterations)

@@ -255,7 +255,10 @@ void ClosestBoundary(const EmbeddingMesh& M, const double v[3], const VertexHint
 // `start` with the cheap tests only (a hint that is usually right). With it: a
 // breadth-first walk, then the cells the cell grid lists near v. `tolerance` (a
 // distance; default InsideTolerance of the diagonal) and `skip` (a cell not to test)
-// serve the outside proof at the closest boundary point (OutsideByFace).
+// serve the outside proof at the closest boundary point (OutsideByFace). One function
+// (~160 lines): the cell test (a lambda: cheap bounds, then the inversion, recording the
+// exit face) is shared by the three phases, which also share the visit stamps, so a cell
+// is tested once per query whichever phase reaches it.
 bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useCellGrid,
   VertexEmbedding& out, SearchScratch& S, int maxWalk = MaxWalk, double tolerance = -1.0,
   Id skip = -1)
@@ -546,6 +549,109 @@ double ReconstructionResidual(const EmbeddingMesh& M, const double v[3], Id cell
   return std::sqrt(Dot(r, r));
 }
 
+namespace
+{
+// Step 4 of EmbedVertex for an outside vertex: from the closest boundary point `hit` (at
+// distance `dist`), the point p and offset d with v = p + d n (paper eq. 8-9), walking
+// across boundary edges; when that fails, every face around the corners of the closest
+// face, then every face within twice the distance (smallest |d|); else the closest point
+// is kept and the residual tells.
+void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const BoundaryHit& hit,
+  double dist, VertexEmbedding& out, SearchScratch& S)
+{
+  const TetMeshTopology& T = M.Topology;
+  const double tolF = CorrectionTolerance * M.Diagonal;
+  auto correct = [&](Id& f, double uv[2], double& d) {
+    int status = -1;
+    for (int sw = 0; sw < 16; ++sw)
+    {
+      status = SolveNormalOffset(M.FaceMaps[f], M.NormalMaps[f], v, uv, d, tolF, out.Iterations);
+      if (status <= 0)
+        break;
+      const int e = status - 1;
+      const Id g = T.BoundaryFaceNeighbor[3 * f + e];
+      double uvg[2];
+      if (g < 0 || !MapAcrossEdge(M, f, e, uv, g, uvg))
+        return false;
+      f = g;
+      uv[0] = uvg[0];
+      uv[1] = uvg[1];
+      ++out.Visited;
+    }
+    return status == 0;
+  };
+  Id f = hit.Face;
+  double uv[2] = { hit.UV[0], hit.UV[1] };
+  CanonicalStart(M, hit, f, uv);
+  double d = dist;
+  bool ok = correct(f, uv, d);
+  if (!ok)
+  {
+    // fallback: every face around the corners of the closest face, from its centroid
+    const int npf = T.GetNodesPerFace();
+    for (int a = 0; a < 3 && !ok; ++a)
+    {
+      const Id node = T.BoundaryFaceNodes[npf * hit.Face + a];
+      for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1] && !ok; ++i)
+      {
+        f = T.NodeFaces[i];
+        uv[0] = uv[1] = 1.0 / 3.0;
+        d = dist;
+        ++out.Visited;
+        ok = correct(f, uv, d);
+      }
+    }
+    if (!ok)
+    {
+      // wider fallback: every face within twice the distance, keep the smallest |d|
+      S.Candidates.clear();
+      const double reach = 2.0 * dist + 1e-6 * M.Diagonal;
+      const double reach2 = reach * reach;
+      M.GetFaceTree().VisitNearer(v, reach2, [&](Id g) { S.Candidates.push_back(g); });
+      double bestD = std::numeric_limits<double>::infinity();
+      Id bestF = -1;
+      double bestUV[2] = { 0, 0 };
+      const double starts[4][2] = { { 1.0 / 3.0, 1.0 / 3.0 }, { 0.8, 0.1 }, { 0.1, 0.8 },
+        { 0.1, 0.1 } };
+      for (size_t k = 0; k < 4 * S.Candidates.size(); ++k)
+      {
+        Id fg = S.Candidates[k / 4];
+        double w[2] = { starts[k % 4][0], starts[k % 4][1] };
+        double dg = dist;
+        ++out.Visited;
+        if (correct(fg, w, dg) && std::fabs(dg) < bestD)
+        {
+          bestD = std::fabs(dg);
+          bestF = fg;
+          bestUV[0] = w[0];
+          bestUV[1] = w[1];
+          d = dg;
+        }
+      }
+      if (bestF >= 0)
+      {
+        ok = true;
+        f = bestF;
+        uv[0] = bestUV[0];
+        uv[1] = bestUV[1];
+      }
+    }
+    if (!ok)
+    {
+      f = hit.Face; // keep the closest point; the residual tells
+      uv[0] = hit.UV[0];
+      uv[1] = hit.UV[1];
+      d = dist;
+    }
+  }
+  out.Cell = T.BoundaryFaceCell[f];
+  out.Face = static_cast<signed char>(T.BoundaryFaceLocal[f]);
+  TetFaceToTetParametric(out.Face, uv, out.PC);
+  out.Distance = d;
+  out.Residual = ReconstructionResidual(M, v, out.Cell, out.PC, out.Face, d);
+}
+} // namespace
+
 void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
   const VertexHint& hint, VertexEmbedding& out, SearchScratch& S)
 {
@@ -651,96 +757,8 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     out.Residual = ReconstructionResidual(M, v, out.Cell, out.PC, -1, 0.0);
     return;
   }
-  // 4. normal-offset correction (eq. 8-9), walking across boundary edges
-  const double tolF = CorrectionTolerance * M.Diagonal;
-  auto correct = [&](Id& f, double uv[2], double& d) {
-    int status = -1;
-    for (int sw = 0; sw < 16; ++sw)
-    {
-      status = SolveNormalOffset(M.FaceMaps[f], M.NormalMaps[f], v, uv, d, tolF, out.Iterations);
-      if (status <= 0)
-        break;
-      const int e = status - 1;
-      const Id g = T.BoundaryFaceNeighbor[3 * f + e];
-      double uvg[2];
-      if (g < 0 || !MapAcrossEdge(M, f, e, uv, g, uvg))
-        return false;
-      f = g;
-      uv[0] = uvg[0];
-      uv[1] = uvg[1];
-      ++out.Visited;
-    }
-    return status == 0;
-  };
-  Id f = hit.Face;
-  double uv[2] = { hit.UV[0], hit.UV[1] };
-  CanonicalStart(M, hit, f, uv);
-  double d = dist;
-  bool ok = correct(f, uv, d);
-  if (!ok)
-  {
-    // fallback: every face around the corners of the closest face, from its centroid
-    const int npf = T.GetNodesPerFace();
-    for (int a = 0; a < 3 && !ok; ++a)
-    {
-      const Id node = T.BoundaryFaceNodes[npf * hit.Face + a];
-      for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1] && !ok; ++i)
-      {
-        f = T.NodeFaces[i];
-        uv[0] = uv[1] = 1.0 / 3.0;
-        d = dist;
-        ++out.Visited;
-        ok = correct(f, uv, d);
-      }
-    }
-    if (!ok)
-    {
-      // wider fallback: every face within twice the distance, keep the smallest |d|
-      S.Candidates.clear();
-      const double reach = 2.0 * dist + 1e-6 * M.Diagonal;
-      const double reach2 = reach * reach;
-      M.GetFaceTree().VisitNearer(v, reach2, [&](Id g) { S.Candidates.push_back(g); });
-      double bestD = std::numeric_limits<double>::infinity();
-      Id bestF = -1;
-      double bestUV[2] = { 0, 0 };
-      const double starts[4][2] = { { 1.0 / 3.0, 1.0 / 3.0 }, { 0.8, 0.1 }, { 0.1, 0.8 },
-        { 0.1, 0.1 } };
-      for (size_t k = 0; k < 4 * S.Candidates.size(); ++k)
-      {
-        Id fg = S.Candidates[k / 4];
-        double w[2] = { starts[k % 4][0], starts[k % 4][1] };
-        double dg = dist;
-        ++out.Visited;
-        if (correct(fg, w, dg) && std::fabs(dg) < bestD)
-        {
-          bestD = std::fabs(dg);
-          bestF = fg;
-          bestUV[0] = w[0];
-          bestUV[1] = w[1];
-          d = dg;
-        }
-      }
-      if (bestF >= 0)
-      {
-        ok = true;
-        f = bestF;
-        uv[0] = bestUV[0];
-        uv[1] = bestUV[1];
-      }
-    }
-    if (!ok)
-    {
-      f = hit.Face; // keep the closest point; the residual tells
-      uv[0] = hit.UV[0];
-      uv[1] = hit.UV[1];
-      d = dist;
-    }
-  }
-  out.Cell = T.BoundaryFaceCell[f];
-  out.Face = static_cast<signed char>(T.BoundaryFaceLocal[f]);
-  TetFaceToTetParametric(out.Face, uv, out.PC);
-  out.Distance = d;
-  out.Residual = ReconstructionResidual(M, v, out.Cell, out.PC, out.Face, d);
+  // 4. normal-offset correction (eq. 8-9)
+  CorrectNormalOffset(M, v, hit, dist, out, S);
 }
 
 double BruteForceDistance(const EmbeddingMesh& M, const double v[3], Id* face, double* uv)
