@@ -9,8 +9,10 @@ A then B then B then A (so drifts in the machine's load cancel), on the same inp
 worker meshes the surface (~1000 tet10), then times the normal-offset embedding (a new
 filter each time: mesh preparation included), the barycentric one, and one transfer
 frame in each normal mode with point normals (after a few stepper steps, so rotate and
-deform have their arrays). Each figure is the minimum over its repeats; the ratio B/A is
-the median over rounds of the per-round ratio (< 1: B faster). JSON on stdout and in
+deform have their arrays). Each figure is the minimum over its repeats, of the wall time
+and of the process CPU time (cpu_*: all threads; less sensitive to other load on a
+shared machine); the ratio B/A is the median over rounds of the per-round ratio (< 1: B
+faster). JSON on stdout and in
 Benchmarks/results/compare_speed.json.
 """
 import argparse
@@ -26,28 +28,32 @@ HERE = pathlib.Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "meshes"
 
 
-def worker(surface_name, elements, repeats):
+def worker(surface_name, elements, repeats, subdivide):
     import pyvista
     import hoembed
     path = DEFAULT_DATA / surface_name
     surface = (pyvista.read(str(path)) if path.exists() else hoembed.thorny_tail()).triangulate().clean()
     fe = hoembed.tet10_mesh(surface, n_elements=elements)
+    if subdivide:  # a finer surface in the same mesh (each level: 4x the triangles)
+        surface = surface.subdivide(subdivide, subfilter="linear")
     lo, hi = fe.bounds[4], fe.bounds[5]
     box = (fe.bounds[0] - 1, fe.bounds[1] + 1, fe.bounds[2] - 1, fe.bounds[3] + 1, lo - 1,
            lo + 0.2 * (hi - lo))
     frame = hoembed.simulate(fe, steps=3, dt=0.02, young=3e4, fixed={"box": box})[-1]
     out = {"vertices": surface.n_points, "cells": fe.n_cells}
 
-    def best(fn, n):
-        times = []
+    def best(name, fn, n):
+        wall, cpu = [], []
         for _ in range(n):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             fn()
-            times.append(time.perf_counter() - t0)
-        return min(times)
+            wall.append(time.perf_counter() - t0)
+            cpu.append(time.process_time() - c0)
+        out[name] = min(wall)
+        out["cpu_" + name] = min(cpu)
 
-    out["embed_normal_offset"] = best(lambda: hoembed.embed(surface, fe), repeats)
-    out["embed_barycentric"] = best(lambda: hoembed.embed(surface, fe, method="barycentric"), repeats)
+    best("embed_normal_offset", lambda: hoembed.embed(surface, fe), repeats)
+    best("embed_barycentric", lambda: hoembed.embed(surface, fe, method="barycentric"), repeats)
     embedded = hoembed.embed(surface, fe)
     for mode, value in (("recompute", 0), ("rotate", 1), ("deform", 2)):
         f = hoembed.vtkDeformationTransferFilter()
@@ -61,7 +67,7 @@ def worker(surface_name, elements, repeats):
             frame.GetPoints().Modified()
             frame.Modified()
             f.Update()
-        out[f"transfer_{mode}"] = best(one, 10 * repeats)
+        best(f"transfer_{mode}", one, 10 * repeats)
     return out
 
 
@@ -73,22 +79,25 @@ def main(argv=None):
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--surface", default="bunny_watertight.obj")
     p.add_argument("--elements", type=int, default=1000)
+    p.add_argument("--subdivide", type=int, default=0, help="linear subdivision levels of the surface")
     p.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.worker:
-        print(json.dumps(worker(args.surface, args.elements, args.repeats)))
+        print(json.dumps(worker(args.surface, args.elements, args.repeats, args.subdivide)))
         return 0
     runs = {"a": [], "b": []}
     for r in range(args.rounds):
         for which in (("a", "b") if r % 2 == 0 else ("b", "a")):
             exe = args.a if which == "a" else args.b
             res = subprocess.run([exe, os.path.abspath(__file__), "--worker", "--surface", args.surface,
-                                  "--elements", str(args.elements), "--repeats", str(args.repeats)],
+                                  "--elements", str(args.elements), "--repeats", str(args.repeats),
+                                  "--subdivide", str(args.subdivide)],
                                  capture_output=True, text=True, check=True)
             runs[which].append(json.loads(res.stdout.strip().splitlines()[-1]))
             print(which, runs[which][-1], file=sys.stderr)
-    keys = [k for k in runs["a"][0] if k.startswith(("embed", "transfer"))]
-    summary = {"a": args.a, "b": args.b, "surface": args.surface, "rounds": args.rounds,
+    keys = [k for k in runs["a"][0] if k.startswith(("embed", "transfer", "cpu_"))]
+    summary = {"a": args.a, "b": args.b, "surface": args.surface, "subdivide": args.subdivide,
+               "rounds": args.rounds,
                "vertices": runs["a"][0]["vertices"], "cells": runs["a"][0]["cells"], "ratio_b_over_a": {},
                "a_min_s": {}, "b_min_s": {}}
     for k in keys:
