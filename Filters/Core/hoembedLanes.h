@@ -5,11 +5,21 @@
  * without a branch per component, or take two minima at once. Element-wise operations
  * round as the scalar ones do, so a kernel written in lanes gives bitwise the results of
  * its scalar form.
+ *
+ * Supported compilers: GCC (8 or newer) and Clang (10 or newer), on any target they
+ * support: the kernels use the extension's arithmetic, comparisons, bit casts and the
+ * element-wise ?: on these types. Other compilers (MSVC) stop here with a clear error
+ * rather than miscompile: a fallback would have to reproduce those operations
+ * bit-for-bit.
  */
 #ifndef hoembedLanes_h
 #define hoembedLanes_h
 
 #include <cstring>
+
+#if !defined(__GNUC__) && !defined(__clang__)
+#error "HOEmbed needs GCC (8+) or Clang (10+): hoembedLanes.h uses their vector extension"
+#endif
 
 namespace hoembed
 {
