@@ -27,71 +27,10 @@
 #define hoembedClosestPoint_h
 
 #include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedQuadraticMap.h" // QuadraticMap, the maps and their bounds (Core)
 
 namespace hoembed
 {
-/// A polynomial map of degree <= 2 from the reference simplex of dimension Dim (2 or 3)
-/// to R^3, in monomial form.
-struct alignas(64) QuadraticMap
-{
-  int Dim = 3;
-  double C[3] = { 0, 0, 0 };
-  double L[3][3] = {};    ///< L[i] = dx/dxi_i at xi = 0
-  double Q[3][3][3] = {}; ///< Q[i][j] = d2x / dxi_i dxi_j (symmetric)
-};
-
-/// Monomial form of a tri6 (n = 6) or tri3 (n = 3) patch, nodes in VTK order (3 doubles each).
-HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTriangleMap(const double* x, int n, QuadraticMap& m);
-/// Monomial form of a tet10 (n = 10) or tet4 (n = 4), nodes in VTK order.
-HOEMBEDFILTERSEMBEDDING_EXPORT void MakeTetMap(const double* x, int n, QuadraticMap& m);
-
-/**
- * True when det J > 0 is proven over the whole tet10 (nodes in VTK order) by the cubic's
- * Bernstein coefficients, all above 1e-12 of their largest magnitude (they come from the
- * corner Jacobians: det(sum_k lambda_k G_k) expanded multilinearly). False means "not
- * proven": the caller falls back to a finer test (hoembed::Tet10IsValid).
- */
-HOEMBEDFILTERSEMBEDDING_EXPORT bool Tet10JacobianProvablyPositive(const double* x);
-/// The same from the element's monomial map (MakeTetMap of its nodes).
-HOEMBEDFILTERSEMBEDDING_EXPORT bool Tet10JacobianProvablyPositive(const QuadraticMap& m);
-
-/**
- * True when no point of the element of the tet map `m` (Dim 3, quadratic or linear) lies
- * within `reach` of x(eta), for a parametric point eta outside the reference tet T.
- * Proof used: for quadratic maps x(xi) - x(eta) = J((xi + eta) / 2) (xi - eta) exactly
- * (J is affine), and over S = (T + eta) / 2, det J >= b (smallest Bernstein coefficient,
- * from the Jacobians at S's corners) and |J|_F <= F (largest Frobenius norm there), so
- * the smallest singular value of J is >= 2 b / F^2 (s1 s2 <= F^2 / 2) and
- * |x(xi) - x(eta)| >= 2 b / F^2 * dist(eta, T) for every xi in T. False: not proven.
- */
-HOEMBEDFILTERSEMBEDDING_EXPORT bool TetMapExcludes(
-  const QuadraticMap& m, const double eta[3], double reach);
-
-/// The reference tet scaled by this factor about its centroid is where
-/// TetMapExclusionRate bounds the Jacobian.
-constexpr double ExclusionRateScale = 1.2;
-
-/**
- * A lower bound of every singular value of J over the reference tet scaled by
- * ExclusionRateScale about its centroid (2 b / F^2 as in TetMapExcludes); 0 when det J is
- * not proven positive there. Computed once per element, it serves TetMapExclusionRadius
- * for every eta within twice the reference tet (scaled about the centroid).
- */
-HOEMBEDFILTERSEMBEDDING_EXPORT double TetMapExclusionRate(const QuadraticMap& m);
-
-/**
- * The radius of a ball around x(eta) proven to hold no point of the element (eta
- * outside the reference tet T): 2 b / F^2 * dist(eta, T) as in TetMapExcludes, less a
- * relative 1e-6 for round-off; 0 when nothing is proven. `rate` (> 0) is the element's
- * TetMapExclusionRate: used when it covers (T + eta) / 2, which saves the bound over it.
- */
-HOEMBEDFILTERSEMBEDDING_EXPORT double TetMapExclusionRadius(
-  const QuadraticMap& m, const double eta[3], double rate = 0.0);
-
-/// x(xi) and, when J is not null, J[i] = dx/dxi_i (m.Dim vectors of 3).
-HOEMBEDFILTERSEMBEDDING_EXPORT void EvaluateMap(
-  const QuadraticMap& m, const double* xi, double x[3], double (*J)[3] = nullptr);
-
 struct ClosestPointResult
 {
   double Param[3] = { 0, 0, 0 }; ///< (u, v) or (r, s, t), inside the simplex

@@ -17,36 +17,6 @@ namespace hoembed
 namespace detail
 {
 
-/// x(xi) and J[i] = dx/dxi_i of a map of dimension N (monomial form): coordinates x and
-/// y in the two lanes of a vector register, z apart (Q[i][j] and L[i] hold x, y, z
-/// contiguously), half the arithmetic instructions of a scalar loop.
-template <int N>
-inline void Eval(const QuadraticMap& m, const double* xi, double x[3], double J[][3])
-{
-  using lanes::Load;
-  using lanes::Pair;
-  Pair acc = Load(m.C);
-  double accz = m.C[2];
-  for (int i = 0; i < N; ++i)
-  {
-    const Pair l = Load(m.L[i]);
-    Pair ji = l;
-    double jz = m.L[i][2];
-    for (int j = 0; j < N; ++j)
-    {
-      ji += Load(m.Q[i][j]) * xi[j];
-      jz += m.Q[i][j][2] * xi[j];
-    }
-    lanes::Store(J[i], ji);
-    J[i][2] = jz;
-    const double h = 0.5 * xi[i];
-    acc += h * (l + ji);
-    accz += h * (m.L[i][2] + jz);
-  }
-  lanes::Store(x, acc);
-  x[2] = accz;
-}
-
 /// Solve A x = b (3x3) by Cramer's rule; false when A is (nearly) singular.
 inline bool Solve3(const double A[3][3], const double b[3], double x[3])
 {

@@ -119,22 +119,9 @@ void CellControlBox(const double cp[10][3], int n, double* box)
 
 using Id = EmbeddingMesh::Id;
 
-// Whether the cell with nodes x (VTK order) and monomial map m has det J > 0 throughout.
-// tet10: the Bernstein coefficients of det J settle nearly every element, the subdividing
-// test the others. tet4: det J clear of round-off against the edge lengths.
-bool CellIsValid(const double* x, int nodesPerCell, const QuadraticMap& m)
-{
-  if (nodesPerCell == 10)
-    return Tet10JacobianProvablyPositive(m) || Tet10IsValid(x);
-  double l = 0.0;
-  for (int a = 1; a < 4; ++a)
-    for (int d = 0; d < 3; ++d)
-      l = std::max(l, std::fabs(x[3 * a + d] - x[d]));
-  return Tet4JacobianDeterminant(x) > 1e-12 * l * l * l;
-}
 
 // Cell maps, boxes, barycentric forms and the cell grid of `mesh` (node ids in range);
-// with `firstInvalid`, the lowest cell that fails CellIsValid (numberOfCells if none).
+// with `firstInvalid`, the lowest cell that fails TetIsValid (the one validity proof) (numberOfCells if none).
 void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id numberOfCells,
   int nodesPerCell, Id* firstInvalid)
 {
@@ -153,7 +140,7 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = points[3 * ids[a] + d];
       MakeTetMap(x, nodesPerCell, mesh.CellMaps[c]);
-      if (firstInvalid && !CellIsValid(x, nodesPerCell, mesh.CellMaps[c]))
+      if (firstInvalid && !TetIsValid(x, nodesPerCell, mesh.CellMaps[c]))
       {
         Id cur = lowestInvalid.load();
         while (c < cur && !lowestInvalid.compare_exchange_weak(cur, c))

@@ -3,6 +3,7 @@
 #include "hoembedCorotationalSolver.h"
 #include "hoembedArrayNames.h"
 #include "hoembedElementGeometry.h"
+#include "hoembedQuadraticMap.h"
 #include "hoembedTetMeshInputVTK.h"
 
 #include "vtkCellArray.h"
@@ -228,9 +229,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
         xe[3 * a + i] = rest[3 * conn[c * npc + a] + i];
       }
     }
-    const bool valid =
-      npc == 10 ? hoembed::Tet10IsValid(xe) : hoembed::Tet4JacobianDeterminant(xe) > 0.0;
-    if (!valid)
+    if (!hoembed::TetIsValid(xe, npc))
     {
       vtkErrorMacro("Rest cell " << c << " is inverted or has zero volume (det J <= 0).");
       return false;
