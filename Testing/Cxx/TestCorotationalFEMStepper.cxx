@@ -600,13 +600,7 @@ void TestErrors()
   }
   {
     // unsupported cells
-    vtkNew<vtkUnstructuredGrid> hex;
-    vtkNew<vtkPoints> pts;
-    for (int k = 0; k < 8; ++k)
-      pts->InsertNextPoint(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-    hex->SetPoints(pts);
-    vtkIdType ids[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
-    hex->InsertNextCell(VTK_HEXAHEDRON, 8, ids);
+    auto hex = hoembed_test::MakeUnitHexahedron();
     auto s = MakeStepper(hex);
     ExpectError(s, "Unsupported cell");
   }

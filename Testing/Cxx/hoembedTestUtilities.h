@@ -85,6 +85,19 @@ inline std::vector<double> PointsOf(vtkUnstructuredGrid* mesh)
   return p;
 }
 
+/// One unit-cube VTK_HEXAHEDRON: a mesh of a cell type the FE stages refuse.
+inline vtkSmartPointer<vtkUnstructuredGrid> MakeUnitHexahedron()
+{
+  auto hex = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> pts;
+  for (int k = 0; k < 8; ++k)
+    pts->InsertNextPoint(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+  hex->SetPoints(pts);
+  vtkIdType ids[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+  hex->InsertNextCell(VTK_HEXAHEDRON, 8, ids);
+  return hex;
+}
+
 /**
  * A box [0,lx]x[0,ly]x[0,lz] split into nx*ny*nz cubes of 6 conforming (Kuhn) tets each,
  * as VTK_TETRA (order 1) or VTK_QUADRATIC_TETRA (order 2, straight mid-edge nodes).
