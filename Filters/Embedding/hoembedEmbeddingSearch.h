@@ -60,6 +60,7 @@
 #define hoembedEmbeddingSearch_h
 
 #include "hoembedEmbeddingMesh.h"
+#include "hoembedArrayNames.h"
 #include "hoembedFiltersEmbeddingModule.h"
 
 #include <utility>
@@ -67,11 +68,11 @@
 
 namespace hoembed
 {
-enum EmbeddingMethodType
-{
-  EMBED_NORMAL_OFFSET = 0,
-  EMBED_BARYCENTRIC = 1
-};
+/// The kernels' `method` argument: the values of the one method enum,
+/// hoembed::EmbeddingMethod (hoembedArrayNames.h), which vtkEmbeddingCoordinatesFilter's
+/// NORMAL_OFFSET / BARYCENTRIC equal.
+constexpr int EMBED_NORMAL_OFFSET = static_cast<int>(EmbeddingMethod::NormalOffset);
+constexpr int EMBED_BARYCENTRIC = static_cast<int>(EmbeddingMethod::Barycentric);
 
 struct VertexHint
 {

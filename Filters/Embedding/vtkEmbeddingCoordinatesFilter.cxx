@@ -38,6 +38,10 @@
 
 vtkStandardNewMacro(vtkEmbeddingCoordinatesFilter);
 
+static_assert(vtkEmbeddingCoordinatesFilter::NORMAL_OFFSET == hoembed::EMBED_NORMAL_OFFSET &&
+    vtkEmbeddingCoordinatesFilter::BARYCENTRIC == hoembed::EMBED_BARYCENTRIC,
+  "the filter's Method values are hoembed::EmbeddingMethod's");
+
 namespace
 {
 using Id = hoembed::EmbeddingMesh::Id;

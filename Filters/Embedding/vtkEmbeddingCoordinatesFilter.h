@@ -90,6 +90,8 @@ public:
   vtkTypeMacro(vtkEmbeddingCoordinatesFilter, vtkPolyDataAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  // The values of hoembed::EmbeddingMethod (hoembedArrayNames.h), repeated here so that
+  // the wrapped class carries them (the wrappers see plain enumerators only).
   enum MethodType
   {
     NORMAL_OFFSET = 0,
