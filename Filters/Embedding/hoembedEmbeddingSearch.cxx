@@ -1,6 +1,7 @@
 #include "hoembedEmbeddingSearch.h"
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPointCertify.h"
+#include "hoembedClosestPointInternal.h"
 #include "hoembedShapeFunctions.h"
 
 #include <algorithm>
@@ -554,6 +555,21 @@ double ReconstructionResidual(const EmbeddingMesh& M, const double v[3], Id cell
   return std::sqrt(Dot(r, r));
 }
 
+namespace
+{
+/// |v - (p + J(pc) q)|, p and J of the cell's map at pc (the fallback's reconstruction)
+double FallbackResidual(
+  const EmbeddingMesh& M, const double v[3], Id cell, const double pc[3], const double q[3])
+{
+  double J[3][3], x[3], r[3];
+  detail::Eval<3>(M.CellMaps[cell], pc, x, J);
+  M.CellPoint(cell, pc, x);
+  for (int k = 0; k < 3; ++k)
+    r[k] = v[k] - x[k] - (J[0][k] * q[0] + J[1][k] * q[1] + J[2][k] * q[2]);
+  return std::sqrt(Dot(r, r));
+}
+} // namespace
+
 void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
   const VertexHint& hint, VertexEmbedding& out, SearchScratch& S)
 {
@@ -738,10 +754,18 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     }
     if (!ok)
     {
-      f = hit.Face; // keep the closest point; the residual tells
-      uv[0] = hit.UV[0];
-      uv[1] = hit.UV[1];
-      d = dist;
+      // no normal offset rebuilds v (the normal field does not reach it, or v is so far
+      // away that the round-off of d n exceeds the tolerance): the closest point p and
+      // the offset v - p, in the cell's parametric units so that the transfer carries
+      // it with the deformation gradient at p (exact at rest)
+      TetFaceToTetParametric(local, hit.UV, out.PC);
+      out.Fallback = true;
+      double q[3];
+      TetMapOffset(M.CellMaps[owner], out.PC, v, q);
+      out.Distance = 0.0;
+      out.Face = -1;
+      out.Residual = FallbackResidual(M, v, owner, out.PC, q);
+      return;
     }
   }
   out.Cell = T.BoundaryFaceCell[f];

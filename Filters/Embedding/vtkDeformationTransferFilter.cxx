@@ -99,6 +99,9 @@ struct vtkDeformationTransferFilter::Internals
   std::string PlanMethod;
   std::vector<hoembed::TransferEntry> Plan;
   bool PlanHasOffsets = false;
+  /// fallback vertices (EmbeddingFallbackOffset != 0) and their offsets q, 3 per vertex
+  std::vector<std::int64_t> FallbackVertices;
+  std::vector<double> FallbackOffsets;
 
   // Output normals cache (key: the surface's polygon cell array and its MTime).
   vtkCellArray* PolysKey = nullptr;
@@ -337,6 +340,7 @@ int vtkDeformationTransferFilter::RequestData(
     vtkDataArray* pcoords = pd->GetArray("EmbeddingParametricCoords");
     vtkDataArray* dist = pd->GetArray("EmbeddingDistance");
     vtkDataArray* faces = pd->GetArray("EmbeddingFace");
+    vtkDataArray* fallback = offset ? pd->GetArray("EmbeddingFallbackOffset") : nullptr;
     std::string missing;
     if (!cellIds || cellIds->GetNumberOfComponents() != 1 ||
       cellIds->GetNumberOfTuples() != numVerts)
@@ -357,6 +361,11 @@ int vtkDeformationTransferFilter::RequestData(
     {
       missing += " EmbeddingFace (1 component)";
     }
+    if (fallback &&
+      (fallback->GetNumberOfComponents() != 3 || fallback->GetNumberOfTuples() != numVerts))
+    {
+      missing += " EmbeddingFallbackOffset (3 components)";
+    }
     if (!missing.empty())
     {
       vtkErrorMacro("the surface (port 0) lacks point data arrays, or they do not have one tuple "
@@ -372,6 +381,8 @@ int vtkDeformationTransferFilter::RequestData(
     vtkIdType badCell = 0, badValue = 0, badFace = 0, firstBad = -1;
     bool hasOffsets = false;
     const hoembed::TetMeshTopology& topo = I.Topology;
+    I.FallbackVertices.clear();
+    I.FallbackOffsets.clear();
     for (vtkIdType i = 0; i < numVerts; ++i)
     {
       hoembed::TransferEntry& e = I.Plan[i];
@@ -403,6 +414,23 @@ int vtkDeformationTransferFilter::RequestData(
         e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
         continue;
       }
+      double q[3] = { 0, 0, 0 };
+      if (fallback)
+        fallback->GetTuple(i, q);
+      if (q[0] != 0.0 || q[1] != 0.0 || q[2] != 0.0)
+      {
+        if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2]))
+        {
+          ++badValue;
+          firstBad = firstBad < 0 ? i : firstBad;
+          continue;
+        }
+        // a fallback vertex: p' (no normal offset) then p' + J' q
+        e.Distance = 0.0;
+        I.FallbackVertices.push_back(i);
+        I.FallbackOffsets.insert(I.FallbackOffsets.end(), q, q + 3);
+        continue;
+      }
       if (e.Distance == 0.0)
       {
         continue;
@@ -432,7 +460,7 @@ int vtkDeformationTransferFilter::RequestData(
     {
       vtkErrorMacro("invalid embedding for this mesh: "
         << badCell << " vertices with a cell id outside [0, " << numCells << "), " << badValue
-        << " with non-finite coordinates or distance, " << badFace
+        << " with non-finite coordinates, distance or fallback offset, " << badFace
         << " with a distance but no boundary face of their cell (first bad vertex " << firstBad
         << ")");
       return 0;
@@ -610,6 +638,8 @@ int vtkDeformationTransferFilter::RequestData(
       vtkSMPTools::For(0, numVerts, 8192, [&](vtkIdType b, vtkIdType e) {
         hoembed::EvaluateTransfer(plan, npc, cc, fc, b, e, out);
       });
+      hoembed::EvaluateFallbackTransfer(plan, npc, cc, I.FallbackVertices.data(),
+        I.FallbackOffsets.data(), 0, static_cast<std::int64_t>(I.FallbackVertices.size()), out);
     }
     else
     {
@@ -617,6 +647,8 @@ int vtkDeformationTransferFilter::RequestData(
       vtkSMPTools::For(0, numVerts, 8192, [&](vtkIdType b, vtkIdType e) {
         hoembed::EvaluateTransfer(plan, npc, cc, fc, b, e, out);
       });
+      hoembed::EvaluateFallbackTransfer(plan, npc, cc, I.FallbackVertices.data(),
+        I.FallbackOffsets.data(), 0, static_cast<std::int64_t>(I.FallbackVertices.size()), out);
     }
   }
   this->UpdateProgress(0.8);
