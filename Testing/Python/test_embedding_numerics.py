@@ -13,15 +13,35 @@ import pyvista as pv
 import hoembed
 from hoembed._errors import run_filter
 from hoembed.hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter
+from vtkmodules.vtkCommonCore import reference
+
 from conftest import box_tet_mesh
-from test_embedding import _curve, reconstruct
 
 EXACT = ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingFace", "EmbeddingFallback"]
 LENGTHS = ["EmbeddingDistance", "EmbeddingResidual", "EmbeddingClosestDistance"]
 
 
+def _curve(p):
+    x, y, z = p[:, 0], p[:, 1], p[:, 2]
+    return np.c_[x + 0.05 * np.sin(np.pi * y), y + 0.12 * np.sin(0.5 * np.pi * x),
+                 z + 0.08 * np.cos(np.pi * x) * y]
+
+
+def reconstruct(grid, out):
+    """p from VTK's own cell interpolation at (cell, pcoords)."""
+    p = np.empty((out.n_points, 3))
+    sub = reference(0)
+    for i, (c, pc) in enumerate(zip(out["EmbeddingCellId"], out["EmbeddingParametricCoords"])):
+        cell = grid.GetCell(int(c))
+        x = [0.0, 0.0, 0.0]
+        cell.EvaluateLocation(sub, pc, x, [0.0] * cell.GetNumberOfPoints())
+        p[i] = x
+    return p
+
+
 @pytest.fixture(scope="module")
 def beam():
+    """The curved tet10 beam of test_embedding.py."""
     return box_tet_mesh((4, 2, 2), (2.0, 1.0, 1.0), 2, _curve)
 
 
@@ -158,6 +178,13 @@ def test_fallback_transfer_follows_affine_maps(beam, far, normals):
         t = hoembed.transfer(out, moved, normals=normals)
         err = np.linalg.norm(t.points[fb] - (v[fb] @ A.T + b), axis=1)
         assert err.max() <= 1e-14 * scale
+    # single-precision output: the same, rounded once
+    single = out.copy()
+    single.points = np.asarray(out.points, dtype=np.float32)
+    t = hoembed.transfer(single, beam, normals=normals)
+    assert t.points.dtype == np.float32
+    err = np.linalg.norm(t.points[fb].astype(float) - v[fb], axis=1)
+    assert err.max() <= 1e-7 * scale
 
 
 def test_transfer_rejects_bad_fallback_offsets(beam, far):
