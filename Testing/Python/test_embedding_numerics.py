@@ -57,10 +57,11 @@ def surface():
     return pv.PolyData(np.asarray(s.points, dtype=float), faces=s.faces, deep=True)
 
 
-def embed(surface, mesh, warnings=None):
+def embed(surface, mesh, warnings=None, method=vtkEmbeddingCoordinatesFilter.NORMAL_OFFSET):
     alg = vtkEmbeddingCoordinatesFilter()
     alg.SetInputData(0, surface)
     alg.SetMeshData(mesh)
+    alg.SetMethod(method)
     out = pv.wrap(run_filter(alg, warnings)).copy()
     return out, alg.GetNumberOfFallbackPoints()
 
@@ -72,13 +73,19 @@ def scaled(data, s):
 
 
 @pytest.mark.parametrize("k", [-30, -20, -10, 10, 20, 30])
-def test_power_of_two_scales_give_the_same_bits(beam, surface, k):
+@pytest.mark.parametrize("variant", ["tet10", "tet4", "tet10-barycentric"])
+def test_power_of_two_scales_give_the_same_bits(beam, surface, k, variant):
     """2^-30 ~ 1e-9 ... 2^30 ~ 1e9: every relative result identical to scale 1 (before
     the fix, from 2^-15 down, 2134 of bunny_lowres's 3485 vertices changed and had
     residuals up to 1.3% of the diagonal)."""
     s = 2.0 ** k
-    ref, _ = embed(surface, beam)
-    out, _ = embed(scaled(surface, s), scaled(beam, s))
+    method = vtkEmbeddingCoordinatesFilter.NORMAL_OFFSET
+    if variant == "tet4":
+        beam = box_tet_mesh((4, 2, 2), (2.0, 1.0, 1.0), 1, _curve)
+    elif variant == "tet10-barycentric":
+        method = vtkEmbeddingCoordinatesFilter.BARYCENTRIC
+    ref, _ = embed(surface, beam, method=method)
+    out, _ = embed(scaled(surface, s), scaled(beam, s), method=method)
     for name in EXACT:
         assert np.array_equal(out[name], ref[name]), name
     for name in LENGTHS:
@@ -113,20 +120,22 @@ def test_decimal_scales_match_scale_one(beam, surface, s):
     assert np.abs(ps / s - p1).max() <= 1e-9 * diag
 
 
-@pytest.fixture(scope="module")
-def far(beam):
-    """A sphere a million diagonals around the beam: for many of its vertices no d
-    rebuilds v to the 1e-12 tolerance (the round-off of d n alone exceeds it)."""
+@pytest.fixture(scope="module", params=[2, 1], ids=["tet10", "tet4"])
+def far(request):
+    """A sphere a million diagonals around the beam (tet10 or tet4): for many of its
+    vertices no d rebuilds v to the 1e-12 tolerance (the round-off of d n alone exceeds
+    it)."""
+    beam = box_tet_mesh((4, 2, 2), (2.0, 1.0, 1.0), request.param, _curve)
     radius = 1e6 * beam.length
     s = pv.Sphere(radius=radius, center=(1.0, 0.5, 0.5), theta_resolution=20, phi_resolution=12)
     s = pv.PolyData(np.asarray(s.points, dtype=float), faces=s.faces, deep=True)
     warnings = []
     out, count = embed(s, beam, warnings)
-    return s, out, count, warnings
+    return s, out, count, warnings, beam
 
 
-def test_fallback_flagged_and_exact(beam, far):
-    s, out, count, warnings = far
+def test_fallback_flagged_and_exact(far):
+    s, out, count, warnings, beam = far
     flag = np.asarray(out["EmbeddingFallback"])
     assert out["EmbeddingFallback"].dtype == np.uint8
     # flagged, counted, warned about
@@ -157,11 +166,11 @@ def test_no_fallback_on_ordinary_inputs(beam, surface):
 
 
 @pytest.mark.parametrize("normals", ["recompute", "rotate", "deform"])
-def test_fallback_transfer_follows_affine_maps(beam, far, normals):
+def test_fallback_transfer_follows_affine_maps(far, normals):
     """Under an affine map of the FE mesh the cell maps move by that map, F equals its
     matrix, and p' + F (v - p) is the same map of v: at rest (identity), a rigid motion and
     a shear."""
-    s, out, _, _ = far
+    s, out, _, _, beam = far
     fb = out["EmbeddingFallback"] == 1
     v = np.asarray(s.points)
     scale = np.linalg.norm(v, axis=1)[fb].max()
@@ -187,8 +196,8 @@ def test_fallback_transfer_follows_affine_maps(beam, far, normals):
     assert err.max() <= 1e-7 * scale
 
 
-def test_transfer_rejects_bad_fallback_offsets(beam, far):
-    _, out, _, _ = far
+def test_transfer_rejects_bad_fallback_offsets(far):
+    _, out, _, _, beam = far
     bad = out.copy()
     q = np.array(bad["EmbeddingFallbackOffset"])
     q[np.flatnonzero(bad["EmbeddingFallback"])[0]] = np.nan
