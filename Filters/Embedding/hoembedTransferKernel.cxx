@@ -280,7 +280,8 @@ void EvaluateFallbackTransferT(const TransferEntry* plan, int nodesPerCell,
     double x[3];
     MapPoint(e, quadratic, cellCoeffs, x);
     // J' q from the monomial coefficients (see the header's layout)
-    const double* c = cellCoeffs + CellCoefficientSize(nodesPerCell) * static_cast<std::int64_t>(e.Cell);
+    const double* c =
+      cellCoeffs + CellCoefficientSize(nodesPerCell) * static_cast<std::int64_t>(e.Cell);
     const double r = e.PC[0], s = e.PC[1], t = e.PC[2];
     for (int d = 0; d < 3; ++d)
     {
