@@ -39,12 +39,17 @@ constexpr const char* EmbeddingParametricCoords = "EmbeddingParametricCoords";
 constexpr const char* EmbeddingDistance = "EmbeddingDistance";
 constexpr const char* EmbeddingResidual = "EmbeddingResidual";
 constexpr const char* EmbeddingFace = "EmbeddingFace";
+/// 1 where v = p + d n has no solution and v = p + J(p) q is used instead
+constexpr const char* EmbeddingFallback = "EmbeddingFallback";
+/// q of those vertices (3 doubles; written only when some vertex falls back)
+constexpr const char* EmbeddingFallbackOffset = "EmbeddingFallbackOffset";
 /// Every array of the embedding (and its diagnostics) starts with this: a transfer drops
 /// them from its output, since they describe the rest state.
 constexpr const char* EmbeddingPrefix = "Embedding";
 // embedded surface, field data
 constexpr const char* EmbeddingMethod = "EmbeddingMethod";
 constexpr const char* EmbeddingMeshFingerprint = "EmbeddingMeshFingerprint";
+constexpr const char* NumberOfFallbackPoints = "NumberOfFallbackPoints";
 } // namespace ArrayNames
 
 /// The two embeddings (values equal vtkEmbeddingCoordinatesFilter's NORMAL_OFFSET and

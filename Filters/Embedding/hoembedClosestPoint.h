@@ -91,6 +91,14 @@ HOEMBEDFILTERSEMBEDDING_EXPORT double InvertTetMap(const QuadraticMap& m, const 
 HOEMBEDFILTERSEMBEDDING_EXPORT int SolveNormalOffset(const QuadraticMap& x,
   const QuadraticMap& s, const double p[3], double uv[2], double& d, double tol,
   int& iterations, int maxIterations = 40);
+/**
+ * The offset of v from the point x(pc) of a tet map in parametric units: q with
+ * J(pc) q = v - x(pc), J = dx/dpc. x(pc) + J(pc) q rebuilds v to round-off, and a
+ * deformed map gives x'(pc) + J'(pc) q = p' + F (v - p), F = J' J^-1 the deformation
+ * gradient at p. False (q = 0) when J(pc) is singular.
+ */
+HOEMBEDFILTERSEMBEDDING_EXPORT bool TetMapOffset(
+  const QuadraticMap& m, const double pc[3], const double v[3], double q[3]);
 } // namespace hoembed
 
 #endif

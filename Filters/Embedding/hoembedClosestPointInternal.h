@@ -24,11 +24,14 @@ inline bool Solve3(const double A[3][3], const double b[3], double x[3])
   const double c01 = A[1][2] * A[2][0] - A[1][0] * A[2][2];
   const double c02 = A[1][0] * A[2][1] - A[1][1] * A[2][0];
   const double det = A[0][0] * c00 + A[0][1] * c01 + A[0][2] * c02;
-  double scale = 0.0;
+  // singular relative to the product of the columns' sizes: the columns may have
+  // different units (the normal-offset system has two tangents, lengths, and a unit
+  // normal), so one scale for the whole matrix would make the test depend on the mesh size
+  double col[3] = { 0.0, 0.0, 0.0 };
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      scale = std::max(scale, std::fabs(A[i][j]));
-  if (!(std::fabs(det) > 1e-300) || std::fabs(det) < 1e-14 * scale * scale * scale)
+      col[j] = std::max(col[j], std::fabs(A[i][j]));
+  if (!(std::fabs(det) > 1e-14 * col[0] * col[1] * col[2]))
     return false;
   const double inv = 1.0 / det;
   const double c10 = A[0][2] * A[2][1] - A[0][1] * A[2][2];

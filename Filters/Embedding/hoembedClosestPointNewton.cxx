@@ -299,4 +299,20 @@ int SolveNormalOffset(const QuadraticMap& xm, const QuadraticMap& sm, const doub
   }
   return fn <= tol ? 0 : -1;
 }
+
+bool TetMapOffset(const QuadraticMap& m, const double pc[3], const double v[3], double q[3])
+{
+  double x[3], J[3][3], A[3][3], b[3];
+  Eval<3>(m, pc, x, J);
+  for (int d = 0; d < 3; ++d)
+  {
+    for (int i = 0; i < 3; ++i)
+      A[d][i] = J[i][d];
+    b[d] = v[d] - x[d];
+  }
+  if (Solve3(A, b, q))
+    return true;
+  q[0] = q[1] = q[2] = 0.0;
+  return false;
+}
 } // namespace hoembed

@@ -2,6 +2,7 @@
 #include "hoembedVector3.h"
 #include "hoembedBoundaryNormals.h"
 #include "hoembedClosestPointCertify.h"
+#include "hoembedClosestPointInternal.h"
 #include "hoembedShapeFunctions.h"
 
 #include <algorithm>
@@ -551,11 +552,23 @@ double ReconstructionResidual(const EmbeddingMesh& M, const double v[3], Id cell
 
 namespace
 {
+/// |v - (p + J(pc) q)|, p and J of the cell's map at pc (the fallback's reconstruction)
+double FallbackResidual(
+  const EmbeddingMesh& M, const double v[3], Id cell, const double pc[3], const double q[3])
+{
+  double J[3][3], x[3], r[3];
+  detail::Eval<3>(M.CellMaps[cell], pc, x, J);
+  M.CellPoint(cell, pc, x);
+  for (int k = 0; k < 3; ++k)
+    r[k] = v[k] - x[k] - (J[0][k] * q[0] + J[1][k] * q[1] + J[2][k] * q[2]);
+  return std::sqrt(Dot(r, r));
+}
+
 // Step 4 of EmbedVertex for an outside vertex: from the closest boundary point `hit` (at
 // distance `dist`), the point p and offset d with v = p + d n (paper eq. 8-9), walking
 // across boundary edges; when that fails, every face around the corners of the closest
-// face, then every face within twice the distance (smallest |d|); else the closest point
-// is kept and the residual tells.
+// face, then every face within twice the distance (smallest |d|); else the flagged
+// fallback (closest point p and the parametric offset q with v = p + J(p) q).
 void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const BoundaryHit& hit,
   double dist, VertexEmbedding& out, SearchScratch& S)
 {
@@ -638,10 +651,20 @@ void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const Bounda
     }
     if (!ok)
     {
-      f = hit.Face; // keep the closest point; the residual tells
-      uv[0] = hit.UV[0];
-      uv[1] = hit.UV[1];
-      d = dist;
+      // no normal offset rebuilds v (the normal field does not reach it, or v is so far
+      // away that the round-off of d n exceeds the tolerance): the closest point p and
+      // the offset v - p, in the cell's parametric units so that the transfer carries
+      // it with the deformation gradient at p (exact at rest)
+      const Id owner = T.BoundaryFaceCell[hit.Face];
+      TetFaceToTetParametric(T.BoundaryFaceLocal[hit.Face], hit.UV, out.PC);
+      out.Cell = owner;
+      out.Fallback = true;
+      double q[3];
+      TetMapOffset(M.CellMaps[owner], out.PC, v, q);
+      out.Distance = 0.0;
+      out.Face = -1;
+      out.Residual = FallbackResidual(M, v, owner, out.PC, q);
+      return;
     }
   }
   out.Cell = T.BoundaryFaceCell[f];

@@ -53,7 +53,9 @@
  *    n the normalised interpolated nodal normal (eq. 7-9), walking across boundary edges
  *    when the iteration leaves the face; if that fails, the faces around the closest
  *    face's corners, then every face within twice the distance (4 starts each; smallest
- *    |d| wins). Barycentric: the owning cell of the closest face
+ *    |d| wins); if none converges, the closest point with the offset v - p in the
+ *    cell's parametric units (VertexEmbedding::Fallback). Barycentric: the owning cell
+ *    of the closest face
  *    with extrapolated (unconstrained) parametric coordinates.
  */
 #ifndef hoembedEmbeddingSearch_h
@@ -101,6 +103,11 @@ struct VertexEmbedding
   /// a curved face's certified search ran out of its budget: the distance may be a
   /// local minimum only (never seen on the real meshes; reported by the filter)
   bool Uncertified = false;
+  /// normal-offset: no (u, v, d) on any face tried rebuilds v (v = p + d n has no
+  /// solution within the tolerance there); then Distance = 0, Face = -1, p is the closest
+  /// point and v = p + J(pc) q, q from hoembed::TetMapOffset (not stored: rare, and this
+  /// struct is kept per surface vertex)
+  bool Fallback = false;
   EmbeddingMesh::Id BoundaryFace = -1; ///< closest boundary face (-1 if not computed)
   double UV[2] = { 0, 0 };
 

@@ -225,6 +225,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkInternals& internals = *this->Internals;
   this->NumberOfUncertifiedPoints = 0;
+  this->NumberOfFallbackPoints = 0;
   if (!surface || surface->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro("The surface (input port 0) is empty: it has no points.");
@@ -355,6 +356,10 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
   visited->SetNumberOfTuples(ns);
   std::atomic<vtkIdType> firstFailed(ns);
   std::atomic<vtkIdType> uncertified(0), firstUncertified(ns);
+  vtkNew<vtkUnsignedCharArray> fallback;
+  fallback->SetName(hoembed::ArrayNames::EmbeddingFallback);
+  fallback->SetNumberOfTuples(ns);
+  std::atomic<vtkIdType> fallbacks(0), firstFallback(ns);
   auto lowest = [](std::atomic<vtkIdType>& first, vtkIdType i) {
     vtkIdType cur = first.load();
     while (i < cur && !first.compare_exchange_weak(cur, i))
@@ -362,7 +367,7 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
     }
   };
   vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
-    vtkIdType localUncertified = 0;
+    vtkIdType localUncertified = 0, localFallbacks = 0;
     for (vtkIdType k = b; k < e; ++k)
     {
       const hoembed::VertexEmbedding& r = res[k];
@@ -386,8 +391,15 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
       face->SetValue(i, method == hoembed::EMBED_BARYCENTRIC ? -1 : r.Face);
       iters->SetValue(i, r.Iterations);
       visited->SetValue(i, r.Visited);
+      fallback->SetValue(i, r.Fallback ? 1 : 0);
+      if (r.Fallback)
+      {
+        ++localFallbacks;
+        lowest(firstFallback, i);
+      }
     }
     uncertified += localUncertified;
+    fallbacks += localFallbacks;
   });
   if (firstFailed.load() < ns)
   {
@@ -404,6 +416,30 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
                        "budget; their distance may be a local minimum only.");
   }
 
+  this->NumberOfFallbackPoints = fallbacks.load();
+  vtkNew<vtkDoubleArray> fallbackOffset;
+  if (this->NumberOfFallbackPoints > 0)
+  {
+    vtkWarningMacro(<< this->NumberOfFallbackPoints << " surface point(s) (e.g. point "
+                    << firstFallback.load()
+                    << ") have no normal offset v = p + d n: they use their closest point p "
+                       "and the offset v - p instead (EmbeddingFallback = 1).");
+    // the offsets in parametric units, only where some point needs them
+    fallbackOffset->SetName(hoembed::ArrayNames::EmbeddingFallbackOffset);
+    fallbackOffset->SetNumberOfComponents(3);
+    fallbackOffset->SetNumberOfTuples(ns);
+    vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType k = b; k < e; ++k)
+      {
+        double q[3] = { 0, 0, 0 };
+        if (res[k].Fallback) // the q of its residual (EmbedVertex), computed again
+          hoembed::TetMapOffset(internals.Mesh.CellMaps[res[k].Cell], res[k].PC,
+            &internals.SurfacePoints[3 * order[k]], q);
+        fallbackOffset->SetTypedTuple(order[k], q);
+      }
+    });
+  }
+
   output->ShallowCopy(surface);
   vtkPointData* pd = output->GetPointData();
   pd->AddArray(cellId);
@@ -414,6 +450,9 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
   pd->AddArray(iters);
   pd->AddArray(visited);
   pd->AddArray(closest);
+  pd->AddArray(fallback);
+  if (this->NumberOfFallbackPoints > 0)
+    pd->AddArray(fallbackOffset);
 
   vtkNew<vtkFieldData> fd;
   if (surface->GetFieldData())
@@ -426,6 +465,10 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
   fp->InsertNextValue(internals.PreparedFingerprint);
   fd->AddArray(methodName);
   fd->AddArray(fp);
+  vtkNew<vtkIdTypeArray> numFallback;
+  numFallback->SetName(hoembed::ArrayNames::NumberOfFallbackPoints);
+  numFallback->InsertNextValue(this->NumberOfFallbackPoints);
+  fd->AddArray(numFallback);
   output->SetFieldData(fd);
   this->UpdateProgress(1.0);
   return true;
@@ -440,4 +483,5 @@ void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ReuseMeshPreparation: " << (this->ReuseMeshPreparation ? "On" : "Off") << "\n";
   os << indent << "NumberOfMeshPreparations: " << this->NumberOfMeshPreparations << "\n";
   os << indent << "NumberOfUncertifiedPoints: " << this->NumberOfUncertifiedPoints << "\n";
+  os << indent << "NumberOfFallbackPoints: " << this->NumberOfFallbackPoints << "\n";
 }

@@ -23,8 +23,13 @@
  * - diagnostics `EmbeddingIterations`, `EmbeddingElementsVisited` (vtkIntArray: solver
  *   iterations and faces/cells solved for the vertex) and `EmbeddingClosestDistance`
  *   (vtkDoubleArray: the exact distance to the mesh, 0 inside);
- * and field data `EmbeddingMethod` (vtkStringArray: "normal-offset" or "barycentric") and
- * `EmbeddingMeshFingerprint` (vtkStringArray: hoembed::MeshFingerprint of the rest mesh).
+ * - `EmbeddingFallback` (vtkUnsignedCharArray): 1 where the normal offset has no
+ *   solution and the closest-point offset is used instead (see below), else 0;
+ * - `EmbeddingFallbackOffset` (vtkDoubleArray, 3 components; only when some point has
+ *   EmbeddingFallback = 1): the offset q of those points, 0 elsewhere;
+ * and field data `EmbeddingMethod` (vtkStringArray: "normal-offset" or "barycentric"),
+ * `EmbeddingMeshFingerprint` (vtkStringArray: hoembed::MeshFingerprint of the rest mesh)
+ * and `NumberOfFallbackPoints` (vtkIdTypeArray, one value).
  *
  * Normal-offset (default): p is the closest point of the mesh to v. Outside the mesh, p
  * is corrected (paper eq. 8-9) so that v = p + d n holds to 1e-12 of the mesh diagonal with
@@ -63,10 +68,20 @@
  * Defaults: Method normal-offset, NumberOfPartitions 0 (automatic), ValidateElements on,
  * ReuseMeshPreparation on.
  *
- * @warning The normal-offset representation need not exist everywhere (the smooth normal
- * field can fold in concave regions); when the correction finds no solution near the
- * closest point, p stays the closest point, d its distance, and EmbeddingResidual shows
- * the mismatch.
+ * Fallback: the normal-offset representation need not exist everywhere (the smooth normal
+ * field can fold or vanish; and for a point so far away that the round-off of d n exceeds
+ * the 1e-12 tolerance, e.g. a surface vastly larger than the mesh, no d rebuilds v to
+ * it). When the correction converges on no face tried (around the closest point, then
+ * every face within twice the distance), the point falls back to its closest point p
+ * with the offset v - p: EmbeddingFallback = 1, EmbeddingDistance = 0, EmbeddingFace =
+ * -1, EmbeddingCellId / EmbeddingParametricCoords give p, and EmbeddingFallbackOffset
+ * holds q = J(pc)^-1 (v - p), the offset in the cell's parametric units (J = dx/dpc
+ * at p): p + J q rebuilds v to round-off (EmbeddingResidual = |v - (p + J q)|), and
+ * vtkDeformationTransferFilter maps it as p' + J' q = p' + F (v - p), F = J' J^-1 the
+ * deformation gradient at p (rigid motions move it rigidly; the smooth normal field,
+ * and so NormalMode, plays no part for these points). The filter warns with their
+ * number, also available as NumberOfFallbackPoints (none for the thorny tail,
+ * bunny_lowres and armadillo_lowres, surfaces on their own ~1000-element meshes).
  * @warning Bad input (empty surface or mesh, non-finite coordinates, cells other than
  * tet4/tet10, inverted or degenerate elements, broken topology) is reported with
  * vtkErrorMacro and leaves the output empty. A surface far from the mesh is valid.
@@ -152,6 +167,13 @@ public:
    */
   vtkGetMacro(NumberOfUncertifiedPoints, vtkIdType);
 
+  /**
+   * Surface points of the last run without a normal offset, embedded by the fallback
+   * (closest point and offset v - p; see the class comment, EmbeddingFallback). The
+   * filter warns when there are any.
+   */
+  vtkGetMacro(NumberOfFallbackPoints, vtkIdType);
+
   ///@{
   /**
    * The rest FE mesh on port 1.
@@ -179,6 +201,7 @@ protected:
   bool ValidateElements = true;
   bool ReuseMeshPreparation = true;
   vtkIdType NumberOfUncertifiedPoints = 0;
+  vtkIdType NumberOfFallbackPoints = 0;
   vtkIdType NumberOfMeshPreparations = 0;
 
 private:

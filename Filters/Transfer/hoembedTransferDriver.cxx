@@ -30,10 +30,13 @@ bool AllFinite(const double* x, std::int64_t n)
 // (extrapolated), but hand-made embeddings (a face plane's projection with a distance)
 // extrapolate too, and that maps nothing wrong: parametric coordinates are refused only
 // beyond MaxExtrapolation cell sizes, which no surface the mesh approximates comes near.
-// Likewise |d| beyond MaxDistance mesh diagonals cannot come from an embedding in this
-// mesh (and 1e300 would overflow the output).
+// A surface may lie far from a small mesh (the embedding gives such vertices large
+// distances, or its flagged fallback), so |d| is refused only beyond MaxDistance mesh
+// diagonals: there the whole mesh is smaller than a few units in the last place of the
+// vertex's coordinates, so no deformation of it can be carried (and 1e300 would overflow
+// the output).
 constexpr double MaxExtrapolation = 1e3;
-constexpr double MaxDistance = 10.0;
+constexpr double MaxDistance = 1e13;
 } // namespace
 
 TransferDriver::TransferDriver(ParallelFor parallelFor)
@@ -111,6 +114,8 @@ std::string TransferDriver::BuildPlan(
   const std::int64_t numCells = this->NumberOfCells;
   const bool offset = em.Method == EmbeddingMethod::NormalOffset;
   this->Plan.resize(static_cast<size_t>(numVerts));
+  this->FallbackVertices.clear();
+  this->FallbackOffsets.clear();
   std::int64_t badCell = 0, badValue = 0, badRange = 0, badFace = 0, firstBad = -1;
   bool hasOffsets = false;
   const double maxDistance = std::isfinite(meshLength) && meshLength > 0.0
@@ -158,6 +163,21 @@ std::string TransferDriver::BuildPlan(
       e.PC[0] = e.PC[1] = e.PC[2] = 0.0;
       continue;
     }
+    const double* q = em.FallbackOffsets ? em.FallbackOffsets + 3 * i : nullptr;
+    if (q && (q[0] != 0.0 || q[1] != 0.0 || q[2] != 0.0))
+    {
+      if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2]))
+      {
+        ++badValue;
+        firstBad = firstBad < 0 ? i : firstBad;
+        continue;
+      }
+      // a fallback vertex: p' (no normal offset), then p' + J' q after the main loop
+      e.Distance = 0.0;
+      this->FallbackVertices.push_back(i);
+      this->FallbackOffsets.insert(this->FallbackOffsets.end(), q, q + 3);
+      continue;
+    }
     if (e.Distance == 0.0)
     {
       continue;
@@ -188,8 +208,8 @@ std::string TransferDriver::BuildPlan(
     std::ostringstream msg;
     msg << "invalid embedding for this mesh: " << badCell << " vertices with a cell id outside [0, "
         << numCells << ") or not a whole number (" << ArrayNames::EmbeddingCellId << "), "
-        << badValue << " with non-finite " << ArrayNames::EmbeddingParametricCoords << " or "
-        << ArrayNames::EmbeddingDistance << ", " << badRange << " with "
+        << badValue << " with non-finite " << ArrayNames::EmbeddingParametricCoords << ", "
+        << ArrayNames::EmbeddingDistance << " or " << ArrayNames::EmbeddingFallbackOffset << ", " << badRange << " with "
         << ArrayNames::EmbeddingParametricCoords << " over " << MaxExtrapolation
         << " (far outside their cell) or an |" << ArrayNames::EmbeddingDistance << "| over "
         << MaxDistance << " mesh diagonals, " << badFace
@@ -272,12 +292,18 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
     this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
       EvaluateTransfer(plan, npc, cc, fc, b, e, outDouble);
     });
+    EvaluateFallbackTransfer(plan, npc, cc, this->FallbackVertices.data(),
+      this->FallbackOffsets.data(), 0, static_cast<std::int64_t>(this->FallbackVertices.size()),
+      outDouble);
   }
   else
   {
     this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
       EvaluateTransfer(plan, npc, cc, fc, b, e, outFloat);
     });
+    EvaluateFallbackTransfer(plan, npc, cc, this->FallbackVertices.data(),
+      this->FallbackOffsets.data(), 0, static_cast<std::int64_t>(this->FallbackVertices.size()),
+      outFloat);
   }
   return std::string();
 }

@@ -50,6 +50,9 @@ struct TransferEmbedding
   const double* ParametricCoords = nullptr; ///< EmbeddingParametricCoords (3 per vertex)
   const double* Distances = nullptr;        ///< EmbeddingDistance (normal-offset only)
   const double* Faces = nullptr;            ///< EmbeddingFace, or null: deduced from pcoords
+  /// EmbeddingFallbackOffset (3 per vertex), or null: vertices with a nonzero offset q
+  /// move as p' + J'(p) q (the embedding's fallback where v = p + d n has no solution)
+  const double* FallbackOffsets = nullptr;
 };
 
 /// How the deformed normals n' are obtained (values of vtkDeformationTransferFilter's
@@ -125,6 +128,8 @@ private:
   // step 2
   std::vector<TransferEntry> Plan;
   bool PlanHasOffsets = false;
+  std::vector<std::int64_t> FallbackVertices; // fallback vertices and their q, 3 each
+  std::vector<double> FallbackOffsets;
   EmbeddingMethod PlanMethod = EmbeddingMethod::NormalOffset;
   int PlanVersion = -1;
   // step 3 (per-frame tables, reused)

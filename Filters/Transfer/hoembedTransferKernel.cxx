@@ -265,7 +265,52 @@ void EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double
     }
   }
 }
+
+template <typename T>
+void EvaluateFallbackTransferT(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
+  std::int64_t begin, std::int64_t end, T* out)
+{
+  const bool quadratic = nodesPerCell == 10;
+  for (std::int64_t k = begin; k < end; ++k)
+  {
+    const std::int64_t i = vertices[k];
+    const TransferEntry& e = plan[i];
+    const double* q = offsets + 3 * k;
+    double x[3];
+    MapPoint(e, quadratic, cellCoeffs, x);
+    // J' q from the monomial coefficients (see the header's layout)
+    const double* c =
+      cellCoeffs + CellCoefficientSize(nodesPerCell) * static_cast<std::int64_t>(e.Cell);
+    const double r = e.PC[0], s = e.PC[1], t = e.PC[2];
+    for (int d = 0; d < 3; ++d)
+    {
+      double jr = c[3 + d], js = c[6 + d], jt = c[9 + d];
+      if (quadratic)
+      {
+        jr += 2.0 * c[12 + d] * r + c[21 + d] * s + c[24 + d] * t;
+        js += 2.0 * c[15 + d] * s + c[21 + d] * r + c[27 + d] * t;
+        jt += 2.0 * c[18 + d] * t + c[24 + d] * r + c[27 + d] * s;
+      }
+      out[3 * i + d] = static_cast<T>(x[d] + (jr * q[0] + js * q[1] + jt * q[2]));
+    }
+  }
+}
 } // namespace
+
+void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
+  std::int64_t begin, std::int64_t end, double* out)
+{
+  EvaluateFallbackTransferT(plan, nodesPerCell, cellCoeffs, vertices, offsets, begin, end, out);
+}
+
+void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
+  std::int64_t begin, std::int64_t end, float* out)
+{
+  EvaluateFallbackTransferT(plan, nodesPerCell, cellCoeffs, vertices, offsets, begin, end, out);
+}
 
 void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, std::int64_t begin, std::int64_t end, double* out)

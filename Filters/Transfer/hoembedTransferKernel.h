@@ -96,6 +96,21 @@ HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, i
   float* out);
 
 /**
+ * Deformed positions of the fallback vertices (vtkEmbeddingCoordinatesFilter's
+ * EmbeddingFallback: no normal offset, v = p + J q at rest): for k in [begin, end),
+ * i = vertices[k], out[3 i..3 i+2] = x'(pc) + J'(pc) q_k with x' the cell map of plan
+ * entry i at its parametric coordinates, J' = dx'/dpc and q_k = offsets[3 k..3 k+2], i.e.
+ * p' + F (v - p), F = J' J^-1 the deformation gradient at p.
+ */
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateFallbackTransfer(const TransferEntry* plan,
+  int nodesPerCell, const double* cellCoeffs, const std::int64_t* vertices,
+  const double* offsets, std::int64_t begin, std::int64_t end, double* out);
+/// The same, writing single precision.
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateFallbackTransfer(const TransferEntry* plan,
+  int nodesPerCell, const double* cellCoeffs, const std::int64_t* vertices,
+  const double* offsets, std::int64_t begin, std::int64_t end, float* out);
+
+/**
  * Nodal normals rotated to the deformed configuration (paper §5.1): for nodes [begin, end),
  * out_I = normalise(R_I restNormals_I), R_I 9 doubles row-major per node. Nodes with a zero
  * rest normal (interior nodes) get (0, 0, 0).

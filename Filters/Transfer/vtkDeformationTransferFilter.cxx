@@ -35,6 +35,7 @@ namespace
 using hoembed::ArrayNames::EmbeddingCellId;
 using hoembed::ArrayNames::EmbeddingDistance;
 using hoembed::ArrayNames::EmbeddingFace;
+using hoembed::ArrayNames::EmbeddingFallbackOffset;
 using hoembed::ArrayNames::EmbeddingParametricCoords;
 
 // The first value of a string array in field data, or null (no per-frame copy).
@@ -97,7 +98,7 @@ struct vtkDeformationTransferFilter::Internals
   vtkCellArray* PolysKey = nullptr;
   vtkMTimeType PolysMTime = 0;
   // buffers for arrays that are not vtkDoubleArray
-  std::vector<double> Points, Displacements, Rotations, CellIds, PCoords, Distances, Faces;
+  std::vector<double> Points, Displacements, Rotations, CellIds, PCoords, Distances, Faces, Fallback;
 };
 
 //------------------------------------------------------------------------------
@@ -309,6 +310,7 @@ bool vtkDeformationTransferFilter::PreparePlan(vtkPolyData* surface, vtkUnstruct
   vtkDataArray* pcoords = PointArray(pd, EmbeddingParametricCoords, 3, numVerts);
   vtkDataArray* dist = PointArray(pd, EmbeddingDistance, 1, numVerts);
   vtkDataArray* faces = pd->GetArray(EmbeddingFace);
+  vtkDataArray* fallback = offset ? pd->GetArray(EmbeddingFallbackOffset) : nullptr;
   std::string missing;
   if (!cellIds)
   {
@@ -326,6 +328,10 @@ bool vtkDeformationTransferFilter::PreparePlan(vtkPolyData* surface, vtkUnstruct
   {
     missing += " EmbeddingFace (1 component)";
   }
+  if (fallback && !PointArray(pd, EmbeddingFallbackOffset, 3, numVerts))
+  {
+    missing += " EmbeddingFallbackOffset (3 components)";
+  }
   if (!missing.empty())
   {
     vtkErrorMacro("the surface (port 0) lacks point data arrays, or they do not have one tuple "
@@ -340,12 +346,14 @@ bool vtkDeformationTransferFilter::PreparePlan(vtkPolyData* surface, vtkUnstruct
   em.ParametricCoords = ContiguousDoubles(pcoords, numVerts, I.PCoords);
   em.Distances = offset ? ContiguousDoubles(dist, numVerts, I.Distances) : nullptr;
   em.Faces = faces ? ContiguousDoubles(faces, numVerts, I.Faces) : nullptr;
+  em.FallbackOffsets = fallback ? ContiguousDoubles(fallback, numVerts, I.Fallback) : nullptr;
   const std::string error = driver.BuildPlan(em, this->FaceTolerance, mesh->GetLength());
   // the copies are needed only while the plan is built
   std::vector<double>().swap(I.CellIds);
   std::vector<double>().swap(I.PCoords);
   std::vector<double>().swap(I.Distances);
   std::vector<double>().swap(I.Faces);
+  std::vector<double>().swap(I.Fallback);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);

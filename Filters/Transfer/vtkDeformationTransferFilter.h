@@ -14,6 +14,9 @@
  *     absent (older files), or -1 where d != 0, the face is deduced from the parametric
  *     coordinates: the boundary face of the cell whose opposite barycentric coordinate is
  *     within FaceTolerance of 0.
+ *   - `EmbeddingFallbackOffset` (3 components, optional, normal-offset only): q, nonzero
+ *     for the vertices embedded without a normal offset (`EmbeddingFallback` of
+ *     vtkEmbeddingCoordinatesFilter).
  *   Field data: `EmbeddingMethod` ("normal-offset" or "barycentric") and
  *   `EmbeddingMeshFingerprint` (hoembed::MeshFingerprint of the rest mesh).
  * - port 1: the deformed FE mesh (vtkUnstructuredGrid): all VTK_QUADRATIC_TETRA or all
@@ -47,6 +50,10 @@
  *     surface; RECOMPUTE_NORMALS keeps the offsets normal to the deformed surface instead,
  *     ROTATE_NORMALS follows only the rotation). Needs `Displacement` (rest points, as
  *     for ROTATE_NORMALS); without it the filter warns and recomputes the normals.
+ * - fallback vertices (q != 0): v' = p' + J' q, J' = dx'/d(r, s, t) of the deformed cell
+ *   at p: p' + F (v - p) with F the deformation gradient at p, whatever the NormalMode
+ *   (they have no normal offset; at rest this rebuilds v to round-off, and a rigid motion
+ *   moves them rigidly).
  * - barycentric method: v' = p'.
  * - with ComputePointNormals on, area-weighted vertex normals of the output polygons
  *   (float array `Normals`, the active point normals) for rendering.

@@ -34,8 +34,11 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
         A copy of the surface with point data ``EmbeddingCellId``,
         ``EmbeddingParametricCoords``, ``EmbeddingDistance``, ``EmbeddingResidual``,
         ``EmbeddingFace``, ``EmbeddingIterations``, ``EmbeddingElementsVisited``,
-        ``EmbeddingClosestDistance`` and field data ``EmbeddingMethod``,
-        ``EmbeddingMeshFingerprint``.
+        ``EmbeddingClosestDistance``, ``EmbeddingFallback`` (1 where v = p + d n has no
+        solution and v = p + J q with the closest point p is used instead; their q in
+        ``EmbeddingFallbackOffset``, present only when there are any; see
+        vtkEmbeddingCoordinatesFilter) and field data ``EmbeddingMethod``,
+        ``EmbeddingMeshFingerprint``, ``NumberOfFallbackPoints``.
 
     Raises
     ------
