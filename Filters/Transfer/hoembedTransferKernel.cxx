@@ -1,6 +1,7 @@
 #include "hoembedTransferKernel.h"
 
 #include "hoembedElementGeometry.h"
+#include "hoembedQuadraticMap.h"
 #include "hoembedShapeFunctions.h"
 
 #include <cmath>
@@ -11,46 +12,45 @@
 
 namespace hoembed
 {
+namespace
+{
+// The coefficient tables hold Core's monomial maps (MakeTetMap, MakeTriangleMap: the one
+// expansion of the shape functions) in the per-vertex loop's layout: x = C + sum_i L_i xi_i
+// + sum_i (Q_ii / 2) xi_i^2 + sum_{i<j} Q_ij xi_i xi_j. Halving is exact.
+void StoreMap(const QuadraticMap& m, bool quadratic, double* k)
+{
+  const int dim = m.Dim;
+  for (int d = 0; d < 3; ++d)
+  {
+    k[d] = m.C[d];
+    for (int i = 0; i < dim; ++i)
+      k[3 * (1 + i) + d] = m.L[i][d];
+    if (!quadratic)
+      continue;
+    for (int i = 0; i < dim; ++i)
+      k[3 * (1 + dim + i) + d] = 0.5 * m.Q[i][i][d];
+    int c = 1 + 2 * dim;
+    for (int i = 0; i < dim; ++i)
+      for (int j = i + 1; j < dim; ++j, ++c)
+        k[3 * c + d] = m.Q[i][j][d];
+  }
+}
+} // namespace
+
 void ComputeCellMapCoefficients(const std::int64_t* conn, int nodesPerCell, const double* points,
   std::int64_t begin, std::int64_t end, double* coeffs)
 {
   const int csize = CellCoefficientSize(nodesPerCell);
+  double x[30];
+  QuadraticMap m;
   for (std::int64_t c = begin; c < end; ++c)
   {
     const std::int64_t* ids = conn + nodesPerCell * c;
-    double* k = coeffs + csize * c;
-    for (int d = 0; d < 3; ++d)
-    {
-      const double x0 = points[3 * ids[0] + d];
-      const double x1 = points[3 * ids[1] + d];
-      const double x2 = points[3 * ids[2] + d];
-      const double x3 = points[3 * ids[3] + d];
-      if (nodesPerCell == 4)
-      {
-        k[d] = x0;
-        k[3 + d] = x1 - x0;
-        k[6 + d] = x2 - x0;
-        k[9 + d] = x3 - x0;
-        continue;
-      }
-      const double x4 = points[3 * ids[4] + d];
-      const double x5 = points[3 * ids[5] + d];
-      const double x6 = points[3 * ids[6] + d];
-      const double x7 = points[3 * ids[7] + d];
-      const double x8 = points[3 * ids[8] + d];
-      const double x9 = points[3 * ids[9] + d];
-      // Tet10 shape functions expanded in monomials of (r, s, t) (see the header).
-      k[d] = x0;
-      k[3 + d] = -3.0 * x0 - x1 + 4.0 * x4;
-      k[6 + d] = -3.0 * x0 - x2 + 4.0 * x6;
-      k[9 + d] = -3.0 * x0 - x3 + 4.0 * x7;
-      k[12 + d] = 2.0 * x0 + 2.0 * x1 - 4.0 * x4;
-      k[15 + d] = 2.0 * x0 + 2.0 * x2 - 4.0 * x6;
-      k[18 + d] = 2.0 * x0 + 2.0 * x3 - 4.0 * x7;
-      k[21 + d] = 4.0 * (x0 - x4 + x5 - x6);
-      k[24 + d] = 4.0 * (x0 - x4 - x7 + x8);
-      k[27 + d] = 4.0 * (x0 - x6 - x7 + x9);
-    }
+    for (int a = 0; a < nodesPerCell; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = points[3 * ids[a] + d];
+    MakeTetMap(x, nodesPerCell, m);
+    StoreMap(m, nodesPerCell == 10, coeffs + csize * c);
   }
 }
 
@@ -59,33 +59,16 @@ void ComputeFaceNormalCoefficients(const TetMeshTopology& topo, const double* no
 {
   const int npf = topo.GetNodesPerFace();
   const int fsize = npf == 6 ? 18 : 9;
+  double n[18];
+  QuadraticMap m;
   for (std::int64_t f = begin; f < end; ++f)
   {
     const TetMeshTopology::Id* fn = &topo.BoundaryFaceNodes[npf * f];
-    double* a = coeffs + fsize * f;
-    for (int d = 0; d < 3; ++d)
-    {
-      const double n0 = nodalNormals[3 * fn[0] + d];
-      const double n1 = nodalNormals[3 * fn[1] + d];
-      const double n2 = nodalNormals[3 * fn[2] + d];
-      if (npf == 3)
-      {
-        a[d] = n0;
-        a[3 + d] = n1 - n0;
-        a[6 + d] = n2 - n0;
-        continue;
-      }
-      const double n3 = nodalNormals[3 * fn[3] + d];
-      const double n4 = nodalNormals[3 * fn[4] + d];
-      const double n5 = nodalNormals[3 * fn[5] + d];
-      // Tri6 shape functions expanded in monomials of (u, v).
-      a[d] = n0;
-      a[3 + d] = -3.0 * n0 - n1 + 4.0 * n3;
-      a[6 + d] = -3.0 * n0 - n2 + 4.0 * n5;
-      a[9 + d] = 2.0 * n0 + 2.0 * n1 - 4.0 * n3;
-      a[12 + d] = 2.0 * n0 + 2.0 * n2 - 4.0 * n5;
-      a[15 + d] = 4.0 * (n0 - n3 + n4 - n5);
-    }
+    for (int a = 0; a < npf; ++a)
+      for (int d = 0; d < 3; ++d)
+        n[3 * a + d] = nodalNormals[3 * fn[a] + d];
+    MakeTriangleMap(n, npf, m);
+    StoreMap(m, npf == 6, coeffs + fsize * f);
   }
 }
 
