@@ -403,6 +403,168 @@ QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& 
   }
   return q;
 }
+
+// Boundary mid-edge nodes to their surface targets, interior ones by the harmonic
+// extension of those moves, pulled back where elements are not acceptable. Fills
+// `targets` (3 per boundary edge first, then the interior nodes that moved).
+CurvingResult CurveTowardsSurface(CurvedMesh& out, const TetMeshTopology& topo,
+  const QuadraticNodes& quad, const SurfaceQueries& surface, const CurvedMeshOptions& options,
+  std::vector<double>& targets)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  std::vector<Id> nodes(quad.EdgeMid);
+  targets.assign(3 * nbe, 0.0);
+  std::vector<double> disp(3 * nPts, 0.0);
+  std::vector<char> fixed(nPts, 0);
+  for (Id e = 0; e < nbe; ++e)
+  {
+    MidEdgeTarget(out.Points, topo, e, surface, true, &targets[3 * e]);
+    fixed[nodes[e]] = 1;
+    for (int d = 0; d < 3; ++d)
+      disp[3 * nodes[e] + d] = targets[3 * e + d] - out.Points[3 * nodes[e] + d];
+  }
+  disp = ExtendMidNodeDisplacement(out.Points, out.Conn, disp, fixed, 20);
+  for (Id i = quad.NumberOfCorners; i < nPts; ++i)
+  {
+    const double* di = &disp[3 * i];
+    if (fixed[i] || (di[0] == 0.0 && di[1] == 0.0 && di[2] == 0.0))
+      continue;
+    nodes.push_back(i);
+    for (int d = 0; d < 3; ++d)
+      targets.push_back(out.Points[3 * i + d] + di[d]);
+  }
+  return CurveMidEdgeNodes(out.Points, out.Conn, nodes, targets, options.QualityRatio);
+}
+
+// Second chances for the pulled-back boundary nodes: other surface points near them, then
+// moves of the free nodes around them (only boundary mid-edge nodes are meant to lie on
+// the surface: the others, and the corners, may move to make room for the boundary ones
+// still pulled back; corners then leave the surface a little, which the mid-edge nodes
+// make up for), then the other surface points again.
+void SecondChances(CurvedMesh& out, const TetMeshTopology& topo, const QuadraticNodes& quad,
+  const SurfaceQueries& surface, const CurvedMeshOptions& options,
+  const std::vector<double>& targets, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
+    RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
+      surface, options.QualityRatio, Tet10Check());
+  std::vector<char> isFree(nPts, 0);
+  for (Id i = 0; i < nPts; ++i)
+    isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
+  std::vector<double> alphaB(curving.Alpha.begin(), curving.Alpha.begin() + nbe);
+  std::vector<double> targetsB(targets.begin(), targets.begin() + 3 * nbe);
+  FitWithFreeNodes(
+    out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree, options.QualityRatio);
+  std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
+  RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
+    surface, options.QualityRatio, Tet10Check());
+}
+
+// The extra test is costly: run it once on the result, and pull back (from the straight
+// position, with the full test) only the nodes of the cells that fail it.
+void ApplyExtraCheck(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  const CurvedMeshOptions& options, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  std::vector<char> mark(nPts, 0);
+  std::vector<Id> redo;
+  std::vector<double> redoTargets;
+  for (Id c = 0; c < nTets; ++c)
+  {
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    if (options.ExtraCheck(x))
+      continue;
+    for (int a = 4; a < 10; ++a)
+    {
+      const Id m = out.Conn[10 * c + a];
+      if (mark[m])
+        continue;
+      mark[m] = 1;
+      redo.push_back(m);
+      redoTargets.insert(redoTargets.end(), &out.Points[3 * m], &out.Points[3 * m] + 3);
+      const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+      for (int d = 0; d < 3; ++d)
+        out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+    }
+  }
+  if (redo.empty())
+    return;
+  CurvingResult again = CurveMidEdgeNodes(
+    out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.ExtraCheck);
+  std::vector<Id> edgeOf(nPts, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  for (size_t k = 0; k < redo.size(); ++k)
+    if (again.Alpha[k] < 1.0 && edgeOf[redo[k]] >= 0)
+      curving.Alpha[edgeOf[redo[k]]] = std::min(curving.Alpha[edgeOf[redo[k]]], again.Alpha[k]);
+}
+
+// Safety net: any cell still not valid gets all its mid-edge nodes straight; repeat for
+// the cells around them. Terminates (each sweep straightens nodes for good) and ends
+// valid (a straight tet10 is valid when its corners are).
+void StraightenInvalidCells(
+  CurvedMesh& out, const QuadraticNodes& quad, Id nbe, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  std::vector<Id> edgeOf(nPts, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  std::vector<char> straightened(nPts, 0);
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (Id c = 0; c < nTets; ++c)
+    {
+      double x[30];
+      for (int a = 0; a < 10; ++a)
+        for (int d = 0; d < 3; ++d)
+          x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+      if (Tet10MinScaledJacobian(x) > 0.0)
+        continue;
+      for (int a = 4; a < 10; ++a)
+      {
+        const Id m = out.Conn[10 * c + a];
+        if (straightened[m])
+          continue;
+        straightened[m] = 1;
+        changed = true;
+        const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+        if (edgeOf[m] >= 0)
+          curving.Alpha[edgeOf[m]] = 0.0;
+      }
+    }
+  }
+}
+
+// Counts of the boundary mid-edge nodes on the surface and pulled back; the pulled-back
+// edges with their targets.
+void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo, const QuadraticNodes& quad,
+  const std::vector<double>& targets, const CurvingResult& curving)
+{
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  for (Id e = 0; e < nbe; ++e)
+    (curving.Alpha[e] < 1.0 ? out.RelaxedNodes : out.CurvedNodes)++;
+  for (Id e = 0; e < nbe; ++e)
+  {
+    if (curving.Alpha[e] < 1.0)
+    {
+      out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e]);
+      out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e + 1]);
+      out.RelaxedEdgeTargets.insert(
+        out.RelaxedEdgeTargets.end(), &targets[3 * e], &targets[3 * e] + 3);
+    }
+  }
+}
 } // namespace
 
 CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
@@ -414,185 +576,51 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     if (progress)
       progress(f);
   };
+  out.RemovedSlivers +=
+    RemoveBoundarySlivers(pts, tets, static_cast<Id>(pts.size() / 3), options.SliverQuality);
+  TetMeshTopology topo;
+  const std::string err =
+    topo.Build(tets.data(), static_cast<Id>(tets.size() / 4), 4, static_cast<Id>(pts.size() / 3));
+  if (!err.empty())
   {
-    const int round = 0;
-    out.RemovedSlivers +=
-      RemoveBoundarySlivers(pts, tets, static_cast<Id>(pts.size() / 3), options.SliverQuality);
-    const Id nTets = static_cast<Id>(tets.size() / 4);
-    TetMeshTopology topo;
-    const std::string err = topo.Build(tets.data(), nTets, 4, static_cast<Id>(pts.size() / 3));
-    if (!err.empty())
-    {
-      out.Error = "the linear mesh is inconsistent: " + err;
-      return out;
-    }
-    if (options.ProjectCorners)
-      ProjectCorners(pts, tets, topo, surface);
-    report(0.3);
-
-    out.LinearPoints = pts;
-    out.LinearBoundary.assign(
-      topo.BoundaryFaceNodes.begin(), topo.BoundaryFaceNodes.begin() + 3 * topo.GetNumberOfBoundaryFaces());
-    out.Points = pts;
-    out.BoundaryNode.assign(pts.size() / 3, 0);
-    for (Id i = 0; i < static_cast<Id>(pts.size() / 3); ++i)
-      out.BoundaryNode[i] = topo.IsBoundaryNode(i) ? 1 : 0;
-    out.CurvedNodes = out.RelaxedNodes = 0;
-    if (options.Order == 1)
-    {
-      out.Conn = tets;
-      return out;
-    }
-
-    QuadraticNodes quad = AddMidEdgeNodes(out.Points, tets, topo);
-    out.Conn = quad.Conn;
-    const Id nPts = static_cast<Id>(out.Points.size() / 3);
-    out.BoundaryNode.resize(nPts, 0);
-    const Id nbe = topo.GetNumberOfBoundaryEdges();
-    for (Id e = 0; e < nbe; ++e)
-      out.BoundaryNode[quad.EdgeMid[e]] = 1;
-    if (!options.CurveBoundary)
-      return out;
-
-    std::vector<Id> nodes(quad.EdgeMid);
-    std::vector<double> targets(3 * nbe);
-    std::vector<double> disp(3 * nPts, 0.0);
-    std::vector<char> fixed(nPts, 0);
-    for (Id e = 0; e < nbe; ++e)
-    {
-      MidEdgeTarget(out.Points, topo, e, surface, true, &targets[3 * e]);
-      fixed[nodes[e]] = 1;
-      for (int d = 0; d < 3; ++d)
-        disp[3 * nodes[e] + d] = targets[3 * e + d] - out.Points[3 * nodes[e] + d];
-    }
-    disp = ExtendMidNodeDisplacement(out.Points, out.Conn, disp, fixed, 20);
-    for (Id i = quad.NumberOfCorners; i < nPts; ++i)
-    {
-      const double* di = &disp[3 * i];
-      if (fixed[i] || (di[0] == 0.0 && di[1] == 0.0 && di[2] == 0.0))
-        continue;
-      nodes.push_back(i);
-      for (int d = 0; d < 3; ++d)
-        targets.push_back(out.Points[3 * i + d] + di[d]);
-    }
-    CurvingResult curving =
-      CurveMidEdgeNodes(out.Points, out.Conn, nodes, targets, options.QualityRatio);
-    report(0.7);
-    for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
-      RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-        surface, options.QualityRatio, Tet10Check());
-    {
-      // Only boundary mid-edge nodes are meant to lie on the surface: the others, and the
-      // corners, may move to make room for the boundary ones still pulled back (corners
-      // then leave the surface a little, which the mid-edge nodes make up for); then the
-      // other surface points are tried again.
-      std::vector<char> isFree(nPts, 0);
-      for (Id i = 0; i < nPts; ++i)
-        isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
-      std::vector<double> alphaB(curving.Alpha.begin(), curving.Alpha.begin() + nbe);
-      std::vector<double> targetsB(targets.begin(), targets.begin() + 3 * nbe);
-      FitWithFreeNodes(out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree,
-        options.QualityRatio);
-      std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
-      RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-        surface, options.QualityRatio, Tet10Check());
-    }
-    if (options.ExtraCheck)
-    {
-      // The extra test is costly: run it once on the result, and pull back (from the
-      // straight position, with the full test) only the nodes of the cells that fail it.
-      std::vector<char> mark(nPts, 0);
-      std::vector<Id> redo;
-      std::vector<double> redoTargets;
-      for (Id c = 0; c < nTets; ++c)
-      {
-        double x[30];
-        for (int a = 0; a < 10; ++a)
-          for (int d = 0; d < 3; ++d)
-            x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
-        if (options.ExtraCheck(x))
-          continue;
-        for (int a = 4; a < 10; ++a)
-        {
-          const Id m = out.Conn[10 * c + a];
-          if (mark[m])
-            continue;
-          mark[m] = 1;
-          redo.push_back(m);
-          redoTargets.insert(redoTargets.end(), &out.Points[3 * m], &out.Points[3 * m] + 3);
-          const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
-          for (int d = 0; d < 3; ++d)
-            out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
-        }
-      }
-      if (!redo.empty())
-      {
-        CurvingResult again = CurveMidEdgeNodes(
-          out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.ExtraCheck);
-        std::vector<Id> edgeOf(nPts, -1);
-        for (Id e = 0; e < nbe; ++e)
-          edgeOf[quad.EdgeMid[e]] = e;
-        for (size_t k = 0; k < redo.size(); ++k)
-          if (again.Alpha[k] < 1.0 && edgeOf[redo[k]] >= 0)
-            curving.Alpha[edgeOf[redo[k]]] = std::min(curving.Alpha[edgeOf[redo[k]]], again.Alpha[k]);
-      }
-    }
-    // Safety net: any cell still not valid gets all its mid-edge nodes straight; repeat for
-    // the cells around them. Terminates (each sweep straightens nodes for good) and ends
-    // valid (a straight tet10 is valid when its corners are).
-    {
-      std::vector<Id> edgeOf(nPts, -1);
-      for (Id e = 0; e < nbe; ++e)
-        edgeOf[quad.EdgeMid[e]] = e;
-      std::vector<char> straightened(nPts, 0);
-      for (bool changed = true; changed;)
-      {
-        changed = false;
-        for (Id c = 0; c < nTets; ++c)
-        {
-          double x[30];
-          for (int a = 0; a < 10; ++a)
-            for (int d = 0; d < 3; ++d)
-              x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
-          if (Tet10MinScaledJacobian(x) > 0.0)
-            continue;
-          for (int a = 4; a < 10; ++a)
-          {
-            const Id m = out.Conn[10 * c + a];
-            if (straightened[m])
-              continue;
-            straightened[m] = 1;
-            changed = true;
-            const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
-            for (int d = 0; d < 3; ++d)
-              out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
-            if (edgeOf[m] >= 0)
-              curving.Alpha[edgeOf[m]] = 0.0;
-          }
-        }
-      }
-    }
-    std::vector<char> relaxedNode(nPts, 0);
-    for (Id e = 0; e < nbe; ++e)
-    {
-      const bool relaxed = curving.Alpha[e] < 1.0;
-      (relaxed ? out.RelaxedNodes : out.CurvedNodes)++;
-      relaxedNode[quad.EdgeMid[e]] = relaxed ? 1 : 0;
-    }
-    for (Id e = 0; e < nbe; ++e)
-    {
-      if (curving.Alpha[e] < 1.0)
-      {
-        out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e]);
-        out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e + 1]);
-        out.RelaxedEdgeTargets.insert(
-          out.RelaxedEdgeTargets.end(), &targets[3 * e], &targets[3 * e] + 3);
-      }
-    }
-    report(1.0);
+    out.Error = "the linear mesh is inconsistent: " + err;
     return out;
   }
+  if (options.ProjectCorners)
+    ProjectCorners(pts, tets, topo, surface);
+  report(0.3);
+
+  out.LinearPoints = pts;
+  out.LinearBoundary.assign(topo.BoundaryFaceNodes.begin(),
+    topo.BoundaryFaceNodes.begin() + 3 * topo.GetNumberOfBoundaryFaces());
+  out.Points = pts;
+  out.BoundaryNode.assign(pts.size() / 3, 0);
+  for (Id i = 0; i < static_cast<Id>(pts.size() / 3); ++i)
+    out.BoundaryNode[i] = topo.IsBoundaryNode(i) ? 1 : 0;
+  if (options.Order == 1)
+  {
+    out.Conn = tets;
+    return out;
+  }
+
+  const QuadraticNodes quad = AddMidEdgeNodes(out.Points, tets, topo);
+  out.Conn = quad.Conn;
+  out.BoundaryNode.resize(out.Points.size() / 3, 0);
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  for (Id e = 0; e < nbe; ++e)
+    out.BoundaryNode[quad.EdgeMid[e]] = 1;
+  if (!options.CurveBoundary)
+    return out;
+
+  std::vector<double> targets;
+  CurvingResult curving = CurveTowardsSurface(out, topo, quad, surface, options, targets);
+  report(0.7);
+  SecondChances(out, topo, quad, surface, options, targets, curving);
+  if (options.ExtraCheck)
+    ApplyExtraCheck(out, quad, nbe, options, curving);
+  StraightenInvalidCells(out, quad, nbe, curving);
+  CountCurvedNodes(out, topo, quad, targets, curving);
+  report(1.0);
+  return out;
 }
-
-
 } // namespace hoembed

@@ -1,0 +1,296 @@
+#include "hoembedMesherDriver.h"
+
+#include "hoembedElementGeometry.h"
+#include "hoembedSpatialOrder.h"
+#include "hoembedSurfaceCheck.h"
+#include "hoembedTetGenBridge.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace hoembed
+{
+namespace
+{
+using Id = std::int64_t;
+
+// Facts about the fine surface that the later steps need.
+struct FineSurfaceFacts
+{
+  SurfaceCheck Check;
+  double Volume = 0.0;
+  double Diagonal = 0.0;
+};
+
+// Step 1: the fine surface must be a closed, manifold, consistently oriented surface that
+// encloses a volume. Returns an error message, empty when it is one.
+std::string CheckFineSurface(
+  const std::vector<double>& points, const std::vector<Id>& tris, FineSurfaceFacts& facts)
+{
+  const Id np = static_cast<Id>(points.size() / 3);
+  SurfaceCheck& check = facts.Check;
+  check.Run(points.data(), np, tris.data(), static_cast<Id>(tris.size() / 3));
+  std::ostringstream msg;
+  if (check.BoundaryEdges > 0)
+  {
+    msg << "the input surface is open: " << check.BoundaryEdges
+        << " boundary edges (e.g. between points " << check.ExampleEdge[0] << " and "
+        << check.ExampleEdge[1] << "); close its holes first";
+    return msg.str();
+  }
+  if (check.NonManifoldEdges > 0)
+  {
+    msg << "the input surface is not manifold: " << check.NonManifoldEdges
+        << " edges are shared by more than two triangles (e.g. " << check.ExampleEdge[0] << "-"
+        << check.ExampleEdge[1] << ")";
+    return msg.str();
+  }
+  if (check.InconsistentEdges > 0)
+  {
+    msg << "the input surface is not consistently oriented: " << check.InconsistentEdges
+        << " edges are used twice in the same direction";
+    return msg.str();
+  }
+  facts.Volume = std::fabs(check.SignedVolume);
+  // Bounds as vtkDataSet::GetBounds computes them (the empty-set convention aside).
+  double bounds[6] = { DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX };
+  for (Id i = 0; i < np; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      bounds[2 * d] = std::min(bounds[2 * d], points[3 * i + d]);
+      bounds[2 * d + 1] = std::max(bounds[2 * d + 1], points[3 * i + d]);
+    }
+  facts.Diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  const double diag = facts.Diagonal;
+  if (!(facts.Volume > 1e-12 * diag * diag * diag))
+    return "the input surface encloses no volume";
+  return std::string();
+}
+
+// Step 2: decimate the fine surface to the boundary of edge length h and mesh it with
+// TetGen; when a target number of elements is asked for, correct h from the count
+// obtained and keep the closest result. A decimation that folds (not a closed manifold,
+// or self-intersecting: TetGen can crash on such input) or a TetGen failure is retried
+// with a slightly different target. Fine detail (thorns, noise) can make the decimated
+// surface fold onto itself; after two failed attempts the surface is low-pass filtered
+// (windowed sinc, which keeps the volume) before decimation. Only the coarse boundary
+// comes from the filtered surface: curved nodes still go onto the original one.
+TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
+  const std::vector<Id>& fineTris, const FineSurfaceFacts& facts, const MesherOptions& options,
+  const MesherServices& services, const std::function<void(double)>& report)
+{
+  // A regular tet of edge h has volume h^3 / (6 sqrt 2); quality meshes average about
+  // that, so N elements of a volume V have h = (6 sqrt(2) V / N)^(1/3).
+  double h = options.TargetEdgeLength > 0.0
+    ? options.TargetEdgeLength
+    : std::cbrt(6.0 * std::sqrt(2.0) * facts.Volume / options.TargetNumberOfElements);
+  const double nFine = static_cast<double>(fineTris.size() / 3);
+  TetGenResult tg;
+  TetGenParameters params;
+  params.RadiusEdgeRatio = options.RadiusEdgeRatio;
+  params.MinDihedralAngle = options.MinDihedralAngle;
+  double bestMismatch = DBL_MAX;
+  std::string lastError;
+  double triFactor = 1.0;
+  bool smoothed = false;
+  for (int attempt = 0; attempt < 10; ++attempt)
+  {
+    if (attempt == 2)
+    {
+      smoothed = true;
+      triFactor = 1.0;
+    }
+    report(0.1 + 0.05 * attempt);
+    // Boundary triangles of edge h: equilateral area sqrt(3)/4 h^2.
+    const double nTri =
+      std::max(8.0, triFactor * facts.Check.Area / (std::sqrt(3.0) / 4.0 * h * h));
+    std::vector<double> coarsePoints;
+    std::vector<Id> coarseTris;
+    if (nTri < 0.9 * nFine)
+    {
+      if (!services.Decimate(1.0 - nTri / nFine, smoothed, coarsePoints, coarseTris))
+      {
+        tg.Error = "decimation produced non-triangle cells";
+        tg.Tets.clear();
+        return tg;
+      }
+    }
+    else
+    {
+      coarsePoints = finePoints;
+      coarseTris = fineTris;
+    }
+    const Id ncp = static_cast<Id>(coarsePoints.size() / 3);
+    const Id nct = static_cast<Id>(coarseTris.size() / 3);
+    SurfaceCheck coarseCheck;
+    coarseCheck.Run(coarsePoints.data(), ncp, coarseTris.data(), nct);
+    if (!coarseCheck.IsClosedManifold() || coarseCheck.DegenerateTriangles > 0 ||
+      SurfaceCheck::CountSelfIntersections(
+        coarsePoints.data(), ncp, coarseTris.data(), nct, 1e-9, 1) > 0)
+    {
+      lastError = "the coarsened surface is not a closed manifold free of self-intersections";
+      triFactor *= 1.15;
+      continue;
+    }
+    params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
+    params.PreserveBoundary = options.PreserveBoundary;
+    TetGenResult run = RunTetGen(coarsePoints, coarseTris, params);
+    if (!run.Error.empty() && params.PreserveBoundary)
+    {
+      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
+      run = RunTetGen(coarsePoints, coarseTris, params);
+    }
+    if (!run.Error.empty())
+    {
+      lastError = run.Error;
+      triFactor *= 1.15;
+      continue;
+    }
+    const double ratio =
+      static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
+    const double mismatch = std::fabs(std::log(ratio));
+    if (mismatch < bestMismatch)
+    {
+      bestMismatch = mismatch;
+      tg = std::move(run);
+    }
+    if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
+      break;
+    h *= std::cbrt(ratio);
+  }
+  if (tg.Tets.empty())
+    tg.Error = lastError;
+  if (!tg.Error.empty())
+  {
+    std::ostringstream msg;
+    msg << "TetGen could not mesh the surface: " << tg.Error
+        << (facts.Check.DegenerateTriangles ? " (the input has degenerate triangles)" : "")
+        << ". Check the input for self-intersections, or ask for more elements.";
+    tg.Error = msg.str();
+  }
+  return tg;
+}
+
+// Step 4: how far is the fine surface from the coarse straight boundary? (Thin parts
+// smaller than the element size are not resolved.) Relative to the diagonal; at most
+// 20000 fine vertices are measured.
+double MeasureSurfaceDeviation(const std::vector<double>& finePoints, const CurvedMesh& mesh,
+  double diag, const MesherServices& services)
+{
+  const Id nFinePts = static_cast<Id>(finePoints.size() / 3);
+  const Id stride = std::max<Id>(1, nFinePts / 20000);
+  const double worst = services.MaxDistanceToTriangles(
+    mesh.LinearPoints, mesh.LinearBoundary, finePoints, stride);
+  return diag > 0.0 ? worst / diag : 0.0;
+}
+
+// Step 5: memory order (cells along a Morton curve, nodes by first use: neighbouring
+// elements are neighbours in the arrays, the embedding's searches read less scattered
+// memory) and the quality of every element. Returns false when an element is not valid.
+bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& invalid)
+{
+  std::vector<Id> cellOrder, pointOrder;
+  SpatialOrder(mesh.Points, mesh.Conn, npc, cellOrder, pointOrder);
+  const Id nTets = static_cast<Id>(cellOrder.size());
+  const Id nPts = static_cast<Id>(pointOrder.size());
+  out.NodesPerCell = npc;
+  out.Points.resize(3 * nPts);
+  out.BoundaryNode.resize(nPts);
+  std::vector<Id> newId(nPts);
+  for (Id k = 0; k < nPts; ++k)
+  {
+    const Id i = pointOrder[k];
+    newId[i] = k;
+    out.BoundaryNode[k] = mesh.BoundaryNode[i];
+    for (int d = 0; d < 3; ++d)
+      out.Points[3 * k + d] = mesh.Points[3 * i + d];
+  }
+  out.Conn.resize(npc * nTets);
+  out.MinScaledJacobian.resize(nTets);
+  invalid = 0;
+  for (Id t = 0; t < nTets; ++t)
+  {
+    double x[30];
+    for (int a = 0; a < npc; ++a)
+    {
+      const Id id = newId[mesh.Conn[npc * cellOrder[t] + a]];
+      out.Conn[npc * t + a] = id;
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * id + d];
+    }
+    const double q = npc == 10 ? Tet10MinScaledJacobian(x) : Tet4ScaledJacobian(x);
+    out.MinScaledJacobian[t] = q;
+    invalid += q > 0.0 ? 0 : 1;
+  }
+  return invalid == 0;
+}
+} // namespace
+
+MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>& tris,
+  const MesherOptions& options, const MesherServices& services,
+  const std::function<void(double)>& progress)
+{
+  MesherResult out;
+  auto report = [&](double f) {
+    if (progress)
+      progress(f);
+  };
+  FineSurfaceFacts facts;
+  out.Error = CheckFineSurface(points, tris, facts);
+  if (!out.Error.empty())
+    return out;
+  report(0.1);
+
+  TetGenResult tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
+  if (!tg.Error.empty())
+  {
+    out.Error = tg.Error;
+    return out;
+  }
+  report(0.5);
+
+  CurvedMeshOptions curving;
+  curving.Order = options.ElementOrder;
+  curving.CurveBoundary = options.CurveBoundary;
+  curving.ProjectCorners = options.ProjectCorners;
+  curving.QualityRatio = options.CurvedQualityRatio;
+  curving.ExtraCheck = services.ExtraCheck;
+  CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), services.Fine,
+    curving, [&](double f) { report(0.5 + 0.4 * f); });
+  if (!mesh.Error.empty())
+  {
+    out.Error = "could not build the curved mesh: " + mesh.Error;
+    return out;
+  }
+  out.CurvedNodeCount = mesh.CurvedNodes;
+  out.RelaxedNodeCount = mesh.RelaxedNodes;
+
+  out.MaxSurfaceDeviation = MeasureSurfaceDeviation(points, mesh, facts.Diagonal, services);
+  if (out.MaxSurfaceDeviation > options.SurfaceDeviationWarning)
+  {
+    std::ostringstream msg;
+    msg << "the coarse mesh does not resolve parts of the surface: a surface point is "
+        << out.MaxSurfaceDeviation * 100.0
+        << "% of the bounding-box diagonal away from it (thin parts are smaller than the "
+           "element size; ask for more elements or a smaller TargetEdgeLength)";
+    out.Warnings.push_back(msg.str());
+  }
+  report(0.95);
+
+  Id invalid = 0;
+  if (!OrderAndMeasure(mesh, options.ElementOrder == 2 ? 10 : 4, out, invalid))
+  {
+    std::ostringstream msg;
+    msg << invalid << " elements are not valid after meshing (internal error)";
+    out.Error = msg.str();
+    return out;
+  }
+  report(1.0);
+  return out;
+}
+} // namespace hoembed
