@@ -209,13 +209,33 @@ void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4,
   target[2] = closest[2];
 }
 
+// True when `target` is too far from the straight position of boundary edge e's
+// mid-edge node to be meant for it (the limit is off when `limit` is 0); the target is
+// then that straight position.
+bool KeepOnEnvelope(const std::vector<double>& pts, const TetMeshTopology& topo4, Id e,
+  double limit, double target[3])
+{
+  if (!(limit > 0.0))
+    return false;
+  const Id u = topo4.BoundaryEdgeNodes[3 * e], v = topo4.BoundaryEdgeNodes[3 * e + 1];
+  double S[3];
+  for (int d = 0; d < 3; ++d)
+    S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
+  if (vtkMath::Distance2BetweenPoints(S, target) <= limit * limit)
+    return false;
+  for (int d = 0; d < 3; ++d)
+    target[d] = S[d];
+  return true;
+}
+
 // A boundary mid-edge node pulled back from its closest point gets a second chance: other
 // points of the fine surface near its straight position (along the edge's normal, and
 // the closest points to a ring of points around it), nearest first; the first that keeps
 // every element around the node acceptable is taken (alpha becomes 1).
 void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& conn,
   const TetMeshTopology& topo4, const std::vector<Id>& nodes, std::vector<double>& alpha,
-  Id nbe, const SurfaceQueries& surface, double qualityRatio, const Tet10Check& extra)
+  Id nbe, const SurfaceQueries& surface, double qualityRatio, const Tet10Check& extra,
+  double maxDistance)
 {
   const Id nc = static_cast<Id>(conn.size() / 10);
   std::unordered_map<Id, std::vector<Id>> cellsOf;
@@ -258,7 +278,9 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
     vtkMath::Perpendiculars(n, t1, t2, 0.0);
     std::vector<std::array<double, 4>> candidates; // distance to S, point
     auto add = [&](const double p[3]) {
-      candidates.push_back({ std::sqrt(vtkMath::Distance2BetweenPoints(p, S)), p[0], p[1], p[2] });
+      const double dist = std::sqrt(vtkMath::Distance2BetweenPoints(p, S));
+      if (!(maxDistance > 0.0) || dist <= maxDistance)
+        candidates.push_back({ dist, p[0], p[1], p[2] });
     };
     for (double sgn : { 1.0, -1.0 })
     {
@@ -309,7 +331,7 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
 // Boundary corners onto the surface, where their tets stay valid and keep half their
 // quality (full move, else a half, a quarter, else none).
 void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
-  const TetMeshTopology& topo, const SurfaceQueries& surface)
+  const TetMeshTopology& topo, const SurfaceQueries& surface, double maxDistance)
 {
   const Id nPts = static_cast<Id>(pts.size() / 3);
   const Id nTets = static_cast<Id>(tets.size() / 4);
@@ -332,6 +354,8 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
       continue;
     double x0[3] = { pts[3 * i], pts[3 * i + 1], pts[3 * i + 2] }, target[3];
     surface.Closest(x0, target);
+    if (maxDistance > 0.0 && vtkMath::Distance2BetweenPoints(x0, target) > maxDistance * maxDistance)
+      continue;
     before.clear();
     for (Id k = off[i]; k < off[i + 1]; ++k)
       before.push_back(TetQuality(pts, &tets[4 * around[k]]));
@@ -404,22 +428,25 @@ QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& 
   return q;
 }
 
-// Boundary mid-edge nodes to their surface targets, interior ones by the harmonic
+// Boundary mid-edge nodes to their surface targets (`envelope` marks those with no
+// surface point near: they stay), interior ones by the harmonic
 // extension of those moves, pulled back where elements are not acceptable. Fills
 // `targets` (3 per boundary edge first, then the interior nodes that moved).
 CurvingResult CurveTowardsSurface(CurvedMesh& out, const TetMeshTopology& topo,
   const QuadraticNodes& quad, const SurfaceQueries& surface, const CurvedMeshOptions& options,
-  std::vector<double>& targets)
+  std::vector<double>& targets, std::vector<char>& envelope)
 {
   const Id nPts = static_cast<Id>(out.Points.size() / 3);
   const Id nbe = topo.GetNumberOfBoundaryEdges();
   std::vector<Id> nodes(quad.EdgeMid);
+  envelope.assign(nbe, 0);
   targets.assign(3 * nbe, 0.0);
   std::vector<double> disp(3 * nPts, 0.0);
   std::vector<char> fixed(nPts, 0);
   for (Id e = 0; e < nbe; ++e)
   {
     MidEdgeTarget(out.Points, topo, e, surface, true, &targets[3 * e]);
+    envelope[e] = KeepOnEnvelope(out.Points, topo, e, options.MaxTargetDistance, &targets[3 * e]);
     fixed[nodes[e]] = 1;
     for (int d = 0; d < 3; ++d)
       disp[3 * nodes[e] + d] = targets[3 * e + d] - out.Points[3 * nodes[e] + d];
@@ -450,7 +477,7 @@ void SecondChances(CurvedMesh& out, const TetMeshTopology& topo, const Quadratic
   const Id nbe = topo.GetNumberOfBoundaryEdges();
   for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
     RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-      surface, options.QualityRatio, Tet10Check());
+      surface, options.QualityRatio, Tet10Check(), options.MaxTargetDistance);
   std::vector<char> isFree(nPts, 0);
   for (Id i = 0; i < nPts; ++i)
     isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
@@ -460,7 +487,7 @@ void SecondChances(CurvedMesh& out, const TetMeshTopology& topo, const Quadratic
     out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree, options.QualityRatio);
   std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
   RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-    surface, options.QualityRatio, Tet10Check());
+    surface, options.QualityRatio, Tet10Check(), options.MaxTargetDistance);
 }
 
 // The extra test is costly: run it once on the result, and pull back (from the straight
@@ -548,15 +575,17 @@ void StraightenInvalidCells(
 
 // Counts of the boundary mid-edge nodes on the surface and pulled back; the pulled-back
 // edges with their targets.
-void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo, const QuadraticNodes& quad,
-  const std::vector<double>& targets, const CurvingResult& curving)
+void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo,
+  const std::vector<double>& targets, const std::vector<char>& envelope,
+  const CurvingResult& curving)
 {
   const Id nbe = topo.GetNumberOfBoundaryEdges();
   for (Id e = 0; e < nbe; ++e)
-    (curving.Alpha[e] < 1.0 ? out.RelaxedNodes : out.CurvedNodes)++;
+    (envelope[e] ? out.EnvelopeNodes
+                 : (curving.Alpha[e] < 1.0 ? out.RelaxedNodes : out.CurvedNodes))++;
   for (Id e = 0; e < nbe; ++e)
   {
-    if (curving.Alpha[e] < 1.0)
+    if (curving.Alpha[e] < 1.0 && !envelope[e])
     {
       out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e]);
       out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e + 1]);
@@ -587,7 +616,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     return out;
   }
   if (options.ProjectCorners)
-    ProjectCorners(pts, tets, topo, surface);
+    ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance);
   report(0.3);
 
   out.LinearPoints = pts;
@@ -613,13 +642,15 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     return out;
 
   std::vector<double> targets;
-  CurvingResult curving = CurveTowardsSurface(out, topo, quad, surface, options, targets);
+  std::vector<char> envelope;
+  CurvingResult curving =
+    CurveTowardsSurface(out, topo, quad, surface, options, targets, envelope);
   report(0.7);
   SecondChances(out, topo, quad, surface, options, targets, curving);
   if (options.ExtraCheck)
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);
-  CountCurvedNodes(out, topo, quad, targets, curving);
+  CountCurvedNodes(out, topo, targets, envelope, curving);
   report(1.0);
   return out;
 }

@@ -46,6 +46,9 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
   bool ProjectCorners = true;
   double QualityRatio = 0.1;  ///< see hoembed::Tet10Acceptable
   double SliverQuality = 0.2; ///< scaled Jacobian below which flat boundary tets go
+  /// Surface points farther than this from a boundary node are not its target (the node
+  /// stays where it is: an envelope bridging a hole or wrapping a sheet); 0: no limit.
+  double MaxTargetDistance = 0.0;
   /// extra acceptance test of curved elements (e.g. VTK's cell validator), optional
   std::function<bool(const double* x10)> ExtraCheck;
 };
@@ -59,6 +62,7 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMesh
   std::vector<std::int64_t> LinearBoundary; ///< its boundary triangles (3 ids each)
   std::int64_t CurvedNodes = 0;   ///< boundary mid-edge nodes on the surface
   std::int64_t RelaxedNodes = 0;  ///< boundary mid-edge nodes pulled back
+  std::int64_t EnvelopeNodes = 0; ///< boundary mid-edge nodes with no surface point near
   std::int64_t RemovedSlivers = 0;
   std::vector<std::int64_t> RelaxedEdges;   ///< corner pairs of the pulled-back boundary edges
   std::vector<double> RelaxedEdgeTargets;   ///< their mid-edge nodes' surface targets

@@ -3,6 +3,7 @@
 #include "hoembedElementGeometry.h"
 #include "hoembedSpatialOrder.h"
 #include "hoembedSurfaceCheck.h"
+#include "hoembedSurfaceWrap.h"
 #include "hoembedTetGenBridge.h"
 
 #include <algorithm>
@@ -33,6 +34,17 @@ std::string CheckFineSurface(
   const Id np = static_cast<Id>(points.size() / 3);
   SurfaceCheck& check = facts.Check;
   check.Run(points.data(), np, tris.data(), static_cast<Id>(tris.size() / 3));
+  // Bounds as vtkDataSet::GetBounds computes them (the empty-set convention aside).
+  double bounds[6] = { DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX };
+  for (Id i = 0; i < np; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      bounds[2 * d] = std::min(bounds[2 * d], points[3 * i + d]);
+      bounds[2 * d + 1] = std::max(bounds[2 * d + 1], points[3 * i + d]);
+    }
+  facts.Diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   std::ostringstream msg;
   if (check.BoundaryEdges > 0)
   {
@@ -55,17 +67,6 @@ std::string CheckFineSurface(
     return msg.str();
   }
   facts.Volume = std::fabs(check.SignedVolume);
-  // Bounds as vtkDataSet::GetBounds computes them (the empty-set convention aside).
-  double bounds[6] = { DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX };
-  for (Id i = 0; i < np; ++i)
-    for (int d = 0; d < 3; ++d)
-    {
-      bounds[2 * d] = std::min(bounds[2 * d], points[3 * i + d]);
-      bounds[2 * d + 1] = std::max(bounds[2 * d + 1], points[3 * i + d]);
-    }
-  facts.Diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
-    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   const double diag = facts.Diagonal;
   if (!(facts.Volume > 1e-12 * diag * diag * diag))
     return "the input surface encloses no volume";
@@ -176,6 +177,96 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
   return tg;
 }
 
+// Step 2 for any other surface: an envelope (hoembed::WrapSurface: closed, manifold and
+// free of self-intersections by construction, so TetGen meshes it without the retries of
+// the coarsening) with a ball of the element size, so that its triangles have about that
+// size; TetGen as above. The element size comes from the volume of a first, rough
+// envelope, then from the count obtained (at most four envelopes in all).
+TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
+  const std::vector<Id>& fineTris, const FineSurfaceFacts& facts, const MesherOptions& options,
+  double& offset, const std::function<void(double)>& report)
+{
+  TetGenResult tg;
+  const double diag = facts.Diagonal;
+  if (!(diag > 0.0))
+  {
+    tg.Error = "the input surface has no extent (all its points coincide)";
+    return tg;
+  }
+  auto offsetFor = [&](double h) {
+    return options.EnvelopeTolerance > 0.0 ? options.EnvelopeTolerance * diag : 0.25 * h;
+  };
+  double h = options.TargetEdgeLength;
+  if (!(h > 0.0))
+  {
+    SurfaceWrapResult rough =
+      WrapSurface(finePoints, fineTris, 0.05 * diag, offsetFor(0.05 * diag));
+    if (!rough.Error.empty())
+    {
+      tg.Error = "the surface cannot be enclosed in a volume: " + rough.Error +
+        " (give a surface whose triangles have an area)";
+      return tg;
+    }
+    SurfaceCheck roughCheck;
+    roughCheck.Run(rough.Points.data(), static_cast<Id>(rough.Points.size() / 3),
+      rough.Tris.data(), static_cast<Id>(rough.Tris.size() / 3));
+    h = std::cbrt(
+      6.0 * std::sqrt(2.0) * std::fabs(roughCheck.SignedVolume) / options.TargetNumberOfElements);
+  }
+  report(0.2);
+  TetGenParameters params;
+  params.RadiusEdgeRatio = options.RadiusEdgeRatio;
+  params.MinDihedralAngle = options.MinDihedralAngle;
+  double bestMismatch = DBL_MAX;
+  for (int attempt = 0; attempt < 3; ++attempt)
+  {
+    const double off = offsetFor(h);
+    SurfaceWrapResult wrap = WrapSurface(finePoints, fineTris, h, off);
+    report(0.2 + 0.1 * attempt);
+    if (!wrap.Error.empty())
+    {
+      tg.Error = "the surface cannot be enclosed in a volume: " + wrap.Error +
+        " (give a surface whose triangles have an area)";
+      return tg;
+    }
+    SurfaceCheck wrapCheck;
+    wrapCheck.Run(wrap.Points.data(), static_cast<Id>(wrap.Points.size() / 3),
+      wrap.Tris.data(), static_cast<Id>(wrap.Tris.size() / 3));
+    if (!wrapCheck.IsClosedManifold())
+    {
+      tg.Error = "the envelope is not a closed manifold (internal error)";
+      return tg;
+    }
+    params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
+    params.PreserveBoundary = options.PreserveBoundary;
+    TetGenResult run = RunTetGen(wrap.Points, wrap.Tris, params);
+    if (!run.Error.empty() && params.PreserveBoundary)
+    {
+      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
+      run = RunTetGen(wrap.Points, wrap.Tris, params);
+    }
+    if (!run.Error.empty())
+    {
+      if (tg.Tets.empty())
+        tg.Error = "TetGen could not mesh the envelope: " + run.Error;
+      break;
+    }
+    const double ratio =
+      static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
+    const double mismatch = std::fabs(std::log(ratio));
+    if (mismatch < bestMismatch)
+    {
+      bestMismatch = mismatch;
+      tg = std::move(run);
+      offset = off;
+    }
+    if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
+      break;
+    h *= std::cbrt(ratio);
+  }
+  return tg;
+}
+
 // Step 4: how far is the fine surface from the coarse straight boundary? (Thin parts
 // smaller than the element size are not resolved.) Relative to the diagonal; at most
 // 20000 fine vertices are measured.
@@ -240,13 +331,34 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     if (progress)
       progress(f);
   };
+  // A clean closed manifold takes the coarsening path (its boundary nodes all lie on the
+  // surface); anything else, and a clean surface whose coarsening fails (decimation folds
+  // that no retry removes, e.g. high genus), an envelope, which TetGen meshes by
+  // construction.
   FineSurfaceFacts facts;
-  out.Error = CheckFineSurface(points, tris, facts);
-  if (!out.Error.empty())
+  const std::string notClean = CheckFineSurface(points, tris, facts);
+  if (!notClean.empty() && options.Wrap < 0)
+  {
+    out.Error = notClean;
     return out;
+  }
   report(0.1);
-
-  TetGenResult tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
+  TetGenResult tg;
+  if (notClean.empty() && options.Wrap <= 0)
+  {
+    tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
+    if (!tg.Error.empty() && options.Wrap == 0)
+    {
+      out.Warnings.push_back(
+        tg.Error + " The surface's envelope is meshed instead (EnvelopeTolerance).");
+      tg.Error.clear();
+      out.Wrapped = true;
+    }
+  }
+  else
+    out.Wrapped = true;
+  if (out.Wrapped)
+    tg = WrapAndTetrahedralize(points, tris, facts, options, out.EnvelopeOffset, report);
   if (!tg.Error.empty())
   {
     out.Error = tg.Error;
@@ -260,6 +372,11 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   curving.ProjectCorners = options.ProjectCorners;
   curving.QualityRatio = options.CurvedQualityRatio;
   curving.ExtraCheck = services.ExtraCheck;
+  // The envelope's corners lie at the offset from the surface, its straight mid-edge
+  // nodes a little farther: surface points beyond twice the offset belong to parts the
+  // envelope bridges (holes) or to its other side (a wrapped sheet).
+  if (out.Wrapped)
+    curving.MaxTargetDistance = 2.0 * out.EnvelopeOffset;
   CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), services.Fine,
     curving, [&](double f) { report(0.5 + 0.4 * f); });
   if (!mesh.Error.empty())
@@ -269,6 +386,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   }
   out.CurvedNodeCount = mesh.CurvedNodes;
   out.RelaxedNodeCount = mesh.RelaxedNodes;
+  out.EnvelopeNodeCount = mesh.EnvelopeNodes;
 
   out.MaxSurfaceDeviation = MeasureSurfaceDeviation(points, mesh, facts.Diagonal, services);
   if (out.MaxSurfaceDeviation > options.SurfaceDeviationWarning)

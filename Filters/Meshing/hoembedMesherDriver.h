@@ -37,6 +37,14 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
   double MinDihedralAngle = 10.0;
   double SurfaceDeviationWarning = 0.05;
   double CurvedQualityRatio = 0.02;
+  /// Distance of the envelope from a surface that is not a clean closed manifold,
+  /// relative to the bounding-box diagonal; 0 (default): a quarter of the target element
+  /// size, so that a single sheet becomes a solid about one element thick.
+  double EnvelopeTolerance = 0.0;
+  /// 1: always mesh an envelope (hoembed::WrapSurface), -1: never (a surface that is not
+  /// a clean closed manifold is an error, as before the envelope existed), 0 (default):
+  /// when the surface is not a clean closed manifold, or its coarsening fails.
+  int Wrap = 0;
 };
 
 /// Geometry services on the fine surface that the binding provides.
@@ -69,6 +77,9 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherResult
   std::int64_t RelaxedNodeCount = 0;
   std::int64_t CurvedNodeCount = 0;
   double MaxSurfaceDeviation = 0.0;
+  std::int64_t EnvelopeNodeCount = 0; ///< boundary mid-edge nodes left on the envelope
+  bool Wrapped = false;               ///< the boundary is an envelope of the surface
+  double EnvelopeOffset = 0.0;        ///< its distance from the surface (when Wrapped)
   std::vector<std::string> Warnings;
   std::string Error; ///< empty on success; otherwise nothing else is meaningful
 };

@@ -163,7 +163,9 @@ std::string CleanInput(vtkPolyData* input, vtkSmartPointer<vtkPolyData>& fine, T
     }
   }
   if (input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0)
-    return "the input has no polygons: a closed triangle surface is needed";
+    return "the input has no polygons (only points or lines), so nothing to enclose in a "
+           "volume: give a triangle surface (reconstruct one from a point cloud first, e.g. "
+           "with vtkSurfaceReconstructionFilter)";
   vtkNew<vtkTriangleFilter> triangulate;
   triangulate->SetInputData(input);
   triangulate->PassVertsOff();
@@ -334,10 +336,15 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
   };
   addId("RelaxedNodeCount", r.RelaxedNodeCount);
   addId("CurvedNodeCount", r.CurvedNodeCount);
+  addId("EnvelopeNodeCount", r.EnvelopeNodeCount);
   vtkNew<vtkDoubleArray> dev;
   dev->SetName("MaxSurfaceDeviation");
   dev->InsertNextValue(r.MaxSurfaceDeviation);
   output->GetFieldData()->AddArray(dev);
+  vtkNew<vtkDoubleArray> offset;
+  offset->SetName("EnvelopeOffset");
+  offset->InsertNextValue(r.Wrapped ? r.EnvelopeOffset : 0.0);
+  output->GetFieldData()->AddArray(offset);
 }
 } // namespace
 
@@ -349,6 +356,7 @@ int vtkTet10Mesher::RequestData(
   this->RelaxedNodeCount = 0;
   this->CurvedNodeCount = 0;
   this->MaxSurfaceDeviation = 0.0;
+  this->EnvelopeNodeCount = 0;
   if (!input || !output)
   {
     vtkErrorMacro("missing input surface or output grid");
@@ -376,6 +384,7 @@ int vtkTet10Mesher::RequestData(
   options.MinDihedralAngle = this->MinDihedralAngle;
   options.SurfaceDeviationWarning = this->SurfaceDeviationWarning;
   options.CurvedQualityRatio = this->CurvedQualityRatio;
+  options.EnvelopeTolerance = this->EnvelopeTolerance;
   VTKServices services(fine);
   const hoembed::MesherResult result = hoembed::RunMesher(fineArrays.Points, fineArrays.Tris,
     options, services.Make(), [this](double f) { this->UpdateProgress(f); });
@@ -389,6 +398,7 @@ int vtkTet10Mesher::RequestData(
   this->CurvedNodeCount = result.CurvedNodeCount;
   this->RelaxedNodeCount = result.RelaxedNodeCount;
   this->MaxSurfaceDeviation = result.MaxSurfaceDeviation;
+  this->EnvelopeNodeCount = result.EnvelopeNodeCount;
   WriteOutput(result, output);
   this->UpdateProgress(1.0);
   return 1;
@@ -406,8 +416,10 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RadiusEdgeRatio: " << this->RadiusEdgeRatio << "\n";
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "CurvedQualityRatio: " << this->CurvedQualityRatio << "\n";
+  os << indent << "EnvelopeTolerance: " << this->EnvelopeTolerance << "\n";
   os << indent << "SurfaceDeviationWarning: " << this->SurfaceDeviationWarning << "\n";
   os << indent << "RelaxedNodeCount: " << this->RelaxedNodeCount << "\n";
   os << indent << "CurvedNodeCount: " << this->CurvedNodeCount << "\n";
   os << indent << "MaxSurfaceDeviation: " << this->MaxSurfaceDeviation << "\n";
+  os << indent << "EnvelopeNodeCount: " << this->EnvelopeNodeCount << "\n";
 }
