@@ -73,6 +73,33 @@ std::string CheckFineSurface(
   return std::string();
 }
 
+// Number of edge-connected pieces of a triangle surface (union-find over its points;
+// points used by no triangle do not count).
+Id CountComponents(Id npts, const std::vector<Id>& tris)
+{
+  std::vector<Id> parent(npts);
+  for (Id i = 0; i < npts; ++i)
+    parent[i] = i;
+  auto find = [&](Id i) {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<char> used(npts, 0);
+  for (size_t t = 0; t < tris.size() / 3; ++t)
+    for (int k = 0; k < 3; ++k)
+    {
+      used[tris[3 * t + k]] = 1;
+      const Id a = find(tris[3 * t + k]), b = find(tris[3 * t + (k + 1) % 3]);
+      if (a != b)
+        parent[a] = b;
+    }
+  Id n = 0;
+  for (Id i = 0; i < npts; ++i)
+    n += used[i] && find(i) == i ? 1 : 0;
+  return n;
+}
+
 // Step 2: decimate the fine surface to the boundary of edge length h and mesh it with
 // TetGen; when a target number of elements is asked for, correct h from the count
 // obtained and keep the closest result. A decimation that folds (not a closed manifold,
@@ -91,6 +118,7 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
     ? options.TargetEdgeLength
     : std::cbrt(6.0 * std::sqrt(2.0) * facts.Volume / options.TargetNumberOfElements);
   const double nFine = static_cast<double>(fineTris.size() / 3);
+  const Id fineComponents = CountComponents(static_cast<Id>(finePoints.size() / 3), fineTris);
   TetGenResult tg;
   TetGenParameters params;
   params.RadiusEdgeRatio = options.RadiusEdgeRatio;
@@ -137,6 +165,13 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       lastError = "the coarsened surface is not a closed manifold free of self-intersections";
       triFactor *= 1.15;
       continue;
+    }
+    // A part smaller than the element size can vanish in the decimation: it must not be
+    // dropped silently (more triangles rarely bring it back: the envelope takes over).
+    if (CountComponents(ncp, coarseTris) != fineComponents)
+    {
+      lastError = "a part of the surface smaller than the element size vanished in the coarsening";
+      break;
     }
     params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
     params.PreserveBoundary = options.PreserveBoundary;
