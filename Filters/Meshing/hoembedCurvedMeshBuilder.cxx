@@ -1,5 +1,6 @@
 #include "hoembedCurvedMeshBuilder.h"
 
+#include "hoembedBoundaryCrossings.h"
 #include "hoembedCurvedBoundary.h"
 #include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
@@ -573,6 +574,231 @@ void StraightenInvalidCells(
   }
 }
 
+// Moves mid-edge node m to keep * its displacement from the straight position.
+void PullNode(CurvedMesh& out, const QuadraticNodes& quad, Id m, double keep)
+{
+  const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+  for (int d = 0; d < 3; ++d)
+  {
+    const double mid = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+    out.Points[3 * m + d] = mid + keep * (out.Points[3 * m + d] - mid);
+  }
+}
+
+// Mid-edge node -> the cells that use it (CSR).
+struct MidNodeCells
+{
+  std::vector<Id> Offsets, Cells;
+  MidNodeCells(const CurvedMesh& out)
+  {
+    const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+    this->Offsets.assign(out.Points.size() / 3 + 1, 0);
+    this->Cells.resize(6 * nTets);
+    for (Id c = 0; c < nTets; ++c)
+      for (int a = 4; a < 10; ++a)
+        ++this->Offsets[out.Conn[10 * c + a] + 1];
+    for (size_t i = 1; i < this->Offsets.size(); ++i)
+      this->Offsets[i] += this->Offsets[i - 1];
+    std::vector<Id> fill(this->Offsets.begin(), this->Offsets.end() - 1);
+    for (Id c = 0; c < nTets; ++c)
+      for (int a = 4; a < 10; ++a)
+        this->Cells[fill[out.Conn[10 * c + a]]++] = c;
+  }
+};
+
+// A pulled-back boundary node can leave a cell invalid where interior mid-edge nodes
+// follow the old boundary: those interior nodes are straightened (they carry no surface),
+// so that the safety net (StraightenInvalidCells) does not straighten boundary nodes too.
+void StraightenInteriorAround(
+  CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCells& around, Id m)
+{
+  for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+  {
+    const Id c = around.Cells[k];
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    if (Tet10MinScaledJacobian(x) > 0.0)
+      continue;
+    for (int a = 4; a < 10; ++a)
+      if (!out.BoundaryNode[out.Conn[10 * c + a]])
+        PullNode(out, quad, out.Conn[10 * c + a], 0.0);
+  }
+}
+
+// Separates one crossing pair of faces (their 12 node ids in `two`): of its six mid-edge
+// nodes, the one that separates the pair with the smallest pull-back (1/2, 1/4, 1/8 or
+// all of its displacement) is pulled back, until the pair is apart; if no single node
+// does, the first two (one per face) that do with the same factor; else every mid-edge
+// node of both faces goes straight. As few boundary nodes as
+// possible leave the surface.
+void SeparatePair(CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCells& around,
+  const std::vector<Id>& two, const std::vector<Id>& edgeOf, CurvingResult& curving)
+{
+  static const double keeps[] = { 0.5, 0.25, 0.125, 0.0 };
+  for (int step = 0; step < 6 && !FindCurvedFaceCrossings(out.Points, two).empty(); ++step)
+  {
+    Id bestNode = -1;
+    int bestLevel = 4;
+    for (int k = 0; k < 12; ++k)
+    {
+      if (k % 6 < 3)
+        continue;
+      const Id m = two[k];
+      const double kept[3] = { out.Points[3 * m], out.Points[3 * m + 1], out.Points[3 * m + 2] };
+      for (int level = 0; level < bestLevel; ++level)
+      {
+        PullNode(out, quad, m, keeps[level]);
+        const bool apart = FindCurvedFaceCrossings(out.Points, two).empty();
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = kept[d];
+        if (apart)
+        {
+          bestLevel = level;
+          bestNode = m;
+          break;
+        }
+      }
+    }
+    std::vector<Id> pull;
+    if (bestNode >= 0)
+      pull.push_back(bestNode);
+    else
+    {
+      // one node of each face, the same factor for both
+      for (int level = 0; level < 4 && pull.empty(); ++level)
+        for (int i = 3; i < 6 && pull.empty(); ++i)
+          for (int j = 9; j < 12 && pull.empty(); ++j)
+          {
+            const Id m = two[i], n = two[j];
+            const double km[3] = { out.Points[3 * m], out.Points[3 * m + 1], out.Points[3 * m + 2] };
+            const double kn[3] = { out.Points[3 * n], out.Points[3 * n + 1], out.Points[3 * n + 2] };
+            PullNode(out, quad, m, keeps[level]);
+            PullNode(out, quad, n, keeps[level]);
+            if (FindCurvedFaceCrossings(out.Points, two).empty())
+            {
+              pull = { m, n };
+              bestLevel = level;
+            }
+            for (int d = 0; d < 3; ++d)
+            {
+              out.Points[3 * m + d] = km[d];
+              out.Points[3 * n + d] = kn[d];
+            }
+          }
+      if (pull.empty())
+        for (int k = 0; k < 12; ++k)
+          if (k % 6 >= 3)
+            pull.push_back(two[k]);
+    }
+    const double keep = bestLevel < 4 ? keeps[bestLevel] : 0.0;
+    for (Id m : pull)
+    {
+      PullNode(out, quad, m, keep);
+      if (edgeOf[m] >= 0)
+        curving.Alpha[edgeOf[m]] *= keep;
+      StraightenInteriorAround(out, quad, around, m);
+    }
+    if (pull.size() > 2)
+      break;
+  }
+}
+
+// Straight faces that still cross have corners that moved onto the surface across each
+// other: those corners go back to TetGen's positions (whose boundary does not cross
+// itself), where every straight tet around them stays valid, with the mid-edge nodes of
+// the cells around them straight; searched again, three rounds at most.
+void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad,
+  const std::vector<Id>& faces, const std::vector<double>& straight,
+  std::vector<std::array<Id, 2>>& pairs, CurvingResult& curving, const std::vector<Id>& edgeOf)
+{
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  std::vector<std::vector<Id>> cellsOf(quad.NumberOfCorners);
+  for (Id c = 0; c < nTets; ++c)
+    for (int a = 0; a < 4; ++a)
+      cellsOf[out.Conn[10 * c + a]].push_back(c);
+  auto straightPositive = [&](Id c) {
+    double x[12];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    return Tet4JacobianDeterminant(x) > 0.0;
+  };
+  for (int round = 0; round < 3 && !pairs.empty(); ++round)
+  {
+    for (const auto& pr : pairs)
+      for (Id f : pr)
+        for (int k = 0; k < 3; ++k)
+        {
+          const Id v = faces[6 * f + k];
+          double keep[3];
+          for (int d = 0; d < 3; ++d)
+          {
+            keep[d] = out.Points[3 * v + d];
+            out.Points[3 * v + d] = straight[3 * v + d];
+          }
+          bool ok = true;
+          for (Id c : cellsOf[v])
+            ok = ok && straightPositive(c);
+          if (!ok)
+          {
+            for (int d = 0; d < 3; ++d)
+              out.Points[3 * v + d] = keep[d];
+            continue;
+          }
+          for (Id c : cellsOf[v])
+            for (int a = 4; a < 10; ++a)
+            {
+              const Id m = out.Conn[10 * c + a];
+              PullNode(out, quad, m, 0.0);
+              if (edgeOf[m] >= 0)
+                curving.Alpha[edgeOf[m]] = 0.0;
+            }
+        }
+    pairs = FindCurvedFaceCrossings(out.Points, faces);
+  }
+}
+
+// Two parts of the boundary that come close (thin parts, folds) can cross once curved,
+// though every element is valid. Each crossing pair of curved boundary faces (certified,
+// hoembed::FindCurvedFaceCrossings) is separated by pulling back as little as possible
+// (SeparatePair); the search runs again (three rounds), and straight faces still
+// crossing get their corners back (RestoreCrossingCorners).
+void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
+  const QuadraticNodes& quad, Id nbe, const std::vector<double>& straight, CurvingResult& curving)
+{
+  const Id nbf = topo.GetNumberOfBoundaryFaces();
+  std::vector<Id> faces(6 * nbf);
+  for (Id f = 0; f < nbf; ++f)
+    for (int k = 0; k < 6; ++k)
+      faces[6 * f + k] =
+        out.Conn[10 * topo.BoundaryFaceCell[f] + TetFaceNodes[topo.BoundaryFaceLocal[f]][k]];
+  std::vector<std::array<Id, 2>> pairs = FindCurvedFaceCrossings(out.Points, faces);
+  out.CrossingPairsFound = static_cast<Id>(pairs.size());
+  if (pairs.empty())
+    return;
+  std::vector<Id> edgeOf(out.Points.size() / 3, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  const MidNodeCells around(out);
+  for (int round = 0; round < 3 && !pairs.empty(); ++round)
+  {
+    for (const auto& pr : pairs)
+    {
+      std::vector<Id> two(12);
+      for (int k = 0; k < 12; ++k)
+        two[k] = faces[6 * pr[k / 6] + k % 6];
+      SeparatePair(out, quad, around, two, edgeOf, curving);
+    }
+    StraightenInvalidCells(out, quad, nbe, curving);
+    pairs = FindCurvedFaceCrossings(out.Points, faces);
+  }
+  if (!pairs.empty())
+    RestoreCrossingCorners(out, quad, faces, straight, pairs, curving, edgeOf);
+  out.CrossingPairsLeft = static_cast<Id>(pairs.size());
+}
+
 // Counts of the boundary mid-edge nodes on the surface and pulled back; the pulled-back
 // edges with their targets.
 void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo,
@@ -615,6 +841,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     out.Error = "the linear mesh is inconsistent: " + err;
     return out;
   }
+  const std::vector<double> tetgenCorners = pts;
   if (options.ProjectCorners)
     ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance);
   report(0.3);
@@ -650,6 +877,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   if (options.ExtraCheck)
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);
+  RepairBoundaryCrossings(out, topo, quad, nbe, tetgenCorners, curving);
   CountCurvedNodes(out, topo, targets, envelope, curving);
   report(1.0);
   return out;

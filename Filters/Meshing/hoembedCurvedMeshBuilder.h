@@ -13,6 +13,8 @@
  *    and pulled-back boundary nodes get a second chance at other nearby surface points,
  *    and a third by moving the corners and interior mid-edge nodes around them
  *    (hoembed::FitWithFreeNodes);
+ * 5. pairs of curved boundary faces that cross (hoembed::FindCurvedFaceCrossings) get
+ *    their mid-edge nodes pulled back until none is left.
  * The boundary edges whose mid-edge nodes stay pulled back are returned with their
  * surface targets (for diagnostics).
  */
@@ -64,6 +66,8 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMesh
   std::int64_t RelaxedNodes = 0;  ///< boundary mid-edge nodes pulled back
   std::int64_t EnvelopeNodes = 0; ///< boundary mid-edge nodes with no surface point near
   std::int64_t RemovedSlivers = 0;
+  std::int64_t CrossingPairsFound = 0; ///< curved boundary face pairs found crossing
+  std::int64_t CrossingPairsLeft = 0;  ///< after the repair (0 unless the corners cross)
   std::vector<std::int64_t> RelaxedEdges;   ///< corner pairs of the pulled-back boundary edges
   std::vector<double> RelaxedEdgeTargets;   ///< their mid-edge nodes' surface targets
 

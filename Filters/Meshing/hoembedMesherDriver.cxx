@@ -422,6 +422,15 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   out.CurvedNodeCount = mesh.CurvedNodes;
   out.RelaxedNodeCount = mesh.RelaxedNodes;
   out.EnvelopeNodeCount = mesh.EnvelopeNodes;
+  out.BoundaryCrossingsFound = mesh.CrossingPairsFound;
+  out.BoundaryCrossingsLeft = mesh.CrossingPairsLeft;
+  if (mesh.CrossingPairsLeft > 0)
+  {
+    std::ostringstream msg;
+    msg << mesh.CrossingPairsLeft << " pairs of boundary faces still cross after straightening "
+        << "their mid-edge nodes (corners moved onto the surface cross); ask for more elements";
+    out.Warnings.push_back(msg.str());
+  }
 
   out.MaxSurfaceDeviation = MeasureSurfaceDeviation(points, mesh, facts.Diagonal, services);
   if (out.MaxSurfaceDeviation > options.SurfaceDeviationWarning)

@@ -78,6 +78,8 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherResult
   std::int64_t CurvedNodeCount = 0;
   double MaxSurfaceDeviation = 0.0;
   std::int64_t EnvelopeNodeCount = 0; ///< boundary mid-edge nodes left on the envelope
+  std::int64_t BoundaryCrossingsFound = 0; ///< curved boundary face pairs crossing, repaired
+  std::int64_t BoundaryCrossingsLeft = 0;  ///< crossing pairs left (0 expected)
   bool Wrapped = false;               ///< the boundary is an envelope of the surface
   double EnvelopeOffset = 0.0;        ///< its distance from the surface (when Wrapped)
   std::vector<std::string> Warnings;

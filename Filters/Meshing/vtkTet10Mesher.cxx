@@ -337,6 +337,8 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
   addId("RelaxedNodeCount", r.RelaxedNodeCount);
   addId("CurvedNodeCount", r.CurvedNodeCount);
   addId("EnvelopeNodeCount", r.EnvelopeNodeCount);
+  addId("BoundaryCrossingsFound", r.BoundaryCrossingsFound);
+  addId("BoundaryCrossingsLeft", r.BoundaryCrossingsLeft);
   vtkNew<vtkDoubleArray> dev;
   dev->SetName("MaxSurfaceDeviation");
   dev->InsertNextValue(r.MaxSurfaceDeviation);

@@ -156,3 +156,38 @@ def test_open_real_mesh(data_dir):
     total = curved + mesh.field_data["RelaxedNodeCount"][0] + mesh.field_data["EnvelopeNodeCount"][0]
     print("stanford-bunny", mesh.n_cells, curved / total)
     assert curved / total > 0.5
+
+
+# ---- a curved boundary that does not cross itself --------------------------------------
+
+def _crossings(mesh):
+    from boundary_crossings import crossing_face_pairs
+    return crossing_face_pairs(mesh)
+
+
+def test_crossing_check_can_fail():
+    """The independent check (VTK's collision filter on the subdivided curved boundary)
+    sees a crossing made on purpose: a boundary mid-edge node pushed through the far side."""
+    mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=300)
+    assert _crossings(mesh) == []
+    from boundary_crossings import boundary_faces6
+    f = boundary_faces6(mesh)[0]
+    bent = mesh.copy()
+    bent.points[f[3]] = -1.5 * bent.points[f[3]]  # through the sphere and out the other side
+    assert len(_crossings(bent)) > 0
+
+
+@pytest.mark.parametrize("name", ["thorny", "open_sphere", "sheet", "fin"])
+def test_no_boundary_crossings(name):
+    surface = hoembed.thorny_tail() if name == "thorny" else CASES[name]()
+    mesh = hoembed.tet10_mesh(surface, n_elements=1000 if name == "thorny" else 400)
+    assert mesh.field_data["BoundaryCrossingsLeft"][0] == 0
+    assert _crossings(mesh) == []
+    print(name, "crossing pairs repaired:", mesh.field_data["BoundaryCrossingsFound"][0])
+
+
+@pytest.mark.parametrize("name", ["bunny_watertight", "fertility", "scorpion_low_resolution"])
+def test_no_boundary_crossings_real(data_dir, name):
+    mesh = hoembed.tet10_mesh(pv.read(data_dir / f"{name}.obj"), n_elements=1000)
+    assert mesh.field_data["BoundaryCrossingsLeft"][0] == 0
+    assert _crossings(mesh) == []
