@@ -25,7 +25,8 @@
 #include "vtkStaticCellLocator.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkIdList.h"
-#include "vtkTriangleFilter.h"
+#include "vtkPolygon.h"
+#include "vtkTriangleStrip.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkWindowedSincPolyDataFilter.h"
@@ -140,9 +141,76 @@ int vtkTet10Mesher::FillInputPortInformation(int, vtkInformation* info)
 
 namespace
 {
+// Triangles of every polygon and strip (vertices and lines dropped). vtkTriangleFilter
+// drops polygons its ear cut cannot split (non-planar or degenerate quads of artist
+// meshes, opening false holes): a quad is split along its shorter diagonal, a larger
+// polygon by vtkPolygon's ear cut, else as a fan from its first vertex.
+vtkSmartPointer<vtkPolyData> Triangulate(vtkPolyData* input)
+{
+  vtkNew<vtkCellArray> tris;
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> local;
+  vtkIdType n;
+  const vtkIdType* ids;
+  vtkCellArray* polys = input->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+  {
+    if (n == 3)
+    {
+      tris->InsertNextCell(3, ids);
+      continue;
+    }
+    if (n == 4)
+    {
+      double x[4][3];
+      for (int k = 0; k < 4; ++k)
+        input->GetPoint(ids[k], x[k]);
+      const bool d02 =
+        vtkMath::Distance2BetweenPoints(x[0], x[2]) <= vtkMath::Distance2BetweenPoints(x[1], x[3]);
+      const vtkIdType t1[3] = { ids[0], ids[1], ids[d02 ? 2 : 3] };
+      const vtkIdType t2[3] = { d02 ? ids[0] : ids[1], ids[2], ids[3] };
+      tris->InsertNextCell(3, t1);
+      tris->InsertNextCell(3, t2);
+      continue;
+    }
+    if (n < 3)
+      continue;
+    polygon->GetPointIds()->SetNumberOfIds(n);
+    polygon->GetPoints()->SetNumberOfPoints(n);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      polygon->GetPointIds()->SetId(k, ids[k]);
+      polygon->GetPoints()->SetPoint(k, input->GetPoint(ids[k]));
+    }
+    if (polygon->Triangulate(local) && local->GetNumberOfIds() == 3 * (n - 2))
+    {
+      for (vtkIdType t = 0; t < n - 2; ++t)
+      {
+        const vtkIdType tri[3] = { ids[local->GetId(3 * t)], ids[local->GetId(3 * t + 1)],
+          ids[local->GetId(3 * t + 2)] };
+        tris->InsertNextCell(3, tri);
+      }
+    }
+    else
+      for (vtkIdType k = 1; k + 1 < n; ++k)
+      {
+        const vtkIdType tri[3] = { ids[0], ids[k], ids[k + 1] };
+        tris->InsertNextCell(3, tri);
+      }
+  }
+  vtkCellArray* strips = input->GetStrips();
+  for (strips->InitTraversal(); strips->GetNextCell(n, ids);)
+    vtkTriangleStrip::DecomposeStrip(static_cast<int>(n), ids, tris);
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->SetPoints(input->GetPoints());
+  out->SetPolys(tris);
+  return out;
+}
+
 // Read step: triangulate polygons and strips, drop vertices and lines, merge coincident
 // points. Returns an error message, empty on success.
-std::string CleanInput(vtkPolyData* input, vtkSmartPointer<vtkPolyData>& fine, TriSurface& arrays)
+std::string CleanInput(vtkPolyData* input, double mergeTolerance, vtkSmartPointer<vtkPolyData>& fine,
+  TriSurface& arrays)
 {
   if (input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
   {
@@ -166,15 +234,22 @@ std::string CleanInput(vtkPolyData* input, vtkSmartPointer<vtkPolyData>& fine, T
     return "the input has no polygons (only points or lines), so nothing to enclose in a "
            "volume: give a triangle surface (reconstruct one from a point cloud first, e.g. "
            "with vtkSurfaceReconstructionFilter)";
-  vtkNew<vtkTriangleFilter> triangulate;
-  triangulate->SetInputData(input);
-  triangulate->PassVertsOff();
-  triangulate->PassLinesOff();
+  vtkSmartPointer<vtkPolyData> triangles = Triangulate(input);
   vtkNew<vtkCleanPolyData> clean;
-  clean->SetInputConnection(triangulate->GetOutputPort());
+  clean->SetInputData(triangles);
   clean->PointMergingOn();
-  clean->SetAbsoluteTolerance(0.0);
-  clean->ToleranceIsAbsoluteOn();
+  // Shared vertices stored with rounding (STL exports: ~1e-6 apart) must meet: the merge
+  // tolerance is relative to the bounding-box diagonal.
+  if (mergeTolerance > 0.0)
+  {
+    clean->ToleranceIsAbsoluteOff();
+    clean->SetTolerance(mergeTolerance);
+  }
+  else
+  {
+    clean->SetAbsoluteTolerance(0.0);
+    clean->ToleranceIsAbsoluteOn();
+  }
   clean->ConvertLinesToPointsOff();
   clean->ConvertPolysToLinesOff();
   clean->ConvertStripsToPolysOff();
@@ -368,7 +443,7 @@ int vtkTet10Mesher::RequestData(
 
   vtkSmartPointer<vtkPolyData> fine;
   TriSurface fineArrays;
-  const std::string readError = CleanInput(input, fine, fineArrays);
+  const std::string readError = CleanInput(input, this->MergeTolerance, fine, fineArrays);
   if (!readError.empty())
   {
     vtkErrorMacro(<< readError);
@@ -419,6 +494,7 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "CurvedQualityRatio: " << this->CurvedQualityRatio << "\n";
   os << indent << "EnvelopeTolerance: " << this->EnvelopeTolerance << "\n";
+  os << indent << "MergeTolerance: " << this->MergeTolerance << "\n";
   os << indent << "SurfaceDeviationWarning: " << this->SurfaceDeviationWarning << "\n";
   os << indent << "RelaxedNodeCount: " << this->RelaxedNodeCount << "\n";
   os << indent << "CurvedNodeCount: " << this->CurvedNodeCount << "\n";

@@ -5,7 +5,9 @@
  *
  * Input (port 0): any triangle surface (vtkPolyData), typically 10k-1M triangles: closed
  * or open, one or several parts, manifold or not, self-intersecting or not. Polygons and
- * triangle strips are triangulated first; vertices and lines are ignored. A clean closed
+ * triangle strips are triangulated first (every polygon: quads along the shorter diagonal,
+ * larger ones by ear cut, else as a fan), points closer than MergeTolerance merged;
+ * vertices and lines are ignored. A clean closed
  * manifold (every edge in exactly two consistently oriented triangles, enclosing a
  * volume) is coarsened (steps 2-3); any other surface, and a clean one whose coarsening
  * fails, is wrapped first: CGAL's 3D Alpha Wrapping (hoembed::WrapSurface) makes a
@@ -171,6 +173,17 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Points closer than this, relative to the bounding-box diagonal, are merged before
+   * anything else (default 1e-6: shared vertices that an exporter rounded differently,
+   * seen in STL files, would otherwise leave false boundary edges). 0 merges only
+   * coincident points.
+   */
+  vtkSetClampMacro(MergeTolerance, double, 0.0, 0.01);
+  vtkGetMacro(MergeTolerance, double);
+  ///@}
+
+  ///@{
   /** Statistics of the last run (also in field data). */
   vtkGetMacro(RelaxedNodeCount, vtkIdType);
   vtkGetMacro(CurvedNodeCount, vtkIdType);
@@ -196,6 +209,7 @@ protected:
   double SurfaceDeviationWarning = 0.05;
   double CurvedQualityRatio = 0.02;
   double EnvelopeTolerance = 0.0;
+  double MergeTolerance = 1e-6;
 
   vtkIdType RelaxedNodeCount = 0;
   vtkIdType CurvedNodeCount = 0;

@@ -191,3 +191,37 @@ def test_no_boundary_crossings_real(data_dir, name):
     mesh = hoembed.tet10_mesh(pv.read(data_dir / f"{name}.obj"), n_elements=1000)
     assert mesh.field_data["BoundaryCrossingsLeft"][0] == 0
     assert _crossings(mesh) == []
+
+
+# ---- what a user means by closed is closed ---------------------------------------------
+
+def test_rounded_shared_vertices_are_merged():
+    """An STL-like sphere: every triangle has its own three vertices, rounded differently
+    (1e-8 of the diagonal): merged, it is a clean closed surface (coarsening path)."""
+    s = pv.Sphere(theta_resolution=24, phi_resolution=24).triangulate()
+    tri = s.faces.reshape(-1, 4)[:, 1:]
+    rng = np.random.default_rng(2)
+    pts = s.points[tri.ravel()] + rng.uniform(-1e-8, 1e-8, (tri.size, 3)) * s.length
+    faces = np.hstack([np.full((len(tri), 1), 3), np.arange(tri.size).reshape(-1, 3)])
+    soup = pv.PolyData(pts, faces.ravel())
+    mesh = hoembed.tet10_mesh(soup, n_elements=300)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0, "not merged into a closed surface"
+    alg = hoembed.vtkTet10Mesher()
+    alg.SetMergeTolerance(0.0)
+    alg.SetInputData(soup)
+    alg.SetTargetNumberOfElements(300)
+    unmerged = pv.wrap(hoembed._errors.run_filter(alg))
+    assert unmerged.field_data["EnvelopeOffset"][0] > 0  # open everywhere without the merge
+
+
+def test_non_planar_quads_and_strips():
+    cube = pv.Cube().clean()
+    cube.points[0] += [0.02, -0.03, 0.05]  # three quads around it are no longer planar
+    assert np.all(cube.faces.reshape(-1, 5)[:, 0] == 4)
+    mesh = hoembed.tet10_mesh(cube, n_elements=200)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0  # every quad gave two triangles
+    strips = pv.Sphere().strip()
+    assert strips.GetNumberOfStrips() > 0 and strips.GetNumberOfPolys() == 0
+    mesh = hoembed.tet10_mesh(strips, n_elements=300)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0
+    assert mesh.cell_data["MinScaledJacobian"].min() > 0
