@@ -211,18 +211,20 @@ void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4,
 }
 
 // True when `target` is too far from the straight position of boundary edge e's
-// mid-edge node to be meant for it (the limit is off when `limit` is 0); the target is
-// then that straight position.
+// mid-edge node to be meant for it, or the surface there faces the other way (the limit
+// is off when `limit` is 0); the target is then that straight position.
 bool KeepOnEnvelope(const std::vector<double>& pts, const TetMeshTopology& topo4, Id e,
-  double limit, double target[3])
+  double limit, const SurfaceQueries& surface, double target[3])
 {
   if (!(limit > 0.0))
     return false;
   const Id u = topo4.BoundaryEdgeNodes[3 * e], v = topo4.BoundaryEdgeNodes[3 * e + 1];
-  double S[3];
+  double S[3], n[3];
   for (int d = 0; d < 3; ++d)
     S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
-  if (vtkMath::Distance2BetweenPoints(S, target) <= limit * limit)
+  const bool faces =
+    !surface.Faces || !BoundaryEdgeNormal(pts, topo4, e, n) || surface.Faces(target, n);
+  if (faces && vtkMath::Distance2BetweenPoints(S, target) <= limit * limit)
     return false;
   for (int d = 0; d < 3; ++d)
     target[d] = S[d];
@@ -280,7 +282,7 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
     std::vector<std::array<double, 4>> candidates; // distance to S, point
     auto add = [&](const double p[3]) {
       const double dist = std::sqrt(vtkMath::Distance2BetweenPoints(p, S));
-      if (!(maxDistance > 0.0) || dist <= maxDistance)
+      if (!(maxDistance > 0.0) || (dist <= maxDistance && (!surface.Faces || surface.Faces(p, n))))
         candidates.push_back({ dist, p[0], p[1], p[2] });
     };
     for (double sgn : { 1.0, -1.0 })
@@ -357,6 +359,27 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
     surface.Closest(x0, target);
     if (maxDistance > 0.0 && vtkMath::Distance2BetweenPoints(x0, target) > maxDistance * maxDistance)
       continue;
+    if (maxDistance > 0.0 && surface.Faces)
+    {
+      // the corner's outward normal: the sum of its boundary faces' normals
+      double n[3] = { 0.0, 0.0, 0.0 };
+      for (Id k = topo.NodeFaceOffsets[i]; k < topo.NodeFaceOffsets[i + 1]; ++k)
+      {
+        const Id* f = &topo.BoundaryFaceNodes[3 * topo.NodeFaces[k]];
+        double a[3], b[3], fn[3];
+        for (int d = 0; d < 3; ++d)
+        {
+          a[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
+          b[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
+        }
+        vtkMath::Cross(a, b, fn);
+        vtkMath::Normalize(fn);
+        for (int d = 0; d < 3; ++d)
+          n[d] += fn[d];
+      }
+      if (vtkMath::Normalize(n) > 0.0 && !surface.Faces(target, n))
+        continue;
+    }
     before.clear();
     for (Id k = off[i]; k < off[i + 1]; ++k)
       before.push_back(TetQuality(pts, &tets[4 * around[k]]));
@@ -447,7 +470,8 @@ CurvingResult CurveTowardsSurface(CurvedMesh& out, const TetMeshTopology& topo,
   for (Id e = 0; e < nbe; ++e)
   {
     MidEdgeTarget(out.Points, topo, e, surface, true, &targets[3 * e]);
-    envelope[e] = KeepOnEnvelope(out.Points, topo, e, options.MaxTargetDistance, &targets[3 * e]);
+    envelope[e] =
+      KeepOnEnvelope(out.Points, topo, e, options.MaxTargetDistance, surface, &targets[3 * e]);
     fixed[nodes[e]] = 1;
     for (int d = 0; d < 3; ++d)
       disp[3 * nodes[e] + d] = targets[3 * e + d] - out.Points[3 * nodes[e] + d];

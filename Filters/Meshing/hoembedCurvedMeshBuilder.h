@@ -39,6 +39,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT SurfaceQueries
   std::function<bool(const double a[3], const double b[3], double hit[3])> Ray;
   /// vertices of the surface within distance r of x (3 doubles each), optional
   std::function<void(const double x[3], double r, std::vector<double>& points)> VerticesWithin;
+  /// does the surface at its point `target` face the direction `outward` (its side seen
+  /// from outside)? Optional; used with CurvedMeshOptions::MaxTargetDistance, so that of
+  /// the two envelope sides of a wrapped sheet only the one it faces goes onto it.
+  std::function<bool(const double target[3], const double outward[3])> Faces;
 };
 
 struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions

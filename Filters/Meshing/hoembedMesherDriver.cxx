@@ -410,9 +410,23 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   // The envelope's corners lie at the offset from the surface, its straight mid-edge
   // nodes a little farther: surface points beyond twice the offset belong to parts the
   // envelope bridges (holes) or to its other side (a wrapped sheet).
+  SurfaceQueries queries = services.Fine;
   if (out.Wrapped)
+  {
     curving.MaxTargetDistance = 2.0 * out.EnvelopeOffset;
-  CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), services.Fine,
+    // Of a surface's two sides, the one its triangles' normals point to is its outside
+    // (inside out for a closed surface of negative volume). Nodes go only onto a surface
+    // that faces them: the near side of a wrapped sheet, not the far one.
+    const double side =
+      facts.Check.BoundaryEdges == 0 && facts.Check.SignedVolume < 0.0 ? -1.0 : 1.0;
+    if (services.NormalAt)
+      queries.Faces = [&services, side](const double target[3], const double outward[3]) {
+        double n[3];
+        services.NormalAt(target, n);
+        return side * (n[0] * outward[0] + n[1] * outward[1] + n[2] * outward[2]) > 0.0;
+      };
+  }
+  CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), queries,
     curving, [&](double f) { report(0.5 + 0.4 * f); });
   if (!mesh.Error.empty())
   {

@@ -58,6 +58,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherServices
     Decimate;
   /// Closest point, ray and neighbourhood queries on the fine surface.
   SurfaceQueries Fine;
+  /// Unit normal of the fine surface at its point x (of the triangle nearest to x, in
+  /// the triangle's vertex order). Optional; with it, a wrapped sheet goes onto the
+  /// envelope side it faces.
+  std::function<void(const double x[3], double normal[3])> NormalAt;
   /// Largest distance from the points `query` (3 doubles each, every `stride`-th one) to
   /// the triangles (`points`, `tris`).
   std::function<double(const std::vector<double>& points, const std::vector<std::int64_t>& tris,

@@ -114,6 +114,18 @@ public:
     return std::sqrt(d2);
   }
 
+  // Unit normal of the surface triangle closest to x.
+  void Normal(const double x[3], double n[3])
+  {
+    vtkIdType cellId;
+    int subId;
+    double d2, cp[3];
+    this->Locator->FindClosestPoint(x, cp, this->Cell, cellId, subId, d2);
+    n[0] = n[1] = n[2] = 0.0;
+    if (cellId >= 0 && this->Cell->GetNumberOfPoints() >= 3)
+      vtkPolygon::ComputeNormal(this->Cell->GetPoints(), n);
+  }
+
   // First crossing of the segment a-b with the surface.
   bool Ray(const double a[3], const double b[3], double hit[3])
   {
@@ -302,6 +314,7 @@ public:
       for (vtkIdType k = 0; k < this->NearIds->GetNumberOfIds(); ++k)
         this->Fine->GetPoint(this->NearIds->GetId(k), &out[3 * k]);
     };
+    s.NormalAt = [this](const double x[3], double n[3]) { this->Projector.Normal(x, n); };
     s.Fine.Ray = [this](const double a[3], const double b[3], double hit[3]) {
       return this->Projector.Ray(a, b, hit);
     };

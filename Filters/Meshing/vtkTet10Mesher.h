@@ -15,8 +15,9 @@
  * TetGen meshes by construction; one FE solid per wrapped solid (parts closer than the
  * element size merge, nested parts fill the part around them, parts smaller than the
  * tolerance are absorbed in a small solid of their own). Boundary nodes then move onto
- * the surface where it is within twice the offset and stay on the envelope elsewhere
- * (holes bridged, the far side of a wrapped sheet); field data `EnvelopeNodeCount`. Output: a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (ElementOrder 2,
+ * the surface where it is within twice the offset and faces them (its triangles' normals
+ * point to their side), and stay on the envelope elsewhere (holes bridged, the far side
+ * of a wrapped sheet, flipped patches); field data `EnvelopeNodeCount`. Output: a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (ElementOrder 2,
  * default) or VTK_TETRA cells (ElementOrder 1, the paper's linear baseline on the same
  * corner nodes).
  *
