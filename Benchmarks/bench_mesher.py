@@ -16,6 +16,7 @@ import pyvista as pv
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "Testing" / "Python"))
 import hoembed  # noqa: E402
+from boundary_crossings import crossing_face_pairs  # noqa: E402
 from mesh_checks import (boundary_mid_nodes, distances_to_surface, straight_volumes,  # noqa: E402
                          surface_volume, tet10_volumes)
 
@@ -49,6 +50,9 @@ def measure(name, surface, n):
         boundary_mid_nodes=int(len(mids)),
         on_surface_fraction=float(np.mean(d <= 1e-6 * diag)),
         relaxed_nodes=int(mesh.field_data["RelaxedNodeCount"][0]),
+        boundary_crossings_found=int(mesh.field_data["BoundaryCrossingsFound"][0]),
+        boundary_crossings_left=int(mesh.field_data["BoundaryCrossingsLeft"][0]),
+        vtk_boundary_crossings=len(crossing_face_pairs(mesh)),
         max_surface_deviation=float(mesh.field_data["MaxSurfaceDeviation"][0]),
         volume_error_curved=(v_curved - v_fine) / v_fine,
         volume_error_straight=(v_straight - v_fine) / v_fine,

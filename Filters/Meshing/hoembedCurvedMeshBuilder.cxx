@@ -1,5 +1,6 @@
 #include "hoembedCurvedMeshBuilder.h"
 
+#include "hoembedBoundaryCrossings.h"
 #include "hoembedCurvedBoundary.h"
 #include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
@@ -209,13 +210,35 @@ void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4,
   target[2] = closest[2];
 }
 
+// True when `target` is too far from the straight position of boundary edge e's
+// mid-edge node to be meant for it, or the surface there faces the other way (the limit
+// is off when `limit` is 0); the target is then that straight position.
+bool KeepOnEnvelope(const std::vector<double>& pts, const TetMeshTopology& topo4, Id e,
+  double limit, const SurfaceQueries& surface, double target[3])
+{
+  if (!(limit > 0.0))
+    return false;
+  const Id u = topo4.BoundaryEdgeNodes[3 * e], v = topo4.BoundaryEdgeNodes[3 * e + 1];
+  double S[3], n[3];
+  for (int d = 0; d < 3; ++d)
+    S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
+  const bool faces =
+    !surface.Faces || !BoundaryEdgeNormal(pts, topo4, e, n) || surface.Faces(target, n);
+  if (faces && vtkMath::Distance2BetweenPoints(S, target) <= limit * limit)
+    return false;
+  for (int d = 0; d < 3; ++d)
+    target[d] = S[d];
+  return true;
+}
+
 // A boundary mid-edge node pulled back from its closest point gets a second chance: other
 // points of the fine surface near its straight position (along the edge's normal, and
 // the closest points to a ring of points around it), nearest first; the first that keeps
 // every element around the node acceptable is taken (alpha becomes 1).
 void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& conn,
   const TetMeshTopology& topo4, const std::vector<Id>& nodes, std::vector<double>& alpha,
-  Id nbe, const SurfaceQueries& surface, double qualityRatio, const Tet10Check& extra)
+  Id nbe, const SurfaceQueries& surface, double qualityRatio, const Tet10Check& extra,
+  double maxDistance)
 {
   const Id nc = static_cast<Id>(conn.size() / 10);
   std::unordered_map<Id, std::vector<Id>> cellsOf;
@@ -258,7 +281,9 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
     vtkMath::Perpendiculars(n, t1, t2, 0.0);
     std::vector<std::array<double, 4>> candidates; // distance to S, point
     auto add = [&](const double p[3]) {
-      candidates.push_back({ std::sqrt(vtkMath::Distance2BetweenPoints(p, S)), p[0], p[1], p[2] });
+      const double dist = std::sqrt(vtkMath::Distance2BetweenPoints(p, S));
+      if (!(maxDistance > 0.0) || (dist <= maxDistance && (!surface.Faces || surface.Faces(p, n))))
+        candidates.push_back({ dist, p[0], p[1], p[2] });
     };
     for (double sgn : { 1.0, -1.0 })
     {
@@ -309,7 +334,7 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
 // Boundary corners onto the surface, where their tets stay valid and keep half their
 // quality (full move, else a half, a quarter, else none).
 void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
-  const TetMeshTopology& topo, const SurfaceQueries& surface)
+  const TetMeshTopology& topo, const SurfaceQueries& surface, double maxDistance)
 {
   const Id nPts = static_cast<Id>(pts.size() / 3);
   const Id nTets = static_cast<Id>(tets.size() / 4);
@@ -332,6 +357,29 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
       continue;
     double x0[3] = { pts[3 * i], pts[3 * i + 1], pts[3 * i + 2] }, target[3];
     surface.Closest(x0, target);
+    if (maxDistance > 0.0 && vtkMath::Distance2BetweenPoints(x0, target) > maxDistance * maxDistance)
+      continue;
+    if (maxDistance > 0.0 && surface.Faces)
+    {
+      // the corner's outward normal: the sum of its boundary faces' normals
+      double n[3] = { 0.0, 0.0, 0.0 };
+      for (Id k = topo.NodeFaceOffsets[i]; k < topo.NodeFaceOffsets[i + 1]; ++k)
+      {
+        const Id* f = &topo.BoundaryFaceNodes[3 * topo.NodeFaces[k]];
+        double a[3], b[3], fn[3];
+        for (int d = 0; d < 3; ++d)
+        {
+          a[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
+          b[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
+        }
+        vtkMath::Cross(a, b, fn);
+        vtkMath::Normalize(fn);
+        for (int d = 0; d < 3; ++d)
+          n[d] += fn[d];
+      }
+      if (vtkMath::Normalize(n) > 0.0 && !surface.Faces(target, n))
+        continue;
+    }
     before.clear();
     for (Id k = off[i]; k < off[i + 1]; ++k)
       before.push_back(TetQuality(pts, &tets[4 * around[k]]));
@@ -403,6 +451,399 @@ QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& 
   }
   return q;
 }
+
+// Boundary mid-edge nodes to their surface targets (`envelope` marks those with no
+// surface point near: they stay), interior ones by the harmonic
+// extension of those moves, pulled back where elements are not acceptable. Fills
+// `targets` (3 per boundary edge first, then the interior nodes that moved).
+CurvingResult CurveTowardsSurface(CurvedMesh& out, const TetMeshTopology& topo,
+  const QuadraticNodes& quad, const SurfaceQueries& surface, const CurvedMeshOptions& options,
+  std::vector<double>& targets, std::vector<char>& envelope)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  std::vector<Id> nodes(quad.EdgeMid);
+  envelope.assign(nbe, 0);
+  targets.assign(3 * nbe, 0.0);
+  std::vector<double> disp(3 * nPts, 0.0);
+  std::vector<char> fixed(nPts, 0);
+  for (Id e = 0; e < nbe; ++e)
+  {
+    MidEdgeTarget(out.Points, topo, e, surface, true, &targets[3 * e]);
+    envelope[e] =
+      KeepOnEnvelope(out.Points, topo, e, options.MaxTargetDistance, surface, &targets[3 * e]);
+    fixed[nodes[e]] = 1;
+    for (int d = 0; d < 3; ++d)
+      disp[3 * nodes[e] + d] = targets[3 * e + d] - out.Points[3 * nodes[e] + d];
+  }
+  disp = ExtendMidNodeDisplacement(out.Points, out.Conn, disp, fixed, 20);
+  for (Id i = quad.NumberOfCorners; i < nPts; ++i)
+  {
+    const double* di = &disp[3 * i];
+    if (fixed[i] || (di[0] == 0.0 && di[1] == 0.0 && di[2] == 0.0))
+      continue;
+    nodes.push_back(i);
+    for (int d = 0; d < 3; ++d)
+      targets.push_back(out.Points[3 * i + d] + di[d]);
+  }
+  return CurveMidEdgeNodes(out.Points, out.Conn, nodes, targets, options.QualityRatio);
+}
+
+// Second chances for the pulled-back boundary nodes: other surface points near them, then
+// moves of the free nodes around them (only boundary mid-edge nodes are meant to lie on
+// the surface: the others, and the corners, may move to make room for the boundary ones
+// still pulled back; corners then leave the surface a little, which the mid-edge nodes
+// make up for), then the other surface points again.
+void SecondChances(CurvedMesh& out, const TetMeshTopology& topo, const QuadraticNodes& quad,
+  const SurfaceQueries& surface, const CurvedMeshOptions& options,
+  const std::vector<double>& targets, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
+    RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
+      surface, options.QualityRatio, Tet10Check(), options.MaxTargetDistance);
+  std::vector<char> isFree(nPts, 0);
+  for (Id i = 0; i < nPts; ++i)
+    isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
+  std::vector<double> alphaB(curving.Alpha.begin(), curving.Alpha.begin() + nbe);
+  std::vector<double> targetsB(targets.begin(), targets.begin() + 3 * nbe);
+  FitWithFreeNodes(
+    out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree, options.QualityRatio);
+  std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
+  RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
+    surface, options.QualityRatio, Tet10Check(), options.MaxTargetDistance);
+}
+
+// The extra test is costly: run it once on the result, and pull back (from the straight
+// position, with the full test) only the nodes of the cells that fail it.
+void ApplyExtraCheck(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  const CurvedMeshOptions& options, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  std::vector<char> mark(nPts, 0);
+  std::vector<Id> redo;
+  std::vector<double> redoTargets;
+  for (Id c = 0; c < nTets; ++c)
+  {
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    if (options.ExtraCheck(x))
+      continue;
+    for (int a = 4; a < 10; ++a)
+    {
+      const Id m = out.Conn[10 * c + a];
+      if (mark[m])
+        continue;
+      mark[m] = 1;
+      redo.push_back(m);
+      redoTargets.insert(redoTargets.end(), &out.Points[3 * m], &out.Points[3 * m] + 3);
+      const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+      for (int d = 0; d < 3; ++d)
+        out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+    }
+  }
+  if (redo.empty())
+    return;
+  CurvingResult again = CurveMidEdgeNodes(
+    out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.ExtraCheck);
+  std::vector<Id> edgeOf(nPts, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  for (size_t k = 0; k < redo.size(); ++k)
+    if (again.Alpha[k] < 1.0 && edgeOf[redo[k]] >= 0)
+      curving.Alpha[edgeOf[redo[k]]] = std::min(curving.Alpha[edgeOf[redo[k]]], again.Alpha[k]);
+}
+
+// Safety net: any cell still not valid gets all its mid-edge nodes straight; repeat for
+// the cells around them. Terminates (each sweep straightens nodes for good) and ends
+// valid (a straight tet10 is valid when its corners are).
+void StraightenInvalidCells(
+  CurvedMesh& out, const QuadraticNodes& quad, Id nbe, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  std::vector<Id> edgeOf(nPts, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  std::vector<char> straightened(nPts, 0);
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (Id c = 0; c < nTets; ++c)
+    {
+      double x[30];
+      for (int a = 0; a < 10; ++a)
+        for (int d = 0; d < 3; ++d)
+          x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+      if (Tet10MinScaledJacobian(x) > 0.0)
+        continue;
+      for (int a = 4; a < 10; ++a)
+      {
+        const Id m = out.Conn[10 * c + a];
+        if (straightened[m])
+          continue;
+        straightened[m] = 1;
+        changed = true;
+        const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+        if (edgeOf[m] >= 0)
+          curving.Alpha[edgeOf[m]] = 0.0;
+      }
+    }
+  }
+}
+
+// Moves mid-edge node m to keep * its displacement from the straight position.
+void PullNode(CurvedMesh& out, const QuadraticNodes& quad, Id m, double keep)
+{
+  const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+  for (int d = 0; d < 3; ++d)
+  {
+    const double mid = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+    out.Points[3 * m + d] = mid + keep * (out.Points[3 * m + d] - mid);
+  }
+}
+
+// Mid-edge node -> the cells that use it (CSR).
+struct MidNodeCells
+{
+  std::vector<Id> Offsets, Cells;
+  MidNodeCells(const CurvedMesh& out)
+  {
+    const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+    this->Offsets.assign(out.Points.size() / 3 + 1, 0);
+    this->Cells.resize(6 * nTets);
+    for (Id c = 0; c < nTets; ++c)
+      for (int a = 4; a < 10; ++a)
+        ++this->Offsets[out.Conn[10 * c + a] + 1];
+    for (size_t i = 1; i < this->Offsets.size(); ++i)
+      this->Offsets[i] += this->Offsets[i - 1];
+    std::vector<Id> fill(this->Offsets.begin(), this->Offsets.end() - 1);
+    for (Id c = 0; c < nTets; ++c)
+      for (int a = 4; a < 10; ++a)
+        this->Cells[fill[out.Conn[10 * c + a]]++] = c;
+  }
+};
+
+// A pulled-back boundary node can leave a cell invalid where interior mid-edge nodes
+// follow the old boundary: those interior nodes are straightened (they carry no surface),
+// so that the safety net (StraightenInvalidCells) does not straighten boundary nodes too.
+void StraightenInteriorAround(
+  CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCells& around, Id m)
+{
+  for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+  {
+    const Id c = around.Cells[k];
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    if (Tet10MinScaledJacobian(x) > 0.0)
+      continue;
+    for (int a = 4; a < 10; ++a)
+      if (!out.BoundaryNode[out.Conn[10 * c + a]])
+        PullNode(out, quad, out.Conn[10 * c + a], 0.0);
+  }
+}
+
+// Separates one crossing pair of faces (their 12 node ids in `two`): of its six mid-edge
+// nodes, the one that separates the pair with the smallest pull-back (1/2, 1/4, 1/8 or
+// all of its displacement) is pulled back, until the pair is apart; if no single node
+// does, the first two (one per face) that do with the same factor; else every mid-edge
+// node of both faces goes straight. As few boundary nodes as
+// possible leave the surface.
+void SeparatePair(CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCells& around,
+  const std::vector<Id>& two, const std::vector<Id>& edgeOf, CurvingResult& curving)
+{
+  static const double keeps[] = { 0.5, 0.25, 0.125, 0.0 };
+  for (int step = 0; step < 6 && !FindCurvedFaceCrossings(out.Points, two).empty(); ++step)
+  {
+    Id bestNode = -1;
+    int bestLevel = 4;
+    for (int k = 0; k < 12; ++k)
+    {
+      if (k % 6 < 3)
+        continue;
+      const Id m = two[k];
+      const double kept[3] = { out.Points[3 * m], out.Points[3 * m + 1], out.Points[3 * m + 2] };
+      for (int level = 0; level < bestLevel; ++level)
+      {
+        PullNode(out, quad, m, keeps[level]);
+        const bool apart = FindCurvedFaceCrossings(out.Points, two).empty();
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = kept[d];
+        if (apart)
+        {
+          bestLevel = level;
+          bestNode = m;
+          break;
+        }
+      }
+    }
+    std::vector<Id> pull;
+    if (bestNode >= 0)
+      pull.push_back(bestNode);
+    else
+    {
+      // one node of each face, the same factor for both
+      for (int level = 0; level < 4 && pull.empty(); ++level)
+        for (int i = 3; i < 6 && pull.empty(); ++i)
+          for (int j = 9; j < 12 && pull.empty(); ++j)
+          {
+            const Id m = two[i], n = two[j];
+            const double km[3] = { out.Points[3 * m], out.Points[3 * m + 1], out.Points[3 * m + 2] };
+            const double kn[3] = { out.Points[3 * n], out.Points[3 * n + 1], out.Points[3 * n + 2] };
+            PullNode(out, quad, m, keeps[level]);
+            PullNode(out, quad, n, keeps[level]);
+            if (FindCurvedFaceCrossings(out.Points, two).empty())
+            {
+              pull = { m, n };
+              bestLevel = level;
+            }
+            for (int d = 0; d < 3; ++d)
+            {
+              out.Points[3 * m + d] = km[d];
+              out.Points[3 * n + d] = kn[d];
+            }
+          }
+      if (pull.empty())
+        for (int k = 0; k < 12; ++k)
+          if (k % 6 >= 3)
+            pull.push_back(two[k]);
+    }
+    const double keep = bestLevel < 4 ? keeps[bestLevel] : 0.0;
+    for (Id m : pull)
+    {
+      PullNode(out, quad, m, keep);
+      if (edgeOf[m] >= 0)
+        curving.Alpha[edgeOf[m]] *= keep;
+      StraightenInteriorAround(out, quad, around, m);
+    }
+    if (pull.size() > 2)
+      break;
+  }
+}
+
+// Straight faces that still cross have corners that moved onto the surface across each
+// other: those corners go back to TetGen's positions (whose boundary does not cross
+// itself), where every straight tet around them stays valid, with the mid-edge nodes of
+// the cells around them straight; searched again, three rounds at most.
+void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad,
+  const std::vector<Id>& faces, const std::vector<double>& straight,
+  std::vector<std::array<Id, 2>>& pairs, CurvingResult& curving, const std::vector<Id>& edgeOf)
+{
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  std::vector<std::vector<Id>> cellsOf(quad.NumberOfCorners);
+  for (Id c = 0; c < nTets; ++c)
+    for (int a = 0; a < 4; ++a)
+      cellsOf[out.Conn[10 * c + a]].push_back(c);
+  auto straightPositive = [&](Id c) {
+    double x[12];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    return Tet4JacobianDeterminant(x) > 0.0;
+  };
+  for (int round = 0; round < 3 && !pairs.empty(); ++round)
+  {
+    for (const auto& pr : pairs)
+      for (Id f : pr)
+        for (int k = 0; k < 3; ++k)
+        {
+          const Id v = faces[6 * f + k];
+          double keep[3];
+          for (int d = 0; d < 3; ++d)
+          {
+            keep[d] = out.Points[3 * v + d];
+            out.Points[3 * v + d] = straight[3 * v + d];
+          }
+          bool ok = true;
+          for (Id c : cellsOf[v])
+            ok = ok && straightPositive(c);
+          if (!ok)
+          {
+            for (int d = 0; d < 3; ++d)
+              out.Points[3 * v + d] = keep[d];
+            continue;
+          }
+          for (Id c : cellsOf[v])
+            for (int a = 4; a < 10; ++a)
+            {
+              const Id m = out.Conn[10 * c + a];
+              PullNode(out, quad, m, 0.0);
+              if (edgeOf[m] >= 0)
+                curving.Alpha[edgeOf[m]] = 0.0;
+            }
+        }
+    pairs = FindCurvedFaceCrossings(out.Points, faces);
+  }
+}
+
+// Two parts of the boundary that come close (thin parts, folds) can cross once curved,
+// though every element is valid. Each crossing pair of curved boundary faces (certified,
+// hoembed::FindCurvedFaceCrossings) is separated by pulling back as little as possible
+// (SeparatePair); the search runs again (three rounds), and straight faces still
+// crossing get their corners back (RestoreCrossingCorners).
+void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
+  const QuadraticNodes& quad, Id nbe, const std::vector<double>& straight, CurvingResult& curving)
+{
+  const Id nbf = topo.GetNumberOfBoundaryFaces();
+  std::vector<Id> faces(6 * nbf);
+  for (Id f = 0; f < nbf; ++f)
+    for (int k = 0; k < 6; ++k)
+      faces[6 * f + k] =
+        out.Conn[10 * topo.BoundaryFaceCell[f] + TetFaceNodes[topo.BoundaryFaceLocal[f]][k]];
+  std::vector<std::array<Id, 2>> pairs = FindCurvedFaceCrossings(out.Points, faces);
+  out.CrossingPairsFound = static_cast<Id>(pairs.size());
+  if (pairs.empty())
+    return;
+  std::vector<Id> edgeOf(out.Points.size() / 3, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  const MidNodeCells around(out);
+  for (int round = 0; round < 3 && !pairs.empty(); ++round)
+  {
+    for (const auto& pr : pairs)
+    {
+      std::vector<Id> two(12);
+      for (int k = 0; k < 12; ++k)
+        two[k] = faces[6 * pr[k / 6] + k % 6];
+      SeparatePair(out, quad, around, two, edgeOf, curving);
+    }
+    StraightenInvalidCells(out, quad, nbe, curving);
+    pairs = FindCurvedFaceCrossings(out.Points, faces);
+  }
+  if (!pairs.empty())
+    RestoreCrossingCorners(out, quad, faces, straight, pairs, curving, edgeOf);
+  out.CrossingPairsLeft = static_cast<Id>(pairs.size());
+}
+
+// Counts of the boundary mid-edge nodes on the surface and pulled back; the pulled-back
+// edges with their targets.
+void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo,
+  const std::vector<double>& targets, const std::vector<char>& envelope,
+  const CurvingResult& curving)
+{
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  for (Id e = 0; e < nbe; ++e)
+    (envelope[e] ? out.EnvelopeNodes
+                 : (curving.Alpha[e] < 1.0 ? out.RelaxedNodes : out.CurvedNodes))++;
+  for (Id e = 0; e < nbe; ++e)
+  {
+    if (curving.Alpha[e] < 1.0 && !envelope[e])
+    {
+      out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e]);
+      out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e + 1]);
+      out.RelaxedEdgeTargets.insert(
+        out.RelaxedEdgeTargets.end(), &targets[3 * e], &targets[3 * e] + 3);
+    }
+  }
+}
 } // namespace
 
 CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
@@ -414,185 +855,55 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     if (progress)
       progress(f);
   };
+  out.RemovedSlivers +=
+    RemoveBoundarySlivers(pts, tets, static_cast<Id>(pts.size() / 3), options.SliverQuality);
+  TetMeshTopology topo;
+  const std::string err =
+    topo.Build(tets.data(), static_cast<Id>(tets.size() / 4), 4, static_cast<Id>(pts.size() / 3));
+  if (!err.empty())
   {
-    const int round = 0;
-    out.RemovedSlivers +=
-      RemoveBoundarySlivers(pts, tets, static_cast<Id>(pts.size() / 3), options.SliverQuality);
-    const Id nTets = static_cast<Id>(tets.size() / 4);
-    TetMeshTopology topo;
-    const std::string err = topo.Build(tets.data(), nTets, 4, static_cast<Id>(pts.size() / 3));
-    if (!err.empty())
-    {
-      out.Error = "the linear mesh is inconsistent: " + err;
-      return out;
-    }
-    if (options.ProjectCorners)
-      ProjectCorners(pts, tets, topo, surface);
-    report(0.3);
-
-    out.LinearPoints = pts;
-    out.LinearBoundary.assign(
-      topo.BoundaryFaceNodes.begin(), topo.BoundaryFaceNodes.begin() + 3 * topo.GetNumberOfBoundaryFaces());
-    out.Points = pts;
-    out.BoundaryNode.assign(pts.size() / 3, 0);
-    for (Id i = 0; i < static_cast<Id>(pts.size() / 3); ++i)
-      out.BoundaryNode[i] = topo.IsBoundaryNode(i) ? 1 : 0;
-    out.CurvedNodes = out.RelaxedNodes = 0;
-    if (options.Order == 1)
-    {
-      out.Conn = tets;
-      return out;
-    }
-
-    QuadraticNodes quad = AddMidEdgeNodes(out.Points, tets, topo);
-    out.Conn = quad.Conn;
-    const Id nPts = static_cast<Id>(out.Points.size() / 3);
-    out.BoundaryNode.resize(nPts, 0);
-    const Id nbe = topo.GetNumberOfBoundaryEdges();
-    for (Id e = 0; e < nbe; ++e)
-      out.BoundaryNode[quad.EdgeMid[e]] = 1;
-    if (!options.CurveBoundary)
-      return out;
-
-    std::vector<Id> nodes(quad.EdgeMid);
-    std::vector<double> targets(3 * nbe);
-    std::vector<double> disp(3 * nPts, 0.0);
-    std::vector<char> fixed(nPts, 0);
-    for (Id e = 0; e < nbe; ++e)
-    {
-      MidEdgeTarget(out.Points, topo, e, surface, true, &targets[3 * e]);
-      fixed[nodes[e]] = 1;
-      for (int d = 0; d < 3; ++d)
-        disp[3 * nodes[e] + d] = targets[3 * e + d] - out.Points[3 * nodes[e] + d];
-    }
-    disp = ExtendMidNodeDisplacement(out.Points, out.Conn, disp, fixed, 20);
-    for (Id i = quad.NumberOfCorners; i < nPts; ++i)
-    {
-      const double* di = &disp[3 * i];
-      if (fixed[i] || (di[0] == 0.0 && di[1] == 0.0 && di[2] == 0.0))
-        continue;
-      nodes.push_back(i);
-      for (int d = 0; d < 3; ++d)
-        targets.push_back(out.Points[3 * i + d] + di[d]);
-    }
-    CurvingResult curving =
-      CurveMidEdgeNodes(out.Points, out.Conn, nodes, targets, options.QualityRatio);
-    report(0.7);
-    for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
-      RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-        surface, options.QualityRatio, Tet10Check());
-    {
-      // Only boundary mid-edge nodes are meant to lie on the surface: the others, and the
-      // corners, may move to make room for the boundary ones still pulled back (corners
-      // then leave the surface a little, which the mid-edge nodes make up for); then the
-      // other surface points are tried again.
-      std::vector<char> isFree(nPts, 0);
-      for (Id i = 0; i < nPts; ++i)
-        isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
-      std::vector<double> alphaB(curving.Alpha.begin(), curving.Alpha.begin() + nbe);
-      std::vector<double> targetsB(targets.begin(), targets.begin() + 3 * nbe);
-      FitWithFreeNodes(out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree,
-        options.QualityRatio);
-      std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
-      RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-        surface, options.QualityRatio, Tet10Check());
-    }
-    if (options.ExtraCheck)
-    {
-      // The extra test is costly: run it once on the result, and pull back (from the
-      // straight position, with the full test) only the nodes of the cells that fail it.
-      std::vector<char> mark(nPts, 0);
-      std::vector<Id> redo;
-      std::vector<double> redoTargets;
-      for (Id c = 0; c < nTets; ++c)
-      {
-        double x[30];
-        for (int a = 0; a < 10; ++a)
-          for (int d = 0; d < 3; ++d)
-            x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
-        if (options.ExtraCheck(x))
-          continue;
-        for (int a = 4; a < 10; ++a)
-        {
-          const Id m = out.Conn[10 * c + a];
-          if (mark[m])
-            continue;
-          mark[m] = 1;
-          redo.push_back(m);
-          redoTargets.insert(redoTargets.end(), &out.Points[3 * m], &out.Points[3 * m] + 3);
-          const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
-          for (int d = 0; d < 3; ++d)
-            out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
-        }
-      }
-      if (!redo.empty())
-      {
-        CurvingResult again = CurveMidEdgeNodes(
-          out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.ExtraCheck);
-        std::vector<Id> edgeOf(nPts, -1);
-        for (Id e = 0; e < nbe; ++e)
-          edgeOf[quad.EdgeMid[e]] = e;
-        for (size_t k = 0; k < redo.size(); ++k)
-          if (again.Alpha[k] < 1.0 && edgeOf[redo[k]] >= 0)
-            curving.Alpha[edgeOf[redo[k]]] = std::min(curving.Alpha[edgeOf[redo[k]]], again.Alpha[k]);
-      }
-    }
-    // Safety net: any cell still not valid gets all its mid-edge nodes straight; repeat for
-    // the cells around them. Terminates (each sweep straightens nodes for good) and ends
-    // valid (a straight tet10 is valid when its corners are).
-    {
-      std::vector<Id> edgeOf(nPts, -1);
-      for (Id e = 0; e < nbe; ++e)
-        edgeOf[quad.EdgeMid[e]] = e;
-      std::vector<char> straightened(nPts, 0);
-      for (bool changed = true; changed;)
-      {
-        changed = false;
-        for (Id c = 0; c < nTets; ++c)
-        {
-          double x[30];
-          for (int a = 0; a < 10; ++a)
-            for (int d = 0; d < 3; ++d)
-              x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
-          if (Tet10MinScaledJacobian(x) > 0.0)
-            continue;
-          for (int a = 4; a < 10; ++a)
-          {
-            const Id m = out.Conn[10 * c + a];
-            if (straightened[m])
-              continue;
-            straightened[m] = 1;
-            changed = true;
-            const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
-            for (int d = 0; d < 3; ++d)
-              out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
-            if (edgeOf[m] >= 0)
-              curving.Alpha[edgeOf[m]] = 0.0;
-          }
-        }
-      }
-    }
-    std::vector<char> relaxedNode(nPts, 0);
-    for (Id e = 0; e < nbe; ++e)
-    {
-      const bool relaxed = curving.Alpha[e] < 1.0;
-      (relaxed ? out.RelaxedNodes : out.CurvedNodes)++;
-      relaxedNode[quad.EdgeMid[e]] = relaxed ? 1 : 0;
-    }
-    for (Id e = 0; e < nbe; ++e)
-    {
-      if (curving.Alpha[e] < 1.0)
-      {
-        out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e]);
-        out.RelaxedEdges.push_back(topo.BoundaryEdgeNodes[3 * e + 1]);
-        out.RelaxedEdgeTargets.insert(
-          out.RelaxedEdgeTargets.end(), &targets[3 * e], &targets[3 * e] + 3);
-      }
-    }
-    report(1.0);
+    out.Error = "the linear mesh is inconsistent: " + err;
     return out;
   }
+  const std::vector<double> tetgenCorners = pts;
+  if (options.ProjectCorners)
+    ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance);
+  report(0.3);
+
+  out.LinearPoints = pts;
+  out.LinearBoundary.assign(topo.BoundaryFaceNodes.begin(),
+    topo.BoundaryFaceNodes.begin() + 3 * topo.GetNumberOfBoundaryFaces());
+  out.Points = pts;
+  out.BoundaryNode.assign(pts.size() / 3, 0);
+  for (Id i = 0; i < static_cast<Id>(pts.size() / 3); ++i)
+    out.BoundaryNode[i] = topo.IsBoundaryNode(i) ? 1 : 0;
+  if (options.Order == 1)
+  {
+    out.Conn = tets;
+    return out;
+  }
+
+  const QuadraticNodes quad = AddMidEdgeNodes(out.Points, tets, topo);
+  out.Conn = quad.Conn;
+  out.BoundaryNode.resize(out.Points.size() / 3, 0);
+  const Id nbe = topo.GetNumberOfBoundaryEdges();
+  for (Id e = 0; e < nbe; ++e)
+    out.BoundaryNode[quad.EdgeMid[e]] = 1;
+  if (!options.CurveBoundary)
+    return out;
+
+  std::vector<double> targets;
+  std::vector<char> envelope;
+  CurvingResult curving =
+    CurveTowardsSurface(out, topo, quad, surface, options, targets, envelope);
+  report(0.7);
+  SecondChances(out, topo, quad, surface, options, targets, curving);
+  if (options.ExtraCheck)
+    ApplyExtraCheck(out, quad, nbe, options, curving);
+  StraightenInvalidCells(out, quad, nbe, curving);
+  RepairBoundaryCrossings(out, topo, quad, nbe, tetgenCorners, curving);
+  CountCurvedNodes(out, topo, targets, envelope, curving);
+  report(1.0);
+  return out;
 }
-
-
 } // namespace hoembed

@@ -13,6 +13,8 @@
  *    and pulled-back boundary nodes get a second chance at other nearby surface points,
  *    and a third by moving the corners and interior mid-edge nodes around them
  *    (hoembed::FitWithFreeNodes);
+ * 5. pairs of curved boundary faces that cross (hoembed::FindCurvedFaceCrossings) get
+ *    their mid-edge nodes pulled back until none is left.
  * The boundary edges whose mid-edge nodes stay pulled back are returned with their
  * surface targets (for diagnostics).
  */
@@ -37,6 +39,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT SurfaceQueries
   std::function<bool(const double a[3], const double b[3], double hit[3])> Ray;
   /// vertices of the surface within distance r of x (3 doubles each), optional
   std::function<void(const double x[3], double r, std::vector<double>& points)> VerticesWithin;
+  /// does the surface at its point `target` face the direction `outward` (its side seen
+  /// from outside)? Optional; used with CurvedMeshOptions::MaxTargetDistance, so that of
+  /// the two envelope sides of a wrapped sheet only the one it faces goes onto it.
+  std::function<bool(const double target[3], const double outward[3])> Faces;
 };
 
 struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
@@ -46,6 +52,9 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
   bool ProjectCorners = true;
   double QualityRatio = 0.1;  ///< see hoembed::Tet10Acceptable
   double SliverQuality = 0.2; ///< scaled Jacobian below which flat boundary tets go
+  /// Surface points farther than this from a boundary node are not its target (the node
+  /// stays where it is: an envelope bridging a hole or wrapping a sheet); 0: no limit.
+  double MaxTargetDistance = 0.0;
   /// extra acceptance test of curved elements (e.g. VTK's cell validator), optional
   std::function<bool(const double* x10)> ExtraCheck;
 };
@@ -59,7 +68,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMesh
   std::vector<std::int64_t> LinearBoundary; ///< its boundary triangles (3 ids each)
   std::int64_t CurvedNodes = 0;   ///< boundary mid-edge nodes on the surface
   std::int64_t RelaxedNodes = 0;  ///< boundary mid-edge nodes pulled back
+  std::int64_t EnvelopeNodes = 0; ///< boundary mid-edge nodes with no surface point near
   std::int64_t RemovedSlivers = 0;
+  std::int64_t CrossingPairsFound = 0; ///< curved boundary face pairs found crossing
+  std::int64_t CrossingPairsLeft = 0;  ///< after the repair (0 unless the corners cross)
   std::vector<std::int64_t> RelaxedEdges;   ///< corner pairs of the pulled-back boundary edges
   std::vector<double> RelaxedEdgeTargets;   ///< their mid-edge nodes' surface targets
 

@@ -1,10 +1,7 @@
 #include "vtkTet10Mesher.h"
 
-#include "hoembedCurvedMeshBuilder.h"
-#include "hoembedElementGeometry.h"
-#include "hoembedSpatialOrder.h"
+#include "hoembedMesherDriver.h"
 #include "hoembedSurfaceCheck.h"
-#include "hoembedTetGenBridge.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -28,7 +25,8 @@
 #include "vtkStaticCellLocator.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkIdList.h"
-#include "vtkTriangleFilter.h"
+#include "vtkPolygon.h"
+#include "vtkTriangleStrip.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkWindowedSincPolyDataFilter.h"
@@ -37,6 +35,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkTet10Mesher);
@@ -114,6 +114,18 @@ public:
     return std::sqrt(d2);
   }
 
+  // Unit normal of the surface triangle closest to x.
+  void Normal(const double x[3], double n[3])
+  {
+    vtkIdType cellId;
+    int subId;
+    double d2, cp[3];
+    this->Locator->FindClosestPoint(x, cp, this->Cell, cellId, subId, d2);
+    n[0] = n[1] = n[2] = 0.0;
+    if (cellId >= 0 && this->Cell->GetNumberOfPoints() >= 3)
+      vtkPolygon::ComputeNormal(this->Cell->GetPoints(), n);
+  }
+
   // First crossing of the segment a-b with the surface.
   bool Ray(const double a[3], const double b[3], double hit[3])
   {
@@ -139,27 +151,85 @@ int vtkTet10Mesher::FillInputPortInformation(int, vtkInformation* info)
   return 1;
 }
 
-int vtkTet10Mesher::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
-  this->RelaxedNodeCount = 0;
-  this->CurvedNodeCount = 0;
-  this->MaxSurfaceDeviation = 0.0;
-  if (!input || !output)
+// Triangles of every polygon and strip (vertices and lines dropped). vtkTriangleFilter
+// drops polygons its ear cut cannot split (non-planar or degenerate quads of artist
+// meshes, opening false holes): a quad is split along its shorter diagonal, a larger
+// polygon by vtkPolygon's ear cut, else as a fan from its first vertex.
+vtkSmartPointer<vtkPolyData> Triangulate(vtkPolyData* input)
+{
+  vtkNew<vtkCellArray> tris;
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> local;
+  vtkIdType n;
+  const vtkIdType* ids;
+  vtkCellArray* polys = input->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
   {
-    vtkErrorMacro("missing input surface or output grid");
-    return 0;
+    if (n == 3)
+    {
+      tris->InsertNextCell(3, ids);
+      continue;
+    }
+    if (n == 4)
+    {
+      double x[4][3];
+      for (int k = 0; k < 4; ++k)
+        input->GetPoint(ids[k], x[k]);
+      const bool d02 =
+        vtkMath::Distance2BetweenPoints(x[0], x[2]) <= vtkMath::Distance2BetweenPoints(x[1], x[3]);
+      const vtkIdType t1[3] = { ids[0], ids[1], ids[d02 ? 2 : 3] };
+      const vtkIdType t2[3] = { d02 ? ids[0] : ids[1], ids[2], ids[3] };
+      tris->InsertNextCell(3, t1);
+      tris->InsertNextCell(3, t2);
+      continue;
+    }
+    if (n < 3)
+      continue;
+    polygon->GetPointIds()->SetNumberOfIds(n);
+    polygon->GetPoints()->SetNumberOfPoints(n);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      polygon->GetPointIds()->SetId(k, ids[k]);
+      polygon->GetPoints()->SetPoint(k, input->GetPoint(ids[k]));
+    }
+    if (polygon->Triangulate(local) && local->GetNumberOfIds() == 3 * (n - 2))
+    {
+      for (vtkIdType t = 0; t < n - 2; ++t)
+      {
+        const vtkIdType tri[3] = { ids[local->GetId(3 * t)], ids[local->GetId(3 * t + 1)],
+          ids[local->GetId(3 * t + 2)] };
+        tris->InsertNextCell(3, tri);
+      }
+    }
+    else
+      for (vtkIdType k = 1; k + 1 < n; ++k)
+      {
+        const vtkIdType tri[3] = { ids[0], ids[k], ids[k + 1] };
+        tris->InsertNextCell(3, tri);
+      }
   }
-  output->Initialize();
+  vtkCellArray* strips = input->GetStrips();
+  for (strips->InitTraversal(); strips->GetNextCell(n, ids);)
+    vtkTriangleStrip::DecomposeStrip(static_cast<int>(n), ids, tris);
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->SetPoints(input->GetPoints());
+  out->SetPolys(tris);
+  return out;
+}
 
-  // ---- 1. checks ----------------------------------------------------------------------
+// Read step: triangulate polygons and strips, drop vertices and lines, merge coincident
+// points. Returns an error message, empty on success.
+std::string CleanInput(vtkPolyData* input, double mergeTolerance, vtkSmartPointer<vtkPolyData>& fine,
+  TriSurface& arrays)
+{
   if (input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
   {
-    vtkErrorMacro("the input surface is empty (" << input->GetNumberOfPoints() << " points, "
-                                                 << input->GetNumberOfCells() << " cells)");
-    return 0;
+    std::ostringstream msg;
+    msg << "the input surface is empty (" << input->GetNumberOfPoints() << " points, "
+        << input->GetNumberOfCells() << " cells)";
+    return msg.str();
   }
   for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
   {
@@ -167,102 +237,132 @@ int vtkTet10Mesher::RequestData(
     input->GetPoint(i, x);
     if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
     {
-      vtkErrorMacro("the input surface has a non-finite coordinate (NaN or Inf) at point " << i);
-      return 0;
+      std::ostringstream msg;
+      msg << "the input surface has a non-finite coordinate (NaN or Inf) at point " << i;
+      return msg.str();
     }
   }
   if (input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0)
-  {
-    vtkErrorMacro("the input has no polygons: a closed triangle surface is needed");
-    return 0;
-  }
-  // Triangulate polygons and strips, drop vertices and lines, merge coincident points.
-  vtkNew<vtkTriangleFilter> triangulate;
-  triangulate->SetInputData(input);
-  triangulate->PassVertsOff();
-  triangulate->PassLinesOff();
+    return "the input has no polygons (only points or lines), so nothing to enclose in a "
+           "volume: give a triangle surface (reconstruct one from a point cloud first, e.g. "
+           "with vtkSurfaceReconstructionFilter)";
+  vtkSmartPointer<vtkPolyData> triangles = Triangulate(input);
   vtkNew<vtkCleanPolyData> clean;
-  clean->SetInputConnection(triangulate->GetOutputPort());
+  clean->SetInputData(triangles);
   clean->PointMergingOn();
-  clean->SetAbsoluteTolerance(0.0);
-  clean->ToleranceIsAbsoluteOn();
+  // Shared vertices stored with rounding (STL exports: ~1e-6 apart) must meet: the merge
+  // tolerance is relative to the bounding-box diagonal.
+  if (mergeTolerance > 0.0)
+  {
+    clean->ToleranceIsAbsoluteOff();
+    clean->SetTolerance(mergeTolerance);
+  }
+  else
+  {
+    clean->SetAbsoluteTolerance(0.0);
+    clean->ToleranceIsAbsoluteOn();
+  }
   clean->ConvertLinesToPointsOff();
   clean->ConvertPolysToLinesOff();
   clean->ConvertStripsToPolysOff();
   clean->Update();
-  vtkSmartPointer<vtkPolyData> fine = clean->GetOutput();
-  TriSurface fineArrays;
-  if (!ToArrays(fine, fineArrays) || fineArrays.Tris.empty())
-  {
-    vtkErrorMacro("the input has no usable triangles after triangulation");
-    return 0;
-  }
-  hoembed::SurfaceCheck check;
-  check.Run(fineArrays.Points.data(), static_cast<Id>(fineArrays.Points.size() / 3),
-    fineArrays.Tris.data(), static_cast<Id>(fineArrays.Tris.size() / 3));
-  if (check.BoundaryEdges > 0)
-  {
-    vtkErrorMacro("the input surface is open: " << check.BoundaryEdges
-                    << " boundary edges (e.g. between points " << check.ExampleEdge[0] << " and "
-                    << check.ExampleEdge[1] << "); close its holes first");
-    return 0;
-  }
-  if (check.NonManifoldEdges > 0)
-  {
-    vtkErrorMacro("the input surface is not manifold: "
-      << check.NonManifoldEdges << " edges are shared by more than two triangles (e.g. "
-      << check.ExampleEdge[0] << "-" << check.ExampleEdge[1] << ")");
-    return 0;
-  }
-  if (check.InconsistentEdges > 0)
-  {
-    vtkErrorMacro("the input surface is not consistently oriented: "
-      << check.InconsistentEdges << " edges are used twice in the same direction");
-    return 0;
-  }
-  const double volume = std::fabs(check.SignedVolume);
-  double bounds[6];
-  fine->GetBounds(bounds);
-  const double diag = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
-    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
-  if (!(volume > 1e-12 * diag * diag * diag))
-  {
-    vtkErrorMacro("the input surface encloses no volume");
-    return 0;
-  }
-  this->UpdateProgress(0.1);
+  fine = clean->GetOutput();
+  if (!ToArrays(fine, arrays) || arrays.Tris.empty())
+    return "the input has no usable triangles after triangulation";
+  return std::string();
+}
 
-  // ---- 2. coarsening --------------------------------------------------------------------
-  // A regular tet of edge h has volume h^3 / (6 sqrt 2); quality meshes average about
-  // that, so N elements of a volume V have h = (6 sqrt(2) V / N)^(1/3).
-  double h = this->TargetEdgeLength > 0.0
-    ? this->TargetEdgeLength
-    : std::cbrt(6.0 * std::sqrt(2.0) * volume / this->TargetNumberOfElements);
-  const double nFine = static_cast<double>(fineArrays.Tris.size() / 3);
-
-  // Decimate to the boundary of edge length h, mesh with TetGen; when a target number of
-  // elements is asked for, correct h from the count obtained and keep the closest result.
-  // A decimation that folds (not a closed manifold, or self-intersecting: TetGen can crash
-  // on such input) or a TetGen failure is retried with a slightly different target.
-  hoembed::TetGenResult tg;
-  hoembed::TetGenParameters params;
-  params.RadiusEdgeRatio = this->RadiusEdgeRatio;
-  params.MinDihedralAngle = this->MinDihedralAngle;
-  double bestMismatch = VTK_DOUBLE_MAX;
-  std::string lastError;
-  double triFactor = 1.0;
-  // Fine detail (thorns, noise) can make the decimated surface fold onto itself; after a
-  // failed attempt the surface is low-pass filtered (windowed sinc, which keeps the
-  // volume) before decimation. Only the coarse boundary comes from the filtered surface:
-  // curved nodes still go onto the original one.
-  vtkSmartPointer<vtkPolyData> toDecimate = fine;
-  for (int attempt = 0; attempt < 10; ++attempt)
+// The VTK side of the driver's services: decimation and smoothing of the fine surface,
+// queries on it, distances to a triangle set, VTK's cell validator. Holds what the
+// closures use, so it must outlive the driver call.
+class VTKServices
+{
+public:
+  explicit VTKServices(vtkPolyData* fine)
+    : Fine(fine)
+    , Projector(fine)
   {
-    if (attempt == 2)
+    this->VertexLocator->SetDataSet(fine);
+    this->VertexLocator->BuildLocator();
+    this->CheckCell->GetPoints()->SetNumberOfPoints(10);
+    for (vtkIdType i = 0; i < 10; ++i)
+      this->CheckCell->GetPointIds()->SetId(i, i);
+  }
+
+  hoembed::MesherServices Make()
+  {
+    hoembed::MesherServices s;
+    s.Decimate = [this](double reduction, bool smoothed, std::vector<double>& points,
+                   std::vector<hoembed::SurfaceCheck::Id>& tris) {
+      vtkNew<vtkQuadricDecimation> decimate;
+      decimate->SetInputData(smoothed ? this->Smoothed() : this->Fine.Get());
+      decimate->SetTargetReduction(reduction);
+      decimate->VolumePreservationOff();
+      decimate->AttributeErrorMetricOff();
+      decimate->Update();
+      TriSurface coarse;
+      if (!ToArrays(decimate->GetOutput(), coarse))
+        return false;
+      points.swap(coarse.Points);
+      tris.swap(coarse.Tris);
+      return true;
+    };
+    s.Fine.Closest = [this](const double x[3], double cp[3]) { this->Projector.Project(x, cp); };
+    s.Fine.VerticesWithin = [this](const double x[3], double r, std::vector<double>& out) {
+      this->VertexLocator->FindPointsWithinRadius(r, x, this->NearIds);
+      out.resize(3 * this->NearIds->GetNumberOfIds());
+      for (vtkIdType k = 0; k < this->NearIds->GetNumberOfIds(); ++k)
+        this->Fine->GetPoint(this->NearIds->GetId(k), &out[3 * k]);
+    };
+    s.NormalAt = [this](const double x[3], double n[3]) { this->Projector.Normal(x, n); };
+    s.Fine.Ray = [this](const double a[3], const double b[3], double hit[3]) {
+      return this->Projector.Ray(a, b, hit);
+    };
+    s.MaxDistanceToTriangles = [](const std::vector<double>& points,
+                                 const std::vector<hoembed::SurfaceCheck::Id>& tris,
+                                 const std::vector<double>& query, hoembed::SurfaceCheck::Id stride) {
+      TriSurface target;
+      target.Points = points;
+      target.Tris = tris;
+      vtkSmartPointer<vtkPolyData> pd = FromArrays(target);
+      SurfaceProjector toTarget(pd);
+      double worst = 0.0;
+      for (size_t i = 0; i < query.size() / 3; i += static_cast<size_t>(stride))
+      {
+        double cp[3];
+        worst = std::max(worst, toTarget.Project(&query[3 * i], cp));
+      }
+      return worst;
+    };
+    // Beyond det J > 0, curved elements must pass VTK's own cell validator (its
+    // linearised faces must not intersect or flip), so that VTK tools accept every element.
+    s.ExtraCheck = [this](const double* x) {
+      double longest = 0.0;
+      for (vtkIdType i = 0; i < 10; ++i)
+      {
+        this->CheckCell->GetPoints()->SetPoint(i, x + 3 * i);
+        longest = std::max(longest, vtkMath::Distance2BetweenPoints(x, x + 3 * i));
+      }
+      // Curved faces are legitimately not convex: only intersections and flips count.
+      const auto state = static_cast<short>(
+        vtkCellValidator::Check(this->CheckCell, 1e-6 * std::sqrt(longest)));
+      const short bad = static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
+        static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
+        static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
+        static_cast<short>(vtkCellValidator::State::WrongNumberOfPoints);
+      return (state & bad) == 0;
+    };
+    return s;
+  }
+
+private:
+  // The low-pass filtered fine surface (windowed sinc keeps the volume), made once.
+  vtkPolyData* Smoothed()
+  {
+    if (!this->SmoothedSurface)
     {
       vtkNew<vtkWindowedSincPolyDataFilter> smooth;
-      smooth->SetInputData(fine);
+      smooth->SetInputData(this->Fine);
       smooth->SetNumberOfIterations(30);
       smooth->SetPassBand(0.01);
       smooth->NormalizeCoordinatesOn();
@@ -270,222 +370,48 @@ int vtkTet10Mesher::RequestData(
       smooth->FeatureEdgeSmoothingOff();
       smooth->NonManifoldSmoothingOff();
       smooth->Update();
-      toDecimate = smooth->GetOutput();
-      triFactor = 1.0;
+      this->SmoothedSurface = smooth->GetOutput();
     }
-    this->UpdateProgress(0.1 + 0.05 * attempt);
-    // Boundary triangles of edge h: equilateral area sqrt(3)/4 h^2.
-    const double nTri = std::max(8.0, triFactor * check.Area / (std::sqrt(3.0) / 4.0 * h * h));
-    TriSurface coarse;
-    if (nTri < 0.9 * nFine)
-    {
-      vtkNew<vtkQuadricDecimation> decimate;
-      decimate->SetInputData(toDecimate);
-      decimate->SetTargetReduction(1.0 - nTri / nFine);
-      decimate->VolumePreservationOff();
-      decimate->AttributeErrorMetricOff();
-      decimate->Update();
-      if (!ToArrays(decimate->GetOutput(), coarse))
-      {
-        vtkErrorMacro("decimation produced non-triangle cells");
-        return 0;
-      }
-    }
-    else
-    {
-      coarse = fineArrays;
-    }
-    hoembed::SurfaceCheck coarseCheck;
-    coarseCheck.Run(coarse.Points.data(), static_cast<Id>(coarse.Points.size() / 3),
-      coarse.Tris.data(), static_cast<Id>(coarse.Tris.size() / 3));
-    if (!coarseCheck.IsClosedManifold() || coarseCheck.DegenerateTriangles > 0 ||
-      hoembed::SurfaceCheck::CountSelfIntersections(coarse.Points.data(),
-        static_cast<Id>(coarse.Points.size() / 3), coarse.Tris.data(),
-        static_cast<Id>(coarse.Tris.size() / 3), 1e-9, 1) > 0)
-    {
-      lastError = "the coarsened surface is not a closed manifold free of self-intersections";
-      triFactor *= 1.15;
-      continue;
-    }
-    params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
-    params.PreserveBoundary = this->PreserveBoundary;
-    hoembed::TetGenResult run = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
-    if (!run.Error.empty() && params.PreserveBoundary)
-    {
-      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
-      run = hoembed::RunTetGen(coarse.Points, coarse.Tris, params);
-    }
-    if (!run.Error.empty())
-    {
-      lastError = run.Error;
-      triFactor *= 1.15;
-      continue;
-    }
-    const double ratio = static_cast<double>(run.Tets.size() / 4) / this->TargetNumberOfElements;
-    const double mismatch = std::fabs(std::log(ratio));
-    if (mismatch < bestMismatch)
-    {
-      bestMismatch = mismatch;
-      tg = std::move(run);
-    }
-    if (this->TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
-    {
-      break;
-    }
-    h *= std::cbrt(ratio);
+    return this->SmoothedSurface;
   }
-  if (tg.Tets.empty())
-  {
-    tg.Error = lastError;
-  }
-  if (!tg.Error.empty())
-  {
-    vtkErrorMacro("TetGen could not mesh the surface: " << tg.Error
-                    << (check.DegenerateTriangles ? " (the input has degenerate triangles)" : "")
-                    << ". Check the input for self-intersections, or ask for more elements.");
-    return 0;
-  }
-  this->UpdateProgress(0.5);
 
-  // ---- 3. curved mesh on the fine surface ----------------------------------------------
-  SurfaceProjector projector(fine);
-  hoembed::SurfaceQueries queries;
-  queries.Closest = [&](const double x[3], double cp[3]) { projector.Project(x, cp); };
-  vtkNew<vtkStaticPointLocator> vertexLocator;
-  vertexLocator->SetDataSet(fine);
-  vertexLocator->BuildLocator();
-  vtkNew<vtkIdList> nearIds;
-  queries.VerticesWithin = [&](const double x[3], double r, std::vector<double>& out) {
-    vertexLocator->FindPointsWithinRadius(r, x, nearIds);
-    out.resize(3 * nearIds->GetNumberOfIds());
-    for (vtkIdType k = 0; k < nearIds->GetNumberOfIds(); ++k)
-      fine->GetPoint(nearIds->GetId(k), &out[3 * k]);
-  };
-  queries.Ray = [&](const double a[3], const double b[3], double hit[3]) {
-    return projector.Ray(a, b, hit);
-  };
-  hoembed::CurvedMeshOptions options;
-  options.Order = this->ElementOrder;
-  options.CurveBoundary = this->CurveBoundary;
-  options.ProjectCorners = this->ProjectCorners;
-  options.QualityRatio = this->CurvedQualityRatio;
-  // Beyond det J > 0, curved elements must pass VTK's own cell validator (its linearised
-  // faces must not intersect or flip), so that VTK tools accept every element.
-  vtkNew<vtkQuadraticTetra> checkCell;
-  checkCell->GetPoints()->SetNumberOfPoints(10);
-  for (vtkIdType i = 0; i < 10; ++i)
-    checkCell->GetPointIds()->SetId(i, i);
-  options.ExtraCheck = [&checkCell](const double* x) {
-    double longest = 0.0;
-    for (vtkIdType i = 0; i < 10; ++i)
-    {
-      checkCell->GetPoints()->SetPoint(i, x + 3 * i);
-      longest = std::max(longest, vtkMath::Distance2BetweenPoints(x, x + 3 * i));
-    }
-    // Curved faces are legitimately not convex: only intersections and flips count.
-    const auto state = static_cast<short>(vtkCellValidator::Check(checkCell, 1e-6 * std::sqrt(longest)));
-    const short bad = static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
-      static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
-      static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
-      static_cast<short>(vtkCellValidator::State::WrongNumberOfPoints);
-    return (state & bad) == 0;
-  };
-  hoembed::CurvedMesh mesh = hoembed::BuildCurvedMesh(tg.Points, tg.Tets, queries, options,
-    [this](double f) { this->UpdateProgress(0.5 + 0.4 * f); });
-  if (!mesh.Error.empty())
-  {
-    vtkErrorMacro("could not build the curved mesh: " << mesh.Error);
-    return 0;
-  }
-  this->CurvedNodeCount = mesh.CurvedNodes;
-  this->RelaxedNodeCount = mesh.RelaxedNodes;
+  vtkSmartPointer<vtkPolyData> Fine;
+  vtkSmartPointer<vtkPolyData> SmoothedSurface;
+  SurfaceProjector Projector;
+  vtkNew<vtkStaticPointLocator> VertexLocator;
+  vtkNew<vtkIdList> NearIds;
+  vtkNew<vtkQuadraticTetra> CheckCell;
+};
 
-  // Thin parts: how far is the fine surface from the coarse straight boundary?
-  {
-    TriSurface boundary;
-    boundary.Points = mesh.LinearPoints;
-    boundary.Tris = mesh.LinearBoundary;
-    vtkSmartPointer<vtkPolyData> bpd = FromArrays(boundary);
-    SurfaceProjector toCoarse(bpd);
-    const Id nFinePts = static_cast<Id>(fineArrays.Points.size() / 3);
-    const Id stride = std::max<Id>(1, nFinePts / 20000);
-    double worst = 0.0;
-    for (Id i = 0; i < nFinePts; i += stride)
-    {
-      double cp[3];
-      worst = std::max(worst, toCoarse.Project(&fineArrays.Points[3 * i], cp));
-    }
-    this->MaxSurfaceDeviation = diag > 0.0 ? worst / diag : 0.0;
-    if (this->MaxSurfaceDeviation > this->SurfaceDeviationWarning)
-    {
-      vtkWarningMacro("the coarse mesh does not resolve parts of the surface: a surface point is "
-        << this->MaxSurfaceDeviation * 100.0
-        << "% of the bounding-box diagonal away from it (thin parts are smaller than the element "
-           "size; ask for more elements or a smaller TargetEdgeLength)");
-    }
-  }
-  this->UpdateProgress(0.95);
-  const int npc = this->ElementOrder == 2 ? 10 : 4;
-  // memory order: cells along a Morton curve, nodes by first use (neighbouring elements
-  // are neighbours in the arrays; the embedding's searches read less scattered memory)
-  std::vector<Id> cellOrder, pointOrder;
-  hoembed::SpatialOrder(mesh.Points, mesh.Conn, npc, cellOrder, pointOrder);
-  const Id nTets = static_cast<Id>(cellOrder.size());
-  const Id nPts = static_cast<Id>(pointOrder.size());
-  std::vector<double> pts(3 * nPts);
-  std::vector<unsigned char> boundaryNode(nPts);
-  std::vector<Id> newId(nPts);
-  for (Id k = 0; k < nPts; ++k)
-  {
-    const Id i = pointOrder[k];
-    newId[i] = k;
-    boundaryNode[k] = mesh.BoundaryNode[i];
-    for (int d = 0; d < 3; ++d)
-      pts[3 * k + d] = mesh.Points[3 * i + d];
-  }
-  std::vector<Id> conn(npc * nTets);
-  for (Id t = 0; t < nTets; ++t)
-    for (int a = 0; a < npc; ++a)
-      conn[npc * t + a] = newId[mesh.Conn[npc * cellOrder[t] + a]];
-
-  // ---- 5. output ----------------------------------------------------------------------
+// Write step: the driver's arrays into the output grid.
+void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
+{
+  const int npc = r.NodesPerCell;
+  const vtkIdType nPts = static_cast<vtkIdType>(r.Points.size() / 3);
+  const vtkIdType nTets = static_cast<vtkIdType>(r.MinScaledJacobian.size());
   vtkNew<vtkPoints> outPts;
   outPts->SetDataTypeToDouble();
   outPts->SetNumberOfPoints(nPts);
-  for (Id i = 0; i < nPts; ++i)
-    outPts->SetPoint(i, &pts[3 * i]);
+  for (vtkIdType i = 0; i < nPts; ++i)
+    outPts->SetPoint(i, &r.Points[3 * i]);
   vtkNew<vtkCellArray> cells;
   cells->AllocateExact(nTets, npc * nTets);
   vtkNew<vtkDoubleArray> quality;
   quality->SetName("MinScaledJacobian");
   quality->SetNumberOfTuples(nTets);
-  Id invalid = 0;
-  for (Id t = 0; t < nTets; ++t)
+  for (vtkIdType t = 0; t < nTets; ++t)
   {
     vtkIdType ids[10];
-    double x[30];
     for (int a = 0; a < npc; ++a)
-    {
-      ids[a] = conn[npc * t + a];
-      for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = pts[3 * ids[a] + d];
-    }
+      ids[a] = r.Conn[npc * t + a];
     cells->InsertNextCell(npc, ids);
-    const double q = npc == 10 ? hoembed::Tet10MinScaledJacobian(x) : hoembed::Tet4ScaledJacobian(x);
-    quality->SetValue(t, q);
-    invalid += q > 0.0 ? 0 : 1;
-  }
-  if (invalid > 0)
-  {
-    vtkErrorMacro(<< invalid << " elements are not valid after meshing (internal error)");
-    return 0;
+    quality->SetValue(t, r.MinScaledJacobian[t]);
   }
   vtkNew<vtkUnsignedCharArray> bnd;
   bnd->SetName("BoundaryNode");
   bnd->SetNumberOfTuples(nPts);
-  for (Id i = 0; i < nPts; ++i)
-    bnd->SetValue(i, boundaryNode[i]);
-
+  for (vtkIdType i = 0; i < nPts; ++i)
+    bnd->SetValue(i, r.BoundaryNode[i]);
   output->SetPoints(outPts);
   output->SetCells(npc == 10 ? VTK_QUADRATIC_TETRA : VTK_TETRA, cells);
   output->GetCellData()->AddArray(quality);
@@ -496,12 +422,74 @@ int vtkTet10Mesher::RequestData(
     a->InsertNextValue(v);
     output->GetFieldData()->AddArray(a);
   };
-  addId("RelaxedNodeCount", this->RelaxedNodeCount);
-  addId("CurvedNodeCount", this->CurvedNodeCount);
+  addId("RelaxedNodeCount", r.RelaxedNodeCount);
+  addId("CurvedNodeCount", r.CurvedNodeCount);
+  addId("EnvelopeNodeCount", r.EnvelopeNodeCount);
+  addId("BoundaryCrossingsFound", r.BoundaryCrossingsFound);
+  addId("BoundaryCrossingsLeft", r.BoundaryCrossingsLeft);
   vtkNew<vtkDoubleArray> dev;
   dev->SetName("MaxSurfaceDeviation");
-  dev->InsertNextValue(this->MaxSurfaceDeviation);
+  dev->InsertNextValue(r.MaxSurfaceDeviation);
   output->GetFieldData()->AddArray(dev);
+  vtkNew<vtkDoubleArray> offset;
+  offset->SetName("EnvelopeOffset");
+  offset->InsertNextValue(r.Wrapped ? r.EnvelopeOffset : 0.0);
+  output->GetFieldData()->AddArray(offset);
+}
+} // namespace
+
+int vtkTet10Mesher::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  this->RelaxedNodeCount = 0;
+  this->CurvedNodeCount = 0;
+  this->MaxSurfaceDeviation = 0.0;
+  this->EnvelopeNodeCount = 0;
+  if (!input || !output)
+  {
+    vtkErrorMacro("missing input surface or output grid");
+    return 0;
+  }
+  output->Initialize();
+
+  vtkSmartPointer<vtkPolyData> fine;
+  TriSurface fineArrays;
+  const std::string readError = CleanInput(input, this->MergeTolerance, fine, fineArrays);
+  if (!readError.empty())
+  {
+    vtkErrorMacro(<< readError);
+    return 0;
+  }
+
+  hoembed::MesherOptions options;
+  options.TargetNumberOfElements = this->TargetNumberOfElements;
+  options.TargetEdgeLength = this->TargetEdgeLength;
+  options.ElementOrder = this->ElementOrder;
+  options.CurveBoundary = this->CurveBoundary;
+  options.ProjectCorners = this->ProjectCorners;
+  options.PreserveBoundary = this->PreserveBoundary;
+  options.RadiusEdgeRatio = this->RadiusEdgeRatio;
+  options.MinDihedralAngle = this->MinDihedralAngle;
+  options.SurfaceDeviationWarning = this->SurfaceDeviationWarning;
+  options.CurvedQualityRatio = this->CurvedQualityRatio;
+  options.EnvelopeTolerance = this->EnvelopeTolerance;
+  VTKServices services(fine);
+  const hoembed::MesherResult result = hoembed::RunMesher(fineArrays.Points, fineArrays.Tris,
+    options, services.Make(), [this](double f) { this->UpdateProgress(f); });
+  for (const std::string& w : result.Warnings)
+    vtkWarningMacro(<< w);
+  if (!result.Error.empty())
+  {
+    vtkErrorMacro(<< result.Error);
+    return 0;
+  }
+  this->CurvedNodeCount = result.CurvedNodeCount;
+  this->RelaxedNodeCount = result.RelaxedNodeCount;
+  this->MaxSurfaceDeviation = result.MaxSurfaceDeviation;
+  this->EnvelopeNodeCount = result.EnvelopeNodeCount;
+  WriteOutput(result, output);
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -518,8 +506,11 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RadiusEdgeRatio: " << this->RadiusEdgeRatio << "\n";
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "CurvedQualityRatio: " << this->CurvedQualityRatio << "\n";
+  os << indent << "EnvelopeTolerance: " << this->EnvelopeTolerance << "\n";
+  os << indent << "MergeTolerance: " << this->MergeTolerance << "\n";
   os << indent << "SurfaceDeviationWarning: " << this->SurfaceDeviationWarning << "\n";
   os << indent << "RelaxedNodeCount: " << this->RelaxedNodeCount << "\n";
   os << indent << "CurvedNodeCount: " << this->CurvedNodeCount << "\n";
   os << indent << "MaxSurfaceDeviation: " << this->MaxSurfaceDeviation << "\n";
+  os << indent << "EnvelopeNodeCount: " << this->EnvelopeNodeCount << "\n";
 }

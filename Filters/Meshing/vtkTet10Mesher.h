@@ -3,16 +3,29 @@
  * @brief   A coarse, valid, curved quadratic tetrahedral (tet10) mesh from a fine closed
  *          triangle surface.
  *
- * Input (port 0): a closed, manifold triangle surface (vtkPolyData), typically 10k-1M
- * triangles. Polygons and triangle strips are triangulated first; vertices and lines are
- * ignored. Output: a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (ElementOrder 2,
+ * Input (port 0): any triangle surface (vtkPolyData), typically 10k-1M triangles: closed
+ * or open, one or several parts, manifold or not, self-intersecting or not. Polygons and
+ * triangle strips are triangulated first (every polygon: quads along the shorter diagonal,
+ * larger ones by ear cut, else as a fan), points closer than MergeTolerance merged;
+ * vertices and lines are ignored. A clean closed
+ * manifold (every edge in exactly two consistently oriented triangles, enclosing a
+ * volume) is coarsened (steps 2-3); any other surface, and a clean one whose coarsening
+ * fails, is wrapped first: CGAL's 3D Alpha Wrapping (hoembed::WrapSurface) makes a
+ * closed, manifold, intersection-free envelope at EnvelopeTolerance from it, which
+ * TetGen meshes by construction; one FE solid per wrapped solid (parts closer than the
+ * element size merge, nested parts fill the part around them, parts smaller than the
+ * tolerance are absorbed in a small solid of their own). Boundary nodes then move onto
+ * the surface where it is within twice the offset and faces them (its triangles' normals
+ * point to their side), and stay on the envelope elsewhere (holes bridged, the far side
+ * of a wrapped sheet, flipped patches); field data `EnvelopeNodeCount`. Output: a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (ElementOrder 2,
  * default) or VTK_TETRA cells (ElementOrder 1, the paper's linear baseline on the same
  * corner nodes).
  *
  * Steps:
- * 1. Checks: non-empty, finite coordinates, triangles only after triangulation, closed
- *    (every edge in exactly two triangles) and manifold. Problems are reported with
- *    vtkErrorMacro naming the filter, and the output stays empty.
+ * 1. Checks: non-empty, finite coordinates, triangles after triangulation (points and
+ *    lines alone enclose nothing: an error). Problems are reported with vtkErrorMacro
+ *    naming the filter, and the output stays empty. All steps run in hoembed::RunMesher
+ *    (VTK-free); the filter only reads, cleans, and writes.
  * 2. Coarsening: the surface is decimated (quadric error) to the number of boundary
  *    triangles that a mesh of TargetNumberOfElements quality tets has, or to the edge
  *    length TargetEdgeLength when that is set (> 0).
@@ -43,11 +56,14 @@
  *   way onto the fine surface; `CurvedNodeCount`: those that are;
  *   `MaxSurfaceDeviation` (double): the largest distance from a fine-surface vertex to the
  *   coarse straight boundary, relative to the bounding-box diagonal (a large value means
- *   thin parts were not resolved: a warning is issued above 5%).
+ *   thin parts were not resolved: a warning is issued above 5%); `EnvelopeNodeCount`
+ *   (vtkIdType): boundary mid-edge nodes left on the envelope (no surface near);
+ *   `EnvelopeOffset` (double): the envelope's distance from the surface (0: not wrapped).
  *
  * Progress events are fired during the steps above.
  *
- * @warning TetGen is AGPL-3.0 licensed (or commercially licensed by WIAS).
+ * @warning TetGen is AGPL-3.0 licensed (or commercially licensed by WIAS); CGAL's alpha
+ * wrapping is GPL-3.0-or-later.
  * @sa vtkEmbeddingCoordinatesFilter, vtkCorotationalFEMStepper
  */
 #ifndef vtkTet10Mesher_h
@@ -147,10 +163,33 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Distance of the envelope from an input that is not a clean closed manifold, relative
+   * to the bounding-box diagonal (default 0: a quarter of the target element size, so
+   * that a single open sheet becomes a solid about one element thick). Smaller values
+   * follow the surface more closely and need more elements where the surface is a sheet.
+   */
+  vtkSetClampMacro(EnvelopeTolerance, double, 0.0, 1.0);
+  vtkGetMacro(EnvelopeTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Points closer than this, relative to the bounding-box diagonal, are merged before
+   * anything else (default 1e-6: shared vertices that an exporter rounded differently,
+   * seen in STL files, would otherwise leave false boundary edges). 0 merges only
+   * coincident points.
+   */
+  vtkSetClampMacro(MergeTolerance, double, 0.0, 0.01);
+  vtkGetMacro(MergeTolerance, double);
+  ///@}
+
+  ///@{
   /** Statistics of the last run (also in field data). */
   vtkGetMacro(RelaxedNodeCount, vtkIdType);
   vtkGetMacro(CurvedNodeCount, vtkIdType);
   vtkGetMacro(MaxSurfaceDeviation, double);
+  vtkGetMacro(EnvelopeNodeCount, vtkIdType);
   ///@}
 
 protected:
@@ -170,10 +209,13 @@ protected:
   double MinDihedralAngle = 10.0;
   double SurfaceDeviationWarning = 0.05;
   double CurvedQualityRatio = 0.02;
+  double EnvelopeTolerance = 0.0;
+  double MergeTolerance = 1e-6;
 
   vtkIdType RelaxedNodeCount = 0;
   vtkIdType CurvedNodeCount = 0;
   double MaxSurfaceDeviation = 0.0;
+  vtkIdType EnvelopeNodeCount = 0;
 
 private:
   vtkTet10Mesher(const vtkTet10Mesher&) = delete;

@@ -44,11 +44,12 @@ def test_bad_option_values(tmp_path):
     assert out.returncode == 2 and "PoissonRatio" in out.stderr
 
 
-def test_open_surface_is_refused(tmp_path):
-    s = tmp_path / "open.vtp"
-    pv.Sphere().remove_cells([0, 1]).save(s)
+def test_surface_without_polygons_is_refused(tmp_path):
+    # open surfaces are meshed now (through their envelope); lines enclose nothing
+    s = tmp_path / "lines.vtp"
+    pv.Line().save(s)
     out = run_cli("run", str(s), "--steps", "2", "--output", str(tmp_path / "o"))
-    assert out.returncode == 2 and "open" in out.stderr
+    assert out.returncode == 2 and ("no polygons" in out.stderr or "no surface" in out.stderr)
 
 
 def test_small_run_writes_series(tmp_path):

@@ -142,38 +142,12 @@ def test_inf():
     expect_error(s, "non-finite")
 
 
-def test_open_surface():
-    s = pv.Sphere().remove_cells([0, 1, 2])
-    expect_error(s, "open")
-
-
-def test_non_manifold():
-    s = pv.Sphere(theta_resolution=16, phi_resolution=16)
-    f = s.faces.reshape(-1, 4)
-    a, b = f[10, 1], f[10, 2]
-    extra = np.vstack([s.points, [[3.0, 3.0, 3.0]]])
-    faces = np.vstack([f, [3, a, b, s.n_points]])
-    # a fin on an edge of a closed sphere: that edge has three triangles; the fin's other
-    # two edges are open, so both problems are there; either message names the filter.
-    msg = expect_error(pv.PolyData(extra, faces.ravel(), deep=True))
-    assert "manifold" in msg or "open" in msg
-
-
-def test_non_manifold_closed():
-    """Two closed tetrahedra glued along one edge: closed, but that edge has 4 triangles."""
-    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0, -1, 0], [0, 0, -1]], float)
-    tris = [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2), (0, 1, 4), (0, 5, 1), (1, 5, 4), (0, 4, 5)]
-    faces = np.hstack([[3, *t] for t in tris])
-    expect_error(pv.PolyData(pts, faces, deep=True), "not manifold")
+# Open, non-manifold and self-intersecting surfaces are meshed through the envelope now:
+# test_mesher_any_surface.py covers them.
 
 
 def test_lines_only():
     expect_error(pv.Line(), "no polygons")
-
-
-def test_self_intersecting_components():
-    two = pv.Sphere(radius=1.0).merge(pv.Sphere(radius=1.0, center=(0.8, 0, 0)))
-    expect_error(two, "self-intersection")
 
 
 def test_error_leaves_no_output():
@@ -212,11 +186,6 @@ def test_preserve_boundary(data_dir, n):
     assert 0.7 * n < mesh.n_cells < 1.3 * n
     figures = check_mesh(surface, mesh, on_surface_fraction=0.97)
     print(n, figures)
-
-
-def test_open_real_mesh(data_dir):
-    msg = expect_error(pv.read(data_dir / "stanford-bunny.obj"), "open")
-    assert "boundary edges" in msg
 
 
 def test_self_intersecting_real_mesh(data_dir):

@@ -10,12 +10,15 @@ from .hoembedFiltersMeshing import vtkTet10Mesher
 
 def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundary=True,
                radius_edge_ratio=1.5, min_dihedral_angle=10.0, progress=None):
-    """Mesh a closed triangle surface with coarse, curved, valid tet10 (or tet4) elements.
+    """Mesh any triangle surface with coarse, curved, valid tet10 (or tet4) elements.
 
     Parameters
     ----------
     surface : pyvista.PolyData or vtkPolyData
-        Closed, manifold triangle surface (polygons are triangulated).
+        Any triangle surface: closed or open, one or several parts, non-manifold or
+        self-intersecting (polygons and strips are triangulated). A surface that is not
+        a clean closed manifold is meshed through its envelope (vtkTet10Mesher's
+        EnvelopeTolerance; field data ``EnvelopeOffset``, ``EnvelopeNodeCount``).
     n_elements : int
         Approximate number of elements (default 1000); ignored if ``edge_length > 0``.
     edge_length : float
@@ -33,12 +36,14 @@ def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundar
     -------
     pyvista.UnstructuredGrid
         With cell data ``MinScaledJacobian`` and field data ``RelaxedNodeCount``,
-        ``CurvedNodeCount`` and ``MaxSurfaceDeviation``.
+        ``CurvedNodeCount``, ``EnvelopeNodeCount``, ``BoundaryCrossingsFound``,
+        ``BoundaryCrossingsLeft``, ``MaxSurfaceDeviation`` and ``EnvelopeOffset``.
 
     Raises
     ------
     hoembed.HOEmbedError
-        On bad input (empty, NaN, open or non-manifold surface) or a TetGen failure.
+        On bad input (empty, NaN, no polygons, no triangle with an area) or a TetGen
+        failure.
 
     Examples
     --------

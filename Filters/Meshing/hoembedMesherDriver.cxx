@@ -1,0 +1,472 @@
+#include "hoembedMesherDriver.h"
+
+#include "hoembedElementGeometry.h"
+#include "hoembedSpatialOrder.h"
+#include "hoembedSurfaceCheck.h"
+#include "hoembedSurfaceWrap.h"
+#include "hoembedTetGenBridge.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace hoembed
+{
+namespace
+{
+using Id = std::int64_t;
+
+// Facts about the fine surface that the later steps need.
+struct FineSurfaceFacts
+{
+  SurfaceCheck Check;
+  double Volume = 0.0;
+  double Diagonal = 0.0;
+};
+
+// Step 1: the fine surface must be a closed, manifold, consistently oriented surface that
+// encloses a volume. Returns an error message, empty when it is one.
+std::string CheckFineSurface(
+  const std::vector<double>& points, const std::vector<Id>& tris, FineSurfaceFacts& facts)
+{
+  const Id np = static_cast<Id>(points.size() / 3);
+  SurfaceCheck& check = facts.Check;
+  check.Run(points.data(), np, tris.data(), static_cast<Id>(tris.size() / 3));
+  // Bounds as vtkDataSet::GetBounds computes them (the empty-set convention aside).
+  double bounds[6] = { DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX };
+  for (Id i = 0; i < np; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      bounds[2 * d] = std::min(bounds[2 * d], points[3 * i + d]);
+      bounds[2 * d + 1] = std::max(bounds[2 * d + 1], points[3 * i + d]);
+    }
+  facts.Diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  std::ostringstream msg;
+  if (check.BoundaryEdges > 0)
+  {
+    msg << "the input surface is open: " << check.BoundaryEdges
+        << " boundary edges (e.g. between points " << check.ExampleEdge[0] << " and "
+        << check.ExampleEdge[1] << "); close its holes first";
+    return msg.str();
+  }
+  if (check.NonManifoldEdges > 0)
+  {
+    msg << "the input surface is not manifold: " << check.NonManifoldEdges
+        << " edges are shared by more than two triangles (e.g. " << check.ExampleEdge[0] << "-"
+        << check.ExampleEdge[1] << ")";
+    return msg.str();
+  }
+  if (check.InconsistentEdges > 0)
+  {
+    msg << "the input surface is not consistently oriented: " << check.InconsistentEdges
+        << " edges are used twice in the same direction";
+    return msg.str();
+  }
+  facts.Volume = std::fabs(check.SignedVolume);
+  const double diag = facts.Diagonal;
+  if (!(facts.Volume > 1e-12 * diag * diag * diag))
+    return "the input surface encloses no volume";
+  return std::string();
+}
+
+// Number of edge-connected pieces of a triangle surface (union-find over its points;
+// points used by no triangle do not count).
+Id CountComponents(Id npts, const std::vector<Id>& tris)
+{
+  std::vector<Id> parent(npts);
+  for (Id i = 0; i < npts; ++i)
+    parent[i] = i;
+  auto find = [&](Id i) {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<char> used(npts, 0);
+  for (size_t t = 0; t < tris.size() / 3; ++t)
+    for (int k = 0; k < 3; ++k)
+    {
+      used[tris[3 * t + k]] = 1;
+      const Id a = find(tris[3 * t + k]), b = find(tris[3 * t + (k + 1) % 3]);
+      if (a != b)
+        parent[a] = b;
+    }
+  Id n = 0;
+  for (Id i = 0; i < npts; ++i)
+    n += used[i] && find(i) == i ? 1 : 0;
+  return n;
+}
+
+// Step 2: decimate the fine surface to the boundary of edge length h and mesh it with
+// TetGen; when a target number of elements is asked for, correct h from the count
+// obtained and keep the closest result. A decimation that folds (not a closed manifold,
+// or self-intersecting: TetGen can crash on such input) or a TetGen failure is retried
+// with a slightly different target. Fine detail (thorns, noise) can make the decimated
+// surface fold onto itself; after two failed attempts the surface is low-pass filtered
+// (windowed sinc, which keeps the volume) before decimation. Only the coarse boundary
+// comes from the filtered surface: curved nodes still go onto the original one.
+TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
+  const std::vector<Id>& fineTris, const FineSurfaceFacts& facts, const MesherOptions& options,
+  const MesherServices& services, const std::function<void(double)>& report)
+{
+  // A regular tet of edge h has volume h^3 / (6 sqrt 2); quality meshes average about
+  // that, so N elements of a volume V have h = (6 sqrt(2) V / N)^(1/3).
+  double h = options.TargetEdgeLength > 0.0
+    ? options.TargetEdgeLength
+    : std::cbrt(6.0 * std::sqrt(2.0) * facts.Volume / options.TargetNumberOfElements);
+  const double nFine = static_cast<double>(fineTris.size() / 3);
+  const Id fineComponents = CountComponents(static_cast<Id>(finePoints.size() / 3), fineTris);
+  TetGenResult tg;
+  TetGenParameters params;
+  params.RadiusEdgeRatio = options.RadiusEdgeRatio;
+  params.MinDihedralAngle = options.MinDihedralAngle;
+  double bestMismatch = DBL_MAX;
+  std::string lastError;
+  double triFactor = 1.0;
+  bool smoothed = false;
+  for (int attempt = 0; attempt < 10; ++attempt)
+  {
+    if (attempt == 2)
+    {
+      smoothed = true;
+      triFactor = 1.0;
+    }
+    report(0.1 + 0.05 * attempt);
+    // Boundary triangles of edge h: equilateral area sqrt(3)/4 h^2.
+    const double nTri =
+      std::max(8.0, triFactor * facts.Check.Area / (std::sqrt(3.0) / 4.0 * h * h));
+    std::vector<double> coarsePoints;
+    std::vector<Id> coarseTris;
+    if (nTri < 0.9 * nFine)
+    {
+      if (!services.Decimate(1.0 - nTri / nFine, smoothed, coarsePoints, coarseTris))
+      {
+        tg.Error = "decimation produced non-triangle cells";
+        tg.Tets.clear();
+        return tg;
+      }
+    }
+    else
+    {
+      coarsePoints = finePoints;
+      coarseTris = fineTris;
+    }
+    const Id ncp = static_cast<Id>(coarsePoints.size() / 3);
+    const Id nct = static_cast<Id>(coarseTris.size() / 3);
+    SurfaceCheck coarseCheck;
+    coarseCheck.Run(coarsePoints.data(), ncp, coarseTris.data(), nct);
+    if (!coarseCheck.IsClosedManifold() || coarseCheck.DegenerateTriangles > 0 ||
+      SurfaceCheck::CountSelfIntersections(
+        coarsePoints.data(), ncp, coarseTris.data(), nct, 1e-9, 1) > 0)
+    {
+      lastError = "the coarsened surface is not a closed manifold free of self-intersections";
+      triFactor *= 1.15;
+      continue;
+    }
+    // A part smaller than the element size can vanish in the decimation: it must not be
+    // dropped silently (more triangles rarely bring it back: the envelope takes over).
+    if (CountComponents(ncp, coarseTris) != fineComponents)
+    {
+      lastError = "a part of the surface smaller than the element size vanished in the coarsening";
+      break;
+    }
+    params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
+    params.PreserveBoundary = options.PreserveBoundary;
+    TetGenResult run = RunTetGen(coarsePoints, coarseTris, params);
+    if (!run.Error.empty() && params.PreserveBoundary)
+    {
+      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
+      run = RunTetGen(coarsePoints, coarseTris, params);
+    }
+    if (!run.Error.empty())
+    {
+      lastError = run.Error;
+      triFactor *= 1.15;
+      continue;
+    }
+    const double ratio =
+      static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
+    const double mismatch = std::fabs(std::log(ratio));
+    if (mismatch < bestMismatch)
+    {
+      bestMismatch = mismatch;
+      tg = std::move(run);
+    }
+    if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
+      break;
+    h *= std::cbrt(ratio);
+  }
+  if (tg.Tets.empty())
+    tg.Error = lastError;
+  if (!tg.Error.empty())
+  {
+    std::ostringstream msg;
+    msg << "TetGen could not mesh the surface: " << tg.Error
+        << (facts.Check.DegenerateTriangles ? " (the input has degenerate triangles)" : "")
+        << ". Check the input for self-intersections, or ask for more elements.";
+    tg.Error = msg.str();
+  }
+  return tg;
+}
+
+// Step 2 for any other surface: an envelope (hoembed::WrapSurface: closed, manifold and
+// free of self-intersections by construction, so TetGen meshes it without the retries of
+// the coarsening) with a ball of the element size, so that its triangles have about that
+// size; TetGen as above. The element size comes from the volume of a first, rough
+// envelope, then from the count obtained (at most four envelopes in all).
+TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
+  const std::vector<Id>& fineTris, const FineSurfaceFacts& facts, const MesherOptions& options,
+  double& offset, const std::function<void(double)>& report)
+{
+  TetGenResult tg;
+  const double diag = facts.Diagonal;
+  if (!(diag > 0.0))
+  {
+    tg.Error = "the input surface has no extent (all its points coincide)";
+    return tg;
+  }
+  auto offsetFor = [&](double h) {
+    return options.EnvelopeTolerance > 0.0 ? options.EnvelopeTolerance * diag : 0.25 * h;
+  };
+  double h = options.TargetEdgeLength;
+  if (!(h > 0.0))
+  {
+    SurfaceWrapResult rough =
+      WrapSurface(finePoints, fineTris, 0.05 * diag, offsetFor(0.05 * diag));
+    if (!rough.Error.empty())
+    {
+      tg.Error = "the surface cannot be enclosed in a volume: " + rough.Error +
+        " (give a surface whose triangles have an area)";
+      return tg;
+    }
+    SurfaceCheck roughCheck;
+    roughCheck.Run(rough.Points.data(), static_cast<Id>(rough.Points.size() / 3),
+      rough.Tris.data(), static_cast<Id>(rough.Tris.size() / 3));
+    h = std::cbrt(
+      6.0 * std::sqrt(2.0) * std::fabs(roughCheck.SignedVolume) / options.TargetNumberOfElements);
+  }
+  report(0.2);
+  TetGenParameters params;
+  params.RadiusEdgeRatio = options.RadiusEdgeRatio;
+  params.MinDihedralAngle = options.MinDihedralAngle;
+  double bestMismatch = DBL_MAX;
+  for (int attempt = 0; attempt < 3; ++attempt)
+  {
+    const double off = offsetFor(h);
+    SurfaceWrapResult wrap = WrapSurface(finePoints, fineTris, h, off);
+    report(0.2 + 0.1 * attempt);
+    if (!wrap.Error.empty())
+    {
+      tg.Error = "the surface cannot be enclosed in a volume: " + wrap.Error +
+        " (give a surface whose triangles have an area)";
+      return tg;
+    }
+    SurfaceCheck wrapCheck;
+    wrapCheck.Run(wrap.Points.data(), static_cast<Id>(wrap.Points.size() / 3),
+      wrap.Tris.data(), static_cast<Id>(wrap.Tris.size() / 3));
+    if (!wrapCheck.IsClosedManifold())
+    {
+      tg.Error = "the envelope is not a closed manifold (internal error)";
+      return tg;
+    }
+    params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
+    params.PreserveBoundary = options.PreserveBoundary;
+    TetGenResult run = RunTetGen(wrap.Points, wrap.Tris, params);
+    if (!run.Error.empty() && params.PreserveBoundary)
+    {
+      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
+      run = RunTetGen(wrap.Points, wrap.Tris, params);
+    }
+    if (!run.Error.empty())
+    {
+      if (tg.Tets.empty())
+        tg.Error = "TetGen could not mesh the envelope: " + run.Error;
+      break;
+    }
+    const double ratio =
+      static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
+    const double mismatch = std::fabs(std::log(ratio));
+    if (mismatch < bestMismatch)
+    {
+      bestMismatch = mismatch;
+      tg = std::move(run);
+      offset = off;
+    }
+    if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
+      break;
+    h *= std::cbrt(ratio);
+  }
+  return tg;
+}
+
+// Step 4: how far is the fine surface from the coarse straight boundary? (Thin parts
+// smaller than the element size are not resolved.) Relative to the diagonal; at most
+// 20000 fine vertices are measured.
+double MeasureSurfaceDeviation(const std::vector<double>& finePoints, const CurvedMesh& mesh,
+  double diag, const MesherServices& services)
+{
+  const Id nFinePts = static_cast<Id>(finePoints.size() / 3);
+  const Id stride = std::max<Id>(1, nFinePts / 20000);
+  const double worst = services.MaxDistanceToTriangles(
+    mesh.LinearPoints, mesh.LinearBoundary, finePoints, stride);
+  return diag > 0.0 ? worst / diag : 0.0;
+}
+
+// Step 5: memory order (cells along a Morton curve, nodes by first use: neighbouring
+// elements are neighbours in the arrays, the embedding's searches read less scattered
+// memory) and the quality of every element. Returns false when an element is not valid.
+bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& invalid)
+{
+  std::vector<Id> cellOrder, pointOrder;
+  SpatialOrder(mesh.Points, mesh.Conn, npc, cellOrder, pointOrder);
+  const Id nTets = static_cast<Id>(cellOrder.size());
+  const Id nPts = static_cast<Id>(pointOrder.size());
+  out.NodesPerCell = npc;
+  out.Points.resize(3 * nPts);
+  out.BoundaryNode.resize(nPts);
+  std::vector<Id> newId(nPts);
+  for (Id k = 0; k < nPts; ++k)
+  {
+    const Id i = pointOrder[k];
+    newId[i] = k;
+    out.BoundaryNode[k] = mesh.BoundaryNode[i];
+    for (int d = 0; d < 3; ++d)
+      out.Points[3 * k + d] = mesh.Points[3 * i + d];
+  }
+  out.Conn.resize(npc * nTets);
+  out.MinScaledJacobian.resize(nTets);
+  invalid = 0;
+  for (Id t = 0; t < nTets; ++t)
+  {
+    double x[30];
+    for (int a = 0; a < npc; ++a)
+    {
+      const Id id = newId[mesh.Conn[npc * cellOrder[t] + a]];
+      out.Conn[npc * t + a] = id;
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * id + d];
+    }
+    const double q = npc == 10 ? Tet10MinScaledJacobian(x) : Tet4ScaledJacobian(x);
+    out.MinScaledJacobian[t] = q;
+    invalid += q > 0.0 ? 0 : 1;
+  }
+  return invalid == 0;
+}
+} // namespace
+
+MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>& tris,
+  const MesherOptions& options, const MesherServices& services,
+  const std::function<void(double)>& progress)
+{
+  MesherResult out;
+  auto report = [&](double f) {
+    if (progress)
+      progress(f);
+  };
+  // A clean closed manifold takes the coarsening path (its boundary nodes all lie on the
+  // surface); anything else, and a clean surface whose coarsening fails (decimation folds
+  // that no retry removes, e.g. high genus), an envelope, which TetGen meshes by
+  // construction.
+  FineSurfaceFacts facts;
+  const std::string notClean = CheckFineSurface(points, tris, facts);
+  if (!notClean.empty() && options.Wrap < 0)
+  {
+    out.Error = notClean;
+    return out;
+  }
+  report(0.1);
+  TetGenResult tg;
+  if (notClean.empty() && options.Wrap <= 0)
+  {
+    tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
+    if (!tg.Error.empty() && options.Wrap == 0)
+    {
+      out.Warnings.push_back(
+        tg.Error + " The surface's envelope is meshed instead (EnvelopeTolerance).");
+      tg.Error.clear();
+      out.Wrapped = true;
+    }
+  }
+  else
+    out.Wrapped = true;
+  if (out.Wrapped)
+    tg = WrapAndTetrahedralize(points, tris, facts, options, out.EnvelopeOffset, report);
+  if (!tg.Error.empty())
+  {
+    out.Error = tg.Error;
+    return out;
+  }
+  report(0.5);
+
+  CurvedMeshOptions curving;
+  curving.Order = options.ElementOrder;
+  curving.CurveBoundary = options.CurveBoundary;
+  curving.ProjectCorners = options.ProjectCorners;
+  curving.QualityRatio = options.CurvedQualityRatio;
+  curving.ExtraCheck = services.ExtraCheck;
+  // The envelope's corners lie at the offset from the surface, its straight mid-edge
+  // nodes a little farther: surface points beyond twice the offset belong to parts the
+  // envelope bridges (holes) or to its other side (a wrapped sheet).
+  SurfaceQueries queries = services.Fine;
+  if (out.Wrapped)
+  {
+    curving.MaxTargetDistance = 2.0 * out.EnvelopeOffset;
+    // Of a surface's two sides, the one its triangles' normals point to is its outside
+    // (inside out for a closed surface of negative volume). Nodes go only onto a surface
+    // that faces them: the near side of a wrapped sheet, not the far one.
+    const double side =
+      facts.Check.BoundaryEdges == 0 && facts.Check.SignedVolume < 0.0 ? -1.0 : 1.0;
+    if (services.NormalAt)
+      queries.Faces = [&services, side](const double target[3], const double outward[3]) {
+        double n[3];
+        services.NormalAt(target, n);
+        return side * (n[0] * outward[0] + n[1] * outward[1] + n[2] * outward[2]) > 0.0;
+      };
+  }
+  CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), queries,
+    curving, [&](double f) { report(0.5 + 0.4 * f); });
+  if (!mesh.Error.empty())
+  {
+    out.Error = "could not build the curved mesh: " + mesh.Error;
+    return out;
+  }
+  out.CurvedNodeCount = mesh.CurvedNodes;
+  out.RelaxedNodeCount = mesh.RelaxedNodes;
+  out.EnvelopeNodeCount = mesh.EnvelopeNodes;
+  out.BoundaryCrossingsFound = mesh.CrossingPairsFound;
+  out.BoundaryCrossingsLeft = mesh.CrossingPairsLeft;
+  if (mesh.CrossingPairsLeft > 0)
+  {
+    std::ostringstream msg;
+    msg << mesh.CrossingPairsLeft << " pairs of boundary faces still cross after straightening "
+        << "their mid-edge nodes (corners moved onto the surface cross); ask for more elements";
+    out.Warnings.push_back(msg.str());
+  }
+
+  out.MaxSurfaceDeviation = MeasureSurfaceDeviation(points, mesh, facts.Diagonal, services);
+  if (out.MaxSurfaceDeviation > options.SurfaceDeviationWarning)
+  {
+    std::ostringstream msg;
+    msg << "the coarse mesh does not resolve parts of the surface: a surface point is "
+        << out.MaxSurfaceDeviation * 100.0
+        << "% of the bounding-box diagonal away from it (thin parts are smaller than the "
+           "element size; ask for more elements or a smaller TargetEdgeLength)";
+    out.Warnings.push_back(msg.str());
+  }
+  report(0.95);
+
+  Id invalid = 0;
+  if (!OrderAndMeasure(mesh, options.ElementOrder == 2 ? 10 : 4, out, invalid))
+  {
+    std::ostringstream msg;
+    msg << invalid << " elements are not valid after meshing (internal error)";
+    out.Error = msg.str();
+    return out;
+  }
+  report(1.0);
+  return out;
+}
+} // namespace hoembed

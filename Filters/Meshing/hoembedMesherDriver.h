@@ -1,0 +1,103 @@
+/**
+ * @file hoembedMesherDriver.h
+ * @brief The tet10 mesher as one call on plain arrays: checks, the coarse boundary
+ *        (coarsening of a clean closed surface, or an envelope of any other), TetGen,
+ *        curving onto the fine surface, validity and memory order (plain C++, VTK-free).
+ *
+ * vtkTet10Mesher reads its input, cleans it into triangles (a VTK step), calls
+ * hoembed::RunMesher and writes the result; a pip binding calls the very same function.
+ * The steps that need a geometry library other than the kernels here (quadric
+ * decimation and low-pass smoothing of the fine surface, closest-point and ray queries,
+ * VTK's cell validator) come in through hoembed::MesherServices, so the algorithm (order
+ * of steps, retries, acceptance tests, errors) is written once, here.
+ */
+#ifndef hoembedMesherDriver_h
+#define hoembedMesherDriver_h
+
+#include "hoembedCurvedMeshBuilder.h"
+#include "hoembedFiltersMeshingModule.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hoembed
+{
+/// Settings of a mesher run (the filter's properties, same meanings and defaults).
+struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
+{
+  int TargetNumberOfElements = 1000;
+  double TargetEdgeLength = 0.0; ///< > 0 overrides TargetNumberOfElements
+  int ElementOrder = 2;
+  bool CurveBoundary = true;
+  bool ProjectCorners = true;
+  bool PreserveBoundary = true;
+  double RadiusEdgeRatio = 1.5;
+  double MinDihedralAngle = 10.0;
+  double SurfaceDeviationWarning = 0.05;
+  double CurvedQualityRatio = 0.02;
+  /// Distance of the envelope from a surface that is not a clean closed manifold,
+  /// relative to the bounding-box diagonal; 0 (default): a quarter of the target element
+  /// size, so that a single sheet becomes a solid about one element thick.
+  double EnvelopeTolerance = 0.0;
+  /// 1: always mesh an envelope (hoembed::WrapSurface), -1: never (a surface that is not
+  /// a clean closed manifold is an error, as before the envelope existed), 0 (default):
+  /// when the surface is not a clean closed manifold, or its coarsening fails.
+  int Wrap = 0;
+};
+
+/// Geometry services on the fine surface that the binding provides.
+struct HOEMBEDFILTERSMESHING_EXPORT MesherServices
+{
+  /// Quadric decimation of the fine surface (or of its low-pass filtered copy when
+  /// `smoothed`) by `reduction` (fraction of triangles removed); false on failure (e.g.
+  /// cells other than triangles out).
+  std::function<bool(double reduction, bool smoothed, std::vector<double>& points,
+    std::vector<std::int64_t>& tris)>
+    Decimate;
+  /// Closest point, ray and neighbourhood queries on the fine surface.
+  SurfaceQueries Fine;
+  /// Unit normal of the fine surface at its point x (of the triangle nearest to x, in
+  /// the triangle's vertex order). Optional; with it, a wrapped sheet goes onto the
+  /// envelope side it faces.
+  std::function<void(const double x[3], double normal[3])> NormalAt;
+  /// Largest distance from the points `query` (3 doubles each, every `stride`-th one) to
+  /// the triangles (`points`, `tris`).
+  std::function<double(const std::vector<double>& points, const std::vector<std::int64_t>& tris,
+    const std::vector<double>& query, std::int64_t stride)>
+    MaxDistanceToTriangles;
+  /// Extra acceptance test of curved elements (e.g. VTK's cell validator), optional.
+  std::function<bool(const double* x10)> ExtraCheck;
+};
+
+struct HOEMBEDFILTERSMESHING_EXPORT MesherResult
+{
+  std::vector<double> Points;                ///< 3 per node, in memory order
+  std::vector<std::int64_t> Conn;            ///< NodesPerCell per cell
+  int NodesPerCell = 10;                     ///< 10 (tet10) or 4 (tet4)
+  std::vector<double> MinScaledJacobian;     ///< per cell
+  std::vector<unsigned char> BoundaryNode;   ///< per node
+  std::int64_t RelaxedNodeCount = 0;
+  std::int64_t CurvedNodeCount = 0;
+  double MaxSurfaceDeviation = 0.0;
+  std::int64_t EnvelopeNodeCount = 0; ///< boundary mid-edge nodes left on the envelope
+  std::int64_t BoundaryCrossingsFound = 0; ///< curved boundary face pairs crossing, repaired
+  std::int64_t BoundaryCrossingsLeft = 0;  ///< crossing pairs left (0 expected)
+  bool Wrapped = false;               ///< the boundary is an envelope of the surface
+  double EnvelopeOffset = 0.0;        ///< its distance from the surface (when Wrapped)
+  std::vector<std::string> Warnings;
+  std::string Error; ///< empty on success; otherwise nothing else is meaningful
+};
+
+/**
+ * Mesh the fine triangle surface (`points`: 3 doubles each; `tris`: 3 ids each; already
+ * triangulated and merged). `progress` receives fractions in [0, 1].
+ */
+HOEMBEDFILTERSMESHING_EXPORT MesherResult RunMesher(const std::vector<double>& points,
+  const std::vector<std::int64_t>& tris, const MesherOptions& options,
+  const MesherServices& services,
+  const std::function<void(double)>& progress = std::function<void(double)>());
+} // namespace hoembed
+
+#endif

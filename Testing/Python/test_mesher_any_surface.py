@@ -1,0 +1,228 @@
+"""vtkTet10Mesher on surfaces that are not clean closed manifolds (meshed through their
+alpha-wrapped envelope): each input class on a small generated case, judged by VTK's own
+tools (vtkCellValidator, the subdivided curved boundary with vtkSelectEnclosedPoints and
+implicit distances), plus the inputs that still cannot be meshed."""
+import numpy as np
+import pytest
+import pyvista as pv
+
+import hoembed
+from mesh_checks import vtk_cell_validator_states
+
+
+def open_sphere():
+    s = pv.Sphere(theta_resolution=30, phi_resolution=30).triangulate()
+    keep = np.where(s.cell_centers().points[:, 2] < 0.35)[0]
+    return s.extract_cells(keep).extract_surface()
+
+
+def sheet():
+    p = pv.Plane(i_resolution=24, j_resolution=24).triangulate()
+    p.points[:, 2] = 0.1 * np.sin(3 * p.points[:, 0])
+    return p
+
+
+def overlapping():
+    return pv.Sphere().merge(pv.Sphere(center=(0.3, 0, 0)))
+
+
+def nested():
+    return pv.Sphere(radius=1.0).merge(pv.Sphere(radius=0.4))
+
+
+def far_apart_with_tiny():
+    # a tiny component (smaller than the envelope tolerance) must be absorbed, not dropped
+    return pv.Sphere().merge(pv.Sphere(radius=0.004, center=(1.5, 0, 0))).merge(
+        pv.Sphere(radius=0.3, center=(3, 0, 0)))
+
+
+def fin():
+    return pv.Cube().triangulate().merge(
+        pv.Plane(center=(0.75, 0, 0), direction=(0, 0, 1), i_size=0.5, j_size=0.6).triangulate())
+
+
+def duplicated():
+    s = pv.Sphere()
+    return s.merge(s, merge_points=False)
+
+
+def flipped():
+    s = pv.Sphere().triangulate()
+    f = s.faces.reshape(-1, 4).copy()
+    f[::3, 1:] = f[::3, 1:][:, ::-1]
+    return pv.PolyData(s.points, f.ravel())
+
+
+def degenerate_and_duplicate_triangles():
+    s = pv.Sphere().triangulate()
+    f = s.faces.reshape(-1, 4)
+    extra = np.array([[3, f[0, 1], f[0, 1], f[0, 2]], f[5], f[6]])
+    return pv.PolyData(s.points, np.vstack([f, extra]).ravel())
+
+
+def random_deletions():
+    s = pv.Sphere(theta_resolution=30, phi_resolution=30).triangulate()
+    rng = np.random.default_rng(1)
+    return s.remove_cells(rng.choice(s.n_cells, 40, replace=False))
+
+
+CASES = dict(open_sphere=open_sphere, sheet=sheet, overlapping=overlapping, nested=nested,
+             far_apart_with_tiny=far_apart_with_tiny, fin=fin, duplicated=duplicated,
+             flipped=flipped, degenerate=degenerate_and_duplicate_triangles,
+             random_deletions=random_deletions)
+
+
+def used_points(surface):
+    return surface.points[np.unique(surface.faces.reshape(-1, 4)[:, 1:])]
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_input_class(name):
+    surface = CASES[name]()
+    mesh = hoembed.tet10_mesh(surface, n_elements=400)
+    assert mesh.n_cells > 50
+    assert mesh.cell_data["MinScaledJacobian"].min() > 0
+    assert np.all(vtk_cell_validator_states(mesh) & 0b100111 == 0)  # points, edges, faces, orientation
+    # far_apart_with_tiny is three clean closed parts: the coarsening path is tried first,
+    # the tiny part vanishes in the decimation, and the envelope takes over
+    assert mesh.field_data["EnvelopeOffset"][0] > 0, "not meshed through the envelope"
+    assert mesh.field_data["EnvelopeNodeCount"][0] >= 0
+    # every input vertex is inside the curved mesh, or next to its boundary (the curved
+    # boundary follows the surface between its nodes to within the element's sagitta)
+    boundary = mesh.extract_surface(nonlinear_subdivision=3)
+    pts = pv.PolyData(used_points(surface))
+    inside = pts.select_enclosed_points(boundary, check_surface=False)["SelectedPoints"]
+    dist = np.abs(pts.compute_implicit_distance(boundary)["implicit_distance"])
+    worst = dist[inside == 0].max(initial=0.0) / surface.length
+    assert worst < 0.03, worst
+    print(name, mesh.n_cells, mesh.cell_data["MinScaledJacobian"].min(), worst,
+          {k: mesh.field_data[k][0] for k in mesh.field_data.keys()})
+
+
+def test_envelope_tolerance_is_used():
+    alg = hoembed.vtkTet10Mesher()
+    alg.SetInputData(sheet())
+    alg.SetTargetNumberOfElements(400)
+    alg.SetEnvelopeTolerance(0.04)
+    assert "EnvelopeTolerance: 0.04" in str(alg)
+    mesh = pv.wrap(hoembed._errors.run_filter(alg))
+    diag = sheet().length
+    assert mesh.field_data["EnvelopeOffset"][0] == pytest.approx(0.04 * diag)
+    assert mesh.cell_data["MinScaledJacobian"].min() > 0
+
+
+def test_clean_closed_input_keeps_coarsening_path():
+    mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=400)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0
+    assert mesh.field_data["EnvelopeNodeCount"][0] == 0
+
+
+def test_progress_through_wrap():
+    seen = []
+    hoembed.tet10_mesh(open_sphere(), n_elements=300, progress=seen.append)
+    assert seen[-1] == 1.0
+    assert len(seen) >= 6 and all(b >= a for a, b in zip(seen, seen[1:]))
+
+
+def expect_error(surface, *words):
+    with pytest.raises(hoembed.HOEmbedError) as info:
+        hoembed.tet10_mesh(surface, n_elements=200)
+    msg = str(info.value)
+    assert "vtkTet10Mesher" in msg
+    for w in words:
+        assert w in msg, msg
+
+
+def test_points_only():
+    expect_error(pv.PolyData(np.random.default_rng(0).random((50, 3))), "no polygons",
+                 "reconstruct")
+
+
+def test_lines_only():
+    expect_error(pv.Line(), "no polygons")
+
+
+def test_zero_area_triangles_only():
+    pts = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0.0]])
+    faces = np.array([3, 0, 1, 2, 3, 1, 2, 3])
+    expect_error(pv.PolyData(pts, faces), "cannot be enclosed", "area")
+
+
+def test_open_real_mesh(data_dir):
+    surface = pv.read(data_dir / "stanford-bunny.obj")
+    mesh = hoembed.tet10_mesh(surface, n_elements=1000)
+    assert mesh.cell_data["MinScaledJacobian"].min() > 0
+    assert np.all(vtk_cell_validator_states(mesh) & 0b100111 == 0)
+    curved = mesh.field_data["CurvedNodeCount"][0]
+    total = curved + mesh.field_data["RelaxedNodeCount"][0] + mesh.field_data["EnvelopeNodeCount"][0]
+    print("stanford-bunny", mesh.n_cells, curved / total)
+    assert curved / total > 0.5
+
+
+# ---- a curved boundary that does not cross itself --------------------------------------
+
+def _crossings(mesh):
+    from boundary_crossings import crossing_face_pairs
+    return crossing_face_pairs(mesh)
+
+
+def test_crossing_check_can_fail():
+    """The independent check (VTK's collision filter on the subdivided curved boundary)
+    sees a crossing made on purpose: a boundary mid-edge node pushed through the far side."""
+    mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=300)
+    assert _crossings(mesh) == []
+    from boundary_crossings import boundary_faces6
+    f = boundary_faces6(mesh)[0]
+    bent = mesh.copy()
+    bent.points[f[3]] = -1.5 * bent.points[f[3]]  # through the sphere and out the other side
+    assert len(_crossings(bent)) > 0
+
+
+@pytest.mark.parametrize("name", ["thorny", "open_sphere", "sheet", "fin"])
+def test_no_boundary_crossings(name):
+    surface = hoembed.thorny_tail() if name == "thorny" else CASES[name]()
+    mesh = hoembed.tet10_mesh(surface, n_elements=1000 if name == "thorny" else 400)
+    assert mesh.field_data["BoundaryCrossingsLeft"][0] == 0
+    assert _crossings(mesh) == []
+    print(name, "crossing pairs repaired:", mesh.field_data["BoundaryCrossingsFound"][0])
+
+
+@pytest.mark.parametrize("name", ["bunny_watertight", "fertility", "scorpion_low_resolution"])
+def test_no_boundary_crossings_real(data_dir, name):
+    mesh = hoembed.tet10_mesh(pv.read(data_dir / f"{name}.obj"), n_elements=1000)
+    assert mesh.field_data["BoundaryCrossingsLeft"][0] == 0
+    assert _crossings(mesh) == []
+
+
+# ---- what a user means by closed is closed ---------------------------------------------
+
+def test_rounded_shared_vertices_are_merged():
+    """An STL-like sphere: every triangle has its own three vertices, rounded differently
+    (1e-8 of the diagonal): merged, it is a clean closed surface (coarsening path)."""
+    s = pv.Sphere(theta_resolution=24, phi_resolution=24).triangulate()
+    tri = s.faces.reshape(-1, 4)[:, 1:]
+    rng = np.random.default_rng(2)
+    pts = s.points[tri.ravel()] + rng.uniform(-1e-8, 1e-8, (tri.size, 3)) * s.length
+    faces = np.hstack([np.full((len(tri), 1), 3), np.arange(tri.size).reshape(-1, 3)])
+    soup = pv.PolyData(pts, faces.ravel())
+    mesh = hoembed.tet10_mesh(soup, n_elements=300)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0, "not merged into a closed surface"
+    alg = hoembed.vtkTet10Mesher()
+    alg.SetMergeTolerance(0.0)
+    alg.SetInputData(soup)
+    alg.SetTargetNumberOfElements(300)
+    unmerged = pv.wrap(hoembed._errors.run_filter(alg))
+    assert unmerged.field_data["EnvelopeOffset"][0] > 0  # open everywhere without the merge
+
+
+def test_non_planar_quads_and_strips():
+    cube = pv.Cube().clean()
+    cube.points[0] += [0.02, -0.03, 0.05]  # three quads around it are no longer planar
+    assert np.all(cube.faces.reshape(-1, 5)[:, 0] == 4)
+    mesh = hoembed.tet10_mesh(cube, n_elements=200)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0  # every quad gave two triangles
+    strips = pv.Sphere().strip()
+    assert strips.GetNumberOfStrips() > 0 and strips.GetNumberOfPolys() == 0
+    mesh = hoembed.tet10_mesh(strips, n_elements=300)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0
+    assert mesh.cell_data["MinScaledJacobian"].min() > 0
