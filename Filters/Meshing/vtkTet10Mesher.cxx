@@ -7,6 +7,7 @@
 #include "hoembedTetGenBridge.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkCellValidator.h"
 #include "vtkQuadraticTetra.h"
@@ -37,6 +38,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkTet10Mesher);
@@ -153,6 +155,92 @@ int vtkTet10Mesher::RequestData(
     return 0;
   }
   output->Initialize();
+
+  // ---- 0. properties, point ids, size estimate -----------------------------------------
+  // Before any VTK filter sees the input: vtkCleanPolyData reads polygon point ids
+  // unchecked (an id out of range crashes it), the clamp macros let NaN through, and a
+  // mesh of millions of elements takes TetGen minutes and gigabytes.
+  {
+    const std::pair<const char*, double> props[] = { { "TargetEdgeLength", this->TargetEdgeLength },
+      { "RadiusEdgeRatio", this->RadiusEdgeRatio }, { "MinDihedralAngle", this->MinDihedralAngle },
+      { "CurvedQualityRatio", this->CurvedQualityRatio },
+      { "SurfaceDeviationWarning", this->SurfaceDeviationWarning } };
+    for (const auto& p : props)
+    {
+      if (!std::isfinite(p.second))
+      {
+        vtkErrorMacro(<< p.first << " is " << p.second << ": a finite value is needed");
+        return 0;
+      }
+    }
+    const vtkIdType np = input->GetNumberOfPoints();
+    const std::pair<const char*, vtkCellArray*> kinds[] = { { "vertex", input->GetVerts() },
+      { "line", input->GetLines() }, { "polygon", input->GetPolys() },
+      { "triangle strip", input->GetStrips() } };
+    for (const auto& kind : kinds)
+    {
+      vtkIdType n, k = 0;
+      const vtkIdType* ids;
+      auto it = vtk::TakeSmartPointer(kind.second->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++k)
+      {
+        it->GetCurrentCell(n, ids);
+        for (vtkIdType j = 0; j < n; ++j)
+        {
+          if (ids[j] < 0 || ids[j] >= np)
+          {
+            vtkErrorMacro("" << kind.first << " " << k << " of the input names point id " << ids[j]
+                             << ", but the surface has " << np << " points (ids 0.."
+                             << np - 1 << ")");
+            return 0;
+          }
+        }
+      }
+    }
+    // Enclosed volume of the polygons (fans; the closedness check comes later).
+    double volume = 0.0;
+    if (this->TargetEdgeLength > 0.0)
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        it->GetCurrentCell(n, ids);
+        double a[3], b[3], c[3];
+        for (vtkIdType j = 1; j + 1 < n; ++j)
+        {
+          input->GetPoint(ids[0], a);
+          input->GetPoint(ids[j], b);
+          input->GetPoint(ids[j + 1], c);
+          volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                      a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+        }
+      }
+    }
+    const double edge = this->TargetEdgeLength;
+    const double estimate = edge > 0.0
+      ? std::fabs(volume) * 6.0 * std::sqrt(2.0) / (edge * edge * edge)
+      : static_cast<double>(this->TargetNumberOfElements);
+    if (estimate > static_cast<double>(this->MaximumNumberOfElements))
+    {
+      // Peak memory of the mesher per element, rounded up from a measurement
+      // (Benchmarks/RELIABILITY.md: 0.58 kB at 300k elements).
+      const double bytesPerElement = 1.0e3;
+      vtkErrorMacro("the mesh would have about " << static_cast<long long>(estimate)
+        << " elements (about " << std::ceil(estimate * bytesPerElement / 1e9)
+        << " GB of memory to mesh), more than MaximumNumberOfElements = "
+        << this->MaximumNumberOfElements
+        << ": ask for fewer elements (or a longer TargetEdgeLength), or raise "
+           "MaximumNumberOfElements");
+      return 0;
+    }
+  }
+  // AbortExecute stops TetGen too (polled through progress events while it meshes).
+  hoembed::ScopedTetGenAbort tetgenAbort([this]() {
+    this->UpdateProgress(std::min(1.0, this->GetProgress() + 1e-6));
+    return this->AbortExecute != 0;
+  });
 
   // ---- 1. checks ----------------------------------------------------------------------
   if (input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
@@ -510,6 +598,7 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "TargetNumberOfElements: " << this->TargetNumberOfElements << "\n";
+  os << indent << "MaximumNumberOfElements: " << this->MaximumNumberOfElements << "\n";
   os << indent << "TargetEdgeLength: " << this->TargetEdgeLength << "\n";
   os << indent << "ElementOrder: " << this->ElementOrder << "\n";
   os << indent << "CurveBoundary: " << (this->CurveBoundary ? "On" : "Off") << "\n";
