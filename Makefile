@@ -16,7 +16,7 @@ SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer
 # Sanitized Python tests: the ones that drive every filter and the CLI on small inputs
 # (the mesher's and the embedding's full Python suites run unsanitized only: their real-
 # mesh cases take minutes under ASan; the C++ tests cover those filters sanitized).
-SAN_PY_TESTS ?= py\.(test_bad_input|test_series|test_cli|test_simulation|test_transfer|test_package)$$
+SAN_PY_TESTS ?= py\.(test_bad_input|test_fuzz_surfaces|test_series|test_cli|test_simulation|test_transfer|test_package)$$
 
 .PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install
 

@@ -23,6 +23,8 @@ rc_cxx=$?
 # The Python interpreter and numpy leak by design at exit: leak checking is for the C++
 # tests. The ASan runtime is preloaded into Python by the tests' environment
 # (HOEMBED_TEST_PYTHON_PRELOAD), and inherited by the subprocesses the tests start.
+# The fuzz test runs fewer cases under the sanitizers (each is several times slower).
+HOEMBED_FUZZ_CASES="${HOEMBED_FUZZ_CASES:-120}" \
 ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" "${XVFB[@]}" ctest --output-on-failure -j 1 -R "$pyre"
 rc_py=$?
 echo "[test-sanitize] C++ rc=$rc_cxx, Python rc=$rc_py, $(( $(date +%s) - start )) s"
