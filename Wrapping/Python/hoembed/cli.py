@@ -321,6 +321,14 @@ def _read_surface(path):
             why = next((ln for ln in reversed(lines) if not ln.startswith(("Traceback", "File "))),
                        f"exit code {child.returncode}")
             raise UsageError(f"cannot read {path}: {why}")
+        # VTK's readers report a short read (a truncated binary legacy file) only as a
+        # message and return uninitialised point ids: such a message refuses the file.
+        said = [ln.split("| ", 1)[-1].replace("\x1b[0m", "").strip()
+                for ln in child.stderr.splitlines()
+                if "ERR|" in ln or ("WARN|" in ln and "rror" in ln)]
+        if said:
+            raise UsageError(f"cannot read {path}: VTK's reader reported '{said[0]}': the "
+                             "file is probably corrupt or truncated")
         data = pyvista.read(out)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
