@@ -7,6 +7,18 @@
 #    into a static, position-independent library linked privately into FiltersMeshing.
 #    Set HOEMBED_TETGEN_SOURCE_DIR to a folder holding those three files to skip the fetch.
 #
+# Patches applied to the compiled sources (copies in the build folder; the pinned archive
+# and a given HOEMBED_TETGEN_SOURCE_DIR stay untouched):
+# - cmake/tetgen-predicates-bounds.patch: Shewchuk's fast_expansion_sum_zeroelim reads
+#   e[elen] / f[flen] (one past the end) after taking the last term. The value is never
+#   used, so release builds compute the same results, but it is an out-of-bounds read
+#   (AddressSanitizer found it on damaged surfaces); the patch skips the read.
+# - cmake/tetgen-checkpoint.patch: a thread-local checkpoint callback polled at every new
+#   tetrahedron and every flipnm call, through which hoembed::RunTetGen bounds TetGen's
+#   work and lets a run be aborted (TetGen has no limit of its own on boundary recovery,
+#   which can flip without end). Defines HOEMBED_TETGEN_CHECKPOINT for the bridge.
+# A system TetGen is used unpatched: no work bound, no abort (hoembed::TetGenWorkIsBounded).
+#
 # TetGen is AGPL-3.0 (or a commercial licence from WIAS): see THIRD_PARTY_NOTICES.md.
 
 set(HOEMBED_TETGEN_PYPI_VERSION "0.8.4")
@@ -76,12 +88,54 @@ foreach (_f tetgen.cxx tetgen.h predicates.cxx)
     message(FATAL_ERROR "HOEmbed: ${HOEMBED_TETGEN_SOURCE_DIR}/${_f} is missing")
   endif ()
 endforeach ()
-message(STATUS "HOEmbed: compiling TetGen from ${HOEMBED_TETGEN_SOURCE_DIR}")
+# Patched copies in the build folder, redone when a patch or a source changes.
+find_program(HOEMBED_PATCH_EXECUTABLE patch)
+if (NOT HOEMBED_PATCH_EXECUTABLE)
+  message(FATAL_ERROR "HOEmbed: the 'patch' program is needed to patch TetGen "
+    "(Debian package 'patch'; scripts/setup.sh installs it).")
+endif ()
+set(_tg_patches
+  "${CMAKE_CURRENT_LIST_DIR}/tetgen-predicates-bounds.patch"
+  "${CMAKE_CURRENT_LIST_DIR}/tetgen-checkpoint.patch")
+set(_tg_key "")
+foreach (_f IN LISTS _tg_patches)
+  file(SHA256 "${_f}" _h)
+  string(APPEND _tg_key "${_h}")
+endforeach ()
+foreach (_f tetgen.cxx tetgen.h predicates.cxx)
+  file(SHA256 "${HOEMBED_TETGEN_SOURCE_DIR}/${_f}" _h)
+  string(APPEND _tg_key "${_h}")
+endforeach ()
+set(_tg_patched "${CMAKE_BINARY_DIR}/_deps/tetgen-patched")
+set(_tg_stamp "${_tg_patched}/.hoembed-patched")
+set(_tg_old_key "")
+if (EXISTS "${_tg_stamp}")
+  file(READ "${_tg_stamp}" _tg_old_key)
+endif ()
+if (NOT _tg_old_key STREQUAL _tg_key)
+  file(REMOVE_RECURSE "${_tg_patched}")
+  file(MAKE_DIRECTORY "${_tg_patched}")
+  foreach (_f tetgen.cxx tetgen.h predicates.cxx)
+    configure_file("${HOEMBED_TETGEN_SOURCE_DIR}/${_f}" "${_tg_patched}/${_f}" COPYONLY)
+  endforeach ()
+  foreach (_p IN LISTS _tg_patches)
+    execute_process(COMMAND "${HOEMBED_PATCH_EXECUTABLE}" -p1 --batch --forward -s -i "${_p}"
+      WORKING_DIRECTORY "${_tg_patched}" RESULT_VARIABLE _rc OUTPUT_VARIABLE _out ERROR_VARIABLE _out)
+    if (NOT _rc EQUAL 0)
+      message(FATAL_ERROR "HOEmbed: ${_p} does not apply to the TetGen sources in "
+        "${HOEMBED_TETGEN_SOURCE_DIR} (a TetGen other than tetgen==${HOEMBED_TETGEN_PYPI_VERSION}?):\n${_out}")
+    endif ()
+  endforeach ()
+  file(WRITE "${_tg_stamp}" "${_tg_key}")
+endif ()
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_tg_patches})
+
+message(STATUS "HOEmbed: compiling TetGen from ${HOEMBED_TETGEN_SOURCE_DIR} (patched copy in ${_tg_patched})")
 add_library(hoembed_tetgen STATIC
-  "${HOEMBED_TETGEN_SOURCE_DIR}/tetgen.cxx"
-  "${HOEMBED_TETGEN_SOURCE_DIR}/predicates.cxx")
+  "${_tg_patched}/tetgen.cxx"
+  "${_tg_patched}/predicates.cxx")
 set_target_properties(hoembed_tetgen PROPERTIES POSITION_INDEPENDENT_CODE ON)
-target_compile_definitions(hoembed_tetgen PUBLIC TETLIBRARY)
+target_compile_definitions(hoembed_tetgen PUBLIC TETLIBRARY HOEMBED_TETGEN_CHECKPOINT_PATCH)
 # Exact predicates rely on IEEE round-to-nearest without fused multiply-add.
 target_compile_options(hoembed_tetgen PRIVATE -w -ffp-contract=off)
-target_include_directories(hoembed_tetgen SYSTEM PUBLIC "$<BUILD_INTERFACE:${HOEMBED_TETGEN_SOURCE_DIR}>")
+target_include_directories(hoembed_tetgen SYSTEM PUBLIC "$<BUILD_INTERFACE:${_tg_patched}>")

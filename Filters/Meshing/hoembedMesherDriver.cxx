@@ -176,11 +176,13 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
     params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
     params.PreserveBoundary = options.PreserveBoundary;
     TetGenResult run = RunTetGen(coarsePoints, coarseTris, params);
-    if (!run.Error.empty() && params.PreserveBoundary)
+    if (!run.Error.empty() && params.PreserveBoundary && !run.Stopped)
     {
       params.PreserveBoundary = false; // TetGen may need boundary points to succeed
       run = RunTetGen(coarsePoints, coarseTris, params);
     }
+    if (run.Stopped) // aborted, or TetGen's work bound: no retry, no fallback
+      return run;
     if (!run.Error.empty())
     {
       lastError = run.Error;
@@ -275,11 +277,13 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
     params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
     params.PreserveBoundary = options.PreserveBoundary;
     TetGenResult run = RunTetGen(wrap.Points, wrap.Tris, params);
-    if (!run.Error.empty() && params.PreserveBoundary)
+    if (!run.Error.empty() && params.PreserveBoundary && !run.Stopped)
     {
       params.PreserveBoundary = false; // TetGen may need boundary points to succeed
       run = RunTetGen(wrap.Points, wrap.Tris, params);
     }
+    if (run.Stopped)
+      return run;
     if (!run.Error.empty())
     {
       if (tg.Tets.empty())
@@ -382,7 +386,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   if (notClean.empty() && options.Wrap <= 0)
   {
     tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
-    if (!tg.Error.empty() && options.Wrap == 0)
+    if (!tg.Error.empty() && options.Wrap == 0 && !tg.Stopped)
     {
       out.Warnings.push_back(
         tg.Error + " The surface's envelope is meshed instead (EnvelopeTolerance).");

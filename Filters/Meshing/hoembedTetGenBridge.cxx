@@ -14,6 +14,72 @@ namespace hoembed
 {
 namespace
 {
+// The abort callback of the innermost ScopedTetGenAbort of this thread.
+thread_local const std::function<bool()>* CurrentAbort = nullptr;
+
+// What TetGen's checkpoint (HOEmbed's patch) counts and decides.
+struct Watchdog
+{
+  std::uint64_t Created = 0;
+  std::uint64_t Budget = 0;
+  const std::function<bool()>* Abort = nullptr;
+  int Stop = 0; // 1: work bound, 2: aborted
+};
+
+#ifdef HOEMBED_TETGEN_CHECKPOINT_PATCH
+int Checkpoint(void* data)
+{
+  auto* w = static_cast<Watchdog*>(data);
+  if (++w->Created > w->Budget)
+  {
+    w->Stop = 1;
+    return 1;
+  }
+  if ((w->Created & 4095u) == 0 && w->Abort && *w->Abort && (*w->Abort)())
+  {
+    w->Stop = 2;
+    return 1;
+  }
+  return 0;
+}
+
+// Installs the checkpoint for one TetGen run; restores the previous one on any exit.
+class CheckpointGuard
+{
+public:
+  explicit CheckpointGuard(Watchdog* w)
+    : OldFn(hoembed_tetgen_checkpoint)
+    , OldData(hoembed_tetgen_checkpoint_data)
+  {
+    hoembed_tetgen_checkpoint = &Checkpoint;
+    hoembed_tetgen_checkpoint_data = w;
+  }
+  ~CheckpointGuard()
+  {
+    hoembed_tetgen_checkpoint = this->OldFn;
+    hoembed_tetgen_checkpoint_data = this->OldData;
+  }
+
+private:
+  int (*OldFn)(void*);
+  void* OldData;
+};
+#endif
+
+double SurfaceVolume(const std::vector<double>& pts, const std::vector<std::int64_t>& tris)
+{
+  double v = 0.0;
+  for (size_t t = 0; t < tris.size() / 3; ++t)
+  {
+    const double* a = &pts[3 * tris[3 * t]];
+    const double* b = &pts[3 * tris[3 * t + 1]];
+    const double* c = &pts[3 * tris[3 * t + 2]];
+    v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+  }
+  return v;
+}
+
 std::string TetGenErrorText(int code)
 {
   switch (code)
@@ -104,6 +170,27 @@ std::string QualitySwitches(const TetGenParameters& params)
 }
 } // namespace
 
+ScopedTetGenAbort::ScopedTetGenAbort(std::function<bool()> abort)
+  : Abort(std::move(abort))
+  , Previous(CurrentAbort)
+{
+  CurrentAbort = &this->Abort;
+}
+
+ScopedTetGenAbort::~ScopedTetGenAbort()
+{
+  CurrentAbort = this->Previous;
+}
+
+bool TetGenWorkIsBounded()
+{
+#ifdef HOEMBED_TETGEN_CHECKPOINT_PATCH
+  return true;
+#else
+  return false;
+#endif
+}
+
 TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::int64_t>& tris,
   const TetGenParameters& params)
 {
@@ -122,7 +209,28 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
     sw << "Y";
   }
   result.Switches = sw.str();
+  for (const std::int64_t id : tris)
+  {
+    if (id < 0 || id >= static_cast<std::int64_t>(pts.size() / 3))
+    {
+      result.Error = "a triangle names a point that does not exist";
+      return result;
+    }
+  }
+  const double surfaceVolume = SurfaceVolume(pts, tris);
+  const double expected = params.MaxVolume > 0.0
+    ? std::fabs(surfaceVolume) / params.MaxVolume
+    : static_cast<double>(tris.size() / 3);
+  Watchdog watchdog;
+  watchdog.Abort = CurrentAbort;
+  const double budget = params.MaxCreatedTetrahedra > 0.0
+    ? params.MaxCreatedTetrahedra
+    : std::max(2e6, 400.0 * std::max(expected, static_cast<double>(tris.size() / 3)));
+  watchdog.Budget = budget < 1.8e19 ? static_cast<std::uint64_t>(budget) : UINT64_MAX;
   Guarded(result, [&]() {
+#ifdef HOEMBED_TETGEN_CHECKPOINT_PATCH
+    CheckpointGuard guard(&watchdog);
+#endif
     tetgenio in, out;
     in.firstnumber = 0;
     in.numberofpoints = static_cast<int>(pts.size() / 3);
@@ -149,21 +257,33 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
     tetrahedralize(&switches[0], &in, &out);
     CollectOutput(out, result);
   });
+  result.CreatedTetrahedra = watchdog.Created;
+  if (watchdog.Stop != 0)
+  {
+    std::ostringstream os;
+    if (watchdog.Stop == 1)
+    {
+      os << "TetGen exceeded its work bound (" << watchdog.Budget
+         << " tetrahedra created for a mesh of about " << static_cast<long long>(expected)
+         << "; it was probably stuck recovering the boundary of a thin or badly shaped "
+            "surface)";
+    }
+    else
+    {
+      os << "meshing was aborted (AbortExecute) during TetGen";
+    }
+    result.Error = os.str();
+    result.Stopped = true;
+    result.Points.clear();
+    result.Tets.clear();
+  }
   if (result.Error.empty())
   {
     // TetGen skips facets that intersect others and meshes on: the mesh then no longer
     // fills the surface. The volumes tell. (With quality refinement TetGen's volume differs
     // from the surface's by ~1e-5 relative on real inputs, hence the loose bound; the
     // caller's own self-intersection check runs first.)
-    double surfaceVolume = 0.0, meshVolume = 0.0;
-    for (size_t t = 0; t < tris.size() / 3; ++t)
-    {
-      const double* a = &pts[3 * tris[3 * t]];
-      const double* b = &pts[3 * tris[3 * t + 1]];
-      const double* c = &pts[3 * tris[3 * t + 2]];
-      surfaceVolume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                         a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
-    }
+    double meshVolume = 0.0;
     for (size_t t = 0; t < result.Tets.size() / 4; ++t)
     {
       const double* p0 = &result.Points[3 * result.Tets[4 * t]];

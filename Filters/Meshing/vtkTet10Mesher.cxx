@@ -2,8 +2,10 @@
 
 #include "hoembedMesherDriver.h"
 #include "hoembedSurfaceCheck.h"
+#include "hoembedTetGenBridge.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkCellValidator.h"
 #include "vtkQuadraticTetra.h"
@@ -37,6 +39,7 @@
 #include <cstdint>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkTet10Mesher);
@@ -217,6 +220,64 @@ vtkSmartPointer<vtkPolyData> Triangulate(vtkPolyData* input)
   out->SetPoints(input->GetPoints());
   out->SetPolys(tris);
   return out;
+}
+
+// Point ids of every cell kind in range. vtkCleanPolyData (and the triangulation below)
+// read them unchecked: an id out of range crashes them.
+std::string CheckPointIds(vtkPolyData* input)
+{
+  const vtkIdType np = input->GetNumberOfPoints();
+  const std::pair<const char*, vtkCellArray*> kinds[] = { { "vertex", input->GetVerts() },
+    { "line", input->GetLines() }, { "polygon", input->GetPolys() },
+    { "triangle strip", input->GetStrips() } };
+  for (const auto& kind : kinds)
+  {
+    vtkIdType n, k = 0;
+    const vtkIdType* ids;
+    auto it = vtk::TakeSmartPointer(kind.second->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++k)
+    {
+      it->GetCurrentCell(n, ids);
+      for (vtkIdType j = 0; j < n; ++j)
+      {
+        if (ids[j] < 0 || ids[j] >= np)
+        {
+          std::ostringstream msg;
+          msg << kind.first << " " << k << " of the input names point id " << ids[j]
+              << ", but the surface has " << np << " points (ids 0.." << np - 1 << ")";
+          return msg.str();
+        }
+      }
+    }
+  }
+  return std::string();
+}
+
+// The element count a request asks for: TargetNumberOfElements, or the polygons' enclosed
+// volume (fans; signed, so only a closed surface gives its volume) over the volume of a
+// regular tet of edge TargetEdgeLength.
+double EstimatedElements(vtkPolyData* input, double edge, int target)
+{
+  if (!(edge > 0.0))
+    return static_cast<double>(target);
+  double volume = 0.0;
+  vtkIdType n;
+  const vtkIdType* ids;
+  auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    it->GetCurrentCell(n, ids);
+    double a[3], b[3], c[3];
+    for (vtkIdType j = 1; j + 1 < n; ++j)
+    {
+      input->GetPoint(ids[0], a);
+      input->GetPoint(ids[j], b);
+      input->GetPoint(ids[j + 1], c);
+      volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                  a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+    }
+  }
+  return std::fabs(volume) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
 }
 
 // Read step: triangulate polygons and strips, drop vertices and lines, merge coincident
@@ -438,6 +499,48 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
 }
 } // namespace
 
+// Before any VTK filter sees the input: properties finite (the clamp macros let NaN
+// through), point ids in range, and a size TetGen can mesh in reasonable time and memory.
+bool vtkTet10Mesher::CheckRequest(vtkPolyData* input)
+{
+  const std::pair<const char*, double> props[] = { { "TargetEdgeLength", this->TargetEdgeLength },
+    { "RadiusEdgeRatio", this->RadiusEdgeRatio }, { "MinDihedralAngle", this->MinDihedralAngle },
+    { "CurvedQualityRatio", this->CurvedQualityRatio },
+    { "SurfaceDeviationWarning", this->SurfaceDeviationWarning },
+    { "EnvelopeTolerance", this->EnvelopeTolerance }, { "MergeTolerance", this->MergeTolerance } };
+  for (const auto& p : props)
+  {
+    if (!std::isfinite(p.second))
+    {
+      vtkErrorMacro(<< p.first << " is " << p.second << ": a finite value is needed");
+      return false;
+    }
+  }
+  const std::string idError = CheckPointIds(input);
+  if (!idError.empty())
+  {
+    vtkErrorMacro(<< idError);
+    return false;
+  }
+  const double estimate =
+    EstimatedElements(input, this->TargetEdgeLength, this->TargetNumberOfElements);
+  if (estimate > static_cast<double>(this->MaximumNumberOfElements))
+  {
+    // Peak memory of the mesher per element, rounded up from a measurement
+    // (Benchmarks/RELIABILITY.md: 0.58 kB at 300k elements).
+    const double bytesPerElement = 1.0e3;
+    vtkErrorMacro("the mesh would have about "
+      << static_cast<long long>(estimate) << " elements (about "
+      << std::ceil(estimate * bytesPerElement / 1e9)
+      << " GB of memory to mesh), more than MaximumNumberOfElements = "
+      << this->MaximumNumberOfElements
+      << ": ask for fewer elements (or a longer TargetEdgeLength), or raise "
+         "MaximumNumberOfElements");
+    return false;
+  }
+  return true;
+}
+
 int vtkTet10Mesher::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -453,6 +556,15 @@ int vtkTet10Mesher::RequestData(
     return 0;
   }
   output->Initialize();
+  if (!this->CheckRequest(input))
+  {
+    return 0;
+  }
+  // AbortExecute stops TetGen too (polled through progress events while it meshes).
+  hoembed::ScopedTetGenAbort tetgenAbort([this]() {
+    this->UpdateProgress(std::min(1.0, this->GetProgress() + 1e-6));
+    return this->AbortExecute != 0;
+  });
 
   vtkSmartPointer<vtkPolyData> fine;
   TriSurface fineArrays;
@@ -498,6 +610,7 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "TargetNumberOfElements: " << this->TargetNumberOfElements << "\n";
+  os << indent << "MaximumNumberOfElements: " << this->MaximumNumberOfElements << "\n";
   os << indent << "TargetEdgeLength: " << this->TargetEdgeLength << "\n";
   os << indent << "ElementOrder: " << this->ElementOrder << "\n";
   os << indent << "CurveBoundary: " << (this->CurveBoundary ? "On" : "Off") << "\n";

@@ -22,6 +22,11 @@
  * corner nodes).
  *
  * Steps:
+ * 0. Checks before any VTK filter sees the input: properties finite (NaN quality bounds
+ *    are refused), every cell's point ids in range, and the estimated element count
+ *    within MaximumNumberOfElements. During TetGen, AbortExecute is polled (through
+ *    progress events) and TetGen's work is bounded (hoembed::RunTetGen): a run that
+ *    does not end becomes an error.
  * 1. Checks: non-empty, finite coordinates, triangles after triangulation (points and
  *    lines alone enclose nothing: an error). Problems are reported with vtkErrorMacro
  *    naming the filter, and the output stays empty. All steps run in hoembed::RunMesher
@@ -72,6 +77,8 @@
 #include "hoembedFiltersMeshingModule.h" // for export macro
 #include "vtkUnstructuredGridAlgorithm.h"
 
+class vtkPolyData;
+
 class HOEMBEDFILTERSMESHING_EXPORT vtkTet10Mesher : public vtkUnstructuredGridAlgorithm
 {
 public:
@@ -86,6 +93,17 @@ public:
    */
   vtkSetClampMacro(TargetNumberOfElements, int, 4, 10000000);
   vtkGetMacro(TargetNumberOfElements, int);
+  ///@}
+
+  ///@{
+  /**
+   * The largest mesh the filter makes (default 1,000,000 elements). The element count is
+   * estimated before any work (TargetNumberOfElements, or the enclosed volume over the
+   * volume of a regular tet of edge TargetEdgeLength); a larger estimate is refused with
+   * an error giving the estimate, its memory and this limit. Raise it for larger meshes.
+   */
+  vtkSetClampMacro(MaximumNumberOfElements, vtkIdType, 1, VTK_ID_MAX);
+  vtkGetMacro(MaximumNumberOfElements, vtkIdType);
   ///@}
 
   ///@{
@@ -198,8 +216,12 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// Properties finite, point ids in range, estimated size within MaximumNumberOfElements
+  /// (errors reported); false: refuse the request before any work.
+  bool CheckRequest(vtkPolyData* input);
 
   int TargetNumberOfElements = 1000;
+  vtkIdType MaximumNumberOfElements = 1000000;
   double TargetEdgeLength = 0.0;
   int ElementOrder = 2;
   bool CurveBoundary = true;

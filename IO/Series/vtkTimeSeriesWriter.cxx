@@ -13,8 +13,10 @@
 #include "vtkXMLPolyDataWriter.h"
 #include "vtkXMLUnstructuredGridWriter.h"
 
+#include <vtksys/Directory.hxx>
 #include <vtksys/SystemTools.hxx>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -28,11 +30,35 @@ vtkCxxSetObjectMacro(vtkTimeSeriesWriter, TimeValues, vtkDoubleArray);
 struct vtkTimeSeriesWriter::Internals
 {
   bool Open = false;
-  std::string Pvd, Folder, Stem, RelFolder;
-  std::vector<std::string> Files; // full paths
+  std::string Pvd, Folder, Staging, Stem, RelFolder;
+  std::vector<std::string> Files; // final paths
   std::vector<std::string> Relative;
   std::vector<double> Times;
 };
+
+namespace
+{
+// A step file this writer may replace: `<stem>_NNNNNN.vtu` / `.vtp` (or such a name
+// with `.part`, left by writers before the staging folder).
+bool IsStepFile(const std::string& name, const std::string& stem)
+{
+  if (name.size() < stem.size() + 11 || name.compare(0, stem.size(), stem) != 0 ||
+    name[stem.size()] != '_')
+  {
+    return false;
+  }
+  size_t k = stem.size() + 1;
+  for (int d = 0; d < 6; ++d, ++k)
+  {
+    if (name[k] < '0' || name[k] > '9')
+    {
+      return false;
+    }
+  }
+  const std::string rest = name.substr(k);
+  return rest == ".vtu" || rest == ".vtp" || rest == ".vtu.part" || rest == ".vtp.part";
+}
+} // namespace
 
 vtkTimeSeriesWriter::vtkTimeSeriesWriter()
   : Internal(new Internals)
@@ -43,6 +69,11 @@ vtkTimeSeriesWriter::vtkTimeSeriesWriter()
 
 vtkTimeSeriesWriter::~vtkTimeSeriesWriter()
 {
+  // A series begun and never ended must not leave its frames behind.
+  if (this->Internal->Open)
+  {
+    this->Abandon();
+  }
   this->SetFileName(nullptr);
   this->SetTimeValues(nullptr);
   delete this->Internal;
@@ -58,10 +89,13 @@ int vtkTimeSeriesWriter::FillInputPortInformation(int, vtkInformation* info)
 void vtkTimeSeriesWriter::Abandon()
 {
   Internals& I = *this->Internal;
-  for (const auto& f : I.Files)
+  if (!I.Staging.empty())
   {
-    vtksys::SystemTools::RemoveFile(f);
-    vtksys::SystemTools::RemoveFile(f + ".part");
+    vtksys::SystemTools::RemoveADirectory(I.Staging);
+  }
+  if (!I.Pvd.empty())
+  {
+    vtksys::SystemTools::RemoveFile(I.Pvd + ".part");
   }
   I.Files.clear();
   I.Relative.clear();
@@ -79,6 +113,7 @@ int vtkTimeSeriesWriter::BeginSeries()
   I.Files.clear();
   I.Relative.clear();
   I.Times.clear();
+  I.Staging.clear();
   if (!this->FileName || !*this->FileName)
   {
     vtkErrorMacro("FileName (the .pvd path) is not set.");
@@ -88,23 +123,64 @@ int vtkTimeSeriesWriter::BeginSeries()
   std::string dir = vtksys::SystemTools::GetFilenamePath(I.Pvd);
   I.Stem = vtksys::SystemTools::GetFilenameWithoutLastExtension(
     vtksys::SystemTools::GetFilenameName(I.Pvd));
-  if (I.Stem.empty())
+  if (I.Stem.empty() || I.Stem[0] == '.')
   {
-    vtkErrorMacro("FileName '" << this->FileName << "' has no file name.");
+    vtkErrorMacro("FileName '" << this->FileName << "' has no file name (or starts with '.').");
     return 0;
   }
   I.RelFolder = I.Stem;
   I.Folder = dir.empty() ? I.Stem : dir + "/" + I.Stem;
+  I.Staging = (dir.empty() ? std::string() : dir + "/") + "." + I.Stem + ".staging";
+  if (vtksys::SystemTools::FileIsDirectory(I.Pvd))
+  {
+    vtkErrorMacro("Cannot write the series '" << I.Pvd << "': that path is a folder.");
+    I.Staging.clear();
+    return 0;
+  }
+  if (vtksys::SystemTools::FileExists(I.Folder) &&
+    !vtksys::SystemTools::FileIsDirectory(I.Folder))
+  {
+    vtkErrorMacro("Cannot write the series '" << I.Pvd << "': its step folder '" << I.Folder
+                                              << "' is a file.");
+    I.Staging.clear();
+    return 0;
+  }
+  if (vtksys::SystemTools::FileIsDirectory(I.Folder))
+  {
+    vtksys::Directory listing;
+    if (!listing.Load(I.Folder))
+    {
+      vtkErrorMacro("Cannot read the step folder '" << I.Folder << "'.");
+      I.Staging.clear();
+      return 0;
+    }
+    for (unsigned long k = 0; k < listing.GetNumberOfFiles(); ++k)
+    {
+      const std::string name = listing.GetFile(k);
+      if (name != "." && name != ".." && !IsStepFile(name, I.Stem))
+      {
+        vtkErrorMacro("Cannot write the series '"
+          << I.Pvd << "': its step folder '" << I.Folder << "' holds '" << name
+          << "', which is not a step file of this series (the folder is replaced as a "
+             "whole, so it must hold nothing else).");
+        I.Staging.clear();
+        return 0;
+      }
+    }
+  }
   if (!dir.empty() && !vtksys::SystemTools::FileIsDirectory(dir) &&
     !vtksys::SystemTools::MakeDirectory(dir).IsSuccess())
   {
     vtkErrorMacro("Cannot create the folder '" << dir << "'.");
+    I.Staging.clear();
     return 0;
   }
-  if (!vtksys::SystemTools::FileIsDirectory(I.Folder) &&
-    !vtksys::SystemTools::MakeDirectory(I.Folder).IsSuccess())
+  // A staging folder left by a process that died mid-series is ours to clear.
+  vtksys::SystemTools::RemoveADirectory(I.Staging);
+  if (!vtksys::SystemTools::MakeDirectory(I.Staging).IsSuccess())
   {
-    vtkErrorMacro("Cannot create the folder '" << I.Folder << "'.");
+    vtkErrorMacro("Cannot create the folder '" << I.Staging << "'.");
+    I.Staging.clear();
     return 0;
   }
   I.Open = true;
@@ -117,6 +193,13 @@ int vtkTimeSeriesWriter::AddFrame(vtkDataObject* data, double time)
   if (!I.Open)
   {
     vtkErrorMacro("AddFrame called outside BeginSeries()/EndSeries().");
+    return 0;
+  }
+  if (!std::isfinite(time))
+  {
+    vtkErrorMacro("Frame " << I.Files.size() << ": the time is " << time
+                           << " (a finite time is needed).");
+    this->Abandon();
     return 0;
   }
   const char* ext = nullptr;
@@ -150,27 +233,19 @@ int vtkTimeSeriesWriter::AddFrame(vtkDataObject* data, double time)
   }
   std::ostringstream name;
   name << I.Stem << "_" << std::setw(6) << std::setfill('0') << I.Files.size() << "." << ext;
-  const std::string path = I.Folder + "/" + name.str();
-  const std::string part = path + ".part";
+  const std::string staged = I.Staging + "/" + name.str();
   writer->SetInputData(copy);
-  writer->SetFileName(part.c_str());
+  writer->SetFileName(staged.c_str());
   writer->SetDataModeToAppended();
   writer->SetCompressorTypeToZLib();
-  I.Files.push_back(path); // so that Abandon removes the .part too
   if (writer->Write() != 1 || writer->GetErrorCode() != 0)
   {
-    vtkErrorMacro("Frame " << I.Files.size() - 1 << " (t = " << time << "): cannot write '"
-                           << part << "'.");
+    vtkErrorMacro("Frame " << I.Files.size() << " (t = " << time << "): cannot write '"
+                           << staged << "'.");
     this->Abandon();
     return 0;
   }
-  vtksys::SystemTools::RemoveFile(path);
-  if (std::rename(part.c_str(), path.c_str()) != 0)
-  {
-    vtkErrorMacro("Cannot rename '" << part << "' to '" << path << "'.");
-    this->Abandon();
-    return 0;
-  }
+  I.Files.push_back(I.Folder + "/" + name.str());
   I.Relative.push_back(I.RelFolder + "/" + name.str());
   I.Times.push_back(time);
   return 1;
@@ -213,18 +288,47 @@ int vtkTimeSeriesWriter::EndSeries()
     if (!out)
     {
       vtkErrorMacro("Cannot write '" << part << "'.");
-      vtksys::SystemTools::RemoveFile(part);
       this->Abandon();
       return 0;
     }
   }
-  vtksys::SystemTools::RemoveFile(I.Pvd);
-  if (std::rename(part.c_str(), I.Pvd.c_str()) != 0)
+  // Swap in: old step folder aside, staging folder in its place, .pvd renamed over the
+  // old one (atomic), old folder removed. Any failure puts the old folder back.
+  const std::string aside = I.Staging + ".old";
+  vtksys::SystemTools::RemoveADirectory(aside);
+  const bool hadOld = vtksys::SystemTools::FileIsDirectory(I.Folder);
+  if (hadOld && std::rename(I.Folder.c_str(), aside.c_str()) != 0)
   {
-    vtkErrorMacro("Cannot rename '" << part << "' to '" << I.Pvd << "'.");
+    vtkErrorMacro("Cannot move the old step folder '" << I.Folder << "' aside.");
     this->Abandon();
     return 0;
   }
+  if (std::rename(I.Staging.c_str(), I.Folder.c_str()) != 0)
+  {
+    vtkErrorMacro("Cannot rename '" << I.Staging << "' to '" << I.Folder << "'.");
+    if (hadOld)
+    {
+      std::rename(aside.c_str(), I.Folder.c_str());
+    }
+    this->Abandon();
+    return 0;
+  }
+  if (std::rename(part.c_str(), I.Pvd.c_str()) != 0)
+  {
+    vtkErrorMacro("Cannot rename '" << part << "' to '" << I.Pvd << "'.");
+    std::rename(I.Folder.c_str(), I.Staging.c_str());
+    if (hadOld)
+    {
+      std::rename(aside.c_str(), I.Folder.c_str());
+    }
+    this->Abandon();
+    return 0;
+  }
+  if (hadOld)
+  {
+    vtksys::SystemTools::RemoveADirectory(aside);
+  }
+  I.Staging.clear();
   I.Open = false;
   return 1;
 }

@@ -15,10 +15,19 @@
  *   one-step series at time 0.
  * - Frames: BeginSeries(), AddFrame(data, time) for each frame, EndSeries().
  *
- * No half-written series: every step file is written under a temporary name
- * (`.part`) and renamed when complete, and the .pvd is written last (also through a
- * temporary name). If anything fails, the files of the series written so far are
- * removed and no .pvd is created (an older series of the same name is left as it was).
+ * No half-written series: the step files of a new series are written into a staging
+ * folder beside the final one (`out/.beam.staging`), and the .pvd through a temporary
+ * name (`out/beam.pvd.part`). Only when every frame and the collection are complete does
+ * EndSeries swap them in: the old step folder is moved aside, the staging folder takes
+ * its name, the .pvd is renamed over the old one (an atomic replace) and the old folder
+ * is removed. So a run that fails (or a writer destroyed before EndSeries) leaves an
+ * older series of the same name exactly as it was and removes what it wrote, and a
+ * shorter re-run leaves no stale frames of the longer one.
+ *
+ * Refused up front (BeginSeries, nothing written): a .pvd path that is a folder, a step
+ * folder path that is a file, and a step folder holding files that are not step files of
+ * this series (`beam_NNNNNN.vtu/.vtp`): the writer replaces that folder as a whole and
+ * will not delete someone else's files. AddFrame refuses a NaN or infinite time.
  *
  * Defaults: FileName nullptr (required), TimeValues nullptr (use the input's).
  * Errors: vtkErrorMacro and a 0 return value.
@@ -66,7 +75,8 @@ public:
 
   /// Number of step files in the last (or current) series.
   int GetNumberOfWrittenFrames();
-  /// Path of the i-th step file of the last (or current) series ("" if out of range).
+  /// Final path of the i-th step file of the last (or current) series ("" if out of
+  /// range). While a series is open its files are still in the staging folder.
   const char* GetFrameFileName(int i);
 
 protected:

@@ -71,7 +71,8 @@ def test_unsupported_frame_leaves_no_series(tmp_path):
     with pytest.raises(hoembed.HOEmbedError, match="unsupported data type"):
         hoembed.write_series(frames, tmp_path, "bad")
     assert not (tmp_path / "bad.pvd").exists()
-    assert not os.listdir(tmp_path / "bad")  # the frame written before is removed
+    assert not (tmp_path / "bad").exists()  # the frame written before is removed
+    assert os.listdir(tmp_path) == []  # nor any staging folder
 
 
 def test_failing_input_leaves_no_series(tmp_path):

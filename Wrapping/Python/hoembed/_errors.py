@@ -85,3 +85,94 @@ def run_filter(algorithm, warnings=None):
     if obs.errors or not ok:
         raise HOEmbedError(_clean(obs.errors) or f"{algorithm.GetClassName()} failed")
     return algorithm.GetOutputDataObject(0)
+
+
+# ---- argument checks of the pyvista-level functions ------------------------------------
+# VTK's clamp macros silently turn an out-of-range value into the nearest allowed one
+# (n_elements 0 becomes 4, order 3 becomes 2) and NaN passes most of them: the Python
+# functions refuse such values before any filter sees them.
+
+class HOEmbedArgumentError(HOEmbedError, ValueError):
+    """A bad argument of a pyvista-level function, refused before any filter runs.
+
+    A HOEmbedError (what every HOEmbed failure raises) and a ValueError (what Python
+    code expects for a bad value)."""
+
+
+def check_int(func, name, value, low=None, high=None):
+    """``value`` as an int in [low, high]; bools, floats with a fraction, NaN refused."""
+    import numbers
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        if isinstance(value, numbers.Real) and not isinstance(value, bool) and \
+                float(value).is_integer():
+            value = int(value)
+        else:
+            raise HOEmbedArgumentError(f"{func}: {name} must be an integer, got {value!r}")
+    value = int(value)
+    if (low is not None and value < low) or (high is not None and value > high):
+        raise HOEmbedArgumentError(f"{func}: {name} must be {_range_text(low, high)}, "
+                                   f"got {value}")
+    return value
+
+
+def check_real(func, name, value, low=None, high=None, low_open=False, high_open=False):
+    """``value`` as a finite float in the range (bounds closed unless ``*_open``)."""
+    import math
+    import numbers
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        try:
+            import numpy as np
+            if isinstance(value, np.ndarray) and value.shape == ():
+                value = value.item()
+            else:
+                raise TypeError
+        except TypeError:
+            raise HOEmbedArgumentError(f"{func}: {name} must be a number, got {value!r}") \
+                from None
+    value = float(value)
+    bad = not math.isfinite(value)
+    bad = bad or (low is not None and (value <= low if low_open else value < low))
+    bad = bad or (high is not None and (value >= high if high_open else value > high))
+    if bad:
+        raise HOEmbedArgumentError(
+            f"{func}: {name} must be a finite number{_range_text(low, high, low_open, high_open, ' ')}"
+            f", got {value!r}")
+    return value
+
+
+def check_vector(func, name, value, n=3):
+    """``value`` as a tuple of ``n`` finite floats."""
+    import numpy as np
+    try:
+        arr = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise HOEmbedArgumentError(f"{func}: {name} must be {n} numbers, got {value!r}") from None
+    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
+        raise HOEmbedArgumentError(f"{func}: {name} must be {n} finite numbers, got {value!r}")
+    return tuple(float(v) for v in arr)
+
+
+def check_dataset(func, name, value, vtk_type):
+    """``value`` must be a VTK dataset of class ``vtk_type`` (pyvista objects are)."""
+    if not (hasattr(value, "IsA") and value.IsA(vtk_type)):
+        kind = value.GetClassName() if hasattr(value, "GetClassName") else type(value).__name__
+        raise HOEmbedArgumentError(f"{func}: {name} must be a {vtk_type} (or its pyvista "
+                                   f"wrapper), got {kind}")
+    return value
+
+
+def check_callable(func, name, value):
+    if value is not None and not callable(value):
+        raise HOEmbedArgumentError(f"{func}: {name} must be callable or None, got {value!r}")
+    return value
+
+
+def _range_text(low, high, low_open=False, high_open=False, lead=""):
+    if low is not None and high is not None:
+        return (f"{lead}in {'(' if low_open else '['}{low:g}, {high:g}"
+                f"{')' if high_open else ']'}")
+    if low is not None:
+        return f"{lead}{'>' if low_open else '>='} {low:g}"
+    if high is not None:
+        return f"{lead}{'<' if high_open else '<='} {high:g}"
+    return ""

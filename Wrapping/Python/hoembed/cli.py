@@ -11,9 +11,15 @@ plus a picture comparing tet4 + barycentric with tet10 + normal-offset on the la
 """
 import argparse
 import json
+import math
 import os
 import pathlib
+import shutil
+import signal
+import struct
+import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -113,20 +119,219 @@ def _step(label, func, *args, **kwargs):
     return out, time.perf_counter() - t0
 
 
-def _read_surface(path):
-    import pyvista
-    path = pathlib.Path(path)
-    if not path.is_file():
+# Surface formats the CLI hands to VTK (through pyvista.read).
+_SURFACE_TYPES = (".obj", ".stl", ".ply", ".vtp", ".vtk", ".vtu", ".g")
+
+
+def _check_surface_file(path):
+    """Refuse what can be refused without VTK: a missing, empty or unknown file, and the
+    PLY, STL and legacy-VTK headers and sizes. VTK's readers crash on some corrupt or
+    truncated files; this says which file and why instead."""
+    if not path.exists():
         raise UsageError(f"no such file: {path}")
+    if not path.is_file():
+        raise UsageError(f"{path} is not a file")
+    if not os.access(path, os.R_OK):
+        raise UsageError(f"{path} is not readable (permissions)")
+    ext = path.suffix.lower()
+    if ext not in _SURFACE_TYPES:
+        raise UsageError(f"{path}: unsupported file type '{path.suffix}' (hoembed run reads "
+                         + " ".join(_SURFACE_TYPES) + ")")
+    size = path.stat().st_size
+    if size == 0:
+        raise UsageError(f"{path} is empty")
+    if ext == ".ply":
+        _check_ply(path, size)
+    elif ext == ".stl":
+        _check_stl(path, size)
+    elif ext == ".vtk":
+        with open(path, "rb") as fh:
+            head = fh.read(256).split(b"\n")
+        if not head[0].startswith(b"# vtk DataFile Version") or len(head) < 4 or \
+                head[2].strip().upper() not in (b"ASCII", b"BINARY"):
+            raise UsageError(f"{path} is not a legacy VTK file (its header lacks "
+                             "'# vtk DataFile Version' and ASCII/BINARY)")
+
+
+_PLY_SIZES = {"char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2,
+              "int16": 2, "uint16": 2, "int": 4, "uint": 4, "int32": 4, "uint32": 4,
+              "float": 4, "float32": 4, "double": 8, "float64": 8}
+
+
+def _check_ply(path, size):
+    with open(path, "rb") as fh:
+        head = fh.read(1 << 16)
+    end = head.find(b"end_header")
+    if not head.startswith(b"ply") or end < 0:
+        raise UsageError(f"{path} is not a PLY file (no 'ply' ... 'end_header' header)")
+    body = head.index(b"\n", end) + 1 if b"\n" in head[end:] else len(head)
+    fmt, elements = None, []
+    for line in head[:end].decode("ascii", "replace").splitlines()[1:]:
+        w = line.split()
+        if not w or w[0] in ("comment", "obj_info"):
+            continue
+        if w[0] == "format" and len(w) >= 2:
+            fmt = w[1]
+        elif w[0] == "element" and len(w) == 3 and w[2].isdigit():
+            elements.append((w[1], int(w[2]), []))
+        elif w[0] == "property" and elements:
+            if w[1] == "list" and len(w) == 5 and w[2] in _PLY_SIZES and w[3] in _PLY_SIZES:
+                elements[-1][2].append(("list", _PLY_SIZES[w[2]], _PLY_SIZES[w[3]], w[2]))
+            elif len(w) == 3 and w[1] in _PLY_SIZES:
+                elements[-1][2].append(("scalar", _PLY_SIZES[w[1]]))
+            else:
+                raise UsageError(f"{path}: bad PLY header line '{line.strip()}'")
+        else:
+            raise UsageError(f"{path}: bad PLY header line '{line.strip()}'")
+    if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
+        raise UsageError(f"{path}: unknown PLY format {fmt!r}")
+    counts = {name: n for name, n, _ in elements}
+    if counts.get("vertex", 0) == 0 or counts.get("face", 0) == 0:
+        raise UsageError(f"{path}: the PLY header declares no vertices or no faces")
+    if fmt == "ascii":
+        _check_ply_ascii(path, body, elements)
+        return
+    # Binary: the fixed-size blocks must be there in full; a list block needs at least its
+    # first record's length for every record (faces of one size: the usual case).
+    need, offset = body, body
+    order = "<" if fmt == "binary_little_endian" else ">"
+    with open(path, "rb") as fh:
+        for name, n, props in elements:
+            lists = [p for p in props if p[0] == "list"]
+            fixed = sum(p[1] for p in props if p[0] == "scalar")
+            if not lists:
+                need += n * fixed
+                offset = need
+                continue
+            if len(lists) == 1 and n > 0 and props[-1][0] == "list":
+                fh.seek(offset + fixed)
+                raw = fh.read(lists[0][1])
+                if len(raw) < lists[0][1]:
+                    break
+                code = {1: "B", 2: "H", 4: "I"}[lists[0][1]]
+                k = struct.unpack(order + code, raw)[0]
+                need += n * (fixed + lists[0][1] + k * lists[0][2])
+            break  # later blocks cannot be located without reading every record
+    if size < need:
+        raise UsageError(f"{path}: the binary PLY file is truncated ({size} bytes; its "
+                         f"header needs at least {need})")
+
+
+def _check_ply_ascii(path, body, elements):
+    with open(path, "rb") as fh:
+        fh.seek(body)
+        lines = (ln for ln in fh if ln.strip())
+        nverts = dict((name, n) for name, n, _ in elements).get("vertex", 0)
+        for name, n, props in elements:
+            for i in range(n):
+                line = next(lines, None)
+                if line is None:
+                    raise UsageError(f"{path}: the ASCII PLY file ends in element '{name}' "
+                                     f"{i} of {n} (truncated)")
+                w = line.split()
+                try:
+                    vals = [float(x) for x in w]
+                except ValueError:
+                    raise UsageError(f"{path}: element '{name}' {i} is not numbers: "
+                                     f"{line[:60]!r}") from None
+                if name == "face":
+                    if not vals or vals[0] != int(vals[0]) or vals[0] < 3 or \
+                            len(vals) < 1 + int(vals[0]):
+                        raise UsageError(f"{path}: face {i} is malformed: {line[:60]!r}")
+                    ids = vals[1:1 + int(vals[0])]
+                    if any(v != int(v) or v < 0 or v >= nverts for v in ids):
+                        raise UsageError(f"{path}: face {i} names a vertex outside 0.."
+                                         f"{nverts - 1}: {line[:60]!r}")
+                elif name == "vertex" and len(vals) < len(props):
+                    raise UsageError(f"{path}: vertex {i} has {len(vals)} values, the header "
+                                     f"declares {len(props)}")
+
+
+def _check_stl(path, size):
+    with open(path, "rb") as fh:
+        head = fh.read(84)
+    if head.lstrip().startswith(b"solid") and (len(head) < 84 or
+                                                84 + 50 * struct.unpack("<I", head[80:84])[0]
+                                                != size):
+        return  # ASCII STL: VTK's reader parses it defensively
+    if len(head) < 84:
+        raise UsageError(f"{path}: the binary STL file is truncated ({size} bytes)")
+    n = struct.unpack("<I", head[80:84])[0]
+    if size < 84 + 50 * n:
+        raise UsageError(f"{path}: the binary STL file is truncated ({size} bytes for {n} "
+                         f"triangles: {84 + 50 * n} expected)")
+
+
+def _read_child(path, out):
+    """Child-process half of _read_surface: read with VTK, keep the surface, write it as
+    .vtp. Exit 3 with a message on stderr when the file holds no surface."""
+    import pyvista
     try:
-        data = pyvista.read(str(path))
+        data = pyvista.read(path)
     except Exception as err:  # pyvista raises several types for unreadable files
-        raise UsageError(f"cannot read {path}: {err}") from None
+        print(f"{err}", file=sys.stderr)
+        return 3
     if not isinstance(data, pyvista.PolyData):
         try:
             data = data.extract_surface()
         except Exception:
-            raise UsageError(f"{path} holds no surface") from None
+            print("it holds no surface", file=sys.stderr)
+            return 3
+    if data.n_cells == 0:
+        print("it holds no triangles", file=sys.stderr)
+        return 3
+    # A truncated or corrupt file can give cells whose point ids are garbage.
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    for kind, cells in (("polygon", data.GetPolys()), ("strip", data.GetStrips()),
+                        ("line", data.GetLines()), ("vertex", data.GetVerts())):
+        ids = vtk_to_numpy(cells.GetConnectivityArray()) if cells is not None else []
+        if len(ids) and (ids.min() < 0 or ids.max() >= data.n_points):
+            bad = ids[(ids < 0) | (ids >= data.n_points)][0]
+            print(f"the file is corrupt or truncated: a {kind} names point id {bad}, but "
+                  f"there are {data.n_points} points", file=sys.stderr)
+            return 3
+    data.save(out, binary=True)
+    return 0
+
+
+def _read_surface(path):
+    """Read a surface file in a child process: a reader that crashes (VTK's PLY and legacy
+    readers on some corrupt files) kills the child, not the run; the parent reads the
+    child's .vtp, written by VTK's own XML writer."""
+    import pyvista
+    path = pathlib.Path(path)
+    _check_surface_file(path)
+    tmp = tempfile.mkdtemp(prefix="hoembed-read-")
+    try:
+        out = os.path.join(tmp, "surface.vtp")
+        code = ("import sys; from hoembed.cli import _read_child; "
+                "sys.exit(_read_child(sys.argv[1], sys.argv[2]))")
+        try:
+            child = subprocess.run([sys.executable, "-c", code, str(path), out],
+                                   capture_output=True, text=True, timeout=600)
+        except subprocess.TimeoutExpired:
+            raise UsageError(f"cannot read {path}: the reader did not finish in 600 s") \
+                from None
+        if child.returncode < 0:
+            name = signal.Signals(-child.returncode).name
+            raise UsageError(f"cannot read {path}: VTK's reader crashed on it ({name}); the "
+                             "file is probably corrupt or truncated")
+        if child.returncode != 0 or not os.path.isfile(out):
+            lines = [ln.strip() for ln in child.stderr.splitlines() if ln.strip()]
+            why = next((ln for ln in reversed(lines) if not ln.startswith(("Traceback", "File "))),
+                       f"exit code {child.returncode}")
+            raise UsageError(f"cannot read {path}: {why}")
+        # VTK's readers report a short read (a truncated binary legacy file) only as a
+        # message and return uninitialised point ids: such a message refuses the file.
+        said = [ln.split("| ", 1)[-1].replace("\x1b[0m", "").strip()
+                for ln in child.stderr.splitlines()
+                if "ERR|" in ln or ("WARN|" in ln and "rror" in ln)]
+        if said:
+            raise UsageError(f"cannot read {path}: VTK's reader reported '{said[0]}': the "
+                             "file is probably corrupt or truncated")
+        data = pyvista.read(out)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     if data.n_cells == 0:
         raise UsageError(f"{path} holds no triangles")
     return data
@@ -188,19 +393,138 @@ def _picture(path, tet10_surface, tet4_surface, rest_surface, tet10_mesh, tet4_m
     pl.close()
 
 
+def _no_display_reason():
+    """Why no picture can be rendered here, or None. Debian's VTK renders through X11
+    only: without an X display it aborts the process."""
+    if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+        return "no display (DISPLAY is not set)"
+    return None
+
+
+def _picture_isolated(path, *args, timeout=300):
+    """Render the picture in a forked child, so that a renderer that aborts (an X display
+    that cannot be opened) or hangs costs the picture, not the run. Returns None on
+    success, else why it failed."""
+    if not hasattr(os, "fork"):
+        _picture(path, *args)
+        return None
+    sys.stdout.flush()
+    sys.stderr.flush()
+    pid = os.fork()
+    if pid == 0:  # child: render, never return into the caller's code
+        code = 1
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, 2)  # VTK's X11 errors would interleave with the parent's
+            _picture(path, *args)
+            code = 0
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + timeout
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            break
+        if time.monotonic() > deadline:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            return f"the renderer did not finish in {timeout} s"
+        time.sleep(0.05)
+    if os.WIFSIGNALED(status):
+        return f"the renderer died ({signal.Signals(os.WTERMSIG(status)).name})"
+    if os.WEXITSTATUS(status) != 0 or not os.path.isfile(path):
+        return "the renderer failed"
+    return None
+
+
+def _finite(args, name, low=None, high=None, low_open=True, high_open=True):
+    value = getattr(args, name)
+    flag = "--" + name.replace("_", "-")
+    ok = math.isfinite(value)
+    ok = ok and (low is None or (value > low if low_open else value >= low))
+    ok = ok and (high is None or (value < high if high_open else value <= high))
+    if not ok:
+        lo = "" if low is None else f"{'>' if low_open else '>='} {low:g}"
+        hi = "" if high is None else f"{'<' if high_open else '<='} {high:g}"
+        raise UsageError(f"{flag} must be a finite number {' and '.join(x for x in (lo, hi) if x)}"
+                         f", got {value!r}")
+
+
+def _check_options(args):
+    """Every option, before anything is read, meshed or written."""
+    for name in ("elements", "steps"):
+        if getattr(args, name) <= 0:
+            raise UsageError(f"--{name} must be positive")
+    _finite(args, "dt", 0.0)
+    _finite(args, "young", 0.0)
+    _finite(args, "poisson", -1.0, 0.5)
+    _finite(args, "density", 0.0)
+    _finite(args, "clamp_fraction", 0.0, 1.0, high_open=False)
+    if not all(math.isfinite(g) for g in args.gravity):
+        raise UsageError(f"--gravity must be finite, got {args.gravity}")
+    if args.clamp_sphere is not None:
+        if not all(math.isfinite(v) for v in args.clamp_sphere) or args.clamp_sphere[3] <= 0:
+            raise UsageError("--clamp-sphere must be finite with a positive radius, got "
+                             f"{args.clamp_sphere}")
+    _check_output(pathlib.Path(args.output))
+
+
+def _check_output(out):
+    """The output folder must be creatable and writable; nothing is created here."""
+    if out.exists():
+        if not out.is_dir():
+            raise UsageError(f"--output {out} exists and is not a folder")
+        if not os.access(out, os.W_OK | os.X_OK):
+            raise UsageError(f"--output {out} is not writable")
+        for name in ("fe_mesh.pvd", "surface.pvd", "summary.json", "comparison.png"):
+            if (out / name).is_dir():
+                raise UsageError(f"--output {out}: {out / name} is a folder")
+        return
+    parent = out.absolute().parent
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise UsageError(f"--output {out}: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UsageError(f"--output {out}: cannot create it in {parent} (not writable)")
+
+
+class _Outputs:
+    """What this run wrote, so that a failure removes it (and the output folder when the
+    run created it)."""
+
+    def __init__(self, folder):
+        self.folder = folder
+        self.created = not folder.exists()
+        self.paths = []
+
+    def make_folder(self):
+        self.folder.mkdir(parents=True, exist_ok=True)
+
+    def add(self, path):
+        self.paths.append(pathlib.Path(path))
+
+    def remove_all(self):
+        for p in self.paths:
+            if p.suffix == ".pvd":
+                shutil.rmtree(p.with_suffix(""), ignore_errors=True)
+            try:
+                p.unlink()
+            except OSError:
+                pass
+        if self.created:
+            shutil.rmtree(self.folder, ignore_errors=True)
+
+
 def main(argv=None):
     args = _parser().parse_args(argv)
     import pyvista
     import hoembed
 
+    outputs = None
     try:
-        for name in ("elements", "steps"):
-            if getattr(args, name) <= 0:
-                raise UsageError(f"--{name} must be positive")
-        if args.dt <= 0:
-            raise UsageError("--dt must be positive")
+        _check_options(args)
         out = pathlib.Path(args.output)
-        out.mkdir(parents=True, exist_ok=True)
         default_sphere = None
         if args.command == "demo":
             surface = hoembed.thorny_tail()
@@ -215,13 +539,32 @@ def main(argv=None):
                        surface_triangles=surface.n_cells)
         print(f"surface: {source}: {surface.n_points} points, {surface.n_cells} cells")
 
+        # Meshes, embeddings and clamp masks of both runs first: a clamp region that holds
+        # no tet4 node fails here, before anything is simulated or written.
         mesh, t_mesh = _step("tet10 mesh", hoembed.tet10_mesh, surface, n_elements=args.elements)
         embedded, t_embed = _step("embedding (normal-offset)", hoembed.embed, surface, mesh)
         mask = _clamp_mask(mesh, args, default_sphere)
+        if not args.no_tet4:
+            # The paper's baseline: linear tets with about as many nodes, barycentric mapping.
+            mesh4, _ = _step("tet4 mesh (baseline)", hoembed.tet10_mesh, surface,
+                             n_elements=max(4 * args.elements, 50), order=1)
+            emb4, _ = _step("embedding (barycentric)", hoembed.embed, surface, mesh4,
+                            method="barycentric")
+            mask4 = _clamp_mask(mesh4, args, default_sphere)
         frames, surfaces, t_sim, t_transfer = _simulate_and_transfer(
             hoembed, mesh, embedded, args, mask, "tet10")
+        if not args.no_tet4:
+            frames4, surfaces4, _, _ = _simulate_and_transfer(
+                hoembed, mesh4, emb4, args, mask4, "tet4")
+
+        # Everything computed: now write (each series atomically; a failure removes what
+        # this run wrote).
+        outputs = _Outputs(out)
+        outputs.make_folder()
         fe_pvd = hoembed.write_series(frames, out, "fe_mesh")
+        outputs.add(fe_pvd)
         surf_pvd = hoembed.write_series(surfaces, out, "surface")
+        outputs.add(surf_pvd)
         summary.update(
             fe_elements=mesh.n_cells, fe_nodes=mesh.n_points,
             relaxed_boundary_nodes=int(mesh.field_data["RelaxedNodeCount"][0]),
@@ -230,28 +573,39 @@ def main(argv=None):
                                              simulate=round(t_sim, 2),
                                              transfer_all_frames=round(t_transfer, 2)),
             files=dict(fe_mesh=fe_pvd, surface=surf_pvd))
-
         if not args.no_tet4:
-            # The paper's baseline: linear tets with about as many nodes, barycentric mapping.
-            mesh4, _ = _step("tet4 mesh (baseline)", hoembed.tet10_mesh, surface,
-                             n_elements=max(4 * args.elements, 50), order=1)
-            emb4, _ = _step("embedding (barycentric)", hoembed.embed, surface, mesh4,
-                            method="barycentric")
-            mask4 = _clamp_mask(mesh4, args, default_sphere)
-            frames4, surfaces4, _, _ = _simulate_and_transfer(
-                hoembed, mesh4, emb4, args, mask4, "tet4")
             summary.update(tet4_elements=mesh4.n_cells, tet4_nodes=mesh4.n_points)
             tip10 = np.linalg.norm(frames[-1].point_data["Displacement"], axis=1).max()
             tip4 = np.linalg.norm(frames4[-1].point_data["Displacement"], axis=1).max()
             summary.update(max_displacement_tet10=float(tip10), max_displacement_tet4=float(tip4))
             if not args.no_picture:
                 pic = out / "comparison.png"
-                _picture(pic, surfaces[-1], surfaces4[-1], surface, frames[-1], frames4[-1])
-                summary["files"]["picture"] = str(pic)
-        (out / "summary.json").write_text(json.dumps(summary, indent=1))
+                why = _no_display_reason()
+                if why is None:
+                    outputs.add(pic)
+                    why = _picture_isolated(pic, surfaces[-1], surfaces4[-1], surface,
+                                            frames[-1], frames4[-1])
+                if why is None:
+                    summary["files"]["picture"] = str(pic)
+                else:
+                    print(f"hoembed: notice: comparison picture skipped: {why} (run under "
+                          "xvfb-run for a picture, or pass --no-picture)", file=sys.stderr)
+                    summary["picture_skipped"] = why
+        part = out / "summary.json.part"
+        outputs.add(part)
+        part.write_text(json.dumps(summary, indent=1))
+        os.replace(part, out / "summary.json")
     except (UsageError, hoembed.HOEmbedError, OSError) as err:
+        if outputs is not None:
+            outputs.remove_all()
+        if isinstance(err, OSError) and err.filename:
+            err = f"cannot write {err.filename}: {err.strerror}"
         print(f"hoembed: error: {err}", file=sys.stderr)
         return 2
+    except BaseException:
+        if outputs is not None:
+            outputs.remove_all()
+        raise
 
     print("\nsummary")
     print(f"  FE mesh   : {summary['fe_elements']} tet10 elements, {summary['fe_nodes']} nodes")

@@ -4,7 +4,8 @@ import pyvista
 
 __all__ = ["embed"]
 
-from ._errors import run_filter
+from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check_int,
+                      run_filter)
 from .hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter
 
 _METHODS = {"normal-offset": vtkEmbeddingCoordinatesFilter.NORMAL_OFFSET,
@@ -43,18 +44,24 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
     Raises
     ------
     ValueError
-        For an unknown ``method``.
+        For an unknown ``method``, a negative ``n_partitions`` or inputs of the wrong
+        type (``hoembed._errors.HOEmbedArgumentError``, also a HOEmbedError).
     hoembed.HOEmbedError
         On bad input (empty surface or mesh, NaN coordinates, cells other than tet4/tet10,
         inverted or degenerate elements).
     """
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {sorted(_METHODS)}, not {method!r}")
+    if not isinstance(method, str) or method not in _METHODS:
+        raise HOEmbedArgumentError(
+            f"embed: method must be one of {sorted(_METHODS)}, not {method!r}")
+    check_dataset("embed", "surface", surface, "vtkPolyData")
+    check_dataset("embed", "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
+    n_partitions = check_int("embed", "n_partitions", n_partitions, 0, 1 << 20)
+    check_callable("embed", "progress", progress)
     alg = vtkEmbeddingCoordinatesFilter()
     alg.SetInputData(0, surface)
     alg.SetMeshData(fe_mesh)
     alg.SetMethod(_METHODS[method])
-    alg.SetNumberOfPartitions(int(n_partitions))
+    alg.SetNumberOfPartitions(n_partitions)
     if progress is not None:
         alg.AddObserver("ProgressEvent", lambda o, e: progress(o.GetProgress()))
     out = run_filter(alg)

@@ -4,7 +4,8 @@ import pyvista
 
 __all__ = ["tet10_mesh"]
 
-from ._errors import run_filter
+from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check_int,
+                      check_real, run_filter)
 from .hoembedFiltersMeshing import vtkTet10Mesher
 
 
@@ -42,22 +43,37 @@ def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundar
     Raises
     ------
     hoembed.HOEmbedError
-        On bad input (empty, NaN, no polygons, no triangle with an area) or a TetGen
-        failure.
+        On bad input (empty, NaN, point ids out of range, no polygons, no triangle with
+        an area), a TetGen failure, or a mesh estimated beyond the element limit. Bad
+        arguments (``n_elements`` < 1, ``order`` other than 1 or 2, NaN or out-of-range
+        quality bounds, a negative or NaN ``edge_length``, a surface that is not poly
+        data) raise ``hoembed._errors.HOEmbedArgumentError`` (a HOEmbedError and a
+        ValueError) before the filter runs.
 
     Examples
     --------
     >>> import pyvista as pv, hoembed
     >>> mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=500)
     """
+    f = "tet10_mesh"
+    check_dataset(f, "surface", surface, "vtkPolyData")
+    # The same ranges as vtkTet10Mesher's setters, which would clamp instead of refusing.
+    n_elements = check_int(f, "n_elements", n_elements, 1, 10_000_000)
+    edge_length = check_real(f, "edge_length", edge_length, 0.0)
+    order = check_int(f, "order", order, 1, 2)
+    if not isinstance(curve_boundary, (bool, int)):
+        raise HOEmbedArgumentError(f"{f}: curve_boundary must be True or False")
+    radius_edge_ratio = check_real(f, "radius_edge_ratio", radius_edge_ratio, 1.05, 100.0)
+    min_dihedral_angle = check_real(f, "min_dihedral_angle", min_dihedral_angle, 0.0, 30.0)
+    check_callable(f, "progress", progress)
     alg = vtkTet10Mesher()
     alg.SetInputData(surface)
-    alg.SetTargetNumberOfElements(int(n_elements))
-    alg.SetTargetEdgeLength(float(edge_length))
-    alg.SetElementOrder(int(order))
+    alg.SetTargetNumberOfElements(n_elements)
+    alg.SetTargetEdgeLength(edge_length)
+    alg.SetElementOrder(order)
     alg.SetCurveBoundary(bool(curve_boundary))
-    alg.SetRadiusEdgeRatio(float(radius_edge_ratio))
-    alg.SetMinDihedralAngle(float(min_dihedral_angle))
+    alg.SetRadiusEdgeRatio(radius_edge_ratio)
+    alg.SetMinDihedralAngle(min_dihedral_angle)
     if progress is not None:
         alg.AddObserver("ProgressEvent", lambda o, e: progress(o.GetProgress()))
     out = run_filter(alg)

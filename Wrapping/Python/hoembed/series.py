@@ -44,11 +44,23 @@ def write_series(frames_or_algorithm, folder, name="series", times=None):
     Raises
     ------
     hoembed.HOEmbedError
-        If a frame has an unsupported type, the input fails or a file cannot be written
-        (no .pvd is left behind then).
+        If a frame has an unsupported type or a non-finite time, the input fails, or the
+        folder or a file cannot be written. Nothing is half-written: the frames go to a
+        staging folder and replace an older series of the same name only once all of
+        them and the .pvd are complete; on failure the older series is left intact.
     """
     folder = os.fspath(folder)
-    os.makedirs(folder, exist_ok=True)
+    name = str(name)
+    if not name or name.startswith(".") or os.sep in name or (os.altsep and os.altsep in name):
+        raise HOEmbedError(f"write_series: the series name {name!r} must be a plain file "
+                           "name (no folder, not starting with '.')")
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as err:
+        raise HOEmbedError(f"write_series: cannot create the output folder {folder!r}: "
+                           f"{err.strerror or err}") from None
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise HOEmbedError(f"write_series: the output folder {folder!r} is not writable")
     path = os.path.join(folder, f"{name}.pvd")
     writer = vtkTimeSeriesWriter()
     writer.SetFileName(path)

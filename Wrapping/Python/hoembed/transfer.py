@@ -4,7 +4,7 @@ import pyvista
 
 __all__ = ["transfer"]
 
-from ._errors import run_filter
+from ._errors import HOEmbedArgumentError, check_dataset, run_filter
 from .hoembedFiltersTransfer import vtkDeformationTransferFilter
 
 _NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
@@ -54,8 +54,11 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     --------
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
-    if normals not in _NORMAL_MODES:
-        raise ValueError(f"normals must be 'recompute', 'rotate' or 'deform', not {normals!r}")
+    if not isinstance(normals, str) or normals not in _NORMAL_MODES:
+        raise HOEmbedArgumentError(
+            f"transfer: normals must be 'recompute', 'rotate' or 'deform', not {normals!r}")
+    check_dataset("transfer", "embedded_surface", embedded_surface, "vtkPolyData")
+    check_dataset("transfer", "deformed_mesh", deformed_mesh, "vtkUnstructuredGrid")
     alg = vtkDeformationTransferFilter()
     alg.SetInputData(0, embedded_surface)
     alg.SetInputData(1, deformed_mesh)
