@@ -28,14 +28,7 @@ N_CASES = int(os.environ.get("HOEMBED_FUZZ_CASES", "400"))
 # reported in the output, not failed on. Both are at the "tiny" scale (diagonal ~3e-6),
 # where absolute thresholds remain. Remove an entry when its fix lands; a new failure of
 # any other seed fails the test.
-KNOWN = {
-    1206: "embedding: residual 1e-4 of the diagonal with no warning at small absolute scale "
-          "(the solver's absolute threshold; the lead's item 'Normal-offset embedding at "
-          "small absolute scale')",
-    1248: "mesher: two overlapping boxes at diagonal 5e-6 are meshed (the coarse surface's "
-          "self-intersection test uses an absolute tolerance of 1e-9) and one element has "
-          "intersecting faces (vtkCellValidator) with min scaled Jacobian 4e-4",
-}
+KNOWN = {}  # seed: why its failure is known and owned elsewhere (none at present)
 DAMAGES = ("jitter", "spikes", "holes", "flips", "duplicate", "collapse", "overlap",
            "tiny", "huge", "nan", "shuffle", "dent")
 
