@@ -24,11 +24,10 @@ import pytest
 
 N_CASES = int(os.environ.get("HOEMBED_FUZZ_CASES", "400"))
 
-# Failures this test found that belong to work in progress elsewhere (issue 19): they are
-# reported in the output, not failed on. Both are at the "tiny" scale (diagonal ~3e-6),
-# where absolute thresholds remain. Remove an entry when its fix lands; a new failure of
-# any other seed fails the test.
-KNOWN = {}  # seed: why its failure is known and owned elsewhere (none at present)
+# Failures this test found whose fix is tracked elsewhere: reported in the output, not
+# failed on (seed: why). Remove an entry when its fix lands; a failure of any other seed
+# fails the test. None at present.
+KNOWN = {}
 DAMAGES = ("jitter", "spikes", "holes", "flips", "duplicate", "collapse", "overlap",
            "tiny", "huge", "nan", "shuffle", "dent")
 
