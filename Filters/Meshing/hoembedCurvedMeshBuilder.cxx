@@ -143,6 +143,21 @@ Id RemoveBoundarySlivers(
   }
   return removed;
 }
+
+// n += the unit normal of the triangle f (3 point ids into pts).
+void AddUnitNormal(const double* pts, const Id* f, double n[3])
+{
+  double a[3], b[3], fn[3];
+  for (int d = 0; d < 3; ++d)
+  {
+    a[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
+    b[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
+  }
+  vtkMath::Cross(a, b, fn);
+  vtkMath::Normalize(fn);
+  for (int d = 0; d < 3; ++d)
+    n[d] += fn[d];
+}
 // Unit normal of boundary edge e of the linear mesh: the mean of its faces' normals.
 bool BoundaryEdgeNormal(
   const std::vector<double>& pts, const TetMeshTopology& topo4, Id e, double n[3])
@@ -154,16 +169,7 @@ bool BoundaryEdgeNormal(
     const Id* f = &topo4.BoundaryFaceNodes[3 * topo4.NodeFaces[k]];
     if (f[0] != v && f[1] != v && f[2] != v)
       continue;
-    double a[3], b[3], fn[3];
-    for (int d = 0; d < 3; ++d)
-    {
-      a[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
-      b[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
-    }
-    vtkMath::Cross(a, b, fn);
-    vtkMath::Normalize(fn);
-    for (int d = 0; d < 3; ++d)
-      n[d] += fn[d];
+    AddUnitNormal(pts.data(), f, n);
   }
   return vtkMath::Normalize(n) > 0.0;
 }
@@ -366,16 +372,7 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
       for (Id k = topo.NodeFaceOffsets[i]; k < topo.NodeFaceOffsets[i + 1]; ++k)
       {
         const Id* f = &topo.BoundaryFaceNodes[3 * topo.NodeFaces[k]];
-        double a[3], b[3], fn[3];
-        for (int d = 0; d < 3; ++d)
-        {
-          a[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
-          b[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
-        }
-        vtkMath::Cross(a, b, fn);
-        vtkMath::Normalize(fn);
-        for (int d = 0; d < 3; ++d)
-          n[d] += fn[d];
+        AddUnitNormal(pts.data(), f, n);
       }
       if (vtkMath::Normalize(n) > 0.0 && !surface.Faces(target, n))
         continue;

@@ -100,6 +100,41 @@ Id CountComponents(Id npts, const std::vector<Id>& tris)
   return n;
 }
 
+// TetGen at element size h (volume bound of the regular tet of edge h); without boundary
+// preservation when TetGen needs boundary points to succeed.
+TetGenResult TetrahedralizeAtSize(const std::vector<double>& points, const std::vector<Id>& tris,
+  double h, const MesherOptions& options, TetGenParameters& params)
+{
+  params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
+  params.PreserveBoundary = options.PreserveBoundary;
+  TetGenResult run = RunTetGen(points, tris, params);
+  if (!run.Error.empty() && params.PreserveBoundary && !run.Stopped)
+  {
+    params.PreserveBoundary = false;
+    run = RunTetGen(points, tris, params);
+  }
+  return run;
+}
+
+// Keeps `run` in `best` when its element count is the closest yet to the target (log
+// ratio), and scales h towards the target; true when the count is close enough (or the
+// size was given as an edge length).
+bool KeepClosestCount(TetGenResult& run, const MesherOptions& options, double& h,
+  double& bestMismatch, TetGenResult& best)
+{
+  const double ratio = static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
+  const double mismatch = std::fabs(std::log(ratio));
+  if (mismatch < bestMismatch)
+  {
+    bestMismatch = mismatch;
+    best = std::move(run);
+  }
+  if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
+    return true;
+  h *= std::cbrt(ratio);
+  return false;
+}
+
 // Step 2: decimate the fine surface to the boundary of edge length h and mesh it with
 // TetGen; when a target number of elements is asked for, correct h from the count
 // obtained and keep the closest result. A decimation that folds (not a closed manifold,
@@ -173,14 +208,7 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       lastError = "a part of the surface smaller than the element size vanished in the coarsening";
       break;
     }
-    params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
-    params.PreserveBoundary = options.PreserveBoundary;
-    TetGenResult run = RunTetGen(coarsePoints, coarseTris, params);
-    if (!run.Error.empty() && params.PreserveBoundary && !run.Stopped)
-    {
-      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
-      run = RunTetGen(coarsePoints, coarseTris, params);
-    }
+    TetGenResult run = TetrahedralizeAtSize(coarsePoints, coarseTris, h, options, params);
     if (run.Stopped) // aborted, or TetGen's work bound: no retry, no fallback
       return run;
     if (!run.Error.empty())
@@ -189,17 +217,8 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       triFactor *= 1.15;
       continue;
     }
-    const double ratio =
-      static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
-    const double mismatch = std::fabs(std::log(ratio));
-    if (mismatch < bestMismatch)
-    {
-      bestMismatch = mismatch;
-      tg = std::move(run);
-    }
-    if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
+    if (KeepClosestCount(run, options, h, bestMismatch, tg))
       break;
-    h *= std::cbrt(ratio);
   }
   if (tg.Tets.empty())
     tg.Error = lastError;
@@ -274,14 +293,7 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
       tg.Error = "the envelope is not a closed manifold (internal error)";
       return tg;
     }
-    params.MaxVolume = h * h * h / (6.0 * std::sqrt(2.0));
-    params.PreserveBoundary = options.PreserveBoundary;
-    TetGenResult run = RunTetGen(wrap.Points, wrap.Tris, params);
-    if (!run.Error.empty() && params.PreserveBoundary && !run.Stopped)
-    {
-      params.PreserveBoundary = false; // TetGen may need boundary points to succeed
-      run = RunTetGen(wrap.Points, wrap.Tris, params);
-    }
+    TetGenResult run = TetrahedralizeAtSize(wrap.Points, wrap.Tris, h, options, params);
     if (run.Stopped)
       return run;
     if (!run.Error.empty())
@@ -290,18 +302,12 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
         tg.Error = "TetGen could not mesh the envelope: " + run.Error;
       break;
     }
-    const double ratio =
-      static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
-    const double mismatch = std::fabs(std::log(ratio));
-    if (mismatch < bestMismatch)
-    {
-      bestMismatch = mismatch;
-      tg = std::move(run);
+    const double before = bestMismatch;
+    const bool done = KeepClosestCount(run, options, h, bestMismatch, tg);
+    if (bestMismatch < before)
       offset = off;
-    }
-    if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
+    if (done)
       break;
-    h *= std::cbrt(ratio);
   }
   return tg;
 }

@@ -527,7 +527,7 @@ bool vtkTet10Mesher::CheckRequest(vtkPolyData* input)
   if (estimate > static_cast<double>(this->MaximumNumberOfElements))
   {
     // Peak memory of the mesher per element, rounded up from a measurement
-    // (Benchmarks/RELIABILITY.md: 0.58 kB at 300k elements).
+    // (Benchmarks/RESULTS.md, Reliability).
     const double bytesPerElement = 1.0e3;
     vtkErrorMacro("the mesh would have about "
       << static_cast<long long>(estimate) << " elements (about "
