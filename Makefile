@@ -3,12 +3,14 @@
 #   make demo    the main job on the built-in default model -> output/
 #   make test    all tests (C++ and Python, through ctest)
 #   make bench   the benchmark scripts (JSON in Benchmarks/results/)
+#   make paraview       the ParaView 5.11 plugin (Plugin/, a separate build in build-paraview/)
+#   make test-paraview  its tests (pvbatch pipeline against the VTK 9.1 build, GUI, MPI)
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PY := .venv/bin/python
 SITE = $(shell $(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 
-.PHONY: all setup configure build demo test bench clean install
+.PHONY: all setup configure build demo test bench clean install paraview test-paraview
 
 all: build
 
@@ -40,5 +42,20 @@ bench: build
 install: build
 	cmake --install $(BUILD_DIR)
 
+PV_BUILD_DIR ?= build-paraview/build
+TETGEN_SRC = $(wildcard $(CURDIR)/$(BUILD_DIR)/_deps/tetgen/tetgen-*/src)
+
+paraview: setup
+	@bash scripts/setup_paraview.sh
+	cmake -S Plugin -B $(PV_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DHOEMBED_SIMULATION_NATIVE=ON \
+	  -DHOEMBED_PARAVIEW_PYTHON_PREFIX=$(CURDIR)/build-paraview/python3-paraview \
+	  $(if $(TETGEN_SRC),-DHOEMBED_TETGEN_SOURCE_DIR=$(firstword $(TETGEN_SRC)))
+	cmake --build $(PV_BUILD_DIR) -j $(JOBS)
+	@echo "[paraview] plugin in $(PV_BUILD_DIR)/lib/paraview-plugins/HOEmbed; run scripts/pvpython or scripts/pvbatch"
+
+test-paraview: build paraview
+	xvfb-run -a -s "-screen 0 1280x1024x24" $(PY) -m pytest -v Plugin/Testing
+
 clean:
-	rm -rf $(BUILD_DIR) install
+	rm -rf $(BUILD_DIR) install build-paraview

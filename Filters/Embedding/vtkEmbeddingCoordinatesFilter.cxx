@@ -17,6 +17,7 @@
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -520,4 +521,22 @@ void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ReuseMeshPreparation: " << (this->ReuseMeshPreparation ? "On" : "Off") << "\n";
   os << indent << "NumberOfMeshPreparations: " << this->NumberOfMeshPreparations << "\n";
   os << indent << "NumberOfUncertifiedPoints: " << this->NumberOfUncertifiedPoints << "\n";
+}//------------------------------------------------------------------------------
+int vtkEmbeddingCoordinatesFilter::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Port 0 keeps the piece the pipeline asked for (each process embeds its piece of the
+  // surface; every vertex is embedded on its own, so a piece gives the same values as
+  // the whole).
+  // Port 1: the whole FE mesh on every process (it is small).
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (vtkInformation* inInfo = inputVector[1]->GetInformationObject(0))
+  {
+    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  return 1;
 }
+
+

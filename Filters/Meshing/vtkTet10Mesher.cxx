@@ -27,6 +27,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkStaticPointLocator.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkIdList.h"
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
@@ -139,6 +140,24 @@ int vtkTet10Mesher::FillInputPortInformation(int, vtkInformation* info)
   return 1;
 }
 
+int vtkTet10Mesher::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Distributed pipelines: every process asks for the whole surface and meshes it (a
+  // piece of a closed surface is open), so each holds the whole mesh that the embedding
+  // and transfer need on their mesh port. TetGen and the curving are deterministic: all
+  // processes produce the same mesh, with no communication.
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (vtkInformation* inInfo = inputVector[0]->GetInformationObject(0))
+  {
+    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkTet10Mesher::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {

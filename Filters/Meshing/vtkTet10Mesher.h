@@ -158,6 +158,7 @@ protected:
   ~vtkTet10Mesher() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int TargetNumberOfElements = 1000;
