@@ -525,9 +525,10 @@ void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
 int vtkEmbeddingCoordinatesFilter::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // Port 0 keeps the piece the pipeline asked for (each process embeds its piece of the
-  // surface; every vertex is embedded on its own, so a piece gives the same values as
-  // the whole).
+  // Port 0 keeps the piece the pipeline asked for: each process embeds its piece of the
+  // surface. A vertex's result depends only on its own connected component and the flood
+  // partition (to the last bits, through the Newton start), so pieces embedded on several
+  // processes equal the same pieces embedded together when NumberOfPartitions is fixed.
   // Port 1: the whole FE mesh on every process (it is small).
   using SDDP = vtkStreamingDemandDrivenPipeline;
   if (vtkInformation* inInfo = inputVector[1]->GetInformationObject(0))

@@ -6,6 +6,7 @@
 #include "hoembedSurfaceCheck.h"
 #include "hoembedTetGenBridge.h"
 
+#include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCellValidator.h"
@@ -18,6 +19,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -143,15 +145,22 @@ int vtkTet10Mesher::FillInputPortInformation(int, vtkInformation* info)
 int vtkTet10Mesher::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // Distributed pipelines: every process asks for the whole surface and meshes it (a
-  // piece of a closed surface is open), so each holds the whole mesh that the embedding
-  // and transfer need on their mesh port. TetGen and the curving are deterministic: all
-  // processes produce the same mesh, with no communication.
+  // Distributed pipelines (a global controller of N > 1 processes, as in pvbatch/pvserver
+  // under MPI): every process asks its upstream for the piece it holds (rank of N), the
+  // same request the pipeline's other consumers of that surface make, and RequestData
+  // gathers the pieces. Asking for the whole surface instead would not work: consumers of
+  // one output port share one update request, so the mesher's request for the whole
+  // would override the embedding's request for a piece on the same surface. Whatever
+  // piece is asked of the mesher, it produces the whole mesh (the embedding and transfer
+  // need all of it on every process).
+  // In one process (a piece asked of a serial pipeline) the whole surface is requested.
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool distributed = controller && controller->GetNumberOfProcesses() > 1;
   using SDDP = vtkStreamingDemandDrivenPipeline;
   if (vtkInformation* inInfo = inputVector[0]->GetInformationObject(0))
   {
-    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
-    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), distributed ? controller->GetLocalProcessId() : 0);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), distributed ? controller->GetNumberOfProcesses() : 1);
     inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
   }
   return 1;
@@ -172,6 +181,40 @@ int vtkTet10Mesher::RequestData(
     return 0;
   }
   output->Initialize();
+
+  // Distributed pipelines: gather every process's piece (in rank order, so every process
+  // appends the same surface) before any check, so that all processes take part in the
+  // collective call and then mesh the same surface. TetGen and the curving are
+  // deterministic: every process produces the same mesh. The coincident points of the
+  // pieces' seams are merged below with every other coincident point.
+  vtkNew<vtkAppendPolyData> gathered;
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    vtkNew<vtkPolyData> mine;
+    mine->ShallowCopy(input);
+    std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+    if (!controller->AllGather(mine, pieces) ||
+      static_cast<int>(pieces.size()) != controller->GetNumberOfProcesses())
+    {
+      vtkErrorMacro("could not gather the surface's pieces from the "
+        << controller->GetNumberOfProcesses() << " processes");
+      return 0;
+    }
+    for (const auto& piece : pieces)
+    {
+      auto* poly = vtkPolyData::SafeDownCast(piece);
+      if (poly && poly->GetNumberOfPoints() > 0)
+      {
+        gathered->AddInputData(poly);
+      }
+    }
+    if (gathered->GetNumberOfInputConnections(0) > 0)
+    {
+      gathered->Update();
+      input = gathered->GetOutput();
+    }
+  }
 
   // ---- 1. checks ----------------------------------------------------------------------
   if (input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)

@@ -25,12 +25,13 @@ p.add_argument("--screenshot")
 p.add_argument("--elements", type=int, default=300)
 p.add_argument("--steps", type=int, default=5)
 p.add_argument("--dt", type=float, default=0.02)
+p.add_argument("--partitions", type=int, default=0)
 args = p.parse_args()
 os.makedirs(args.out, exist_ok=True)
 
 surface = OpenDataFile(args.surface)
 mesher = HOEmbedTet10Mesher(Input=surface, TargetNumberOfElements=args.elements)
-embedded = HOEmbedEmbeddingCoordinates(Surface=surface, Mesh=mesher)
+embedded = HOEmbedEmbeddingCoordinates(Surface=surface, Mesh=mesher, NumberOfPartitions=args.partitions)
 stepper = HOEmbedCorotationalFEMStepper(Input=mesher)
 stepper.TimeStep = args.dt
 stepper.NumberOfTimeSteps = args.steps

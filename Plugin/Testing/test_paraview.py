@@ -10,16 +10,14 @@ import subprocess
 
 import numpy as np
 import pytest
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkIdTypeArray
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import vtkTriangleFilter
-from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkIOImage import vtkPNGReader
-from vtkmodules.vtkIOXML import (vtkXMLPolyDataWriter, vtkXMLPPolyDataReader,
+from vtkmodules.vtkIOXML import (vtkXMLPPolyDataReader,
                                  vtkXMLPUnstructuredGridReader)
 
 import hoembed
+from pv_surfaces import make_surface
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PVBATCH = ROOT / "scripts" / "pvbatch"
@@ -34,62 +32,6 @@ def run(cmd, timeout=600, **kw):
     r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=timeout, **kw)
     assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
     return r
-
-
-def make_surface(pieces_dir, npieces=4):
-    """A generated closed surface (an ellipsoid, ~6k triangles) with a GlobalPointId
-    array, as one .vtp and as a .pvtp of `npieces` slabs along x (each with its points)."""
-    sphere = vtkSphereSource()
-    sphere.SetThetaResolution(72)
-    sphere.SetPhiResolution(48)
-    sphere.SetRadius(1.0)
-    tri = vtkTriangleFilter()
-    tri.SetInputConnection(sphere.GetOutputPort())
-    tri.Update()
-    pts = vtk_to_numpy(tri.GetOutput().GetPoints().GetData()).astype(np.float64)
-    pts = pts * np.array([1.0, 0.45, 0.3]) + 0.05 * np.sin(3 * pts[:, [1, 2, 0]])
-    polys = vtk_to_numpy(tri.GetOutput().GetPolys().GetData()).reshape(-1, 4)[:, 1:]
-    os.makedirs(pieces_dir, exist_ok=True)
-
-    def write(path, p, t, gid):
-        pd = vtkPolyData()
-        from vtkmodules.vtkCommonCore import vtkPoints
-        from vtkmodules.vtkCommonDataModel import vtkCellArray
-        vp = vtkPoints()
-        vp.SetData(numpy_to_vtk(np.ascontiguousarray(p), deep=True))
-        pd.SetPoints(vp)
-        ca = vtkCellArray()
-        conn = np.hstack([np.full((len(t), 1), 3), t]).astype(np.int64).ravel()
-        ca.SetCells(len(t), numpy_to_vtk(conn, deep=True, array_type=vtkIdTypeArray().GetDataType()))
-        pd.SetPolys(ca)
-        a = numpy_to_vtk(gid.astype(np.int64), deep=True)
-        a.SetName("GlobalPointId")
-        pd.GetPointData().AddArray(a)
-        w = vtkXMLPolyDataWriter()
-        w.SetFileName(str(path))
-        w.SetInputData(pd)
-        w.SetDataModeToBinary()
-        assert w.Write() == 1
-
-    whole = pathlib.Path(pieces_dir) / "surface.vtp"
-    write(whole, pts, polys, np.arange(len(pts)))
-    cx = pts[polys].mean(axis=1)[:, 0]
-    edges = np.quantile(cx, np.linspace(0, 1, npieces + 1))
-    slab = np.clip(np.searchsorted(edges, cx, side="right") - 1, 0, npieces - 1)
-    lines = ['<?xml version="1.0"?>',
-             '<VTKFile type="PPolyData" version="0.1" byte_order="LittleEndian" header_type="UInt64">',
-             '  <PPolyData GhostLevel="0">',
-             '    <PPointData><PDataArray type="Int64" Name="GlobalPointId"/></PPointData>',
-             '    <PPoints><PDataArray type="Float64" NumberOfComponents="3"/></PPoints>']
-    for k in range(npieces):
-        t = polys[slab == k]
-        used, inv = np.unique(t.ravel(), return_inverse=True)
-        write(pathlib.Path(pieces_dir) / f"surface_{k}.vtp", pts[used], inv.reshape(-1, 3), used)
-        lines.append(f'    <Piece Source="surface_{k}.vtp"/>')
-    lines += ['  </PPolyData>', '</VTKFile>']
-    pvtp = pathlib.Path(pieces_dir) / "surface.pvtp"
-    pvtp.write_text("\n".join(lines) + "\n")
-    return whole, pvtp
 
 
 def read_pvtp(path):
@@ -238,38 +180,51 @@ def test_gui_lists_the_filters(tmp_path):
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
 def test_mpi_pieces_equal_serial_bitwise(inputs, tmp_path):
-    """The surface in 4 pieces on 1, 2 and 3 (oversubscribed) processes: each embeds and
-    transfers its pieces with the whole mesh; gathered by GlobalPointId, the embedding
-    arrays and transferred points equal the 1-process run's bitwise."""
+    """The surface in 4 pieces (surface.pvtp) on 1, 2, 3 and 4 processes (3 and 4
+    oversubscribed on 2 cores): each process embeds and transfers only its pieces, with
+    the whole mesh (the mesher gathers the pieces); gathered by GlobalPointId, the
+    embedding arrays and the transferred points of every step equal the 1-process run's
+    bitwise. NumberOfPartitions is fixed (1): the automatic count follows the number of
+    triangles a process holds, and a different flood partition may change a vertex's
+    result in the last bits (seen: 347 of 3314 vertices by <= 6.1e-16 on 3 processes)."""
     results = {}
-    for n in (1, 2, 3):
+    for n in (1, 2, 3, 4):
         out = tmp_path / f"np{n}"
         run(["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi",
-             PIPELINE, inputs[1], out, "--elements", ELEMENTS, "--steps", 3, "--dt", DT],
-            env=dict(os.environ, OMPI_MCA_rmaps_base_oversubscribe="1"))
+             PIPELINE, inputs[1], out, "--elements", ELEMENTS, "--steps", 3, "--dt", DT,
+             "--partitions", 1])
         results[n] = out
+        # Really distributed: one piece file per process, none holding the whole surface.
+        sizes = [read_piece_points(f) for f in sorted((out / "embedded").glob("*.vtp"))]
+        assert len(sizes) == n
+        if n > 1:
+            assert max(sizes) < sum(sizes) and min(sizes) > 0, sizes
 
     def gathered(out, name, arrays):
         pd = read_pvtp(out / name)
         gid = arr(pd, "GlobalPointId")
         u, first = np.unique(gid, return_index=True)
         vals = {a: (points(pd) if a == "Points" else arr(pd, a)) for a in arrays}
-        for a, v in vals.items():   # a vertex on a piece seam is in both pieces: same values
-            order = np.argsort(gid, kind="stable")
-            g, vv = gid[order], v[order]
-            same = g[1:] == g[:-1]
-            assert np.array_equal(vv[1:][same], vv[:-1][same]), (name, a)
         return u, {a: v[first] for a, v in vals.items()}
 
     emb_arrays = ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance",
                   "EmbeddingResidual", "EmbeddingFace"]
     ref_ids, ref = gathered(results[1], "embedded.pvtp", emb_arrays)
-    for n in (2, 3):
+    surf_ref = [gathered(results[1], f"surface_{k}.pvtp", ["Points"])[1]["Points"] for k in range(4)]
+    assert np.abs(surf_ref[3] - surf_ref[0]).max() > 1e-3    # the surface moved
+    for n in (2, 3, 4):
         ids, got = gathered(results[n], "embedded.pvtp", emb_arrays)
         assert np.array_equal(ids, ref_ids)
         for a in emb_arrays:
             assert np.array_equal(got[a], ref[a]), f"{a} differs on {n} processes"
         for k in range(4):
-            _, s1 = gathered(results[1], f"surface_{k}.pvtp", ["Points"])
             _, sn = gathered(results[n], f"surface_{k}.pvtp", ["Points"])
-            assert np.array_equal(s1["Points"], sn["Points"]), f"step {k} differs on {n} processes"
+            assert np.array_equal(surf_ref[k], sn["Points"]), f"step {k} differs on {n} processes"
+
+
+def read_piece_points(path):
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(str(path))
+    r.Update()
+    return r.GetOutput().GetNumberOfPoints()
