@@ -6,6 +6,8 @@
 #                AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/, TetGen
 #                included); part of `make test`. Suppressions: Testing/sanitizers/
 #   make bench   the benchmark scripts (JSON in Benchmarks/results/)
+#   make paraview       the ParaView 5.11 plugin (Plugin/, a separate build in build-paraview/)
+#   make test-paraview  its tests (pvbatch pipeline against the VTK 9.1 build, GUI, MPI)
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PY := .venv/bin/python
@@ -20,7 +22,7 @@ SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer
 # mesh cases take minutes under ASan; the C++ tests cover those filters sanitized).
 SAN_PY_TESTS ?= py\.(test_bad_input|test_fuzz_surfaces|test_series|test_cli|test_simulation|test_transfer|test_package)$$
 
-.PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install
+.PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install paraview test-paraview
 
 all: build
 
@@ -73,5 +75,20 @@ bench: build
 install: build
 	cmake --install $(BUILD_DIR)
 
+PV_BUILD_DIR ?= build-paraview/build
+TETGEN_SRC = $(wildcard $(CURDIR)/$(BUILD_DIR)/_deps/tetgen/tetgen-*/src)
+
+paraview: setup
+	@bash scripts/setup_paraview.sh
+	cmake -S Plugin -B $(PV_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DHOEMBED_SIMULATION_NATIVE=ON \
+	  -DHOEMBED_PARAVIEW_PYTHON_PREFIX=$(CURDIR)/build-paraview/python3-paraview \
+	  $(if $(TETGEN_SRC),-DHOEMBED_TETGEN_SOURCE_DIR=$(firstword $(TETGEN_SRC)))
+	cmake --build $(PV_BUILD_DIR) -j $(JOBS)
+	@echo "[paraview] plugin in $(PV_BUILD_DIR)/lib/paraview-plugins/HOEmbed; run scripts/pvpython or scripts/pvbatch"
+
+test-paraview: build paraview
+	xvfb-run -a -s "-screen 0 1280x1024x24" $(PY) -m pytest -v Plugin/Testing
+
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR) install
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) install build-paraview

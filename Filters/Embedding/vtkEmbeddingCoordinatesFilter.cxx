@@ -19,6 +19,7 @@
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -485,3 +486,24 @@ void vtkEmbeddingCoordinatesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfUncertifiedPoints: " << this->NumberOfUncertifiedPoints << "\n";
   os << indent << "NumberOfFallbackPoints: " << this->NumberOfFallbackPoints << "\n";
 }
+
+//------------------------------------------------------------------------------
+int vtkEmbeddingCoordinatesFilter::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Port 0 keeps the piece the pipeline asked for: each process embeds its piece of the
+  // surface. A vertex's result depends only on its own connected component and the flood
+  // partition (to the last bits, through the Newton start), so pieces embedded on several
+  // processes equal the same pieces embedded together when NumberOfPartitions is fixed.
+  // Port 1: the whole FE mesh on every process (it is small).
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (vtkInformation* inInfo = inputVector[1]->GetInformationObject(0))
+  {
+    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  return 1;
+}
+
+

@@ -187,6 +187,7 @@ protected:
   ~vtkEmbeddingCoordinatesFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   /// Read, check and prepare the mesh input into the kept EmbeddingMesh: "" or what makes
   /// the mesh unusable (the caller reports it; this may run on a worker thread).

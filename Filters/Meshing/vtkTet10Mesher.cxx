@@ -4,6 +4,7 @@
 #include "hoembedSurfaceCheck.h"
 #include "hoembedTetGenBridge.h"
 
+#include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
@@ -17,6 +18,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -26,6 +28,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkStaticPointLocator.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkIdList.h"
 #include "vtkPolygon.h"
 #include "vtkTriangleStrip.h"
@@ -280,6 +283,40 @@ double EstimatedElements(vtkPolyData* input, double edge, int target)
   return std::fabs(volume) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
 }
 
+// Distributed pipelines: every process's piece of the surface, gathered in rank order (so
+// every process appends the same surface) before any check, so that all processes take
+// part in the collective call and then mesh the same surface. The pieces' seams are
+// merged by the read step with every other coincident point. Returns an error message.
+std::string GatherPieces(vtkPolyData*& input, vtkAppendPolyData* gathered)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() <= 1)
+    return std::string();
+  vtkNew<vtkPolyData> mine;
+  mine->ShallowCopy(input);
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  if (!controller->AllGather(mine, pieces) ||
+    static_cast<int>(pieces.size()) != controller->GetNumberOfProcesses())
+  {
+    std::ostringstream msg;
+    msg << "could not gather the surface's pieces from the "
+        << controller->GetNumberOfProcesses() << " processes";
+    return msg.str();
+  }
+  for (const auto& piece : pieces)
+  {
+    auto* poly = vtkPolyData::SafeDownCast(piece);
+    if (poly && poly->GetNumberOfPoints() > 0)
+      gathered->AddInputData(poly);
+  }
+  if (gathered->GetNumberOfInputConnections(0) > 0)
+  {
+    gathered->Update();
+    input = gathered->GetOutput();
+  }
+  return std::string();
+}
+
 // Read step: triangulate polygons and strips, drop vertices and lines, merge coincident
 // points. Returns an error message, empty on success.
 std::string CleanInput(vtkPolyData* input, double mergeTolerance, vtkSmartPointer<vtkPolyData>& fine,
@@ -499,6 +536,30 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
 }
 } // namespace
 
+int vtkTet10Mesher::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Distributed pipelines (a global controller of N > 1 processes, as in pvbatch/pvserver
+  // under MPI): every process asks its upstream for the piece it holds (rank of N), the
+  // same request the pipeline's other consumers of that surface make, and RequestData
+  // gathers the pieces. Asking for the whole surface instead would not work: consumers of
+  // one output port share one update request, so the mesher's request for the whole
+  // would override the embedding's request for a piece on the same surface. Whatever
+  // piece is asked of the mesher, it produces the whole mesh (the embedding and transfer
+  // need all of it on every process).
+  // In one process (a piece asked of a serial pipeline) the whole surface is requested.
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool distributed = controller && controller->GetNumberOfProcesses() > 1;
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (vtkInformation* inInfo = inputVector[0]->GetInformationObject(0))
+  {
+    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), distributed ? controller->GetLocalProcessId() : 0);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), distributed ? controller->GetNumberOfProcesses() : 1);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  return 1;
+}
+
 // Before any VTK filter sees the input: properties finite (the clamp macros let NaN
 // through), point ids in range, and a size TetGen can mesh in reasonable time and memory.
 bool vtkTet10Mesher::CheckRequest(vtkPolyData* input)
@@ -556,6 +617,13 @@ int vtkTet10Mesher::RequestData(
     return 0;
   }
   output->Initialize();
+  vtkNew<vtkAppendPolyData> gathered; // holds the gathered surface while it is read
+  const std::string gatherError = GatherPieces(input, gathered);
+  if (!gatherError.empty())
+  {
+    vtkErrorMacro(<< gatherError);
+    return 0;
+  }
   if (!this->CheckRequest(input))
   {
     return 0;

@@ -215,6 +215,7 @@ protected:
   ~vtkTet10Mesher() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   /// Properties finite, point ids in range, estimated size within MaximumNumberOfElements
   /// (errors reported); false: refuse the request before any work.

@@ -556,4 +556,20 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastSolverIterations: " << this->LastSolverIterations << "\n";
   os << indent << "LastNumberOfFactorizations: " << this->LastNumberOfFactorizations << "\n";
   os << indent << "LastFactorizationTime: " << this->LastFactorizationTime << "\n";
+}//------------------------------------------------------------------------------
+int vtkCorotationalFEMStepper::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Distributed pipelines: every process simulates the whole mesh (the FE system is
+  // small; the transfer needs every node), whatever piece is asked of the output.
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (vtkInformation* inInfo = inputVector[0]->GetInformationObject(0))
+  {
+    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  return 1;
 }
+
+

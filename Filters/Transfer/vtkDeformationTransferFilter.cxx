@@ -170,6 +170,14 @@ int vtkDeformationTransferFilter::RequestUpdateExtent(
     // The embedded surface does not vary in time.
     surfInfo->Remove(SDDP::UPDATE_TIME_STEP());
   }
+  if (meshInfo)
+  {
+    // Distributed pipelines: each process moves its piece of the surface (port 0 keeps
+    // the requested piece) with the whole deformed mesh.
+    meshInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+    meshInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+    meshInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
   return 1;
 }
 
