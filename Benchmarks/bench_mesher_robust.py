@@ -128,7 +128,8 @@ def exactness(surface, mesh, tmp):
     mesh.save(gfile)
     r = run_tool(sfile, gfile, "normal-offset", os.cpu_count() or 1)
     keys = ["surface_vertices", "vertices_checked", "count_dist_err_above_1e-8",
-            "count_residual_above_1e-10", "max_dist_err_rel", "max_residual_rel"]
+            "count_residual_above_1e-10", "max_dist_err_rel", "max_residual_rel",
+            "vertices_inside_undecided"]
     return {k: r[k] for k in keys if k in r}
 
 

@@ -48,6 +48,8 @@ struct PerVertex
   int VtkDisagree = 0, DepthLimited = 0;
   bool NodeLimited = false;
   long Nodes = 0;
+  long InsideNodes = 0;
+  int InsideUndecided = 0;
   int Candidates = 0;
 };
 
@@ -155,6 +157,8 @@ int main(int argc, char* argv[])
       q.DepthLimited = r.DepthLimited;
       q.NodeLimited = r.NodeLimited;
       q.Nodes = r.Nodes;
+      q.InsideNodes = r.InsideNodes;
+      q.InsideUndecided = r.InsideUndecided;
       q.Candidates = r.CandidateCells;
     }
   });
@@ -219,7 +223,7 @@ int main(int argc, char* argv[])
        insideMismatchMaterial = 0, bruteInside = 0, filterInside = 0, vtkDis = 0, depthLim = 0,
        nodeLim = 0, belowLower = 0, vtkVertexDis = 0, vtkOnlyInside = 0, res10 = 0, resReported = 0, nanCount = 0;
   double maxErr = 0.0, maxRes = 0.0, maxCert = 0.0, maxResDiff = 0.0;
-  long totalNodes = 0, maxNodes = 0;
+  long totalNodes = 0, maxNodes = 0, insideUndecided = 0, maxInsideNodes = 0;
   std::vector<std::pair<double, Id>> worst;
   std::vector<Id> vtkVerdict; // vertices where VTK's inside verdict differs
   for (Id i = 0; i < nv; ++i)
@@ -259,6 +263,8 @@ int main(int argc, char* argv[])
     nodeLim += q.NodeLimited;
     totalNodes += q.Nodes;
     maxNodes = std::max(maxNodes, q.Nodes);
+    insideUndecided += q.InsideUndecided > 0;
+    maxInsideNodes = std::max(maxInsideNodes, q.InsideNodes);
     const double rr = residual[i] / diag;
     maxRes = std::max(maxRes, std::isfinite(rr) ? rr : 1e300);
     res10 += !(rr <= 1e-10);
@@ -295,8 +301,10 @@ int main(int argc, char* argv[])
     bruteInside, filterInside, insideMismatch, insideMismatchMaterial, vtkDis, vtkVertexDis,
     vtkOnlyInside);
   std::printf("  \"bb_nodes_mean\": %.1f, \"bb_nodes_max\": %ld, \"vertices_depth_limited\": %ld, "
-              "\"vertices_node_limited\": %ld,\n",
-    double(totalNodes) / double(nv), maxNodes, depthLim, nodeLim);
+              "\"vertices_node_limited\": %ld,\n  \"vertices_inside_undecided\": %ld, "
+              "\"inside_subtets_max\": %ld,\n",
+    double(totalNodes) / double(nv), maxNodes, depthLim, nodeLim, insideUndecided,
+    maxInsideNodes);
   std::printf("  \"vtk_verdict_differs\": [");
   for (size_t k = 0; k < vtkVerdict.size(); ++k)
   {

@@ -468,6 +468,96 @@ double Invert(const ExactMesh& M, Id c, const double v[3], double pc[3])
   return r;
 }
 
+// Inside test of v in cell c that cannot be trapped by a fold of the map's extension
+// beyond the reference tet. Newton from a few fixed starts is not enough on a strongly
+// curved cell: its damped iteration can settle on a local minimum of |x(pc) - v| outside
+// the reference tet while v does have a preimage inside (stanford-bunny at ~1000 cells,
+// vertex 4477, cell 751). So the reference tet is split recursively (red refinement into
+// 8); a sub-tet is dropped when v is farther than tol from the box of its Bezier control
+// points (the quadratic map restricted to a sub-tet is quadratic in its barycentric
+// coordinates, so its image lies in the hull of corners x_i and 2 x(m_ij) - (x_i + x_j)/2),
+// and Newton runs from the centroid of every sub-tet kept. Inside when one run lands in
+// the reference tet with |x(pc) - v| <= tol; outside is proved when every sub-tet is
+// dropped; sub-tets still kept at maxDepth (or beyond maxNodes) are counted in undecided.
+bool InvertBySubdivision(const ExactMesh& M, Id c, const double v[3], double tol, int maxDepth,
+  long maxNodes, double pc[3], long& nodes, int& undecided)
+{
+  struct SubTet
+  {
+    double Q[4][3];
+    int Depth;
+  };
+  std::vector<SubTet> stack;
+  stack.push_back({ { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } }, 0 });
+  const double slack = 1e-12;
+  while (!stack.empty())
+  {
+    const SubTet t = stack.back();
+    stack.pop_back();
+    if (++nodes > maxNodes)
+    {
+      undecided += 1 + static_cast<int>(stack.size());
+      return false;
+    }
+    // corners and edge mid-points of the sub-tet, in reference coordinates and mapped
+    double q[10][3];
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d)
+        q[k][d] = t.Q[k][d];
+    for (int e = 0; e < 6; ++e)
+      for (int d = 0; d < 3; ++d)
+        q[4 + e][d] = 0.5 * (t.Q[EdgeCorners[e][0]][d] + t.Q[EdgeCorners[e][1]][d]);
+    double x[10][3], J[3][3];
+    for (int k = 0; k < 10; ++k)
+      CellMap(M, c, q[k], x[k], J);
+    double box[6] = { 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 };
+    for (int k = 0; k < 4; ++k)
+      GrowBox(box, { x[k][0], x[k][1], x[k][2] });
+    for (int e = 0; e < 6; ++e)
+    {
+      const double* a = x[EdgeCorners[e][0]];
+      const double* b = x[EdgeCorners[e][1]];
+      GrowBox(box, { 2.0 * x[4 + e][0] - 0.5 * (a[0] + b[0]),
+                     2.0 * x[4 + e][1] - 0.5 * (a[1] + b[1]),
+                     2.0 * x[4 + e][2] - 0.5 * (a[2] + b[2]) });
+    }
+    if (BoxDistance(box, v) > tol)
+      continue;
+    double p[3];
+    for (int d = 0; d < 3; ++d)
+      p[d] = 0.25 * (t.Q[0][d] + t.Q[1][d] + t.Q[2][d] + t.Q[3][d]);
+    const double r = Invert(M, c, v, p);
+    if (r <= tol && p[0] >= -slack && p[1] >= -slack && p[2] >= -slack &&
+      p[0] + p[1] + p[2] <= 1.0 + slack)
+    {
+      for (int d = 0; d < 3; ++d)
+        pc[d] = p[d];
+      return true;
+    }
+    if (t.Depth >= maxDepth)
+    {
+      ++undecided;
+      continue;
+    }
+    // red refinement: four corner tets and the inner octahedron cut along m02 - m13
+    // (q[4..9] are the mids of edges 01 12 20 03 13 23)
+    const int m01 = 4, m12 = 5, m02 = 6, m03 = 7, m13 = 8, m23 = 9;
+    const int children[8][4] = { { 0, m01, m02, m03 }, { m01, 1, m12, m13 },
+      { m02, m12, 2, m23 }, { m03, m13, m23, 3 }, { m02, m13, m01, m12 },
+      { m02, m13, m12, m23 }, { m02, m13, m23, m03 }, { m02, m13, m03, m01 } };
+    for (const auto& ch : children)
+    {
+      SubTet s;
+      s.Depth = t.Depth + 1;
+      for (int k = 0; k < 4; ++k)
+        for (int d = 0; d < 3; ++d)
+          s.Q[k][d] = q[ch[k]][d];
+      stack.push_back(s);
+    }
+  }
+  return false;
+}
+
 // VTK's own EvaluatePosition of v in cell c (its nodes copied into `cell`): the return
 // code, the parametric coordinates and the squared distance.
 int VtkEvaluate(const ExactMesh& M, Id c, vtkCell* cell, const double v[3], double pcv[3],
@@ -696,6 +786,18 @@ void ExplainInside(const ExactMesh& M, const double v[3])
       const double r = Invert(M, c, v, pc);
       std::fprintf(stderr, " own(%.3g %.3g %.3g | %.2e)", pc[0], pc[1], pc[2], r / M.Diagonal);
     }
+    {
+      const ExactOptions opt;
+      double pc[3] = { 0, 0, 0 };
+      long nodes = 0;
+      int undecided = 0;
+      const bool in = InvertBySubdivision(M, c, v, 1e-12 * M.Diagonal, opt.InsideMaxDepth,
+        opt.InsideMaxNodes, pc, nodes, undecided);
+      std::fprintf(stderr, " subdivision(%s", in ? "inside" : "outside");
+      if (in)
+        std::fprintf(stderr, " at %.6g %.6g %.6g", pc[0], pc[1], pc[2]);
+      std::fprintf(stderr, ", %ld sub-tets, %d undecided)", nodes, undecided);
+    }
     double pcv[3], d2;
     const int ret = VtkEvaluate(M, c, cell, v, pcv, d2);
     std::fprintf(stderr, " vtk ret %d pc %.6g %.6g %.6g dist %.3g\n", ret, pcv[0], pcv[1], pcv[2],
@@ -711,9 +813,9 @@ void ExactDistance(const ExactMesh& M, const double v[3], const ExactOptions& op
   res.InsideCell = -1;
   res.InsideCellsVtk = res.InsideCellsOwn = res.CandidateCells = res.VtkDisagreements = 0;
   res.InsideVtk = false;
+  res.InsideNodes = 0;
+  res.InsideUndecided = 0;
   const double tolInside = 1e-12 * M.Diagonal;
-  const double starts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.1, 0.1, 0.1 }, { 0.7, 0.1, 0.1 },
-    { 0.1, 0.7, 0.1 }, { 0.1, 0.1, 0.7 } };
   const int npc = M.NodesPerCell;
   vtkCell* cell = npc == 10 ? static_cast<vtkCell*>(S.Tet10) : static_cast<vtkCell*>(S.Tet4);
   for (Id c = 0; c < M.NumberOfCells; ++c)
@@ -722,18 +824,9 @@ void ExactDistance(const ExactMesh& M, const double v[3], const ExactOptions& op
     if (v[0] < b[0] || v[0] > b[1] || v[1] < b[2] || v[1] > b[3] || v[2] < b[4] || v[2] > b[5])
       continue;
     ++res.CandidateCells;
-    bool own = false;
-    for (const auto& s : starts)
-    {
-      double pc[3] = { s[0], s[1], s[2] };
-      const double r = Invert(M, c, v, pc);
-      if (r <= tolInside && pc[0] >= -1e-12 && pc[1] >= -1e-12 && pc[2] >= -1e-12 &&
-        pc[0] + pc[1] + pc[2] <= 1.0 + 1e-12)
-      {
-        own = true;
-        break;
-      }
-    }
+    double pc[3];
+    const bool own = InvertBySubdivision(M, c, v, tolInside, opt.InsideMaxDepth,
+      opt.InsideMaxNodes, pc, res.InsideNodes, res.InsideUndecided);
     // VTK's own inversion, with a strict reading of its parametric coordinates
     double pcv[3], d2;
     const int ret = VtkEvaluate(M, c, cell, v, pcv, d2);

@@ -20,9 +20,14 @@
  * four. The search stops when the smallest lower bound left is within the tolerance of
  * the best distance found: Lower <= true distance <= Upper, both reported.
  *
- * Inside: every cell whose control-point box holds the point is inverted with Newton
- * from five starts (the point is inside when a preimage lies in the reference tet),
- * and with VTK's vtkQuadraticTetra / vtkTetra EvaluatePosition as a second opinion
+ * Inside: every cell whose control-point box holds the point is inverted by recursive
+ * subdivision of its reference tet: sub-tets whose Bezier control-point box is farther
+ * than 1e-12 of the diagonal from the point are dropped, Newton runs from the centroid of
+ * each sub-tet kept, and the point is inside when a run lands in the reference tet
+ * (Newton from a few fixed starts alone can stall on a fold of the map's extension
+ * outside the reference tet of a strongly curved cell). Outside is proved when every
+ * sub-tet is dropped; sub-tets left at the depth limit are counted (InsideUndecided).
+ * VTK's vtkQuadraticTetra / vtkTetra EvaluatePosition is a second opinion
  * (disagreements are counted, VTK's own tolerance aside).
  *
  * Plain C++ except for the VTK cells of the second opinion; thread safe per call
@@ -67,6 +72,8 @@ struct ExactOptions
   double CertifyTolerance = 1e-12; ///< of the diagonal: Upper - Lower at most this
   int MaxDepth = 26;               ///< subdivision levels of one face
   long MaxNodes = 200000;          ///< per query; beyond, the queue's bound is reported
+  int InsideMaxDepth = 44;         ///< subdivision levels of a cell's reference tet
+  long InsideMaxNodes = 200000;    ///< sub-tets per cell; beyond, the rest is undecided
 };
 
 struct ExactResult
@@ -85,6 +92,8 @@ struct ExactResult
   long Nodes = 0;          ///< branch-and-bound nodes processed
   int DepthLimited = 0;    ///< nodes that hit MaxDepth unresolved
   bool NodeLimited = false;
+  long InsideNodes = 0;    ///< sub-tets visited by the inside test, all cells
+  int InsideUndecided = 0; ///< sub-tets left holding the point at the limits, all cells
   double Distance() const { return this->Inside ? 0.0 : this->Upper; }
 };
 
