@@ -1,7 +1,8 @@
 # HOEmbed entry points.
 #   make build   set-up (Debian packages when missing, .venv) + configure + compile
 #   make demo    the main job on the built-in default model -> output/
-#   make test    all tests (C++ and Python, through ctest)
+#   make test    all tests: C++ and Python through ctest, the sanitizer suite and the
+#                ParaView plugin's tests (what CI runs)
 #   make test-sanitize  the C++ tests and a subset of the Python tests on an
 #                AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/, TetGen
 #                included); part of `make test`. Suppressions: Testing/sanitizers/
@@ -45,7 +46,7 @@ build: setup configure
 demo: build
 	xvfb-run -a -s "-screen 0 1600x1200x24" $(PY) -m hoembed demo --output output
 
-test: test-unsanitized test-sanitize
+test: test-unsanitized test-sanitize test-paraview
 
 test-unsanitized: build
 	cd $(BUILD_DIR) && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 1
