@@ -252,20 +252,26 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
   auto offsetFor = [&](double h) {
     return options.EnvelopeTolerance > 0.0 ? options.EnvelopeTolerance * diag : 0.25 * h;
   };
+  // the envelope at ball size `ball` and offset `off`, checked; false with tg.Error set
+  auto wrapAt = [&](double ball, double off, SurfaceWrapResult& w, SurfaceCheck& check) {
+    w = WrapSurface(finePoints, fineTris, ball, off);
+    if (!w.Error.empty())
+    {
+      tg.Error = "the surface cannot be enclosed in a volume: " + w.Error +
+        " (give a surface whose triangles have an area)";
+      return false;
+    }
+    check.Run(w.Points.data(), static_cast<Id>(w.Points.size() / 3), w.Tris.data(),
+      static_cast<Id>(w.Tris.size() / 3));
+    return true;
+  };
   double h = options.TargetEdgeLength;
   if (!(h > 0.0))
   {
-    SurfaceWrapResult rough =
-      WrapSurface(finePoints, fineTris, 0.05 * diag, offsetFor(0.05 * diag));
-    if (!rough.Error.empty())
-    {
-      tg.Error = "the surface cannot be enclosed in a volume: " + rough.Error +
-        " (give a surface whose triangles have an area)";
-      return tg;
-    }
+    SurfaceWrapResult rough;
     SurfaceCheck roughCheck;
-    roughCheck.Run(rough.Points.data(), static_cast<Id>(rough.Points.size() / 3),
-      rough.Tris.data(), static_cast<Id>(rough.Tris.size() / 3));
+    if (!wrapAt(0.05 * diag, offsetFor(0.05 * diag), rough, roughCheck))
+      return tg;
     h = std::cbrt(
       6.0 * std::sqrt(2.0) * std::fabs(roughCheck.SignedVolume) / options.TargetNumberOfElements);
   }
@@ -277,17 +283,12 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
   for (int attempt = 0; attempt < 3; ++attempt)
   {
     const double off = offsetFor(h);
-    SurfaceWrapResult wrap = WrapSurface(finePoints, fineTris, h, off);
-    report(0.2 + 0.1 * attempt);
-    if (!wrap.Error.empty())
-    {
-      tg.Error = "the surface cannot be enclosed in a volume: " + wrap.Error +
-        " (give a surface whose triangles have an area)";
-      return tg;
-    }
+    SurfaceWrapResult wrap;
     SurfaceCheck wrapCheck;
-    wrapCheck.Run(wrap.Points.data(), static_cast<Id>(wrap.Points.size() / 3),
-      wrap.Tris.data(), static_cast<Id>(wrap.Tris.size() / 3));
+    const bool wrapped = wrapAt(h, off, wrap, wrapCheck);
+    report(0.2 + 0.1 * attempt);
+    if (!wrapped)
+      return tg;
     if (!wrapCheck.IsClosedManifold())
     {
       tg.Error = "the envelope is not a closed manifold (internal error)";
