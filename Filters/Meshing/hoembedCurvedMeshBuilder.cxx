@@ -730,7 +730,13 @@ void SeparatePair(CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCell
 // other: those corners go back to TetGen's positions (whose boundary does not cross
 // itself), where every straight tet around them stays valid, with the mid-edge nodes of
 // the cells around them straight; searched again, three rounds at most.
-void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad,
+// Straightening a cell's six mid-edge nodes also changes the cells that share its edges
+// away from the moved corner, and a moved corner leaves the curved edges of its own cells
+// on the old geometry: either can leave a cell invalid though its corners are not. Each
+// round therefore ends with the safety net (StraightenInvalidCells: every straight tet is
+// positive, those around a moved corner by the check here, the others untouched), and
+// the pairs are counted on that valid state: a pair the net makes cross again is left.
+void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   const std::vector<Id>& faces, const std::vector<double>& straight,
   std::vector<std::array<Id, 2>>& pairs, CurvingResult& curving, const std::vector<Id>& edgeOf)
 {
@@ -777,6 +783,7 @@ void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad,
                 curving.Alpha[edgeOf[m]] = 0.0;
             }
         }
+    StraightenInvalidCells(out, quad, nbe, curving);
     pairs = FindCurvedFaceCrossings(out.Points, faces);
   }
 }
@@ -816,7 +823,7 @@ void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
     pairs = FindCurvedFaceCrossings(out.Points, faces);
   }
   if (!pairs.empty())
-    RestoreCrossingCorners(out, quad, faces, straight, pairs, curving, edgeOf);
+    RestoreCrossingCorners(out, quad, nbe, faces, straight, pairs, curving, edgeOf);
   out.CrossingPairsLeft = static_cast<Id>(pairs.size());
 }
 

@@ -194,6 +194,39 @@ def test_no_boundary_crossings_real(data_dir, name):
     assert _crossings(mesh) == []
 
 
+# ---- the crossing repair never leaves an element invalid ---------------------------------
+# Restoring the corners of straight faces that still crossed used to straighten the
+# mid-edge nodes of the cells around each restored corner without the safety net: cells
+# sharing those edges (and the restored corner's cells, whose other curved edges followed
+# the old geometry) ended invalid, and the mesher failed with "N elements are not valid
+# after meshing (internal error)". Both cases below failed so at 06c59cb/b13c4f8.
+
+def _check_valid(mesh):
+    """Every element valid, judged by VTK (shape-function derivatives, vtkCellValidator)
+    and the crossing count that the filter reports matches the independent check."""
+    from test_fuzz_surfaces import _jacobian_dets, _vtk_invalid_cells
+    assert mesh.n_cells > 0 and np.all(mesh.celltypes == 24)
+    assert np.all(_jacobian_dets(mesh) > 0)
+    assert _vtk_invalid_cells(mesh) == 0
+    left = int(mesh.field_data["BoundaryCrossingsLeft"][0])
+    assert (left == 0) == (_crossings(mesh) == [])
+
+
+def test_crossing_repair_keeps_elements_valid_tiny_overlap():
+    """Generated: two overlapping boxes at a diagonal of 5e-6 (fuzz seed 1248)."""
+    from test_fuzz_surfaces import damaged_surface
+    surface, kinds = damaged_surface(1248)
+    assert sorted(kinds) == ["overlap", "tiny"] and surface.length < 1e-5
+    mesh = hoembed.tet10_mesh(surface, n_elements=150)
+    _check_valid(mesh)
+
+
+def test_crossing_repair_keeps_elements_valid_fertility(data_dir):
+    """fertility.obj at 300 elements (a clean closed surface, coarsening path)."""
+    mesh = hoembed.tet10_mesh(pv.read(data_dir / "fertility.obj"), n_elements=300)
+    _check_valid(mesh)
+
+
 # ---- what a user means by closed is closed ---------------------------------------------
 
 def test_rounded_shared_vertices_are_merged():
