@@ -1,6 +1,9 @@
 """Independent checks of a tet10/tet4 mesh against its fine surface (VTK + numpy only)."""
 import numpy as np
+import pytest
 import pyvista as pv
+
+import hoembed
 from vtkmodules.vtkCommonCore import reference
 from vtkmodules.vtkCommonDataModel import vtkCellLocator, vtkGenericCell
 from vtkmodules.vtkFiltersGeneral import vtkCellValidator
@@ -129,3 +132,15 @@ def min_det_sampled(grid, n=200, seed=0):
         J = np.einsum("nai,ja->nij", X, _tet10_derivs(q))
         out = np.minimum(out, np.linalg.det(J))
     return out
+
+
+def expect_error(surface, *words):
+    """tet10_mesh(surface) raises HOEmbedError naming the mesher and every one of `words`;
+    returns the message."""
+    with pytest.raises(hoembed.HOEmbedError) as info:
+        hoembed.tet10_mesh(surface, n_elements=200)
+    msg = str(info.value)
+    assert "vtkTet10Mesher" in msg
+    for w in words:
+        assert w in msg, msg
+    return msg

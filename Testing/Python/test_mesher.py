@@ -6,7 +6,7 @@ import pytest
 import pyvista as pv
 
 import hoembed
-from mesh_checks import (boundary_mid_nodes, cells, distances_to_surface, min_det_sampled,
+from mesh_checks import (expect_error, boundary_mid_nodes, cells, distances_to_surface, min_det_sampled,
                          straight_volumes, surface_volume, tet10_volumes,
                          vtk_cell_validator_states)
 
@@ -115,16 +115,6 @@ def test_progress_events():
 
 
 # ---- bad input -----------------------------------------------------------------------
-
-def expect_error(surface, *words):
-    with pytest.raises(hoembed.HOEmbedError) as info:
-        hoembed.tet10_mesh(surface, n_elements=200)
-    msg = str(info.value)
-    assert "vtkTet10Mesher" in msg
-    for w in words:
-        assert w in msg, msg
-    return msg
-
 
 def test_empty():
     expect_error(pv.PolyData(), "empty")

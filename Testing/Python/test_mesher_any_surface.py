@@ -7,7 +7,7 @@ import pytest
 import pyvista as pv
 
 import hoembed
-from mesh_checks import vtk_cell_validator_states
+from mesh_checks import expect_error, vtk_cell_validator_states
 
 
 def open_sphere():
@@ -122,15 +122,6 @@ def test_progress_through_wrap():
     hoembed.tet10_mesh(open_sphere(), n_elements=300, progress=seen.append)
     assert seen[-1] == 1.0
     assert len(seen) >= 6 and all(b >= a for a, b in zip(seen, seen[1:]))
-
-
-def expect_error(surface, *words):
-    with pytest.raises(hoembed.HOEmbedError) as info:
-        hoembed.tet10_mesh(surface, n_elements=200)
-    msg = str(info.value)
-    assert "vtkTet10Mesher" in msg
-    for w in words:
-        assert w in msg, msg
 
 
 def test_points_only():
