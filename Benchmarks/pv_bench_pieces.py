@@ -6,7 +6,9 @@ whole mesh (mesh preparation included) and the transfer of FRAMES frames, each
 re-executed alone after a first untimed run (the mesher, which gathers the pieces, and
 the stepper's steps are not timed: stepper_s is an estimate, the first run of a frame
 less the re-run). Every process also writes its own wall time to its end of each timed
-part and its CPU time (OUT.json.rankR), which rank 0 adds to OUT.json as per_process.
+part, its CPU time and its resident memory at the start (ParaView and the plugin loaded),
+after the first embedding, at the end and at its peak (OUT.json.rankR), which rank 0 adds
+to OUT.json as per_process.
 
     pv_bench_pieces.py SURFACE.pvtp OUT.json FRAMES ELEMENTS [MESH_SURFACE.vtp]
 
@@ -29,6 +31,12 @@ surface_file, out_file, frames, elements = sys.argv[1], sys.argv[2], int(sys.arg
 mesh_surface_file = sys.argv[5] if len(sys.argv) > 5 else None
 ctrl = vtkMultiProcessController.GetGlobalController()
 rank, size = ctrl.GetLocalProcessId(), ctrl.GetNumberOfProcesses()
+
+
+def rss_mb():
+    """This process's resident memory now (MiB)."""
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * resource.getpagesize() / 2**20
 
 
 def cpu():
@@ -74,7 +82,9 @@ transfer = HOEmbedDeformationTransfer(Surface=embedded, Mesh=stepper)
 # The mesh is prepared anew in every timed embedding (as for a new surface).
 embedded.ReuseMeshPreparation = 0
 t0 = time.perf_counter()
+mine["rss_start_mb"] = rss_mb()   # ParaView, Python and the plugin loaded
 embedded.UpdatePipeline()          # read, gather + mesh, and a first embedding (untimed)
+mine["rss_after_embedding_mb"] = rss_mb()
 ctrl.Barrier()
 t1 = time.perf_counter()
 # Timed: the embedding alone, re-executed on the same inputs. (A proxy's UpdatePipeline
@@ -124,6 +134,8 @@ local_points = emb_obj.GetOutputDataObject(0).GetNumberOfPoints()
 assert tr_obj.GetOutputDataObject(0).GetNumberOfPoints() == local_points
 mine["surface_points"] = local_points
 mine["ghost_levels_requested"] = ghosts
+mine["rss_end_mb"] = rss_mb()      # + the stepper and the transferred surface
+mine["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 with open(f"{out_file}.rank{rank}", "w") as f:
     json.dump(mine, f)
 ctrl.Barrier()
