@@ -1,7 +1,7 @@
 """Tests of the ParaView plugin (run by `make test-paraview`, under Xvfb, with .venv's
 Python = the VTK 9.1 build): the pvbatch pipeline against the VTK 9.1 build stage by
-stage, its screenshot, the GUI's filter list, and the pipeline on 2 and 3 MPI processes
-against 1, bitwise. Skipped when the plugin is not built."""
+stage, its screenshot, the GUI's filter list and its Filters > HOEmbed menu, and the
+pipeline on 2 and 3 MPI processes against 1, bitwise. Skipped when the plugin is not built."""
 import json
 import os
 import pathlib
@@ -176,6 +176,26 @@ def test_gui_lists_the_filters(tmp_path):
             "HOEmbedEmbeddingCoordinates", "HOEmbedTet10Mesher"]
     assert sorted(got["names"]) == want
     assert sorted(got["simple"]) == want
+
+
+def test_gui_filters_menu(tmp_path):
+    """The GUI's own menu: ParaView's Qt test player (--test-script, the XML event format of
+    ParaView's GUI tests) opens Filters and finds each filter's action in its HOEmbed
+    submenu, by the widgets' object names; a missing menu or action fails the playback
+    (exit code 1: checked by hand with a misspelt action and without the plugin). With no
+    source in the pipeline the actions are disabled, so activating them creates nothing
+    and opens no dialog."""
+    filters = ["HOEmbedTet10Mesher", "HOEmbedEmbeddingCoordinates",
+               "HOEmbedCorotationalFEMStepper", "HOEmbedDeformationTransfer"]
+    events = ['<pqevent object="pqClientMainWindow/menubar" command="activate" arguments="menuFilters" />']
+    events += [f'<pqevent object="pqClientMainWindow/menubar/menuFilters/HOEmbed" command="activate" '
+               f'arguments="{name}" />' for name in filters]
+    script = tmp_path / "filters_menu.xml"
+    script.write_text('<?xml version="1.0" ?>\n<pqevents>\n  ' + "\n  ".join(events) + "\n</pqevents>\n")
+    env = dict(os.environ, PVTOOL="paraview")
+    r = run([ROOT / "scripts" / "pvpython", "--dr", f"--test-script={script}", "--exit"],
+            env=env, timeout=300)
+    assert "Success =  true" in r.stdout + r.stderr
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
