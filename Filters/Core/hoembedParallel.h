@@ -6,6 +6,7 @@
  *  - hoembed::ParallelLoop(begin, end, f) / ParallelLoop(begin, end, grain, f): runs
  *    f(b, e) over subranges of [begin, end), like vtkSMPTools::For (same arguments).
  *  - hoembed::ThreadLocal<T>: per-thread objects, like vtkSMPThreadLocal<T>::Local().
+ *  - hoembed::ParallelThreadCount(): like vtkSMPTools::GetEstimatedNumberOfThreads().
  *
  * In the VTK build these are vtkSMPTools::For and vtkSMPThreadLocal, exactly as the
  * kernels called them before (so the VTK filters run the same code). When
@@ -59,6 +60,12 @@ template <typename I, typename F>
 void ParallelLoop(I begin, I end, I grain, F&& f)
 {
   vtkSMPTools::For(begin, end, grain, f);
+}
+
+/// Threads the loops may use (vtkSMPTools::GetEstimatedNumberOfThreads).
+inline int ParallelThreadCount()
+{
+  return vtkSMPTools::GetEstimatedNumberOfThreads();
 }
 
 template <typename T>
@@ -268,6 +275,12 @@ template <typename I, typename F>
 void ParallelLoop(I begin, I end, F&& f)
 {
   ParallelLoop(begin, end, I(0), f);
+}
+
+/// Threads the loops may use (HOEMBED_NUM_THREADS, else the hardware's).
+inline int ParallelThreadCount()
+{
+  return parallel_detail::NumberOfThreads();
 }
 
 template <typename T>
