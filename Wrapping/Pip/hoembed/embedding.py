@@ -10,14 +10,11 @@ from vtkmodules.vtkCommonCore import (VTK_DOUBLE, VTK_ID_TYPE, VTK_INT, VTK_SIGN
                                       VTK_UNSIGNED_CHAR, vtkIdTypeArray, vtkStringArray)
 
 from . import _arrays
-from ._errors import (HOEmbedArgumentError, HOEmbedError, check_callable, check_dataset,
-                      check_int)
+from ._checks import embed_arguments
+from ._errors import HOEmbedError
 from ._hoembed import EmbeddingDriver
 
 __all__ = ["embed"]
-
-# hoembed::EmbeddingMethod values
-_METHODS = {"normal-offset": 0, "barycentric": 1}
 
 
 def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=None):
@@ -31,13 +28,8 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
     ``EmbeddingMeshFingerprint``, ``NumberOfFallbackPoints``), same values bit for bit.
     Warnings (uncertified or fallback points) go through Python's ``warnings``.
     """
-    if not isinstance(method, str) or method not in _METHODS:
-        raise HOEmbedArgumentError(
-            f"embed: method must be one of {sorted(_METHODS)}, not {method!r}")
-    check_dataset("embed", "surface", surface, "vtkPolyData")
-    check_dataset("embed", "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
-    n_partitions = check_int("embed", "n_partitions", n_partitions, 0, 1 << 20)
-    check_callable("embed", "progress", progress)
+    method_value, n_partitions = embed_arguments(surface, fe_mesh, method, n_partitions,
+                                                 progress)
     if surface.GetNumberOfPoints() == 0:
         raise HOEmbedError("embed: the surface is empty: it has no points.")
     if fe_mesh.GetNumberOfPoints() == 0 or fe_mesh.GetNumberOfCells() == 0:
@@ -53,7 +45,7 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
                                  types, offsets, conn, True, n_partitions)
         if progress is not None:
             progress(0.1)
-        driver.embed(_METHODS[method],
+        driver.embed(method_value,
                      None if progress is None else (lambda x: progress(0.1 + 0.9 * x)))
         n = surface.GetNumberOfPoints()
         out = {"EmbeddingCellId": (np.empty(n, np.int64), VTK_ID_TYPE),

@@ -8,12 +8,11 @@ import pyvista
 from vtkmodules.vtkCommonCore import VTK_FLOAT
 
 from . import _arrays
-from ._errors import HOEmbedArgumentError, HOEmbedError, check_dataset
+from ._checks import transfer_arguments
+from ._errors import HOEmbedError
 from ._hoembed import TransferDriver
 
 __all__ = ["transfer"]
-
-_NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
 # vtkDeformationTransferFilter's defaults
 _FACE_TOLERANCE = 1e-6
 
@@ -43,11 +42,7 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     surface's topology and data with deformed points, ``Embedding*`` point arrays
     removed, optional ``Normals``); the points are bit for bit the VTK filter's.
     """
-    if not isinstance(normals, str) or normals not in _NORMAL_MODES:
-        raise HOEmbedArgumentError(
-            f"transfer: normals must be 'recompute', 'rotate' or 'deform', not {normals!r}")
-    check_dataset("transfer", "embedded_surface", embedded_surface, "vtkPolyData")
-    check_dataset("transfer", "deformed_mesh", deformed_mesh, "vtkUnstructuredGrid")
+    mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
     surface, mesh = embedded_surface, deformed_mesh
     nmp, ncells = mesh.GetNumberOfPoints(), mesh.GetNumberOfCells()
     if nmp < 4 or ncells < 1 or mesh.GetCells() is None:
@@ -94,7 +89,6 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
         _fail("the surface (port 0) lacks point data arrays, or they do not have one tuple "
               "per point:" + missing)
     d = _arrays.doubles
-    mode = _NORMAL_MODES[normals]
     disp = rot = None
     if mode != 0:
         mpd = mesh.GetPointData()
