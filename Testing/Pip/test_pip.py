@@ -44,6 +44,8 @@ def test_not_the_vtk_build():
     # the package under test is the wheel's, beside a pip VTK (no Debian VTK 9.1)
     import vtkmodules
     assert hoembed.BACKEND == "pip"
+    assert sys.prefix != sys.base_prefix  # a venv ...
+    assert not any("dist-packages" in p for p in sys.path)  # ... without system packages
     assert not vtkmodules.__file__.startswith("/usr/lib/python3/dist-packages")
     assert "site-packages" in hoembed.__file__
 
