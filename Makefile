@@ -9,6 +9,9 @@
 #   make bench   the benchmark scripts (JSON in Benchmarks/results/)
 #   make paraview       the ParaView 5.11 plugin (Plugin/, a separate build in build-paraview/)
 #   make test-paraview  its tests (pvbatch pipeline against the VTK 9.1 build, GUI, MPI)
+#   make test-pip       the pip wheel (pyproject.toml) in a fresh venv with pip VTK 9.4.2 and
+#                pyvista, against the VTK build's outputs (scripts/test_pip.sh); part of
+#                `make test`. make test-pip-vtk95: the same on VTK 9.5.2
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PY := .venv/bin/python
@@ -23,7 +26,7 @@ SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer
 # mesh cases take minutes under ASan; the C++ tests cover those filters sanitized).
 SAN_PY_TESTS ?= py\.(test_bad_input|test_fuzz_surfaces|test_series|test_cli|test_simulation|test_transfer|test_package)$$
 
-.PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install paraview test-paraview
+.PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install paraview test-paraview test-pip test-pip-vtk95
 
 all: build
 
@@ -46,7 +49,7 @@ build: setup configure
 demo: build
 	xvfb-run -a -s "-screen 0 1600x1200x24" $(PY) -m hoembed demo --output output
 
-test: test-unsanitized test-sanitize test-paraview
+test: test-unsanitized test-sanitize test-paraview test-pip
 
 test-unsanitized: build
 	cd $(BUILD_DIR) && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 1
@@ -91,5 +94,11 @@ paraview: setup
 test-paraview: build paraview
 	xvfb-run -a -s "-screen 0 1280x1024x24" $(PY) -m pytest -v Plugin/Testing
 
+test-pip: build
+	bash scripts/test_pip.sh 9.4.2
+
+test-pip-vtk95: build
+	bash scripts/test_pip.sh 9.5.2
+
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR) install build-paraview
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) install build-paraview build-pip

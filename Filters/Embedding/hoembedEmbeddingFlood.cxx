@@ -1,8 +1,7 @@
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedCsr.h"
 
-#include "vtkSMPThreadLocal.h"
-#include "vtkSMPTools.h"
+#include "hoembedParallel.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -47,7 +46,7 @@ struct FloodContext
     std::vector<Entry> FloodQueue, FloodDeferred; // FloodPartition's
     unsigned PreparedInCall = 0;
   };
-  vtkSMPThreadLocal<ThreadScratch> Scratch;
+  ThreadLocal<ThreadScratch> Scratch;
   unsigned Call = 0; // EmbedSurface calls with this context, counting from 1
 
   ThreadScratch& LocalScratch()
@@ -301,7 +300,7 @@ void OrderSurface(const double* points, Id numberOfPoints, const std::vector<Id>
     }
   std::vector<double>& pts = W.Points;
   pts.resize(3 * static_cast<size_t>(numberOfPoints));
-  vtkSMPTools::For(Id(0), numberOfPoints, [&](Id b, Id e) {
+  ParallelLoop(Id(0), numberOfPoints, [&](Id b, Id e) {
     for (Id i = b; i < e; ++i)
       for (int d = 0; d < 3; ++d)
         pts[3 * i + d] = points[3 * oldId[i] + d];
@@ -375,7 +374,7 @@ void FloodSurface(const EmbeddingMesh& mesh, int method, std::vector<VertexEmbed
   const double triShare = numberOfPoints > 0 ? double(numberOfPoints - nIso) / numberOfPoints : 0.0;
   const std::thread::id caller = std::this_thread::get_id();
   std::atomic<Id> finished{ 0 };
-  vtkSMPTools::For(Id(0), P, Id(1), [&](Id begin, Id end) {
+  ParallelLoop(Id(0), P, Id(1), [&](Id begin, Id end) {
     for (Id p = begin; p < end; ++p)
     {
       ctx.FloodPartition(p);
@@ -388,7 +387,7 @@ void FloodSurface(const EmbeddingMesh& mesh, int method, std::vector<VertexEmbed
   if (nIso > 0)
   {
     const Id chunk = 256;
-    vtkSMPTools::For(0, (nIso + chunk - 1) / chunk, 1, [&](Id begin, Id end) {
+    ParallelLoop(Id(0), (nIso + chunk - 1) / chunk, Id(1), [&](Id begin, Id end) {
       SearchScratch& s = ctx.LocalScratch().Search;
       for (Id c = begin; c < end; ++c)
       {

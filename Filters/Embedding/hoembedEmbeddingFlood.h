@@ -9,7 +9,7 @@
  *    consecutive triangles and vertices are near each other whatever the input order;
  *    the order is cut into contiguous ranges (partitions). Each vertex belongs to the
  *    partition of its first triangle.
- * 2. Partitions run in parallel (vtkSMPTools). In each, a seed triangle per connected
+ * 2. Partitions run in parallel (hoembedParallel.h). In each, a seed triangle per connected
  *    piece starts a flood (crossing vertices of other partitions, which it does not
  *    embed): a triangle is mapped when all its vertices are within the
  *    distance threshold d_t; only then are its neighbours queued, with the last mapped

@@ -4,7 +4,7 @@
 #include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
 
-#include "vtkSMPTools.h"
+#include "hoembedParallel.h"
 
 #include <algorithm>
 #include <atomic>
@@ -131,7 +131,7 @@ void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id
   std::vector<double>& boxes = mesh.Scratch.CellBoxes;
   boxes.resize(6 * numberOfCells);
   std::atomic<Id> lowestInvalid(numberOfCells);
-  vtkSMPTools::For(Id(0), numberOfCells, [&](Id cb, Id ce) {
+  ParallelLoop(Id(0), numberOfCells, [&](Id cb, Id ce) {
     double x[30];
     for (Id c = cb; c < ce; ++c)
     {
@@ -245,7 +245,7 @@ std::string BuildBoundaryData(EmbeddingMesh& mesh, const double* points, const I
     slab[5] = hi + pad;
     flat[9] = std::sqrt(tmax2) * (1.0 + 1e-12) + pad;
   };
-  vtkSMPTools::For(Id(0), nbf, [&](Id fb, Id fe) {
+  ParallelLoop(Id(0), nbf, [&](Id fb, Id fe) {
     double x[30];
     for (Id f = fb; f < fe; ++f)
       faceData(f, x);
@@ -334,8 +334,8 @@ std::string EmbeddingMesh::Prepare(int nodesPerCell, Id* firstInvalidCell)
     err = this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints); // says why
   else
   {
-    vtkSMPTools::For(0, 2, 1, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType task = b; task < e; ++task)
+    ParallelLoop(0, 2, 1, [&](int b, int e) {
+      for (int task = b; task < e; ++task)
       {
         if (task == 0)
           err = BuildBoundaryData(

@@ -36,7 +36,7 @@ public:
    * `conn` nodesPerCell ids per cell in VTK order. Returns "" or a description of the
    * problem (topology errors of TetMeshTopology::Build, no boundary). Threading: the cell
    * data (maps, boxes, barycentric forms, cell grid) and the boundary data (topology, normals, face
-   * maps, face grid) are built as two vtkSMPTools tasks, each parallel per item; the
+   * maps, face grid) are built as two parallel tasks (hoembedParallel.h), each parallel per item; the
    * result does not depend on the number of threads.
    */
   std::string Build(const double* points, Id numberOfPoints, const Id* conn,

@@ -1,8 +1,6 @@
 #include "vtkEmbeddingCoordinatesFilter.h"
 
-#include "hoembedClosestPoint.h"
-#include "hoembedEmbeddingFlood.h"
-#include "hoembedSurfaceTriangles.h"
+#include "hoembedEmbeddingDriver.h"
 #include "hoembedArrayNames.h"
 #include "hoembedTetMeshInputVTK.h"
 
@@ -69,22 +67,6 @@ hoembed::CellArrayView ViewCells(vtkCellArray* ca)
   return v;
 }
 
-// Copy the surface's points as 3 doubles each (float and double arrays read directly);
-// false with `bad` the first point with a non-finite coordinate.
-bool CopyFinitePoints(vtkPoints* pts, std::vector<double>& out, vtkIdType& bad)
-{
-  const vtkIdType n = pts->GetNumberOfPoints();
-  const double* d = nullptr;
-  const float* f = nullptr;
-  hoembed::ViewPoints(pts, d, f, out);
-  if (d && d != out.data())
-    out.assign(d, d + 3 * n);
-  else if (f)
-    out.assign(f, f + 3 * n);
-  bad = hoembed::FirstNonFinitePoint(out.data(), n);
-  return bad < 0;
-}
-
 } // namespace
 
 // What identifies a mesh input's state: the grid (its address and modification time,
@@ -113,37 +95,15 @@ struct MeshState
   }
 };
 
+// The algorithm and its surface- and mesh-sized memory live in hoembed::EmbeddingDriver;
+// this keeps what only the VTK binding knows: which input (and modification times) the
+// driver's prepared mesh belongs to.
 struct vtkEmbeddingCoordinatesFilter::vtkInternals
 {
-  // mesh-sized: kept
-  hoembed::EmbeddingMesh Mesh;
+  hoembed::EmbeddingDriver Driver;
   // the input the prepared mesh belongs to (no grid: none, or the last preparation failed)
   MeshState PreparedState;
   bool PreparedValidated = false;
-  std::string PreparedFingerprint;
-  // surface-sized: kept up to MaxKeptBytes (~350 bytes per vertex, so about 190k
-  // vertices): the larger the surface, the smaller the share of its page faults in the
-  // time, so past that size the memory is not worth holding between Updates)
-  hoembed::EmbedWorkspace Flood;
-  std::vector<double> SurfacePoints;
-  std::vector<Id> Triangles, Order;
-  std::vector<hoembed::VertexEmbedding> Results;
-  static constexpr std::size_t MaxKeptBytes = std::size_t(64) << 20;
-
-  void ReleaseLargeSurfaceMemory()
-  {
-    const std::size_t bytes = this->Flood.GetCapacityInBytes() +
-      sizeof(double) * this->SurfacePoints.capacity() +
-      sizeof(Id) * (this->Triangles.capacity() + this->Order.capacity()) +
-      sizeof(hoembed::VertexEmbedding) * this->Results.capacity();
-    if (bytes <= MaxKeptBytes)
-      return;
-    this->Flood.Release();
-    std::vector<double>().swap(this->SurfacePoints);
-    std::vector<Id>().swap(this->Triangles);
-    std::vector<Id>().swap(this->Order);
-    std::vector<hoembed::VertexEmbedding>().swap(this->Results);
-  }
 };
 
 vtkEmbeddingCoordinatesFilter::vtkEmbeddingCoordinatesFilter()
@@ -182,42 +142,6 @@ int vtkEmbeddingCoordinatesFilter::FillInputPortInformation(int port, vtkInforma
   return 1;
 }
 
-std::string vtkEmbeddingCoordinatesFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
-{
-  std::ostringstream msg;
-  hoembed::EmbeddingMesh& em = this->Internals->Mesh;
-  // types, connectivity, node ranges, finite points and the fingerprint: the one reader
-  hoembed::TetMeshInput input;
-  std::vector<double> scratch;
-  const std::string readError = input.Read(hoembed::ViewTetMesh(mesh, true, scratch),
-    hoembed::TetMeshInput::KeepPoints | hoembed::TetMeshInput::KeepFingerprint);
-  if (!readError.empty())
-  {
-    return readError + ".";
-  }
-  em.Points.swap(input.Points);
-  em.Connectivity.swap(input.Connectivity);
-  const int npc = input.NodesPerCell;
-  const vtkIdType ncells = input.NumberOfCells;
-  // element validity is checked in the pass that builds the cell maps
-  Id firstInvalid = ncells;
-  const std::string err = em.Prepare(npc, this->ValidateElements ? &firstInvalid : nullptr);
-  if (firstInvalid < ncells)
-  {
-    msg << "The FE mesh has an inverted or degenerate element: cell "
-      << firstInvalid << " has a non-positive Jacobian determinant"
-      << (npc == 10 ? " somewhere inside it." : ".");
-    return msg.str();
-  }
-  if (!err.empty())
-  {
-    msg << "The FE mesh topology is not usable: " << err;
-    return msg.str();
-  }
-  this->Internals->PreparedFingerprint = input.Fingerprint;
-  return std::string();
-}
-
 int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -225,6 +149,7 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkInternals& internals = *this->Internals;
+  hoembed::EmbeddingDriver& driver = internals.Driver;
   this->NumberOfUncertifiedPoints = 0;
   this->NumberOfFallbackPoints = 0;
   if (!surface || surface->GetNumberOfPoints() == 0)
@@ -237,19 +162,25 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
     vtkErrorMacro("The FE mesh (input port 1) is empty: it needs points and tet4 or tet10 cells.");
     return 0;
   }
-  vtkIdType bad = -1;
-  if (!CopyFinitePoints(surface->GetPoints(), internals.SurfacePoints, bad))
+  // surface-sized memory beyond the driver's cap is given back however this Update ends
+  struct Trim
   {
-    vtkErrorMacro("The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".");
+    hoembed::EmbeddingDriver* Driver;
+    ~Trim() { this->Driver->ReleaseLargeSurfaceMemory(); }
+  } trim{ &driver };
+  const double* pd = nullptr;
+  const float* pf = nullptr;
+  std::vector<double> scratch;
+  hoembed::ViewPoints(surface->GetPoints(), pd, pf, scratch);
+  const std::string surfaceError = driver.SetSurface(pd, pf, surface->GetNumberOfPoints(),
+    ViewCells(surface->GetPolys()), ViewCells(surface->GetStrips()));
+  if (!surfaceError.empty())
+  {
+    vtkErrorMacro(<< surfaceError);
     return 0;
   }
-  // the surface's triangles (polygons fanned, strips split); their problems are reported
-  // after the mesh's
-  std::vector<Id>& tris = internals.Triangles;
-  tris.clear();
-  hoembed::AppendSurfaceTriangles(ViewCells(surface->GetPolys()), ViewCells(surface->GetStrips()), tris);
-  const std::string surfaceError = hoembed::CheckSurfaceTriangles(tris, surface->GetNumberOfPoints());
-  if (!this->PrepareMeshAndOrder(mesh, surface->GetNumberOfPoints(), surfaceError))
+  std::vector<double>().swap(scratch);
+  if (!this->PrepareMeshAndOrder(mesh))
   {
     return 0;
   }
@@ -257,15 +188,8 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
 
   const int method =
     this->Method == BARYCENTRIC ? hoembed::EMBED_BARYCENTRIC : hoembed::EMBED_NORMAL_OFFSET;
-  hoembed::FloodSurface(internals.Mesh, method, internals.Results,
-    [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); }, nullptr, internals.Flood);
-  // surface-sized memory beyond the cap is given back however this Update ends
-  struct Trim
-  {
-    vtkInternals* Internals;
-    ~Trim() { this->Internals->ReleaseLargeSurfaceMemory(); }
-  } trim{ this->Internals.get() };
-  if (!this->WriteOutput(surface, method, output))
+  driver.Embed(method, [this](double x) { this->UpdateProgress(0.1 + 0.9 * x); });
+  if (!this->WriteOutput(surface, output))
   {
     return 0;
   }
@@ -274,49 +198,34 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
 }
 
 // Prepare the FE mesh (unless the prepared one serves) and order the surface for the
-// flood; report the mesh's problem, else `surfaceError`, else none.
-bool vtkEmbeddingCoordinatesFilter::PrepareMeshAndOrder(
-  vtkUnstructuredGrid* mesh, vtkIdType ns, const std::string& surfaceError)
+// flood; report the mesh's problem, else the surface's triangles', else none.
+bool vtkEmbeddingCoordinatesFilter::PrepareMeshAndOrder(vtkUnstructuredGrid* mesh)
 {
   vtkInternals& internals = *this->Internals;
-  const std::vector<double>& sp = internals.SurfacePoints;
-  const std::vector<Id>& tris = internals.Triangles;
   // The FE mesh is prepared anew unless the prepared one belongs to this very input
-  // (ReuseMeshPreparation) and was validated when validation is asked for. The surface's
-  // order for the flood depends on the surface only: it is built meanwhile (two tasks;
-  // on two threads the preparation's serial parts and the ordering overlap). Both tasks
-  // only record problems; messages and progress come from this thread.
+  // (ReuseMeshPreparation) and was validated when validation is asked for.
   const MeshState meshState = MeshState::Of(mesh);
   const bool prepare = !(this->ReuseMeshPreparation && internals.PreparedState == meshState &&
     (internals.PreparedValidated || !this->ValidateElements));
-  std::vector<Id>& order = internals.Order; // res[k] belongs to surface point order[k]
-  std::string meshError;
+  std::vector<double> scratch;
+  hoembed::TetMeshArrays arrays;
   if (prepare)
-    internals.PreparedState = MeshState();
-  vtkSMPTools::For(0, 2, 1, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType task = b; task < e; ++task)
-    {
-      if (task == 0 && prepare)
-        meshError = this->PrepareMesh(mesh);
-      else if (task == 1 && surfaceError.empty())
-        hoembed::OrderSurface(
-          sp.data(), ns, tris, this->NumberOfPartitions, &order, internals.Flood);
-    }
-  });
-  if (!meshError.empty())
   {
-    vtkErrorMacro(<< meshError);
-    return false;
+    internals.PreparedState = MeshState();
+    arrays = hoembed::ViewTetMesh(mesh, true, scratch);
   }
-  if (prepare)
+  const std::string error = internals.Driver.PrepareAndOrder(
+    prepare ? &arrays : nullptr, this->ValidateElements != 0, this->NumberOfPartitions);
+  const bool meshOk = internals.Driver.GetFingerprint().size() > 0;
+  if (prepare && meshOk)
   {
     internals.PreparedState = meshState;
     internals.PreparedValidated = this->ValidateElements;
     ++this->NumberOfMeshPreparations;
   }
-  if (!surfaceError.empty())
+  if (!error.empty())
   {
-    vtkErrorMacro(<< surfaceError);
+    vtkErrorMacro(<< error);
     return false;
   }
   return true;
@@ -324,12 +233,10 @@ bool vtkEmbeddingCoordinatesFilter::PrepareMeshAndOrder(
 
 // The embedding arrays (in surface point order) and field data on a shallow copy of the
 // surface; false with an error when a point has no finite result.
-bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method, vtkPolyData* output)
+bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, vtkPolyData* output)
 {
-  vtkInternals& internals = *this->Internals;
+  const hoembed::EmbeddingDriver& driver = this->Internals->Driver;
   const vtkIdType ns = surface->GetNumberOfPoints();
-  const std::vector<hoembed::VertexEmbedding>& res = internals.Results;
-  const std::vector<Id>& order = internals.Order; // res[k] belongs to surface point order[k]
   vtkNew<vtkIdTypeArray> cellId;
   cellId->SetName(hoembed::ArrayNames::EmbeddingCellId);
   cellId->SetNumberOfTuples(ns);
@@ -355,90 +262,49 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
   vtkNew<vtkIntArray> visited;
   visited->SetName("EmbeddingElementsVisited");
   visited->SetNumberOfTuples(ns);
-  std::atomic<vtkIdType> firstFailed(ns);
-  std::atomic<vtkIdType> uncertified(0), firstUncertified(ns);
   vtkNew<vtkUnsignedCharArray> fallback;
   fallback->SetName(hoembed::ArrayNames::EmbeddingFallback);
   fallback->SetNumberOfTuples(ns);
-  std::atomic<vtkIdType> fallbacks(0), firstFallback(ns);
-  auto lowest = [](std::atomic<vtkIdType>& first, vtkIdType i) {
-    vtkIdType cur = first.load();
-    while (i < cur && !first.compare_exchange_weak(cur, i))
-    {
-    }
-  };
-  vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
-    vtkIdType localUncertified = 0, localFallbacks = 0;
-    for (vtkIdType k = b; k < e; ++k)
-    {
-      const hoembed::VertexEmbedding& r = res[k];
-      const vtkIdType i = order[k];
-      if (r.Uncertified)
-      {
-        ++localUncertified;
-        lowest(firstUncertified, i);
-      }
-      if (!std::isfinite(r.PC[0]) || !std::isfinite(r.PC[1]) || !std::isfinite(r.PC[2]) ||
-        !std::isfinite(r.Distance) || !std::isfinite(r.Residual) || r.Cell < 0)
-      {
-        lowest(firstFailed, i);
-        continue;
-      }
-      cellId->SetValue(i, r.Cell);
-      pcoords->SetTypedTuple(i, r.PC);
-      dist->SetValue(i, r.Distance);
-      residual->SetValue(i, r.Residual);
-      closest->SetValue(i, r.ClosestDistance);
-      face->SetValue(i, method == hoembed::EMBED_BARYCENTRIC ? -1 : r.Face);
-      iters->SetValue(i, r.Iterations);
-      visited->SetValue(i, r.Visited);
-      fallback->SetValue(i, r.Fallback ? 1 : 0);
-      if (r.Fallback)
-      {
-        ++localFallbacks;
-        lowest(firstFallback, i);
-      }
-    }
-    uncertified += localUncertified;
-    fallbacks += localFallbacks;
-  });
-  if (firstFailed.load() < ns)
+  static_assert(sizeof(vtkIdType) == sizeof(std::int64_t), "64-bit vtkIdType");
+  hoembed::EmbeddingOutputArrays arrays;
+  arrays.CellId = reinterpret_cast<std::int64_t*>(cellId->GetPointer(0));
+  arrays.ParametricCoords = pcoords->GetPointer(0);
+  arrays.Distance = dist->GetPointer(0);
+  arrays.Residual = residual->GetPointer(0);
+  arrays.ClosestDistance = closest->GetPointer(0);
+  arrays.Face = face->GetPointer(0);
+  arrays.Iterations = iters->GetPointer(0);
+  arrays.Visited = visited->GetPointer(0);
+  arrays.Fallback = fallback->GetPointer(0);
+  hoembed::EmbeddingSummary summary;
+  const std::string error = driver.WriteArrays(arrays, summary);
+  if (!error.empty())
   {
-    vtkErrorMacro("Surface point " << firstFailed.load()
-                                   << " could not be embedded (non-finite result).");
+    vtkErrorMacro(<< error);
     return false;
   }
-  this->NumberOfUncertifiedPoints = uncertified.load();
+  this->NumberOfUncertifiedPoints = summary.Uncertified;
   if (this->NumberOfUncertifiedPoints > 0)
   {
     vtkWarningMacro(<< this->NumberOfUncertifiedPoints
-                    << " surface point(s) (e.g. point " << firstUncertified.load()
+                    << " surface point(s) (e.g. point " << summary.FirstUncertified
                     << "): the closest-point search on a curved boundary face ran out of its "
                        "budget; their distance may be a local minimum only.");
   }
 
-  this->NumberOfFallbackPoints = fallbacks.load();
+  this->NumberOfFallbackPoints = summary.Fallbacks;
   vtkNew<vtkDoubleArray> fallbackOffset;
   if (this->NumberOfFallbackPoints > 0)
   {
     vtkWarningMacro(<< this->NumberOfFallbackPoints << " surface point(s) (e.g. point "
-                    << firstFallback.load()
+                    << summary.FirstFallback
                     << ") have no normal offset v = p + d n: they use their closest point p "
                        "and the offset v - p instead (EmbeddingFallback = 1).");
     // the offsets in parametric units, only where some point needs them
     fallbackOffset->SetName(hoembed::ArrayNames::EmbeddingFallbackOffset);
     fallbackOffset->SetNumberOfComponents(3);
     fallbackOffset->SetNumberOfTuples(ns);
-    vtkSMPTools::For(0, ns, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType k = b; k < e; ++k)
-      {
-        double q[3] = { 0, 0, 0 };
-        if (res[k].Fallback) // the q of its residual (EmbedVertex), computed again
-          hoembed::TetMapOffset(internals.Mesh.CellMaps[res[k].Cell], res[k].PC,
-            &internals.SurfacePoints[3 * order[k]], q);
-        fallbackOffset->SetTypedTuple(order[k], q);
-      }
-    });
+    driver.WriteFallbackOffsets(fallbackOffset->GetPointer(0));
   }
 
   output->ShallowCopy(surface);
@@ -463,7 +329,7 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, int method
   methodName->InsertNextValue(this->GetMethodAsString());
   vtkNew<vtkStringArray> fp;
   fp->SetName(hoembed::ArrayNames::EmbeddingMeshFingerprint);
-  fp->InsertNextValue(internals.PreparedFingerprint);
+  fp->InsertNextValue(driver.GetFingerprint());
   fd->AddArray(methodName);
   fd->AddArray(fp);
   vtkNew<vtkIdTypeArray> numFallback;

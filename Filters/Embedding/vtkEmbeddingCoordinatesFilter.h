@@ -189,13 +189,10 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// Read, check and prepare the mesh input into the kept EmbeddingMesh: "" or what makes
-  /// the mesh unusable (the caller reports it; this may run on a worker thread).
-  std::string PrepareMesh(vtkUnstructuredGrid* mesh);
-  // The other steps of RequestData: prepare the mesh and order the surface (in parallel),
-  // write the output arrays.
-  bool PrepareMeshAndOrder(vtkUnstructuredGrid* mesh, vtkIdType ns, const std::string& surfaceError);
-  bool WriteOutput(vtkPolyData* surface, int method, vtkPolyData* output);
+  // The steps of RequestData around hoembed::EmbeddingDriver: prepare the mesh (unless
+  // the prepared one serves) and order the surface, write the output arrays.
+  bool PrepareMeshAndOrder(vtkUnstructuredGrid* mesh);
+  bool WriteOutput(vtkPolyData* surface, vtkPolyData* output);
 
   int Method = NORMAL_OFFSET;
   int NumberOfPartitions = 0;

@@ -331,7 +331,7 @@ void BlockFactor<T>::SolveWork(double* t) const
     return;
   }
   // the same arithmetic on 1 or 2 threads (bitwise the same result)
-  const bool parallel = vtkSMPTools::GetEstimatedNumberOfThreads() >= 2;
+  const bool parallel = ParallelThreadCount() >= 2;
   auto groups = [&](bool forward)
   {
     auto run = [&](vtkIdType begin, vtkIdType end)
@@ -350,7 +350,7 @@ void BlockFactor<T>::SolveWork(double* t) const
     };
     if (parallel)
     {
-      vtkSMPTools::For(0, 2, 1, run);
+      ParallelLoop<vtkIdType>(0, 2, 1, run);
     }
     else
     {

@@ -120,7 +120,7 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
   std::fill(S.begin(), S.end(), 0.0);
   std::fill(FInt.begin(), FInt.end(), 0.0);
   const bool threaded = NC >= ParallelCells && 2 * SharedCells.size() < std::size_t(NC) &&
-    vtkSMPTools::GetEstimatedNumberOfThreads() >= 2;
+    ParallelThreadCount() >= 2;
   auto cells = [&](const int* list, vtkIdType begin, vtkIdType end)
   {
     double u[30], w[30], T[3][30];
@@ -210,7 +210,7 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
     cells(nullptr, 0, NC);
     return;
   }
-  vtkSMPTools::For(0, 2, 1,
+  ParallelLoop<vtkIdType>(0, 2, 1,
     [&](vtkIdType g0, vtkIdType g1)
     {
       for (vtkIdType g = g0; g < g1; ++g)

@@ -9,7 +9,7 @@
 
 #include "hoembedTetElementMatrices.h"
 
-#include "vtkSMPTools.h"
+#include "hoembedParallel.h"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -126,7 +126,7 @@ void ParallelFor(vtkIdType n, vtkIdType minParallel, F&& f)
   }
   else
   {
-    vtkSMPTools::For(0, n, f);
+    ParallelLoop<vtkIdType>(0, n, f);
   }
 }
 constexpr vtkIdType ParallelCells = 1000;

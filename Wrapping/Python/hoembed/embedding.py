@@ -4,12 +4,9 @@ import pyvista
 
 __all__ = ["embed"]
 
-from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check_int,
-                      run_filter)
+from ._checks import embed_arguments
+from ._errors import run_filter
 from .hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter
-
-_METHODS = {"normal-offset": vtkEmbeddingCoordinatesFilter.NORMAL_OFFSET,
-            "barycentric": vtkEmbeddingCoordinatesFilter.BARYCENTRIC}
 
 
 def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=None):
@@ -50,17 +47,12 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
         On bad input (empty surface or mesh, NaN coordinates, cells other than tet4/tet10,
         inverted or degenerate elements).
     """
-    if not isinstance(method, str) or method not in _METHODS:
-        raise HOEmbedArgumentError(
-            f"embed: method must be one of {sorted(_METHODS)}, not {method!r}")
-    check_dataset("embed", "surface", surface, "vtkPolyData")
-    check_dataset("embed", "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
-    n_partitions = check_int("embed", "n_partitions", n_partitions, 0, 1 << 20)
-    check_callable("embed", "progress", progress)
+    method_value, n_partitions = embed_arguments(surface, fe_mesh, method, n_partitions,
+                                                 progress)
     alg = vtkEmbeddingCoordinatesFilter()
     alg.SetInputData(0, surface)
     alg.SetMeshData(fe_mesh)
-    alg.SetMethod(_METHODS[method])
+    alg.SetMethod(method_value)
     alg.SetNumberOfPartitions(n_partitions)
     if progress is not None:
         alg.AddObserver("ProgressEvent", lambda o, e: progress(o.GetProgress()))

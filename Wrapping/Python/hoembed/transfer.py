@@ -4,10 +4,9 @@ import pyvista
 
 __all__ = ["transfer"]
 
-from ._errors import HOEmbedArgumentError, check_dataset, run_filter
+from ._checks import transfer_arguments
+from ._errors import run_filter
 from .hoembedFiltersTransfer import vtkDeformationTransferFilter
-
-_NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
 
 
 def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False,
@@ -54,15 +53,11 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     --------
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
-    if not isinstance(normals, str) or normals not in _NORMAL_MODES:
-        raise HOEmbedArgumentError(
-            f"transfer: normals must be 'recompute', 'rotate' or 'deform', not {normals!r}")
-    check_dataset("transfer", "embedded_surface", embedded_surface, "vtkPolyData")
-    check_dataset("transfer", "deformed_mesh", deformed_mesh, "vtkUnstructuredGrid")
+    mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
     alg = vtkDeformationTransferFilter()
     alg.SetInputData(0, embedded_surface)
     alg.SetInputData(1, deformed_mesh)
-    alg.SetNormalMode(_NORMAL_MODES[normals])
+    alg.SetNormalMode(mode)
     alg.SetComputePointNormals(bool(compute_point_normals))
     out = run_filter(alg, warnings=warnings)
     return pyvista.wrap(out).copy()

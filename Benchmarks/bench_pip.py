@@ -1,0 +1,149 @@
+"""The pip package's embed and transfer against the VTK build's, in the same run.
+
+    .venv/bin/python Benchmarks/bench_pip.py [--pip-python PATH] [--rounds N] [--reps N]
+
+Both are the pyvista-level functions (hoembed.embed, hoembed.transfer) on the same
+inputs: the VTK build's run vtkEmbeddingCoordinatesFilter / vtkDeformationTransferFilter
+(Debian VTK 9.1, vtkSMPTools), the pip package's run the same drivers through nanobind
+(pip VTK, std::thread loops). Each is timed in its own Python (the two VTKs cannot share
+a process): children alternate, round after round, each timing `reps` calls; inputs
+are written once by the VTK build. Wall-clock and process CPU time (all threads) per
+call, median and minimum over all calls; the ratios pip / VTK are what to read (this
+machine is shared). Needs the pip venv of `make test-pip` (build-pip/venv-vtk942).
+Inputs: the thorny tail (46k vertices) with ~1000 tet10, and armadillo.obj from
+../shared/data/meshes when present. Writes Benchmarks/results/bench_pip.json; the JSON
+is also the last line printed.
+"""
+import argparse
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent
+RESULTS = HERE / "results"
+DATA = pathlib.Path(os.environ.get("HOEMBED_DATA_DIR", ROOT.parent / "shared" / "data" / "meshes"))
+
+
+def child(folder, reps):
+    """Time hoembed.embed and hoembed.transfer (whichever hoembed this Python imports)."""
+    import numpy as np
+    import pyvista
+    import hoembed
+    out = {"backend": getattr(hoembed, "BACKEND", "vtk"), "cases": {}}
+    for case in sorted(p.name for p in pathlib.Path(folder).iterdir() if p.is_dir()):
+        d = pathlib.Path(folder) / case
+        surface = pyvista.read(d / "surface.vtp")
+        mesh = pyvista.read(d / "mesh.vtu")
+        deformed = pyvista.read(d / "deformed.vtu")
+        res = {}
+        for name, call in (("embed", lambda: hoembed.embed(surface, mesh)),):
+            res[name] = timed(call, reps)
+        embedded = hoembed.embed(surface, mesh)
+        res["transfer"] = timed(lambda: hoembed.transfer(embedded, deformed), reps)
+        x = np.asarray(hoembed.transfer(embedded, deformed).points)
+        res["transfer_checksum"] = float(np.abs(x).sum())
+        out["cases"][case] = res
+    print(json.dumps(out))
+
+
+def timed(call, reps):
+    call()  # warm-up (page faults, first imports)
+    wall, cpu = [], []
+    for _ in range(reps):
+        c0, t0 = time.process_time(), time.perf_counter()
+        call()
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return {"wall": wall, "cpu": cpu}
+
+
+def make_inputs(folder):
+    import numpy as np
+    import pyvista
+    import hoembed
+    inputs = [("thorny_tail", hoembed.thorny_tail())]
+    if (DATA / "armadillo.obj").exists():
+        inputs.append(("armadillo", pyvista.read(DATA / "armadillo.obj")))
+    sizes = {}
+    for name, surface in inputs:
+        d = pathlib.Path(folder) / name
+        d.mkdir(parents=True)
+        mesh = hoembed.tet10_mesh(surface, n_elements=1000)
+        X = np.asarray(mesh.points, float)
+        deformed = mesh.copy()
+        # a bend (not rigid): the normals change with it
+        s = (X[:, 0] - X[:, 0].min()) / np.ptp(X[:, 0])
+        deformed.points = X + np.c_[0 * s, 0 * s, 0.2 * np.ptp(X[:, 0]) * s ** 2]
+        surface.save(d / "surface.vtp")
+        mesh.save(d / "mesh.vtu")
+        deformed.save(d / "deformed.vtu")
+        sizes[name] = {"surface_points": surface.n_points, "mesh_cells": mesh.n_cells}
+    return sizes
+
+
+def summary(values):
+    import numpy as np
+    v = np.asarray(values) * 1e3
+    return {"median_ms": float(np.median(v)), "min_ms": float(v.min()), "n": len(v)}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--pip-python", default=str(ROOT / "build-pip" / "venv-vtk942" / "bin" / "python"))
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--child", nargs=2, metavar=("FOLDER", "REPS"))
+    args = ap.parse_args()
+    if args.child:
+        child(args.child[0], int(args.child[1]))
+        return 0
+    if not os.path.exists(args.pip_python):
+        print(f"no pip venv at {args.pip_python}: run `make test-pip` first")
+        return 1
+    pythons = {"vtk": sys.executable, "pip": args.pip_python}
+    with tempfile.TemporaryDirectory() as folder:
+        sizes = make_inputs(folder)
+        runs = {k: [] for k in pythons}
+        for _ in range(args.rounds):
+            for label, py in pythons.items():
+                r = subprocess.run([py, __file__, "--child", folder, str(args.reps)],
+                                   capture_output=True, text=True, check=True,
+                                   env=dict(os.environ, PYTHONWARNINGS="ignore"))
+                runs[label].append(json.loads(r.stdout.strip().splitlines()[-1]))
+    result = {"benchmark": "bench_pip", "threads": os.cpu_count(), "rounds": args.rounds,
+              "reps": args.reps, "cases": {}}
+    for case, size in sizes.items():
+        entry = dict(size)
+        for op in ("embed", "transfer"):
+            per = {}
+            for label in pythons:
+                wall = [t for run in runs[label] for t in run["cases"][case][op]["wall"]]
+                cpu = [t for run in runs[label] for t in run["cases"][case][op]["cpu"]]
+                per[label] = {"wall": summary(wall), "cpu": summary(cpu)}
+            per["ratio_pip_over_vtk"] = {
+                f"{kind}_{stat}": per["pip"][kind][stat] / per["vtk"][kind][stat]
+                for kind in ("wall", "cpu") for stat in ("median_ms", "min_ms")}
+            entry[op] = per
+        checks = {label: runs[label][0]["cases"][case]["transfer_checksum"] for label in pythons}
+        entry["same_transfer_output"] = checks["vtk"] == checks["pip"]
+        result["cases"][case] = entry
+    RESULTS.mkdir(exist_ok=True)
+    (RESULTS / "bench_pip.json").write_text(json.dumps(result, indent=1))
+    for case, e in result["cases"].items():
+        for op in ("embed", "transfer"):
+            r = e[op]["ratio_pip_over_vtk"]
+            print(f"{case:12s} {op:8s} vtk {e[op]['vtk']['wall']['median_ms']:8.1f} ms  "
+                  f"pip {e[op]['pip']['wall']['median_ms']:8.1f} ms  ratio wall "
+                  f"{r['wall_median_ms']:.3f} (min {r['wall_min_ms']:.3f})  cpu "
+                  f"{r['cpu_median_ms']:.3f} (min {r['cpu_min_ms']:.3f})")
+    print(json.dumps(result))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

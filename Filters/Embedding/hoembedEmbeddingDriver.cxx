@@ -1,0 +1,201 @@
+#include "hoembedEmbeddingDriver.h"
+
+#include "hoembedClosestPoint.h"
+#include "hoembedParallel.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <sstream>
+
+namespace hoembed
+{
+using Id = EmbeddingMesh::Id;
+
+std::string EmbeddingDriver::SetSurface(const double* pointsDouble, const float* pointsFloat,
+  std::int64_t numberOfPoints, const CellArrayView& polygons, const CellArrayView& strips)
+{
+  this->NumberOfPoints = numberOfPoints;
+  std::vector<double>& out = this->SurfacePoints;
+  if (pointsDouble)
+    out.assign(pointsDouble, pointsDouble + 3 * numberOfPoints);
+  else
+    out.assign(pointsFloat, pointsFloat + 3 * numberOfPoints);
+  const std::int64_t bad = FirstNonFinitePoint(out.data(), numberOfPoints);
+  if (bad >= 0)
+  {
+    std::ostringstream msg;
+    msg << "The surface has a non-finite (NaN or infinite) coordinate at point " << bad << ".";
+    return msg.str();
+  }
+  // the triangles' problems are reported after the mesh's (PrepareAndOrder)
+  this->Triangles.clear();
+  AppendSurfaceTriangles(polygons, strips, this->Triangles);
+  this->SurfaceError = CheckSurfaceTriangles(this->Triangles, numberOfPoints);
+  return std::string();
+}
+
+std::string EmbeddingDriver::PrepareMesh(const TetMeshArrays& arrays, bool validateElements)
+{
+  std::ostringstream msg;
+  EmbeddingMesh& em = this->Mesh;
+  // types, connectivity, node ranges, finite points and the fingerprint: the one reader
+  TetMeshInput input;
+  const std::string readError =
+    input.Read(arrays, TetMeshInput::KeepPoints | TetMeshInput::KeepFingerprint);
+  if (!readError.empty())
+  {
+    return readError + ".";
+  }
+  em.Points.swap(input.Points);
+  em.Connectivity.swap(input.Connectivity);
+  const int npc = input.NodesPerCell;
+  const Id ncells = input.NumberOfCells;
+  // element validity is checked in the pass that builds the cell maps
+  Id firstInvalid = ncells;
+  const std::string err = em.Prepare(npc, validateElements ? &firstInvalid : nullptr);
+  if (firstInvalid < ncells)
+  {
+    msg << "The FE mesh has an inverted or degenerate element: cell " << firstInvalid
+        << " has a non-positive Jacobian determinant" << (npc == 10 ? " somewhere inside it." : ".");
+    return msg.str();
+  }
+  if (!err.empty())
+  {
+    msg << "The FE mesh topology is not usable: " << err;
+    return msg.str();
+  }
+  this->Fingerprint = input.Fingerprint;
+  return std::string();
+}
+
+std::string EmbeddingDriver::PrepareAndOrder(
+  const TetMeshArrays* mesh, bool validateElements, int partitions)
+{
+  // The surface's order for the flood depends on the surface only: it is built while the
+  // mesh is prepared (two tasks; on two threads the preparation's serial parts and the
+  // ordering overlap). Both tasks only record problems.
+  std::string meshError;
+  if (mesh)
+    this->Fingerprint.clear();
+  ParallelLoop(0, 2, 1, [&](int b, int e) {
+    for (int task = b; task < e; ++task)
+    {
+      if (task == 0 && mesh)
+        meshError = this->PrepareMesh(*mesh, validateElements);
+      else if (task == 1 && this->SurfaceError.empty())
+        OrderSurface(this->SurfacePoints.data(), this->NumberOfPoints, this->Triangles,
+          partitions, &this->Order, this->Flood);
+    }
+  });
+  if (!meshError.empty())
+  {
+    this->Fingerprint.clear();
+    return meshError;
+  }
+  return this->SurfaceError;
+}
+
+void EmbeddingDriver::Embed(int method, const std::function<void(double)>& progress)
+{
+  this->Method = method;
+  FloodSurface(this->Mesh, method, this->Results, progress, nullptr, this->Flood);
+}
+
+std::string EmbeddingDriver::WriteArrays(const EmbeddingOutputArrays& out, EmbeddingSummary& summary) const
+{
+  const Id ns = this->NumberOfPoints;
+  const std::vector<VertexEmbedding>& res = this->Results;
+  const std::vector<Id>& order = this->Order; // res[k] belongs to surface point order[k]
+  const bool barycentric = this->Method == EMBED_BARYCENTRIC;
+  std::atomic<Id> firstFailed(ns);
+  std::atomic<Id> uncertified(0), firstUncertified(ns);
+  std::atomic<Id> fallbacks(0), firstFallback(ns);
+  auto lowest = [](std::atomic<Id>& first, Id i) {
+    Id cur = first.load();
+    while (i < cur && !first.compare_exchange_weak(cur, i))
+    {
+    }
+  };
+  ParallelLoop(Id(0), ns, [&](Id b, Id e) {
+    Id localUncertified = 0, localFallbacks = 0;
+    for (Id k = b; k < e; ++k)
+    {
+      const VertexEmbedding& r = res[k];
+      const Id i = order[k];
+      if (r.Uncertified)
+      {
+        ++localUncertified;
+        lowest(firstUncertified, i);
+      }
+      if (!std::isfinite(r.PC[0]) || !std::isfinite(r.PC[1]) || !std::isfinite(r.PC[2]) ||
+        !std::isfinite(r.Distance) || !std::isfinite(r.Residual) || r.Cell < 0)
+      {
+        lowest(firstFailed, i);
+        continue;
+      }
+      out.CellId[i] = r.Cell;
+      for (int d = 0; d < 3; ++d)
+        out.ParametricCoords[3 * i + d] = r.PC[d];
+      out.Distance[i] = r.Distance;
+      out.Residual[i] = r.Residual;
+      out.ClosestDistance[i] = r.ClosestDistance;
+      out.Face[i] = barycentric ? -1 : r.Face;
+      out.Iterations[i] = r.Iterations;
+      out.Visited[i] = r.Visited;
+      out.Fallback[i] = r.Fallback ? 1 : 0;
+      if (r.Fallback)
+      {
+        ++localFallbacks;
+        lowest(firstFallback, i);
+      }
+    }
+    uncertified += localUncertified;
+    fallbacks += localFallbacks;
+  });
+  if (firstFailed.load() < ns)
+  {
+    std::ostringstream msg;
+    msg << "Surface point " << firstFailed.load() << " could not be embedded (non-finite result).";
+    return msg.str();
+  }
+  summary.Uncertified = uncertified.load();
+  summary.FirstUncertified = summary.Uncertified > 0 ? firstUncertified.load() : -1;
+  summary.Fallbacks = fallbacks.load();
+  summary.FirstFallback = summary.Fallbacks > 0 ? firstFallback.load() : -1;
+  return std::string();
+}
+
+void EmbeddingDriver::WriteFallbackOffsets(double* out) const
+{
+  const std::vector<VertexEmbedding>& res = this->Results;
+  const std::vector<Id>& order = this->Order;
+  ParallelLoop(Id(0), this->NumberOfPoints, [&](Id b, Id e) {
+    for (Id k = b; k < e; ++k)
+    {
+      double q[3] = { 0, 0, 0 };
+      if (res[k].Fallback) // the q of its residual (EmbedVertex), computed again
+        TetMapOffset(this->Mesh.CellMaps[res[k].Cell], res[k].PC,
+          &this->SurfacePoints[3 * order[k]], q);
+      for (int d = 0; d < 3; ++d)
+        out[3 * order[k] + d] = q[d];
+    }
+  });
+}
+
+void EmbeddingDriver::ReleaseLargeSurfaceMemory()
+{
+  constexpr std::size_t maxKeptBytes = std::size_t(64) << 20;
+  const std::size_t bytes = this->Flood.GetCapacityInBytes() +
+    sizeof(double) * this->SurfacePoints.capacity() +
+    sizeof(Id) * (this->Triangles.capacity() + this->Order.capacity()) +
+    sizeof(VertexEmbedding) * this->Results.capacity();
+  if (bytes <= maxKeptBytes)
+    return;
+  this->Flood.Release();
+  std::vector<double>().swap(this->SurfacePoints);
+  std::vector<Id>().swap(this->Triangles);
+  std::vector<Id>().swap(this->Order);
+  std::vector<VertexEmbedding>().swap(this->Results);
+}
+} // namespace hoembed

@@ -1,0 +1,98 @@
+/**
+ * @file hoembedEmbeddingDriver.h
+ * @brief The embedding as one VTK-free driver: plain arrays in, plain arrays out.
+ *
+ * What vtkEmbeddingCoordinatesFilter does between reading its inputs and writing its
+ * output, so that any binding (VTK's, or the pip module over numpy arrays) runs the same
+ * code:
+ *  1. SetSurface: the surface's points (copied as doubles, finite check) and triangles
+ *     (polygons fanned, strips split: hoembed::AppendSurfaceTriangles, then checked).
+ *  2. PrepareAndOrder: the FE mesh (hoembed::TetMeshInput, then EmbeddingMesh::Prepare
+ *     with the validity check) unless the binding keeps the prepared one, and the
+ *     surface's order for the flood, as two parallel tasks.
+ *  3. Embed: the flood (hoembed::FloodSurface, paper Algorithm 2).
+ *  4. WriteArrays / WriteFallbackOffsets: the per-vertex results in surface point order
+ *     into the binding's arrays, with the counts the binding reports.
+ * Errors come back as one sentence (empty: success); the binding adds its name.
+ *
+ * Threading: hoembedParallel.h (vtkSMPTools in the VTK build); results do not depend on
+ * the number of threads (the flood's partitions are fixed by the surface).
+ */
+#ifndef hoembedEmbeddingDriver_h
+#define hoembedEmbeddingDriver_h
+
+#include "hoembedEmbeddingFlood.h"
+#include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedSurfaceTriangles.h"
+#include "hoembedTetMeshInput.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hoembed
+{
+/// Where WriteArrays puts the results: one value (or 3) per surface point, in its order.
+struct EmbeddingOutputArrays
+{
+  std::int64_t* CellId = nullptr;           ///< EmbeddingCellId
+  double* ParametricCoords = nullptr;       ///< EmbeddingParametricCoords (3 per point)
+  double* Distance = nullptr;               ///< EmbeddingDistance
+  double* Residual = nullptr;               ///< EmbeddingResidual
+  double* ClosestDistance = nullptr;        ///< EmbeddingClosestDistance
+  signed char* Face = nullptr;              ///< EmbeddingFace (-1 for barycentric)
+  int* Iterations = nullptr;                ///< EmbeddingIterations
+  int* Visited = nullptr;                   ///< EmbeddingElementsVisited
+  unsigned char* Fallback = nullptr;        ///< EmbeddingFallback
+};
+
+/// What WriteArrays found (first*: the lowest surface point id, -1 when none).
+struct EmbeddingSummary
+{
+  std::int64_t Uncertified = 0, FirstUncertified = -1;
+  std::int64_t Fallbacks = 0, FirstFallback = -1;
+};
+
+class HOEMBEDFILTERSEMBEDDING_EXPORT EmbeddingDriver
+{
+public:
+  /// Step 1. `points`: 3 doubles or floats per point (exactly one given).
+  std::string SetSurface(const double* pointsDouble, const float* pointsFloat,
+    std::int64_t numberOfPoints, const CellArrayView& polygons, const CellArrayView& strips);
+  /// Step 2. `mesh` null: keep the prepared mesh (the binding knows it is the same).
+  /// A mesh error is reported before a surface (triangle) error.
+  std::string PrepareAndOrder(const TetMeshArrays* mesh, bool validateElements, int partitions);
+  /// Forget the prepared mesh (after a failure, or to force a new preparation).
+  void ForgetMesh() { this->Fingerprint.clear(); }
+  const std::string& GetFingerprint() const { return this->Fingerprint; }
+  /// Step 3. `method`: EMBED_NORMAL_OFFSET or EMBED_BARYCENTRIC.
+  void Embed(int method, const std::function<void(double)>& progress);
+  std::int64_t GetNumberOfPoints() const { return this->NumberOfPoints; }
+  /// Step 4: the results into `out` (every array given); an error names the first point
+  /// with a non-finite result.
+  std::string WriteArrays(const EmbeddingOutputArrays& out, EmbeddingSummary& summary) const;
+  /// EmbeddingFallbackOffset (3 per point: q of v = p + J q, zero where not a fallback).
+  void WriteFallbackOffsets(double* out) const;
+  /// Give back surface-sized memory beyond about 64 MiB (kept below that between calls:
+  /// the larger the surface, the smaller the share of its page faults in the time).
+  void ReleaseLargeSurfaceMemory();
+
+private:
+  std::string PrepareMesh(const TetMeshArrays& mesh, bool validateElements);
+
+  // mesh-sized: kept
+  EmbeddingMesh Mesh;
+  std::string Fingerprint; // of the prepared mesh; empty: none prepared
+  // surface-sized
+  EmbedWorkspace Flood;
+  std::int64_t NumberOfPoints = 0;
+  int Method = 0;
+  std::vector<double> SurfacePoints;
+  std::vector<std::int64_t> Triangles, Order;
+  std::vector<VertexEmbedding> Results;
+  std::string SurfaceError;
+};
+} // namespace hoembed
+
+#endif

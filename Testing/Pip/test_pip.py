@@ -1,0 +1,167 @@
+"""The pip package (the wheel, in a venv with a pip VTK and pyvista) against the VTK build.
+
+HOEMBED_PIP_REFERENCE names a folder written by generate_reference.py with the VTK
+build (Debian VTK 9.1): the same inputs go through the pip package here, and its
+embedding arrays and transferred points must equal the VTK filters' bit for bit (both
+bindings call the same drivers, compiled from the same sources with the same flags;
+the loops write per-vertex results, so the thread count does not matter either).
+"""
+import json
+import os
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+import pyvista
+
+import hoembed
+
+REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
+if not REF or not os.path.exists(os.path.join(REF, "cases.json")):
+    pytest.skip("HOEMBED_PIP_REFERENCE (generate_reference.py output) not given",
+                allow_module_level=True)
+CASES = json.load(open(os.path.join(REF, "cases.json")))
+
+EMBEDDING_ARRAYS = ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance",
+                    "EmbeddingResidual", "EmbeddingFace", "EmbeddingIterations",
+                    "EmbeddingElementsVisited", "EmbeddingClosestDistance",
+                    "EmbeddingFallback"]
+
+
+def read(case, name):
+    return pyvista.read(os.path.join(REF, case, name))
+
+
+def bitwise(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and \
+        np.array_equal(a.view(np.uint8), b.view(np.uint8))
+
+
+def test_not_the_vtk_build():
+    # the package under test is the wheel's, beside a pip VTK (no Debian VTK 9.1)
+    import vtkmodules
+    assert hoembed.BACKEND == "pip"
+    assert sys.prefix != sys.base_prefix  # a venv ...
+    assert not any("dist-packages" in p for p in sys.path)  # ... without system packages
+    assert not vtkmodules.__file__.startswith("/usr/lib/python3/dist-packages")
+    assert "site-packages" in hoembed.__file__
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+@pytest.mark.parametrize("method", ["normal-offset", "barycentric"])
+def test_embedding_bitwise(case, method):
+    surface, mesh = read(case, "surface.vtp"), read(case, "mesh.vtu")
+    ref = read(case, f"embedded_{method}.vtp")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        got = hoembed.embed(surface, mesh, method=method)
+    names = EMBEDDING_ARRAYS + (["EmbeddingFallbackOffset"]
+                                if "EmbeddingFallbackOffset" in ref.point_data else [])
+    for name in names:
+        assert name in got.point_data, name
+        assert bitwise(got.point_data[name], ref.point_data[name]), name
+    assert sorted(got.point_data.keys()) == sorted(ref.point_data.keys())
+    for name in ("EmbeddingMethod", "EmbeddingMeshFingerprint"):
+        assert str(got.field_data[name][0]) == str(ref.field_data[name][0]), name
+    assert int(got.field_data["NumberOfFallbackPoints"][0]) == \
+        int(ref.field_data["NumberOfFallbackPoints"][0])
+    assert bitwise(got.points, surface.points)
+    assert bitwise(got.faces, surface.faces)
+    # something real was embedded: all ids valid, residuals at round-off
+    assert got.point_data["EmbeddingCellId"].min() >= 0
+    assert got.point_data["EmbeddingCellId"].max() < mesh.n_cells
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_transfer_bitwise(case):
+    info = CASES[case]
+    embedded_ref = read(case, "embedded_normal-offset.vtp")
+    embedded_pip = hoembed.embed(read(case, "surface.vtp"), read(case, "mesh.vtu"))
+    for k in range(info["frames"]):
+        deformed = read(case, f"deformed_{k}.vtu")
+        for mode in info["modes"]:
+            ref = read(case, f"transferred_{mode}_{k}.vtp")
+            normals = mode == "recompute"
+            for emb in (embedded_ref, embedded_pip):
+                got = hoembed.transfer(emb, deformed, normals=mode,
+                                       compute_point_normals=normals)
+                assert bitwise(got.points, ref.points), (mode, k)
+                assert sorted(got.point_data.keys()) == sorted(ref.point_data.keys())
+                if normals:
+                    assert bitwise(got.point_data["Normals"], ref.point_data["Normals"])
+            # not trivially equal: the surface moved
+            assert not np.allclose(ref.points, embedded_ref.points)
+
+
+def test_rigid_motion_is_rigid():
+    # independent of the reference: frame 0 is a rigid motion (generate_reference.py)
+    case = sorted(CASES)[0]
+    surface, mesh = read(case, "surface.vtp"), read(case, "mesh.vtu")
+    deformed = read(case, "deformed_0.vtu")
+    got = hoembed.transfer(hoembed.embed(surface, mesh), deformed)
+    X, x = np.asarray(surface.points, float), np.asarray(got.points, float)
+    Y, y = np.asarray(mesh.points, float), np.asarray(deformed.points, float)
+    # the mesh's rigid map, fitted on its nodes, applied to the surface
+    A = np.c_[Y, np.ones(len(Y))]
+    M = np.linalg.lstsq(A, y, rcond=None)[0]
+    pred = np.c_[X, np.ones(len(X))] @ M
+    diag = np.linalg.norm(np.ptp(X, axis=0))
+    tol = 1e-5 if got.points.dtype == np.float32 else 1e-10
+    assert np.abs(pred - x).max() < tol * diag
+
+
+def test_thread_count_does_not_matter():
+    case = sorted(CASES)[0]
+    code = ("import hoembed, pyvista, numpy as np, sys, os\n"
+            f"r = {os.path.join(REF, case)!r}\n"
+            "e = hoembed.embed(pyvista.read(r + '/surface.vtp'), pyvista.read(r + '/mesh.vtu'))\n"
+            "np.save(sys.argv[1], np.c_[e.point_data['EmbeddingParametricCoords'],"
+            " e.point_data['EmbeddingDistance']])\n"
+            "print(hoembed.number_of_threads())\n")
+    ref = read(case, "embedded_normal-offset.vtp")
+    want = np.c_[ref.point_data["EmbeddingParametricCoords"], ref.point_data["EmbeddingDistance"]]
+    for threads in ("1", "3"):
+        out = os.path.join(REF, f"threads_{threads}.npy")
+        env = dict(os.environ, HOEMBED_NUM_THREADS=threads)
+        r = subprocess.run([sys.executable, "-c", code, out], env=env, capture_output=True,
+                           text=True, check=True)
+        assert r.stdout.strip() == threads
+        assert bitwise(np.load(out), want)
+
+
+def test_errors():
+    case = sorted(CASES)[0]
+    surface, mesh = read(case, "surface.vtp"), read(case, "mesh.vtu")
+    with pytest.raises(hoembed.HOEmbedError, match="surface is empty"):
+        hoembed.embed(pyvista.PolyData(), mesh)
+    bad = surface.copy()
+    bad.points[5] = np.nan
+    with pytest.raises(hoembed.HOEmbedError, match="non-finite .* at point 5"):
+        hoembed.embed(bad, mesh)
+    inverted = mesh.copy()
+    cells = inverted.cell_connectivity.reshape(mesh.n_cells, -1).copy()
+    cells[0, [0, 1]] = cells[0, [1, 0]]
+    inverted = pyvista.UnstructuredGrid({mesh.celltypes[0]: cells}, mesh.points)
+    with pytest.raises(hoembed.HOEmbedError, match="inverted or degenerate element: cell 0"):
+        hoembed.embed(surface, inverted)
+    with pytest.raises(ValueError, match="method"):
+        hoembed.embed(surface, mesh, method="nearest")
+    emb = hoembed.embed(surface, mesh)
+    other = read(sorted(CASES)[-1], "mesh.vtu")
+    with pytest.raises(hoembed.HOEmbedError, match="not the mesh the surface was embedded in"):
+        hoembed.transfer(emb, other)
+    with pytest.raises(hoembed.HOEmbedError, match="no field data EmbeddingMethod"):
+        hoembed.transfer(surface, mesh)
+    nan_mesh = mesh.copy()
+    nan_mesh.points[3] = np.inf
+    with pytest.raises(hoembed.HOEmbedError, match="transfer:"):
+        hoembed.transfer(emb, nan_mesh)
+
+
+def test_not_yet_in_the_wheel():
+    # the mesher and the stepper need the VTK build for now: absent, not stubbed
+    for name in ("tet10_mesh", "simulate", "write_series"):
+        assert not hasattr(hoembed, name)

@@ -1,0 +1,33 @@
+"""numpy views of the VTK arrays the drivers read (adapting only: no algorithm here)."""
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+EMPTY_IDS = np.zeros(0, dtype=np.int64)
+
+
+def points(vtk_points):
+    """The points as a C-contiguous (n, 3) float64 or float32 array (others: float64)."""
+    a = vtk_to_numpy(vtk_points.GetData())
+    if a.dtype not in (np.float64, np.float32):
+        a = a.astype(np.float64)
+    return np.ascontiguousarray(a).reshape(-1, 3)
+
+
+def cells(cell_array):
+    """(offsets, connectivity) of a vtkCellArray as int64 arrays (empty when none)."""
+    if cell_array is None or cell_array.GetNumberOfCells() == 0:
+        return EMPTY_IDS, EMPTY_IDS
+    off = vtk_to_numpy(cell_array.GetOffsetsArray()).astype(np.int64, copy=False)
+    conn = vtk_to_numpy(cell_array.GetConnectivityArray()).astype(np.int64, copy=False)
+    return np.ascontiguousarray(off), np.ascontiguousarray(conn)
+
+
+def doubles(vtk_array):
+    """The values of a VTK data array as contiguous float64 (the VTK filters' copy)."""
+    return np.ascontiguousarray(vtk_to_numpy(vtk_array), dtype=np.float64)
+
+
+def to_vtk(array, name, vtk_type=None):
+    out = numpy_to_vtk(np.ascontiguousarray(array), deep=True, array_type=vtk_type)
+    out.SetName(name)
+    return out
