@@ -55,7 +55,7 @@ def _parser():
     live.add_argument("surface", nargs="?", default=None,
                       help="surface file (default: the built-in thorny tail)")
     live.add_argument("--elements", type=int, default=1000, help="target number of tet10")
-    live.add_argument("--young", type=float, default=5e4, help="Young's modulus E (Pa)")
+    live.add_argument("--young", type=float, default=2e5, help="Young's modulus E (Pa)")
     live.add_argument("--gravity", type=float, nargs=3, default=(0.0, 0.0, 0.0),
                       metavar=("GX", "GY", "GZ"), help="gravity (m/s^2)")
     for sp, defaults in ((demo, dict(steps=40, dt=0.02, young=1e7, gravity=(0.0, 0.0, -9.81),

@@ -31,13 +31,17 @@ from .hoembedFiltersTransfer import vtkDeformationTransferFilter
 __all__ = ["LiveSession", "LiveApp", "live"]
 
 
-def _element_size(fe_mesh):
-    """Mean corner edge length of the cells (the drag's length scale)."""
-    cells = fe_mesh.cell_connectivity.reshape(fe_mesh.n_cells, -1)[:, :4]
-    p = np.asarray(fe_mesh.points)
+def _edge_lengths(points, cells):
+    """Mean corner edge length of the cells (rows of node ids, corners first)."""
+    p = np.asarray(points)
     e = [np.linalg.norm(p[cells[:, a]] - p[cells[:, b]], axis=1)
          for a, b in ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))]
     return float(np.mean(e))
+
+
+def _element_size(fe_mesh):
+    """Mean corner edge length of the mesh (the drag's length scale)."""
+    return _edge_lengths(fe_mesh.points, fe_mesh.cell_connectivity.reshape(fe_mesh.n_cells, -1))
 
 
 def default_clamp(fe_mesh, builtin=False):
@@ -73,12 +77,13 @@ class LiveSession:
         FE nodes within this distance of the picked point are dragged (default: one mean
         element edge; at least the nearest free node).
     speed_limit : float, optional
-        PrescribedSpeedLimit of the stepper (default: half a mean element edge per step).
+        PrescribedSpeedLimit of the stepper (default: per grab, half the mean edge of the
+        cells around the grabbed nodes per step).
     normals : str
         Transfer normal mode ("recompute", "rotate" or "deform").
     """
 
-    def __init__(self, fe_mesh, embedded, fixed=None, dt=1.0 / 60.0, young=5e4,
+    def __init__(self, fe_mesh, embedded, fixed=None, dt=1.0 / 60.0, young=2e5,
                  poisson=0.45, density=1000.0, gravity=(0.0, 0.0, 0.0), rayleigh_mass=1.0,
                  rayleigh_stiffness=0.005, grab_radius=None, speed_limit=None,
                  normals="recompute", point_normals=True):
@@ -94,6 +99,8 @@ class LiveSession:
         self.kind = "tet10" if quadratic else "tet4"
         self.dt = float(dt)
         self.grab_radius = self.h if grab_radius is None else float(grab_radius)
+        self.auto_speed = speed_limit is None
+        self._cells = self.fe_rest.cell_connectivity.reshape(self.fe_rest.n_cells, -1)
         st = vtkCorotationalFEMStepper()
         st.SetInputData(self.fe_rest)
         st.SetYoungModulus(young)
@@ -104,7 +111,7 @@ class LiveSession:
         st.SetRayleighStiffness(rayleigh_stiffness)
         st.SetTimeStep(self.dt)
         st.SetPrescribedSpeedLimit(0.5 * self.h / self.dt if speed_limit is None
-                                   else float(speed_limit))
+                                   else float(speed_limit))  # (per grab when automatic)
         st.LiveModeOn()
         self.stepper = st
         tr = vtkDeformationTransferFilter()
@@ -143,11 +150,19 @@ class LiveSession:
         pos = self.positions()
         d = np.linalg.norm(pos - point, axis=1)
         d[self.fixed] = np.inf
-        ids = np.flatnonzero(d <= self.grab_radius)
-        if len(ids) == 0 and np.isfinite(d.min()):
-            ids = np.array([int(np.argmin(d))])
-        if len(ids) == 0:
-            return ids
+        near = np.flatnonzero(d <= self.grab_radius)
+        if len(near) == 0 and np.isfinite(d.min()):
+            near = np.array([int(np.argmin(d))])
+        if len(near) == 0:
+            return near
+        ids = near
+        if self.auto_speed:
+            # the speed limit from the cells around the grab: near a thin part they are
+            # much smaller than the mean, and a move of one of their sizes per step
+            # inverts them
+            around = self._cells[np.isin(self._cells, ids).any(axis=1)]
+            self.stepper.SetPrescribedSpeedLimit(0.5 * _edge_lengths(self.rest, around)
+                                                 / self.dt)
         self.grabbed = ids
         self.grab_start = pos[ids].copy()
         self.grab_point = point
