@@ -12,7 +12,7 @@ import pyvista as pv
 import hoembed
 
 out = sys.argv[1] if len(sys.argv) > 1 else "live_drag.png"
-pl = pv.Plotter(window_size=(1000, 560), off_screen=False)
+pl = pv.Plotter(window_size=(900, 480), off_screen=False)
 app = hoembed.live(plotter=pl, run=False)  # the built-in tail, 1000 tet10
 pl.show(interactive_update=True, auto_close=False)
 app.key("b")  # tet4 + barycentric beside it

@@ -227,7 +227,8 @@ class LiveApp:
         self.dragging = False
         self.pl = plotter if plotter is not None else pyvista.Plotter(title=title)
         b = session.surface.bounds
-        self.offset = 1.2 * (b[1] - b[0]) + 0.1 * max(b[3] - b[2], b[5] - b[4])
+        # the baseline sits beside the model along x; the camera looks along -z
+        self.offset = 1.15 * (b[1] - b[0]) + 0.1 * max(b[3] - b[2], b[5] - b[4])
         self.surface_actor = self.pl.add_mesh(session.surface, color="#d8b48a",
                                               smooth_shading=True, name="surface")
         self.mesh_actor = self.pl.add_mesh(session.fe, style="wireframe", color="#2a4d69",
@@ -252,7 +253,7 @@ class LiveApp:
         self.frame_ms = 0.0
         self.stages = {}
         self._drag_depth = None
-        self.pl.view_isometric()
+        self.pl.view_xy()
         self.pl.reset_camera()
         self._update_text()
 
@@ -289,7 +290,9 @@ class LiveApp:
         ren.WorldToDisplay()
         self._drag_depth = ren.GetDisplayPoint()[2]
         if self.baseline is not None:
-            self.baseline.grab(p - np.array([self.offset, 0.0, 0.0]))
+            self.baseline.grab(p)  # same rest geometry (shown shifted)
+            self.baseline.stepper.SetPrescribedSpeedLimit(
+                self.session.stepper.GetPrescribedSpeedLimit())
         self.dragging = True
         self.marker.SetPosition(*p)
         self.marker.SetVisibility(True)
@@ -301,7 +304,7 @@ class LiveApp:
         p = self._world(x, y)
         self.session.drag(p)
         if self.baseline is not None:
-            self.baseline.drag(p - np.array([self.offset, 0.0, 0.0]))
+            self.baseline.drag(p)
         self.marker.SetPosition(*p)
 
     def release(self):
@@ -459,7 +462,11 @@ def live(surface=None, n_elements=1000, plotter=None, run=True, **session_option
 
     def baseline():
         _, fe4, emb4, clamp4 = prepare(surf, max(4 * n_elements, 50), order=1)
-        return LiveSession(fe4, emb4, fixed=clamp4, **session_options)
+        options = dict(session_options)
+        # the same grab (radius, speed) as the tet10 model, whose cells are larger
+        options.setdefault("grab_radius", session.grab_radius)
+        options.setdefault("speed_limit", session.stepper.GetPrescribedSpeedLimit())
+        return LiveSession(fe4, emb4, fixed=clamp4, **options)
 
     app = LiveApp(session, plotter=plotter, baseline=baseline)
     if run:
