@@ -255,6 +255,9 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   AssembleGlobalMatrices(I, Me, fg);
   I.BuildBlocks();
   I.Free.assign(3 * I.NP, 1);
+  I.PrescribedMask.assign(I.NP, 0);
+  I.Target.assign(3 * I.NP, 0.0);
+  I.NumberPrescribed = 0;
   this->SetFixed(nullptr);
   I.FExt.assign(3 * I.NP, 0.0);
   I.NodeRot.assign(9 * I.NP, 0.0);
@@ -264,16 +267,70 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   return true;
 }
 
+bool CorotationalSolver::Impl::UpdateFree()
+{
+  bool changed = false;
+  for (long long p = 0; p < NP; ++p)
+  {
+    // points in no cell have no mass and no stiffness: keep them where they are
+    const char f = (FixedMask[p] || PrescribedMask[p] || NodeCellCount[p] == 0) ? 0 : 1;
+    changed = changed || Free[3 * p] != f;
+    Free[3 * p] = Free[3 * p + 1] = Free[3 * p + 2] = f;
+  }
+  return changed;
+}
+
 void CorotationalSolver::SetFixed(const unsigned char* fixed)
 {
   Impl& I = *this->P;
-  for (long long p = 0; p < I.NP; ++p)
+  I.FixedMask.assign(I.NP, 0);
+  if (fixed)
   {
-    // points in no cell have no mass and no stiffness: keep them where they are
-    const char f = ((fixed && fixed[p]) || I.NodeCellCount[p] == 0) ? 0 : 1;
-    I.Free[3 * p] = I.Free[3 * p + 1] = I.Free[3 * p + 2] = f;
+    for (long long p = 0; p < I.NP; ++p)
+    {
+      I.FixedMask[p] = fixed[p] ? 1 : 0;
+    }
   }
+  I.PrescribedMask.resize(I.NP, 0);
+  I.UpdateFree();
   I.HaveFactor = false;
+}
+
+void CorotationalSolver::SetPrescribedMotion(const unsigned char* mask, const double* targets)
+{
+  Impl& I = *this->P;
+  I.PrescribedMask.assign(I.NP, 0);
+  I.Target.assign(3 * I.NP, 0.0);
+  I.NumberPrescribed = 0;
+  for (long long p = 0; mask && p < I.NP; ++p)
+  {
+    // a clamped point stays clamped; a point in no cell has nothing to move
+    if (mask[p] && !I.FixedMask[p] && I.NodeCellCount[p] > 0)
+    {
+      I.PrescribedMask[p] = 1;
+      I.NumberPrescribed++;
+      for (int i = 0; i < 3; ++i)
+      {
+        I.Target[3 * p + i] = targets ? targets[3 * p + i] : 0.0;
+      }
+    }
+  }
+  if (I.UpdateFree())
+  {
+    // Other DOFs leave (or join) the system: the factor no longer matches. The targets
+    // alone do not change the matrix, so moving them keeps the factor.
+    I.HaveFactor = false;
+  }
+}
+
+void CorotationalSolver::SetPrescribedSpeedLimit(double speed)
+{
+  this->P->PrescribedSpeed = std::isfinite(speed) ? speed : 0.0;
+}
+
+long long CorotationalSolver::GetNumberOfPrescribedPoints() const
+{
+  return this->P->NumberPrescribed;
 }
 
 void CorotationalSolver::SetExternalForces(const double gravity[3], const double* nodalForces)
@@ -342,11 +399,63 @@ bool CorotationalSolver::Step()
   const double cK = dt * I.Beta + dt * dt;
   const double vScale = dt + I.Beta;
 
+  // Prescribed DOFs (see the header): they are put on their targets first, so that the
+  // rotations and forces are evaluated (the step linearised) at x* = (x_free, targets),
+  // not at a configuration the prescribed motion has not reached yet: a large drag in one
+  // step then distorts only what it really distorts. Their velocity over the step is
+  // w = (target - x) / dt. In the forces, evaluated at x* + (dt + beta) v, they carry
+  // u = beta w / (dt + beta) (their displacement is already in x*, only the stiffness
+  // damping beta K w is left); delta = M-weighted terms the forces do not carry (inertia
+  // w - v_old, mass damping dt alpha (w - u)), moved to the right-hand side below.
+  const bool prescribed = I.NumberPrescribed > 0 && !I.StaticMode;
+  std::vector<double> delta, w;
+  if (prescribed)
+  {
+    delta.assign(3 * I.NP, 0.0);
+    w.assign(3 * I.NP, 0.0);
+  }
+  std::vector<double> reach; // where the prescribed points get in this step
+  if (prescribed)
+  {
+    reach.assign(3 * I.NP, 0.0);
+    const double limit = I.PrescribedSpeed * dt;
+    for (long long p = 0; p < I.NP; ++p)
+    {
+      if (I.PrescribedMask[p])
+      {
+        double d[3], n = 0.0;
+        for (int i = 0; i < 3; ++i)
+        {
+          d[i] = I.X[3 * p + i] + I.Target[3 * p + i] - I.x[3 * p + i];
+          n += d[i] * d[i];
+        }
+        n = std::sqrt(n);
+        const bool capped = I.PrescribedSpeed > 0.0 && n > limit;
+        for (int i = 0; i < 3; ++i)
+        {
+          reach[3 * p + i] = capped ? I.x[3 * p + i] + d[i] * (limit / n)
+                                    : I.X[3 * p + i] + I.Target[3 * p + i];
+        }
+      }
+    }
+  }
   for (long long k = 0; k < 3 * I.NP; ++k)
   {
     if (!I.Free[k])
     {
-      I.v[k] = 0.0; // clamped nodes do not move
+      if (prescribed && I.PrescribedMask[k / 3])
+      {
+        const double target = reach[k];
+        w[k] = (target - I.x[k]) / dt;
+        const double u = I.Beta / (dt + I.Beta) * w[k];
+        delta[k] = (w[k] - I.v[k]) + dt * I.Alpha * (w[k] - u);
+        I.x[k] = target;
+        I.v[k] = u;
+      }
+      else
+      {
+        I.v[k] = 0.0; // clamped nodes do not move (static increments: held nodes too)
+      }
     }
   }
   auto t0 = Clock::now();
@@ -373,6 +482,11 @@ bool CorotationalSolver::Step()
   }
   rhs += Eigen::Map<const Eigen::VectorXd>(I.FInt.data(), 3 * I.NP);
   rhs *= dt;
+  if (prescribed)
+  {
+    I.MassApply(delta.data(), -1.0, rhs.data()); // rows of the free DOFs: -M_fc delta
+
+  }
   I.Mask(rhs);
   auto t2 = Clock::now();
 
@@ -428,6 +542,11 @@ bool CorotationalSolver::Step()
   {
     I.v[k] += I.dv[k];
     I.x[k] += dt * I.v[k];
+    if (prescribed && I.PrescribedMask[k / 3])
+    {
+      I.v[k] = w[k];
+      I.x[k] = reach[k]; // on the target exactly (unless the speed limit holds it back)
+    }
     if (!std::isfinite(I.x[k]) || !std::isfinite(I.v[k]))
     {
       finite = false;
@@ -454,6 +573,13 @@ bool CorotationalSolver::SolveStatic(int maxIterations, double tolerance, std::s
   {
     error = "the static solve needs clamped nodes (a free body has no equilibrium)";
     return false;
+  }
+  for (long long k = 0; k < 3 * I.NP && I.NumberPrescribed > 0; ++k)
+  {
+    if (I.PrescribedMask[k / 3])
+    {
+      I.x[k] = I.X[k] + I.Target[k]; // held on their targets
+    }
   }
   if (!I.Factor(0.0, 1.0))
   {

@@ -56,6 +56,28 @@
  * StaticSolve: solves f_int(x) = f_ext by repeated linearised solves (the first one is
  * exactly small-strain linear elasticity from the rest state), needs clamped nodes.
  *
+ * Prescribed motion (SetPrescribedMotion; for interactive use, changed between steps):
+ * hard Dirichlet conditions, not penalty springs. A step first puts the prescribed
+ * DOFs on their targets (velocity w_c = (X_c + u_c - x_c) / dt over the step), then
+ * makes the usual backward Euler step of the free DOFs linearised at that configuration
+ * (rotations and forces there; the damping and inertia coupling of w_c moved to the
+ * right-hand side). For a linear material this is exactly backward Euler with moving
+ * Dirichlet values (tested against scikit-fem); linearising after the move, not before,
+ * is what keeps a large drag in one step stable (linearised before it, the elements
+ * next to the dragged nodes see the move extrapolated by (dt + beta) / dt and the
+ * step blew up in tests). A target reached is exact (no penalty stiffness to tune, no
+ * stiff spring that would make the step matrix ill-conditioned); a jump of the target is
+ * a velocity kick that the implicit step damps, and the one linearised solve per step
+ * overshoots when the drag rotates elements by tens of degrees in one step (a single
+ * node of a soft 4 x 1 x 1 beam pulled by 0.8 element sizes per step kept its energy
+ * bounded but needed the CG's iteration cap every step; by 0.4 per step, 5-80
+ * iterations). SetPrescribedSpeedLimit bounds that: an interactive driver sets it to a
+ * fraction of an element size per step, and a target that jumps is then approached at
+ * that speed. The prescribed DOFs leave the system exactly like clamped
+ * ones: changing the targets keeps the factorised preconditioner, changing the mask
+ * refactorises at the next step. Loads and targets can change between steps: the state
+ * (x, v) is kept. SolveStatic puts the prescribed nodes on their targets and holds them.
+ *
  * Threading (vtkSMPTools): rotations, the assembly of S (two halves of the cells cut by
  * a plane, without common nodes, in parallel, then the layer of cells along the cut; on
  * one thread all cells in order, so 1- and 2-thread runs differ in the last bits of S),
@@ -102,6 +124,15 @@ public:
 
   /// Per-point clamp flags (nonzero = clamped), or nullptr for none.
   void SetFixed(const unsigned char* fixed);
+  /// Prescribed motion: mask per point (nonzero = prescribed; nullptr = none) and target
+  /// displacements from rest (3 per point, read where the mask is set). Points clamped by
+  /// SetFixed stay clamped. Takes effect at the next Step / SolveStatic; the state is kept.
+  void SetPrescribedMotion(const unsigned char* mask, const double* targetDisplacements);
+  /// Speed limit of the prescribed points (distance per unit time, <= 0: none): a point
+  /// farther from its target than speed * dt moves that far towards it in a step.
+  void SetPrescribedSpeedLimit(double speed);
+  /// Number of points with prescribed motion.
+  long long GetNumberOfPrescribedPoints() const;
   /// Gravity (consistent body force density * g) plus optional nodal forces (3 per point).
   void SetExternalForces(const double gravity[3], const double* nodalForces);
   void SetTimeStep(double dt);

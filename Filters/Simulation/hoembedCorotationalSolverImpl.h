@@ -193,6 +193,12 @@ struct CorotationalSolver::Impl
   std::vector<double> Gravity0; // consistent body force for unit density * g / density
   std::vector<double> FExt;
   std::vector<char> Free; // 3 NP
+  // Free = not clamped, not prescribed, in some cell (UpdateFree)
+  std::vector<unsigned char> FixedMask, PrescribedMask; // NP each
+  std::vector<double> Target;     // 3 NP target displacements (prescribed points)
+  long long NumberPrescribed = 0;
+  double PrescribedSpeed = 0.0; // <= 0: no limit
+  bool UpdateFree(); // true when Free changed
   std::vector<int> NodeCellCount;
   double Young = 1, Poisson = 0.3, Density = 1;
   double Dt = 0.01, Alpha = 0, Beta = 0;

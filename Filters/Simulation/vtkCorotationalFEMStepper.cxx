@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,14 @@ struct vtkCorotationalFEMStepper::Internals
   bool StaticDone = false;
   int CurrentStep = 0;
   std::vector<double> InitialX, InitialV;
+  // loads: forces of the ExternalForceArrayName array (empty: none), and those set by
+  // SetNodalForces / SetPrescribedMotion (empty: none)
+  std::vector<double> ArrayForces, NodalForces, Targets;
+  std::vector<unsigned char> Mask;
+  std::string Signature; // BuildSignature() of the build (LiveMode)
+  long long PendingSteps = 0;
+  bool ResetRequested = false;
+  bool LastOK = false;
 };
 
 vtkCorotationalFEMStepper::vtkCorotationalFEMStepper()
@@ -159,22 +168,50 @@ int vtkCorotationalFEMStepper::RequestData(
     I.Built = false;
     return 0;
   }
-  if (!I.Built || input->GetMTime() > I.BuildTime || this->GetMTime() > I.BuildTime)
+  I.LastOK = false;
+  // Offline, any change restarts; live, only a change of the mesh or of a property that
+  // is not a load.
+  const bool changed = this->LiveMode ? this->BuildSignature() != I.Signature
+                                      : this->GetMTime() > I.BuildTime;
+  if (!I.Built || input->GetMTime() > I.BuildTime || changed)
   {
     if (!this->BuildSolver(input))
     {
       return 0;
     }
+    I.ResetRequested = false;
   }
 
   // Requested step.
   double t = 0.0;
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  const bool timed = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  if (timed)
   {
     t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
   }
   long long k = std::llround(t / this->TimeStep);
-  k = std::max(0LL, std::min<long long>(k, this->NumberOfTimeSteps));
+  if (this->LiveMode)
+  {
+    if (I.ResetRequested)
+    {
+      I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
+      I.CurrentStep = 0;
+      I.ResetRequested = false;
+    }
+    if (!this->ApplyLoads(input->GetNumberOfPoints()))
+    {
+      I.PendingSteps = 0;
+      return 0;
+    }
+    I.StaticDone = false; // the loads may have changed
+    // never backwards: an earlier (or no) time is the current state
+    k = std::max<long long>(timed ? k : 0, I.CurrentStep + I.PendingSteps);
+    I.PendingSteps = 0;
+  }
+  else
+  {
+    k = std::max(0LL, std::min<long long>(k, this->NumberOfTimeSteps));
+  }
   const double tk = static_cast<double>(k) * this->TimeStep;
 
   if (!this->Advance(k, output))
@@ -191,7 +228,203 @@ int vtkCorotationalFEMStepper::RequestData(
   this->LastFactorizationTime = T.Factorization;
 
   this->WriteOutput(input, output, tk);
+  I.LastOK = true;
   return 1;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkCorotationalFEMStepper::BuildSignature() const
+{
+  std::ostringstream o;
+  o.precision(17);
+  auto str = [](const char* s) { return s ? std::string(s) : std::string("\x01"); };
+  o << this->YoungModulus << ' ' << this->PoissonRatio << ' ' << this->Density << ' '
+    << this->RayleighMass << ' ' << this->RayleighStiffness << ' ' << this->TimeStep << ' '
+    << this->StaticSolve << this->LumpedMass << this->UseClampPlane << this->UseClampBox;
+  for (int i = 0; i < 3; ++i)
+  {
+    o << ' ' << this->ClampPlaneOrigin[i] << ' ' << this->ClampPlaneNormal[i];
+  }
+  for (int i = 0; i < 6; ++i)
+  {
+    o << ' ' << this->ClampBox[i];
+  }
+  o << ' ' << this->SolverTolerance << ' ' << this->MaxSolverIterations << '\n'
+    << str(this->ExternalForceArrayName) << '\n'
+    << str(this->InitialDisplacementArrayName) << '\n'
+    << str(this->InitialVelocityArrayName) << '\n'
+    << str(this->FixedArrayName);
+  return o.str();
+}
+
+//------------------------------------------------------------------------------
+bool vtkCorotationalFEMStepper::ApplyLoads(vtkIdType np)
+{
+  Internals& I = *this->Internal;
+  const size_t n3 = 3 * static_cast<size_t>(np);
+  if (!I.NodalForces.empty() && I.NodalForces.size() != n3)
+  {
+    vtkErrorMacro("SetNodalForces: the array has " << I.NodalForces.size() / 3
+                                                   << " tuples, expected " << np
+                                                   << " (one per input point).");
+    return false;
+  }
+  if (!I.Mask.empty() && I.Mask.size() != static_cast<size_t>(np))
+  {
+    vtkErrorMacro("SetPrescribedMotion: the arrays have " << I.Mask.size()
+                                                          << " tuples, expected " << np
+                                                          << " (one per input point).");
+    return false;
+  }
+  if (I.NodalForces.empty())
+  {
+    I.Solver.SetExternalForces(this->Gravity, I.ArrayForces.empty() ? nullptr : I.ArrayForces.data());
+  }
+  else
+  {
+    std::vector<double> f = I.NodalForces;
+    for (size_t k = 0; k < I.ArrayForces.size(); ++k)
+    {
+      f[k] += I.ArrayForces[k];
+    }
+    I.Solver.SetExternalForces(this->Gravity, f.data());
+  }
+  I.Solver.SetPrescribedMotion(
+    I.Mask.empty() ? nullptr : I.Mask.data(), I.Mask.empty() ? nullptr : I.Targets.data());
+  I.Solver.SetPrescribedSpeedLimit(this->PrescribedSpeedLimit);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkCorotationalFEMStepper::SetPrescribedMotion(vtkDataArray* mask, vtkDataArray* targets)
+{
+  Internals& I = *this->Internal;
+  if (!mask)
+  {
+    if (!I.Mask.empty())
+    {
+      I.Mask.clear();
+      I.Targets.clear();
+      this->Modified();
+    }
+    return true;
+  }
+  if (mask->GetNumberOfComponents() != 1 || !targets || targets->GetNumberOfComponents() != 3 ||
+    targets->GetNumberOfTuples() != mask->GetNumberOfTuples())
+  {
+    vtkErrorMacro("SetPrescribedMotion: needs a 1-component mask and a 3-component target "
+                  "displacement array with the same number of tuples (one per point).");
+    return false;
+  }
+  const vtkIdType n = mask->GetNumberOfTuples();
+  std::vector<unsigned char> m(n);
+  std::vector<double> t(3 * n, 0.0);
+  for (vtkIdType p = 0; p < n; ++p)
+  {
+    m[p] = mask->GetComponent(p, 0) != 0.0 ? 1 : 0;
+    if (m[p])
+    {
+      targets->GetTuple(p, &t[3 * p]);
+      if (!std::isfinite(t[3 * p]) || !std::isfinite(t[3 * p + 1]) ||
+        !std::isfinite(t[3 * p + 2]))
+      {
+        vtkErrorMacro("SetPrescribedMotion: the target displacement of point " << p
+                                                                                << " is not finite.");
+        return false;
+      }
+    }
+  }
+  I.Mask.swap(m);
+  I.Targets.swap(t);
+  this->Modified();
+  return true;
+}
+
+bool vtkCorotationalFEMStepper::SetNodalForces(vtkDataArray* forces)
+{
+  Internals& I = *this->Internal;
+  if (!forces)
+  {
+    if (!I.NodalForces.empty())
+    {
+      I.NodalForces.clear();
+      this->Modified();
+    }
+    return true;
+  }
+  if (forces->GetNumberOfComponents() != 3)
+  {
+    vtkErrorMacro("SetNodalForces: needs a 3-component array (one tuple per point).");
+    return false;
+  }
+  std::vector<double> f(3 * static_cast<size_t>(forces->GetNumberOfTuples()));
+  for (vtkIdType p = 0; p < forces->GetNumberOfTuples(); ++p)
+  {
+    forces->GetTuple(p, &f[3 * p]);
+  }
+  for (double v : f)
+  {
+    if (!std::isfinite(v))
+    {
+      vtkErrorMacro("SetNodalForces: the forces are not finite.");
+      return false;
+    }
+  }
+  I.NodalForces.swap(f);
+  this->Modified();
+  return true;
+}
+
+bool vtkCorotationalFEMStepper::Step(int n)
+{
+  if (!this->LiveMode)
+  {
+    vtkErrorMacro("Step() needs LiveMode on (offline, request a time from the pipeline).");
+    return false;
+  }
+  if (n < 0)
+  {
+    vtkErrorMacro("Step(" << n << "): the number of steps must be >= 0.");
+    return false;
+  }
+  this->Internal->PendingSteps += n;
+  this->Modified();
+  this->Update();
+  return this->Internal->LastOK;
+}
+
+bool vtkCorotationalFEMStepper::AdvanceTo(double t)
+{
+  if (!this->LiveMode)
+  {
+    vtkErrorMacro("AdvanceTo() needs LiveMode on (offline, request a time from the pipeline).");
+    return false;
+  }
+  if (!std::isfinite(t) || !(this->TimeStep > 0.0))
+  {
+    vtkErrorMacro("AdvanceTo(" << t << "): the time must be finite (and TimeStep > 0).");
+    return false;
+  }
+  Internals& I = *this->Internal;
+  const long long k = std::llround(t / this->TimeStep);
+  const long long now = (I.Built && !I.ResetRequested) ? I.CurrentStep : 0;
+  I.PendingSteps = std::max(0LL, k - now);
+  this->Modified();
+  this->Update();
+  return I.LastOK;
+}
+
+void vtkCorotationalFEMStepper::ResetState()
+{
+  this->Internal->ResetRequested = true;
+  this->Internal->PendingSteps = 0;
+  this->Modified();
+}
+
+double vtkCorotationalFEMStepper::GetSimulationTime()
+{
+  const Internals& I = *this->Internal;
+  return (I.Built && !I.ResetRequested) ? I.CurrentStep * this->TimeStep : 0.0;
 }
 
 //------------------------------------------------------------------------------
@@ -259,6 +492,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
   I.Solver.SetSolverControls(this->SolverTolerance, this->MaxSolverIterations);
   I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
   I.CurrentStep = 0;
+  I.Signature = this->BuildSignature();
   I.Built = true;
   I.BuildTime.Modified();
   return true;
@@ -365,7 +599,8 @@ bool vtkCorotationalFEMStepper::SetupLoadsAndState(
                                              << "' is not a 3-component point-data array.");
     return false;
   }
-  std::vector<double> forces;
+  std::vector<double>& forces = I.ArrayForces;
+  forces.clear();
   if (forceArray)
   {
     forces.resize(3 * np);
@@ -374,7 +609,11 @@ bool vtkCorotationalFEMStepper::SetupLoadsAndState(
       forceArray->GetTuple(p, &forces[3 * p]);
     }
   }
-  I.Solver.SetExternalForces(this->Gravity, forceArray ? forces.data() : nullptr);
+  // gravity, these forces, SetNodalForces and SetPrescribedMotion
+  if (!this->ApplyLoads(np))
+  {
+    return false;
+  }
   // Initial state.
   vtkDataArray* u0 = GetVectorArray(input, this->InitialDisplacementArrayName, bad3);
   if (bad3)
@@ -549,6 +788,8 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
      << this->ClampBox[5] << ")\n";
   os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
   os << indent << "MaxSolverIterations: " << this->MaxSolverIterations << "\n";
+  os << indent << "LiveMode: " << this->LiveMode << "\n";
+  os << indent << "PrescribedSpeedLimit: " << this->PrescribedSpeedLimit << "\n";
   os << indent << "LastNumberOfSteps: " << this->LastNumberOfSteps << "\n";
   os << indent << "LastRotationTime: " << this->LastRotationTime << "\n";
   os << indent << "LastAssemblyTime: " << this->LastAssemblyTime << "\n";

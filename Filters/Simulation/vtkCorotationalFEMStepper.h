@@ -59,11 +59,30 @@
  *
  * Threading: element loops use vtkSMPTools.
  *
+ * Live (incremental) use: with LiveMode on, the stepper keeps its state while loads
+ * change, for a simulation driven from outside while it runs (e.g. a mouse drag):
+ * - loads: Gravity, SetNodalForces() (added to the ExternalForceArrayName forces) and
+ *   SetPrescribedMotion() (a mask and target displacements from rest of chosen nodes:
+ *   hard Dirichlet conditions, each step lands those nodes on their targets exactly; see
+ *   hoembedCorotationalSolver.h for the step and its stability). Changing them applies
+ *   to the next step and continues from the current state; changing the targets alone
+ *   keeps the factorised preconditioner, changing the mask refactorises once;
+ * - Step(n) advances n steps, AdvanceTo(t) to time t (never backwards), ResetState()
+ *   returns to the initial state; a pipeline request for a later UPDATE_TIME_STEP also
+ *   advances, an earlier (or no) time outputs the current state; NumberOfTimeSteps does
+ *   not cap the live clock. GetSimulationTime() is the time of the current state;
+ * - a change of the input mesh or of any other property rebuilds and restarts.
+ * With LiveMode off (default) the output at time t depends on the inputs only: any
+ * change, SetPrescribedMotion and SetNodalForces included, restarts from the initial
+ * state at the next request (the loads then act from the first step on).
+ *
  * @warning The tangent ignores the derivative of the rotations (the usual co-rotational
  * approximation) and each step makes one linearised solve: very large time steps stay
  * stable and dissipate, but a step that rotates parts of the body through tens of degrees
  * at once overshoots the strain energy transiently (seen: 8x for ~50 degrees in one step).
  * Clamped nodes stay where the initial state puts them (their velocity is zeroed).
+ * Prescribed nodes move by (target - position) in one step: for a smooth motion move the
+ * targets by a fraction of an element size per step (a jump is a velocity kick).
  * @warning CHOLMOD's supernodal module is GPL-2.0-or-later: a build that links it (the
  * CMake option HOEMBED_USE_CHOLMOD, on when found) is bound by that licence.
  *
@@ -75,7 +94,10 @@
 #include "hoembedFiltersSimulationModule.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
+#include <string> // for std::string
 #include <vector> // for std::vector
+
+class vtkDataArray;
 
 class HOEMBEDFILTERSSIMULATION_EXPORT vtkCorotationalFEMStepper : public vtkUnstructuredGridAlgorithm
 {
@@ -163,6 +185,45 @@ public:
   ///@}
 
   ///@{
+  /// Live mode (see the class description): loads change without restarting the state.
+  /// Default off (offline: every change restarts from the initial state).
+  vtkSetMacro(LiveMode, bool);
+  vtkGetMacro(LiveMode, bool);
+  vtkBooleanMacro(LiveMode, bool);
+  ///@}
+
+  /**
+   * Prescribed motion of chosen nodes: `mask` (1 component, nonzero = prescribed) and
+   * `targetDisplacements` (3 components: target x - X), one tuple per input point (checked
+   * at the next update). nullptr mask clears it. The arrays are copied. Returns false
+   * (with an error) for arrays of the wrong shape or non-finite targets.
+   */
+  bool SetPrescribedMotion(vtkDataArray* mask, vtkDataArray* targetDisplacements);
+  ///@{
+  /// Speed limit of the prescribed nodes (distance per second; 0 = none, default): a node
+  /// farther from its target than PrescribedSpeedLimit * TimeStep moves that far towards
+  /// it per step, so that a target that jumps (a fast mouse) is followed stably. A load:
+  /// in LiveMode a change does not restart. Interactive use: about half an element size
+  /// per step (see hoembedCorotationalSolver.h).
+  vtkSetClampMacro(PrescribedSpeedLimit, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PrescribedSpeedLimit, double);
+  ///@}
+  /// Nodal forces (3 components per input point; nullptr clears), added to the
+  /// ExternalForceArrayName forces. Copied. False (with an error) for a bad array.
+  bool SetNodalForces(vtkDataArray* forces);
+
+  ///@{
+  /// LiveMode: advance n steps (>= 0), or to time t, and update the output; false (with
+  /// an error) when the stepper fails or LiveMode is off.
+  bool Step(int n = 1);
+  bool AdvanceTo(double t);
+  ///@}
+  /// LiveMode: back to the initial state (time 0) at the next update.
+  void ResetState();
+  /// Time of the current state (steps taken since the initial state times TimeStep).
+  double GetSimulationTime();
+
+  ///@{
   /// Conjugate-gradient controls: relative residual and iteration cap per step.
   vtkSetClampMacro(SolverTolerance, double, 1e-16, 1.0);
   vtkGetMacro(SolverTolerance, double);
@@ -213,6 +274,8 @@ protected:
   double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
   double SolverTolerance = 1e-4;
   int MaxSolverIterations = 200;
+  bool LiveMode = false;
+  double PrescribedSpeedLimit = 0.0;
 
   int LastNumberOfSteps = 0;
   double LastRotationTime = 0.0;
@@ -234,6 +297,11 @@ private:
   bool SetupLoadsAndState(vtkUnstructuredGrid* input, const std::vector<double>& rest);
   bool Advance(long long k, vtkUnstructuredGrid* output);
   void WriteOutput(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, double tk);
+  // Live loads to the solver (gravity, forces, prescribed motion); false for arrays whose
+  // size does not match the mesh.
+  bool ApplyLoads(vtkIdType numberOfPoints);
+  // The properties whose change rebuilds in LiveMode (all but the loads and LiveMode).
+  std::string BuildSignature() const;
   struct Internals;
   Internals* Internal;
 };

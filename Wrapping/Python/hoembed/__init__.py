@@ -22,6 +22,7 @@ from .transfer import transfer
 from .simulation import simulate
 from .series import write_series
 from .models import thorny_tail
+from .live import live
 
 __version__ = "0.1.0"
 
@@ -38,4 +39,5 @@ __all__ = [
     "simulate",
     "write_series",
     "thorny_tail",
+    "live",
 ]

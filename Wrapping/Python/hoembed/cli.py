@@ -2,6 +2,7 @@
 
     hoembed demo [--output output]          # built-in thorny tail, defaults below
     hoembed run SURFACE [options]           # any surface file VTK/pyvista reads
+    hoembed live [SURFACE]                  # interactive: drag the surface (hoembed.live)
 
 Pipeline: fine surface -> tet10 mesh (vtkTet10Mesher) -> embedding coordinates
 (vtkEmbeddingCoordinatesFilter) -> co-rotated FE simulation under gravity with a clamped
@@ -48,6 +49,15 @@ def _parser():
     run = sub.add_parser("run", help="run the pipeline on a surface file",
                          formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     run.add_argument("surface", help="closed triangle surface (.obj .stl .ply .vtp .vtk ...)")
+    live = sub.add_parser("live", help="interactive window: drag the surface and it follows "
+                                       "(hoembed.live)",
+                          formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    live.add_argument("surface", nargs="?", default=None,
+                      help="surface file (default: the built-in thorny tail)")
+    live.add_argument("--elements", type=int, default=1000, help="target number of tet10")
+    live.add_argument("--young", type=float, default=2e5, help="Young's modulus E (Pa)")
+    live.add_argument("--gravity", type=float, nargs=3, default=(0.0, 0.0, 0.0),
+                      metavar=("GX", "GY", "GZ"), help="gravity (m/s^2)")
     for sp, defaults in ((demo, dict(steps=40, dt=0.02, young=1e7, gravity=(0.0, 0.0, -9.81),
                                      elements=1000)),
                          (run, dict(steps=40, dt=0.02, young=1e5, gravity=(0.0, 0.0, -9.81),
@@ -518,6 +528,9 @@ class _Outputs:
 
 def main(argv=None):
     args = _parser().parse_args(argv)
+    if args.command == "live":
+        from .live import run_cli
+        return run_cli(args)
     import pyvista
     import hoembed
 

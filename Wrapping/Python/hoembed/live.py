@@ -1,0 +1,495 @@
+"""The live loop: grab a point of the fine surface, drag it, and the surface follows.
+
+Two layers, so that tests and benchmarks drive exactly what the window runs:
+
+- :class:`LiveSession` (no window): vtkCorotationalFEMStepper in LiveMode with its
+  output connected to vtkDeformationTransferFilter (normal-offset, recomputed normals,
+  area-weighted point normals for shading). ``grab(point)`` prescribes the FE nodes near
+  a surface point, ``drag(point)`` moves their targets with it, ``release()`` lets go,
+  ``step()`` advances one frame (one time step + the transfer) and returns the seconds
+  of each stage.
+- :class:`LiveApp` (a pyvista window over one or two sessions): mouse and key handlers
+  as plain methods (``press``, ``move``, ``release``, ``key``, ``tick``) that the VTK
+  observers call, so the loop can be stepped without an event loop.
+
+``hoembed.live()`` / ``hoembed live [FILE]`` open the window (the built-in thorny tail
+without a file). Controls: left-drag on the surface pulls it (left-drag elsewhere turns
+the camera), ``space`` pause, ``r`` reset, ``m`` FE mesh wireframe, ``b`` tet4 +
+barycentric side by side, ``q`` quit.
+"""
+import time
+
+import numpy as np
+import pyvista
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkRenderingCore import vtkCellPicker
+
+from ._errors import HOEmbedArgumentError, HOEmbedError, run_filter
+from .hoembedFiltersSimulation import vtkCorotationalFEMStepper
+from .hoembedFiltersTransfer import vtkDeformationTransferFilter
+
+__all__ = ["LiveSession", "LiveApp", "live"]
+
+
+def _edge_lengths(points, cells):
+    """Mean corner edge length of the cells (rows of node ids, corners first)."""
+    p = np.asarray(points)
+    e = [np.linalg.norm(p[cells[:, a]] - p[cells[:, b]], axis=1)
+         for a, b in ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))]
+    return float(np.mean(e))
+
+
+def _element_size(fe_mesh):
+    """Mean corner edge length of the mesh (the drag's length scale)."""
+    return _edge_lengths(fe_mesh.points, fe_mesh.cell_connectivity.reshape(fe_mesh.n_cells, -1))
+
+
+def default_clamp(fe_mesh, builtin=False):
+    """The clamp of the live demo: the thorny tail's head (the nodes within 0.6 of the
+    origin), else the 10% of the nodes' x extent at its low end."""
+    pts = np.asarray(fe_mesh.points)
+    if builtin:
+        mask = np.linalg.norm(pts, axis=1) <= 0.6
+    else:
+        lo, hi = pts[:, 0].min(), pts[:, 0].max()
+        mask = pts[:, 0] <= lo + 0.1 * (hi - lo)
+    if not mask.any():
+        raise HOEmbedArgumentError("live: the clamped region holds no FE node")
+    return mask
+
+
+class LiveSession:
+    """One live simulation: FE mesh + embedded surface, stepped frame by frame.
+
+    Parameters
+    ----------
+    fe_mesh : pyvista.UnstructuredGrid
+        Rest FE mesh (tet10 or tet4).
+    embedded : pyvista.PolyData
+        The fine surface embedded in ``fe_mesh`` (``hoembed.embed``).
+    fixed : array of bool, optional
+        Clamped FE nodes (default: none).
+    dt : float
+        Time step per frame (s), default 1/60.
+    young, poisson, density, gravity, rayleigh_mass, rayleigh_stiffness : material and
+        loads of vtkCorotationalFEMStepper (defaults: a soft, damped solid without gravity).
+    grab_radius : float, optional
+        FE nodes within this distance of the picked point are dragged (default: one mean
+        element edge; at least the nearest free node).
+    speed_limit : float, optional
+        PrescribedSpeedLimit of the stepper (default: per grab, half the mean edge of the
+        cells around the grabbed nodes per step).
+    normals : str
+        Transfer normal mode ("recompute", "rotate" or "deform").
+    """
+
+    def __init__(self, fe_mesh, embedded, fixed=None, dt=1.0 / 60.0, young=2e5,
+                 poisson=0.45, density=1000.0, gravity=(0.0, 0.0, 0.0), rayleigh_mass=1.0,
+                 rayleigh_stiffness=0.005, grab_radius=None, speed_limit=None,
+                 normals="recompute", point_normals=True):
+        self.fe_rest = pyvista.wrap(fe_mesh).copy()
+        n = self.fe_rest.n_points
+        self.fixed = np.zeros(n, bool) if fixed is None else np.asarray(fixed, bool)
+        if self.fixed.shape != (n,):
+            raise HOEmbedArgumentError(f"live: fixed must have {n} entries (one per FE node)")
+        self.fe_rest.point_data["Fixed"] = self.fixed.astype(np.uint8)
+        self.rest = np.asarray(self.fe_rest.points, dtype=float).copy()
+        self.h = _element_size(self.fe_rest)
+        quadratic = pyvista.CellType.QUADRATIC_TETRA in self.fe_rest.cells_dict
+        self.kind = "tet10" if quadratic else "tet4"
+        self.dt = float(dt)
+        self.grab_radius = self.h if grab_radius is None else float(grab_radius)
+        self.auto_speed = speed_limit is None
+        self._cells = self.fe_rest.cell_connectivity.reshape(self.fe_rest.n_cells, -1)
+        st = vtkCorotationalFEMStepper()
+        st.SetInputData(self.fe_rest)
+        st.SetYoungModulus(young)
+        st.SetPoissonRatio(poisson)
+        st.SetDensity(density)
+        st.SetGravity(*gravity)
+        st.SetRayleighMass(rayleigh_mass)
+        st.SetRayleighStiffness(rayleigh_stiffness)
+        st.SetTimeStep(self.dt)
+        st.SetPrescribedSpeedLimit(0.5 * self.h / self.dt if speed_limit is None
+                                   else float(speed_limit))  # (per grab when automatic)
+        st.LiveModeOn()
+        self.stepper = st
+        tr = vtkDeformationTransferFilter()
+        tr.SetInputData(0, embedded)
+        tr.SetInputConnection(1, st.GetOutputPort())
+        tr.SetNormalMode({"recompute": 0, "rotate": 1, "deform": 2}[normals])
+        tr.SetComputePointNormals(bool(point_normals))
+        self.transfer = tr
+        self.grabbed = None  # FE node ids
+        self.grab_start = None  # their positions when grabbed
+        self.grab_point = None
+        self.target_point = None
+        self.frames = 0
+        run_filter(tr)  # builds the stepper (time 0) and the transfer plan
+
+    @property
+    def surface(self):
+        """The deformed fine surface of the current frame (a pyvista view of the transfer's
+        output; the actor of the window reads the output itself)."""
+        return pyvista.wrap(self.transfer.GetOutput())
+
+    @property
+    def fe(self):
+        """The deformed FE mesh of the current frame (stepper output)."""
+        return pyvista.wrap(self.stepper.GetOutput())
+
+    # -- drag -------------------------------------------------------------------------
+    def positions(self):
+        """Current FE node positions (n, 3)."""
+        return np.asarray(self.fe.points)
+
+    def grab(self, point):
+        """Prescribe the free FE nodes within grab_radius of `point` (at least the nearest
+        one) to move with it. Returns their ids (empty when every node is clamped)."""
+        point = np.asarray(point, float)
+        pos = self.positions()
+        d = np.linalg.norm(pos - point, axis=1)
+        d[self.fixed] = np.inf
+        near = np.flatnonzero(d <= self.grab_radius)
+        if len(near) == 0 and np.isfinite(d.min()):
+            near = np.array([int(np.argmin(d))])
+        if len(near) == 0:
+            return near
+        ids = near
+        if self.auto_speed:
+            # the speed limit from the cells around the grab: near a thin part they are
+            # much smaller than the mean, and a move of one of their sizes per step
+            # inverts them
+            around = self._cells[np.isin(self._cells, ids).any(axis=1)]
+            self.stepper.SetPrescribedSpeedLimit(0.5 * _edge_lengths(self.rest, around)
+                                                 / self.dt)
+        self.grabbed = ids
+        self.grab_start = pos[ids].copy()
+        self.grab_point = point
+        self.drag(point)
+        return ids
+
+    def drag(self, point):
+        """Move the grabbed nodes' targets by point - (the grabbed point)."""
+        if self.grabbed is None:
+            return
+        self.target_point = np.asarray(point, float)
+        n = self.fe_rest.n_points
+        mask = np.zeros(n, np.uint8)
+        mask[self.grabbed] = 1
+        target = np.zeros((n, 3))
+        target[self.grabbed] = (self.grab_start + (self.target_point - self.grab_point)
+                                - self.rest[self.grabbed])
+        if not self.stepper.SetPrescribedMotion(numpy_to_vtk(mask, deep=True),
+                                                numpy_to_vtk(target, deep=True)):
+            raise HOEmbedError("live: vtkCorotationalFEMStepper refused the drag")
+
+    def release(self):
+        self.grabbed = self.grab_start = self.grab_point = self.target_point = None
+        self.stepper.SetPrescribedMotion(None, None)
+
+    def reset(self):
+        self.release()
+        self.stepper.ResetState()
+        self.frames = 0
+        run_filter(self.transfer)
+
+    @property
+    def time(self):
+        return self.stepper.GetSimulationTime()
+
+    # -- frame ------------------------------------------------------------------------
+    def step(self):
+        """One frame: a time step, then the transfer (with point normals). Returns the
+        wall seconds of each stage."""
+        t0 = time.perf_counter()
+        if not self.stepper.Step(1):
+            raise HOEmbedError("live: vtkCorotationalFEMStepper failed (see the VTK error)")
+        t1 = time.perf_counter()
+        run_filter(self.transfer)
+        t2 = time.perf_counter()
+        self.frames += 1
+        return {"step": t1 - t0, "transfer": t2 - t1}
+
+
+class LiveApp:
+    """A pyvista window over a LiveSession (and, toggled with ``b``, a tet4 +
+    barycentric session beside it). The event handlers are plain methods taking display
+    coordinates, called by the VTK observers or directly by a test."""
+
+    def __init__(self, session, plotter=None, baseline=None, title="hoembed live"):
+        self.session = session
+        self.baseline_factory = baseline  # callable -> LiveSession (tet4), made on demand
+        self.baseline = None
+        self.show_baseline = False
+        self.show_mesh = False
+        self.paused = False
+        self.dragging = False
+        self.pl = plotter if plotter is not None else pyvista.Plotter(title=title)
+        b = session.surface.bounds
+        # the baseline sits beside the model along x; the camera looks along -z
+        self.offset = 1.15 * (b[1] - b[0]) + 0.1 * max(b[3] - b[2], b[5] - b[4])
+        self.surface_actor = self.pl.add_mesh(session.surface, color="#d8b48a",
+                                              smooth_shading=True, name="surface")
+        self.mesh_actor = self.pl.add_mesh(session.fe, style="wireframe", color="#2a4d69",
+                                           opacity=0.5, name="fe")
+        # the actors read the filters' outputs (updated in place every frame), not the
+        # copies pyvista made when adding them
+        self.surface_actor.mapper.SetInputConnection(session.transfer.GetOutputPort())
+        self.mesh_actor.mapper.SetInputConnection(session.stepper.GetOutputPort())
+        self.mesh_actor.SetVisibility(False)
+        self.base_actor = None
+        self.marker = self.pl.add_mesh(pyvista.Sphere(radius=0.3 * session.h), color="red",
+                                       name="marker")
+        self.marker.SetVisibility(False)
+        self.text = self.pl.add_text("", position="upper_left", font_size=10, name="status")
+        self.pl.add_text("drag the surface | space pause | r reset | m FE mesh | "
+                         "b tet4 side by side | q quit", position="lower_left", font_size=8,
+                         name="help")
+        self.picker = vtkCellPicker()
+        self.picker.SetTolerance(0.0005)
+        self.picker.PickFromListOn()
+        self.picker.AddPickList(self.surface_actor)
+        self.frame_ms = 0.0
+        self.stages = {}
+        self._drag_depth = None
+        self.pl.view_xy()
+        self.pl.reset_camera()
+        self._update_text()
+
+    # -- geometry helpers -------------------------------------------------------------
+    def _renderer(self):
+        return self.pl.renderer
+
+    def _world(self, x, y):
+        """World point under display (x, y) at the depth of the grabbed point."""
+        ren = self._renderer()
+        ren.SetDisplayPoint(float(x), float(y), self._drag_depth)
+        ren.DisplayToWorld()
+        w = ren.GetWorldPoint()
+        return np.array(w[:3]) / w[3]
+
+    def display_of(self, point):
+        """Display coordinates of a world point (for tests and scripted drags)."""
+        ren = self._renderer()
+        ren.SetWorldPoint(*point, 1.0)
+        ren.WorldToDisplay()
+        return ren.GetDisplayPoint()[:2]
+
+    # -- handlers ---------------------------------------------------------------------
+    def press(self, x, y):
+        """Left button at display (x, y): grab the surface there. False when the press
+        missed the surface (the camera then turns)."""
+        if not self.picker.Pick(float(x), float(y), 0.0, self._renderer()):
+            return False
+        p = np.array(self.picker.GetPickPosition())
+        if len(self.session.grab(p)) == 0:
+            return False
+        ren = self._renderer()
+        ren.SetWorldPoint(*p, 1.0)
+        ren.WorldToDisplay()
+        self._drag_depth = ren.GetDisplayPoint()[2]
+        if self.baseline is not None:
+            self.baseline.grab(p)  # same rest geometry (shown shifted)
+            self.baseline.stepper.SetPrescribedSpeedLimit(
+                self.session.stepper.GetPrescribedSpeedLimit())
+        self.dragging = True
+        self.marker.SetPosition(*p)
+        self.marker.SetVisibility(True)
+        return True
+
+    def move(self, x, y):
+        if not self.dragging:
+            return
+        p = self._world(x, y)
+        self.session.drag(p)
+        if self.baseline is not None:
+            self.baseline.drag(p)
+        self.marker.SetPosition(*p)
+
+    def release(self):
+        if not self.dragging:
+            return
+        self.dragging = False
+        self.session.release()
+        if self.baseline is not None:
+            self.baseline.release()
+        self.marker.SetVisibility(False)
+
+    def key(self, k):
+        if k == "space":
+            self.paused = not self.paused
+        elif k == "r":
+            self.release()
+            self.session.reset()
+            if self.baseline is not None:
+                self.baseline.reset()
+        elif k == "m":
+            self.show_mesh = not self.show_mesh
+            self.mesh_actor.SetVisibility(self.show_mesh)
+        elif k == "b":
+            self.toggle_baseline()
+        self._update_text()
+
+    def toggle_baseline(self):
+        if self.baseline_factory is None:
+            return
+        if self.baseline is None:
+            self.baseline = self.baseline_factory()
+            self.base_actor = self.pl.add_mesh(self.baseline.surface, color="#9fb8c8",
+                                               smooth_shading=True, name="baseline")
+            self.base_actor.mapper.SetInputConnection(self.baseline.transfer.GetOutputPort())
+            self.base_actor.SetPosition(self.offset, 0.0, 0.0)
+            self.base_label = self.pl.add_text("left: tet10 + normal-offset | right: tet4 + "
+                                               "barycentric", position="upper_right",
+                                               font_size=9, name="baseline_label")
+            self.show_baseline = True
+        else:
+            self.show_baseline = not self.show_baseline
+        self.base_actor.SetVisibility(self.show_baseline)
+        self.base_label.SetVisibility(self.show_baseline)
+        self.pl.reset_camera()
+
+    def tick(self):
+        """One frame: step the session(s) unless paused, then render."""
+        if not self.paused:
+            t0 = time.perf_counter()
+            self.stages = self.session.step()
+            if self.baseline is not None and self.show_baseline:
+                self.baseline.step()
+            self.frame_ms = 1e3 * (time.perf_counter() - t0)
+        self._update_text()
+        self.pl.render()
+
+    def _update_text(self):
+        s = self.session
+        state = "paused" if self.paused else "running"
+        stages = " + ".join(f"{k} {1e3 * v:.1f}" for k, v in self.stages.items())
+        self.status = (f"t = {s.time:.2f} s ({state})   frame {self.frame_ms:.1f} ms"
+                       + (f" ({stages} ms)" if stages else "")
+                       + f"\n{s.surface.n_points} surface vertices, {s.fe_rest.n_cells} "
+                         f"{s.kind} elements")
+        self.text.SetText(2, self.status)  # the upper left corner
+
+    # -- wiring to VTK's interactor ---------------------------------------------------
+    def connect(self):
+        """Observe the interactor style's mouse events and the keys; a repeating timer
+        drives tick()."""
+        iren = self.pl.iren.interactor
+        style = iren.GetInteractorStyle()
+        # Observers on the style replace its own On...() handlers (vtkInteractorStyle
+        # forwards an event to its observers instead, when it has any); pyvista's style
+        # already observes the button events to call them itself. Ours run first
+        # (priority 1) and abort the event when they handle it (a drag), else leave it
+        # to pyvista's observer or, when there is none, call the style's handler.
+        tags = {}
+
+        def observe(event, handle, default):
+            had = style.HasObserver(event)
+
+            def callback(obj, ev):
+                if handle():
+                    style.GetCommand(tags[event]).SetAbortFlag(1)
+                elif not had:
+                    default()
+            tags[event] = style.AddObserver(event, callback, 1.0)
+
+        def on_press():
+            return self.press(*iren.GetEventPosition())
+
+        def on_move():
+            if self.dragging:
+                self.move(*iren.GetEventPosition())
+            return self.dragging
+
+        def on_release():
+            was = self.dragging
+            self.release()
+            return was
+
+        observe("LeftButtonPressEvent", on_press, style.OnLeftButtonDown)
+        observe("MouseMoveEvent", on_move, style.OnMouseMove)
+        observe("LeftButtonReleaseEvent", on_release, style.OnLeftButtonUp)
+        for k in ("space", "r", "m", "b"):
+            self.pl.add_key_event(k, lambda k=k: self.key(k))
+        iren.AddObserver("TimerEvent", lambda o, e: self.tick())
+        return iren
+
+    def run(self, interval_ms=1):
+        """Open the window and loop until it is closed."""
+        self.pl.show(interactive_update=True, auto_close=False)
+        iren = self.connect()
+        iren.CreateRepeatingTimer(int(interval_ms))
+        iren.Start()
+
+
+def _report(label):
+    last = [-1]
+
+    def progress(f):
+        pct = int(100 * f)
+        if pct >= last[0] + 10 or f >= 1.0 and last[0] < 100:
+            last[0] = pct
+            print(f"\r{label}: {pct:3d}%", end="\n" if f >= 1.0 else "", flush=True)
+    return progress
+
+
+def prepare(surface=None, n_elements=1000, progress=True, order=2):
+    """Mesh and embed a surface (the built-in thorny tail when None), printing progress.
+    Returns (surface, fe_mesh, embedded, clamp mask)."""
+    import hoembed
+    builtin = surface is None
+    if builtin:
+        surface = hoembed.thorny_tail()
+    kind = "tet10" if order == 2 else "tet4"
+    method = "normal-offset" if order == 2 else "barycentric"
+    fe = hoembed.tet10_mesh(surface, n_elements=n_elements, order=order,
+                            progress=_report(f"{kind} mesh") if progress else None)
+    emb = hoembed.embed(surface, fe, method=method,
+                        progress=_report(f"embedding ({method})") if progress else None)
+    return surface, fe, emb, default_clamp(fe, builtin)
+
+
+def live(surface=None, n_elements=1000, plotter=None, run=True, **session_options):
+    """Open the live window on a surface (pyvista.PolyData, a file name, or None for the
+    built-in thorny tail). Returns the LiveApp (after the window closes when `run`)."""
+    if isinstance(surface, str):
+        surface = pyvista.read(surface)
+        if not isinstance(surface, pyvista.PolyData):
+            surface = surface.extract_surface()
+    surf, fe, emb, clamp = prepare(surface, n_elements)
+    session = LiveSession(fe, emb, fixed=clamp, **session_options)
+
+    def baseline():
+        _, fe4, emb4, clamp4 = prepare(surf, max(4 * n_elements, 50), order=1)
+        options = dict(session_options)
+        # the same grab (radius, speed) as the tet10 model, whose cells are larger
+        options.setdefault("grab_radius", session.grab_radius)
+        options.setdefault("speed_limit", session.stepper.GetPrescribedSpeedLimit())
+        return LiveSession(fe4, emb4, fixed=clamp4, **options)
+
+    app = LiveApp(session, plotter=plotter, baseline=baseline)
+    if run:
+        app.run()
+    return app
+
+
+def run_cli(args):
+    """``hoembed live [SURFACE]`` (hoembed.cli): read the file the way ``hoembed run``
+    does (in a child process), then open the window."""
+    import sys
+    from . import cli
+    try:
+        if args.elements < 4:
+            raise cli.UsageError("--elements must be at least 4")
+        if not (args.young > 0 and np.isfinite(args.young)):
+            raise cli.UsageError("--young must be > 0")
+        if not np.all(np.isfinite(args.gravity)):
+            raise cli.UsageError("--gravity must be finite")
+        surface = None if args.surface is None else cli._read_surface(args.surface)
+        live(surface, n_elements=args.elements, young=args.young,
+             gravity=tuple(args.gravity))
+    except (cli.UsageError, HOEmbedError, OSError) as err:
+        print(f"hoembed live: error: {err}", file=sys.stderr)
+        return 2
+    return 0
