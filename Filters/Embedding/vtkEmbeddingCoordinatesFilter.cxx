@@ -10,7 +10,6 @@
 #include "vtkCellType.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -21,16 +20,12 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkSMPTools.h"
 #include "vtkSignedCharArray.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkStringArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
-#include <atomic>
-#include <cmath>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
