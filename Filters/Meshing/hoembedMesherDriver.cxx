@@ -366,6 +366,37 @@ bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& inv
   }
   return invalid == 0;
 }
+
+// The distribution of the cells' minimum scaled Jacobian (minimum, 1st percentile,
+// median) and the cells below the floor. Curving never takes a cell below the floor
+// (hoembed::Tet10Acceptable): those left are straight shapes TetGen made that poor
+// (slivers whose four corners lie on the boundary, where two parts of it come close),
+// so the warning says where to act.
+void ReportQuality(const MesherOptions& options, MesherResult& out)
+{
+  std::vector<double> q(out.MinScaledJacobian);
+  if (q.empty())
+    return;
+  std::sort(q.begin(), q.end());
+  const size_t n = q.size();
+  out.QualityQuantiles[0] = q[0];
+  out.QualityQuantiles[1] = q[std::min(n - 1, static_cast<size_t>(0.01 * (n - 1) + 0.5))];
+  out.QualityQuantiles[2] = q[(n - 1) / 2];
+  out.PoorElementCount = static_cast<Id>(
+    std::lower_bound(q.begin(), q.end(), options.MinimumQuality) - q.begin());
+  if (out.PoorElementCount > 0 && options.ElementOrder == 2 && options.CurveBoundary)
+  {
+    std::ostringstream msg;
+    msg << out.PoorElementCount << " of " << n
+        << " elements have a minimum scaled Jacobian below MinimumQuality = "
+        << options.MinimumQuality << " (worst " << q[0] << ", 1st percentile "
+        << out.QualityQuantiles[1]
+        << "): their straight shape from TetGen is already that poor (slivers where parts of "
+           "the surface come closer than the element size: thin parts); ask for more "
+           "elements, or a smaller TargetEdgeLength";
+    out.Warnings.push_back(msg.str());
+  }
+}
 } // namespace
 
 MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>& tris,
@@ -417,6 +448,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   curving.CurveBoundary = options.CurveBoundary;
   curving.ProjectCorners = options.ProjectCorners;
   curving.QualityRatio = options.CurvedQualityRatio;
+  curving.MinimumQuality = options.MinimumQuality;
   curving.ExtraCheck = services.ExtraCheck;
   // The envelope's corners lie at the offset from the surface, its straight mid-edge
   // nodes a little farther: surface points beyond twice the offset belong to parts the
@@ -477,6 +509,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     out.Error = msg.str();
     return out;
   }
+  ReportQuality(options, out);
   report(1.0);
   return out;
 }
