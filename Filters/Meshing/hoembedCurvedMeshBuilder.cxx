@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace hoembed
@@ -401,6 +402,104 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
         break;
     }
   }
+}
+
+// Straight tets below the quality floor (slivers TetGen leaves where it may not split
+// the boundary) get their corners moved: a pattern search per corner (axis steps from a
+// fifth of the mean edge length at the corner, halved on failure, at most that far from
+// where it started) that raises the worst scaled Jacobian of the tets around it. Every
+// tet stays positive and no tet around the corner drops below the floor or below what it
+// had, so nothing is made worse; boundary corners may leave the surface by that much
+// (their mid-edge nodes still go onto it). Returns the number of corners moved.
+Id ImprovePoorTets(std::vector<double>& pts, const std::vector<Id>& tets, double minQuality)
+{
+  const Id nPts = static_cast<Id>(pts.size() / 3);
+  const Id nTets = static_cast<Id>(tets.size() / 4);
+  if (!(minQuality > 0.0))
+    return 0;
+  std::vector<Id> off(nPts + 1, 0), around(4 * nTets);
+  for (Id t = 0; t < nTets; ++t)
+    for (int a = 0; a < 4; ++a)
+      ++off[tets[4 * t + a] + 1];
+  for (Id i = 0; i < nPts; ++i)
+    off[i + 1] += off[i];
+  {
+    std::vector<Id> fill(off.begin(), off.end() - 1);
+    for (Id t = 0; t < nTets; ++t)
+      for (int a = 0; a < 4; ++a)
+        around[fill[tets[4 * t + a]]++] = t;
+  }
+  // the worst margin around corner v: quality over its bar (the floor, or less for a tet
+  // already below it), the smallest first; -inf when a tet is not positive
+  std::vector<double> bar(nTets);
+  for (Id t = 0; t < nTets; ++t)
+    bar[t] = std::min(minQuality, TetQuality(pts, &tets[4 * t]));
+  auto worst = [&](Id v) {
+    double w = std::numeric_limits<double>::infinity();
+    for (Id k = off[v]; k < off[v + 1]; ++k)
+    {
+      const Id* t = &tets[4 * around[k]];
+      if (!(TetDet(pts, t) > 0.0))
+        return -std::numeric_limits<double>::infinity();
+      w = std::min(w, TetQuality(pts, t));
+    }
+    return w;
+  };
+  auto keepsBars = [&](Id v) {
+    for (Id k = off[v]; k < off[v + 1]; ++k)
+      if (TetQuality(pts, &tets[4 * around[k]]) < bar[around[k]])
+        return false;
+    return true;
+  };
+  Id moved = 0;
+  for (int sweep = 0; sweep < 3; ++sweep)
+  {
+    bool any = false;
+    for (Id t = 0; t < nTets; ++t)
+    {
+      if (TetQuality(pts, &tets[4 * t]) >= minQuality)
+        continue;
+      for (int a = 0; a < 4; ++a)
+      {
+        const Id v = tets[4 * t + a];
+        const double x0[3] = { pts[3 * v], pts[3 * v + 1], pts[3 * v + 2] };
+        double L = 0.0;
+        for (int b = 0; b < 4; ++b)
+          L += std::sqrt(vtkMath::Distance2BetweenPoints(x0, &pts[3 * tets[4 * t + b]])) / 3.0;
+        const double reach = 0.2 * L;
+        double best = worst(v), step = reach;
+        const double start = best;
+        for (int it = 0; it < 60 && step > 0.01 * reach; ++it)
+        {
+          bool better = false;
+          for (int dir = 0; dir < 6 && !better; ++dir)
+          {
+            const int d = dir / 2;
+            const double s = dir % 2 ? -step : step;
+            pts[3 * v + d] += s;
+            const double w = std::fabs(pts[3 * v + d] - x0[d]) <= reach ? worst(v) : -1.0;
+            if (w > best && keepsBars(v))
+            {
+              best = w;
+              better = true;
+            }
+            else
+              pts[3 * v + d] -= s;
+          }
+          if (!better)
+            step *= 0.5;
+        }
+        if (best > start)
+        {
+          ++moved;
+          any = true;
+        }
+      }
+    }
+    if (!any)
+      break;
+  }
+  return moved;
 }
 
 struct QuadraticNodes
@@ -891,6 +990,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   const std::vector<double> tetgenCorners = pts;
   if (options.ProjectCorners)
     ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance, options.MinimumQuality);
+  ImprovePoorTets(pts, tets, options.MinimumQuality); // tet4 and tet10: the same corners
   report(0.3);
 
   out.LinearPoints = pts;

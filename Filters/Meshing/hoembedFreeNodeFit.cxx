@@ -38,6 +38,18 @@ Id FitWithFreeNodes(std::vector<double>& pts, const std::vector<Id>& conn,
   const std::vector<char>& isFree, double qualityRatio, double minQuality,
   std::int64_t evaluationsPerCell)
 {
+  // Why it is built so:
+  // - Only boundary mid-edge nodes carry the surface; corners and interior mid-edge
+  //   nodes are free to go wherever keeps their elements acceptable, so a node pulled
+  //   back for quality can often reach the surface after its neighbours make room.
+  // - The objective (the worst margin around a node: a minimum over sampled scaled
+  //   Jacobians and a Bernstein bound) is not smooth, so a derivative-free pattern search
+  //   (axis steps, halved on failure) is used rather than Newton or Ceres; it only ever
+  //   accepts a move that raises the worst margin, so no element gets worse on the way.
+  // - Each node's attempt is all or nothing: positions are restored unless every touched
+  //   element passes the acceptance test itself, so a failed attempt leaves no trace.
+  // - The work is bounded by evaluations per cell (the caller's budget), so the fit costs
+  //   at most a fixed multiple of the mesh size whatever the input.
   const Id np = static_cast<Id>(pts.size() / 3);
   const Id nc = static_cast<Id>(conn.size() / 10);
   // Cells around every node (CSR).

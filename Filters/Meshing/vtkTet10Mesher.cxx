@@ -256,14 +256,23 @@ std::string CheckPointIds(vtkPolyData* input)
   return std::string();
 }
 
-// The element count a request asks for: TargetNumberOfElements, or the polygons' enclosed
-// volume (fans; signed, so only a closed surface gives its volume) over the volume of a
-// regular tet of edge TargetEdgeLength.
+// The element count a request asks for: TargetNumberOfElements, or the volume to mesh
+// (below) over the volume of a regular tet of edge TargetEdgeLength.
 double EstimatedElements(vtkPolyData* input, double edge, int target)
 {
   if (!(edge > 0.0))
     return static_cast<double>(target);
-  double volume = 0.0;
+  // The volume to mesh: what the surface encloses (signed volume, taken about the
+  // bounding-box centre so that an open surface's value does not depend on where the
+  // origin is), or, when larger, the envelope of a sheet: its area times the envelope's
+  // thickness (twice the default offset of a quarter of the element size). An open
+  // surface encloses nothing meaningful; its signed volume can be 0 for a sheet through
+  // the origin, which let any request through.
+  double bounds[6];
+  input->GetBounds(bounds);
+  const double o[3] = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+    0.5 * (bounds[4] + bounds[5]) };
+  double volume = 0.0, area = 0.0;
   vtkIdType n;
   const vtkIdType* ids;
   auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
@@ -276,11 +285,26 @@ double EstimatedElements(vtkPolyData* input, double edge, int target)
       input->GetPoint(ids[0], a);
       input->GetPoint(ids[j], b);
       input->GetPoint(ids[j + 1], c);
+      for (int d = 0; d < 3; ++d)
+      {
+        a[d] -= o[d];
+        b[d] -= o[d];
+        c[d] -= o[d];
+      }
+      double ab[3], ac[3], cross[3];
+      for (int d = 0; d < 3; ++d)
+      {
+        ab[d] = b[d] - a[d];
+        ac[d] = c[d] - a[d];
+      }
+      vtkMath::Cross(ab, ac, cross);
+      area += 0.5 * vtkMath::Norm(cross);
       volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                   a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
     }
   }
-  return std::fabs(volume) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
+  const double sheet = area * 0.5 * edge;
+  return std::max(std::fabs(volume), sheet) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
 }
 
 // Distributed pipelines: every process's piece of the surface, gathered in rank order (so
