@@ -1,6 +1,7 @@
 #include "hoembedMesherDriver.h"
 
 #include "hoembedElementGeometry.h"
+#include "hoembedQuadraticMap.h"
 #include "hoembedSpatialOrder.h"
 #include "hoembedSurfaceCheck.h"
 #include "hoembedSurfaceWrap.h"
@@ -328,7 +329,8 @@ double MeasureSurfaceDeviation(const std::vector<double>& finePoints, const Curv
 
 // Step 5: memory order (cells along a Morton curve, nodes by first use: neighbouring
 // elements are neighbours in the arrays, the embedding's searches read less scattered
-// memory) and the quality of every element. Returns false when an element is not valid.
+// memory) and the quality of every element. Returns false when an element is not valid
+// (hoembed::TetIsValid).
 bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& invalid)
 {
   std::vector<Id> cellOrder, pointOrder;
@@ -360,9 +362,10 @@ bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& inv
       for (int d = 0; d < 3; ++d)
         x[3 * a + d] = out.Points[3 * id + d];
     }
-    const double q = npc == 10 ? Tet10MinScaledJacobian(x) : Tet4ScaledJacobian(x);
-    out.MinScaledJacobian[t] = q;
-    invalid += q > 0.0 ? 0 : 1;
+    out.MinScaledJacobian[t] = npc == 10 ? Tet10MinScaledJacobian(x) : Tet4ScaledJacobian(x);
+    // Validity is Core's one proof (the same the embedding and the FE reader use), not
+    // the quality's sign.
+    invalid += TetIsValid(x, npc) ? 0 : 1;
   }
   return invalid == 0;
 }
