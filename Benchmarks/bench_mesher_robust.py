@@ -159,7 +159,7 @@ def measure(name, make, n, tmp, exact):
     mesh = pv.wrap(out)
     q = mesh.cell_data["MinScaledJacobian"]
     states = vtk_cell_validator_states(mesh)
-    fd = {k: mesh.field_data[k][0].item() for k in mesh.field_data.keys()}
+    fd = {k: np.asarray(mesh.field_data[k][0]).tolist() for k in mesh.field_data.keys()}
     row.update(
         completed=True, seconds=round(seconds, 3),
         seconds_per_100k_triangles=round(seconds * 1e5 / max(1, surface.n_cells), 3),

@@ -1,5 +1,7 @@
 #include "hoembedBoundaryCrossings.h"
 
+#include "hoembedSurfaceCheck.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -86,44 +88,12 @@ void Split(const Patch& p, Patch out[4])
   }
 }
 
-// Does segment pq cross triangle abc (interior or edges)? Parallel segments do not count
-// (coplanar contact of flat faces without a shared corner does not occur in a valid mesh).
-bool SegmentTriangle(const double* p, const double* q, const double* a, const double* b, const double* c)
-{
-  double e1[3], e2[3], dir[3], s[3], h[3], qv[3];
-  for (int d = 0; d < 3; ++d)
-  {
-    e1[d] = b[d] - a[d];
-    e2[d] = c[d] - a[d];
-    dir[d] = q[d] - p[d];
-    s[d] = p[d] - a[d];
-  }
-  h[0] = dir[1] * e2[2] - dir[2] * e2[1];
-  h[1] = dir[2] * e2[0] - dir[0] * e2[2];
-  h[2] = dir[0] * e2[1] - dir[1] * e2[0];
-  const double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
-  if (det == 0.0)
-    return false;
-  const double inv = 1.0 / det;
-  const double u = inv * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]);
-  if (u < 0.0 || u > 1.0)
-    return false;
-  qv[0] = s[1] * e1[2] - s[2] * e1[1];
-  qv[1] = s[2] * e1[0] - s[0] * e1[2];
-  qv[2] = s[0] * e1[1] - s[1] * e1[0];
-  const double v = inv * (dir[0] * qv[0] + dir[1] * qv[1] + dir[2] * qv[2]);
-  if (v < 0.0 || u + v > 1.0)
-    return false;
-  const double t = inv * (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]);
-  return t >= 0.0 && t <= 1.0;
-}
-
 // Two flat triangles intersect when an edge of one crosses the other.
 bool FlatTrianglesCross(const Patch& a, const Patch& b)
 {
   for (int k = 0; k < 3; ++k)
-    if (SegmentTriangle(a.X[k], a.X[(k + 1) % 3], b.X[0], b.X[1], b.X[2]) ||
-      SegmentTriangle(b.X[k], b.X[(k + 1) % 3], a.X[0], a.X[1], a.X[2]))
+    if (SegmentCrossesTriangle(a.X[k], a.X[(k + 1) % 3], b.X[0], b.X[1], b.X[2]) ||
+      SegmentCrossesTriangle(b.X[k], b.X[(k + 1) % 3], a.X[0], a.X[1], a.X[2]))
       return true;
   return false;
 }

@@ -10,7 +10,13 @@ namespace hoembed
 {
 using Id = std::int64_t;
 
-bool Tet10Acceptable(const double* x, double qualityRatio, const Tet10Check& extra)
+double Tet10RequiredQuality(double straight, double qualityRatio, double minQuality)
+{
+  return std::max(qualityRatio * straight, std::min(minQuality, 0.999 * straight));
+}
+
+bool Tet10Acceptable(
+  const double* x, double qualityRatio, double minQuality, const Tet10Check& extra)
 {
   const double det4 = Tet4JacobianDeterminant(x);
   if (!(det4 > 0.0))
@@ -25,12 +31,13 @@ bool Tet10Acceptable(const double* x, double qualityRatio, const Tet10Check& ext
   }
   // Corner nodes are the first four: the straight tet4's quality.
   const double straight = Tet4ScaledJacobian(x);
-  return Tet10MinScaledJacobian(x) >= qualityRatio * straight && (!extra || extra(x));
+  return Tet10MinScaledJacobian(x) >= Tet10RequiredQuality(straight, qualityRatio, minQuality) &&
+    (!extra || extra(x));
 }
 
 CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<Id>& conn,
   const std::vector<Id>& nodes, const std::vector<double>& targets, double qualityRatio,
-  const Tet10Check& extra)
+  double minQuality, const Tet10Check& extra)
 {
   CurvingResult result;
   const Id nn = static_cast<Id>(nodes.size());
@@ -98,7 +105,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
     queued[c] = 0;
     double x[30];
     gather(c, x);
-    if (Tet10Acceptable(x, qualityRatio, extra))
+    if (Tet10Acceptable(x, qualityRatio, minQuality, extra))
     {
       continue;
     }
@@ -119,7 +126,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
         gather(c, x);
         double lo, hi;
         hoembed::Tet10JacobianBounds(x, lo, hi, 1);
-        if (Tet10Acceptable(x, qualityRatio, extra))
+        if (Tet10Acceptable(x, qualityRatio, minQuality, extra))
           lo = std::numeric_limits<double>::max();
         if (lo > bestBound)
         {
@@ -141,7 +148,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
           result.Alpha[best] = alpha0 * beta;
           place(best);
           gather(c, x);
-          (Tet10Acceptable(x, qualityRatio, extra) ? lo : hi) = beta;
+          (Tet10Acceptable(x, qualityRatio, minQuality, extra) ? lo : hi) = beta;
         }
       }
       result.Alpha[best] = alpha0 * lo;
@@ -155,7 +162,7 @@ CurvingResult CurveMidEdgeNodes(std::vector<double>& points, const std::vector<I
         }
       }
       gather(c, x);
-      if (Tet10Acceptable(x, qualityRatio, extra))
+      if (Tet10Acceptable(x, qualityRatio, minQuality, extra))
         break;
     }
   }

@@ -6,8 +6,9 @@
  * Each listed mid-edge node k moves from its straight position S_k to
  * S_k + alpha_k (T_k - S_k). All alpha_k start at 1. An element is acceptable when its
  * Jacobian determinant is provably positive everywhere (hoembed::Tet10JacobianBounds) and
- * its minimum scaled Jacobian is at least `qualityRatio` times that of its straight
- * (tet4) shape. For each unacceptable element the largest common factor beta in [0, 1]
+ * its minimum scaled Jacobian is at least hoembed::Tet10RequiredQuality of its straight
+ * (tet4) shape: `qualityRatio` times the straight quality, and `minQuality` (a floor a
+ * solver can use) unless the straight shape itself is worse. For each unacceptable element the largest common factor beta in [0, 1]
  * (bisection) of its curved nodes' alphas that makes it acceptable is applied; the
  * elements around the nodes that moved are checked again, until all are acceptable
  * (alpha = 0, the straight element, always is when the corners form a valid tet).
@@ -36,13 +37,15 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvingResult
  * @param nodes       the mid-edge nodes to move
  * @param targets     their targets (3 per node)
  * @param qualityRatio see above (e.g. 0.2)
+ * @param minQuality  see above (e.g. 0.05; 0: no floor)
  */
 /// An extra acceptance test of a tet10 (10 nodes, 3 doubles each), e.g. VTK's validator.
 using Tet10Check = std::function<bool(const double* x)>;
 
 HOEMBEDFILTERSMESHING_EXPORT CurvingResult CurveMidEdgeNodes(std::vector<double>& points,
   const std::vector<std::int64_t>& conn, const std::vector<std::int64_t>& nodes,
-  const std::vector<double>& targets, double qualityRatio, const Tet10Check& extra = Tet10Check());
+  const std::vector<double>& targets, double qualityRatio, double minQuality,
+  const Tet10Check& extra = Tet10Check());
 
 /**
  * Harmonic extension of boundary mid-edge-node displacements into the interior: each
@@ -60,10 +63,21 @@ HOEMBEDFILTERSMESHING_EXPORT std::vector<double> ExtendMidNodeDisplacement(
   const std::vector<double>& points, const std::vector<std::int64_t>& conn,
   const std::vector<double>& fixedDisp, const std::vector<char>& isFixed, int iterations);
 
+/**
+ * The smallest minimum scaled Jacobian accepted for a curved element whose straight shape
+ * scores `straight`: max(qualityRatio * straight, min(minQuality, 0.999 * straight)).
+ * Curving may cost a share of the straight quality (`qualityRatio`) but never go below
+ * the floor `minQuality`; a straight shape already below the floor is accepted as it is
+ * (0.999: the straight tet10's sampled value equals the tet4's only up to round-off), so
+ * pulling every node back is always acceptable.
+ */
+HOEMBEDFILTERSMESHING_EXPORT double Tet10RequiredQuality(
+  double straight, double qualityRatio, double minQuality);
+
 /// True when the tet10 (10 nodes, 3 doubles each) passes the acceptance test above (and
 /// `extra`, when given).
-HOEMBEDFILTERSMESHING_EXPORT bool Tet10Acceptable(
-  const double* x, double qualityRatio, const Tet10Check& extra = Tet10Check());
+HOEMBEDFILTERSMESHING_EXPORT bool Tet10Acceptable(const double* x, double qualityRatio,
+  double minQuality, const Tet10Check& extra = Tet10Check());
 } // namespace hoembed
 
 #endif

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace hoembed
@@ -243,7 +244,8 @@ bool KeepOnEnvelope(const std::vector<double>& pts, const TetMeshTopology& topo4
 // every element around the node acceptable is taken (alpha becomes 1).
 void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& conn,
   const TetMeshTopology& topo4, const std::vector<Id>& nodes, std::vector<double>& alpha,
-  Id nbe, const SurfaceQueries& surface, double qualityRatio, const Tet10Check& extra,
+  Id nbe, const SurfaceQueries& surface, double qualityRatio, double minQuality,
+  const Tet10Check& extra,
   double maxDistance)
 {
   const Id nc = static_cast<Id>(conn.size() / 10);
@@ -267,7 +269,7 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
       for (int a = 0; a < 10; ++a)
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = pts[3 * conn[10 * c + a] + d];
-      if (!Tet10Acceptable(x, qualityRatio, extra))
+      if (!Tet10Acceptable(x, qualityRatio, minQuality, extra))
         return false;
     }
     return true;
@@ -338,9 +340,12 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
 }
 
 // Boundary corners onto the surface, where their tets stay valid and keep half their
-// quality (full move, else a half, a quarter, else none).
+// quality, and stay above the quality floor `minQuality` (a tet already below it keeps
+// all it has: curving cannot mend a poor straight shape, so none is made here); full
+// move, else a half, a quarter, else none.
 void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
-  const TetMeshTopology& topo, const SurfaceQueries& surface, double maxDistance)
+  const TetMeshTopology& topo, const SurfaceQueries& surface, double maxDistance,
+  double minQuality)
 {
   const Id nPts = static_cast<Id>(pts.size() / 3);
   const Id nTets = static_cast<Id>(tets.size() / 4);
@@ -379,7 +384,10 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
     }
     before.clear();
     for (Id k = off[i]; k < off[i + 1]; ++k)
-      before.push_back(TetQuality(pts, &tets[4 * around[k]]));
+    {
+      const double q = TetQuality(pts, &tets[4 * around[k]]);
+      before.push_back(std::max(0.5 * q, std::min(minQuality, q)));
+    }
     for (double a : { 1.0, 0.5, 0.25, 0.0 })
     {
       for (int d = 0; d < 3; ++d)
@@ -388,12 +396,110 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
       for (Id k = off[i]; ok && k < off[i + 1]; ++k)
       {
         const Id* t = &tets[4 * around[k]];
-        ok = TetDet(pts, t) > 0.0 && TetQuality(pts, t) >= 0.5 * before[k - off[i]];
+        ok = TetDet(pts, t) > 0.0 && TetQuality(pts, t) >= before[k - off[i]];
       }
       if (ok)
         break;
     }
   }
+}
+
+// Straight tets below the quality floor (slivers TetGen leaves where it may not split
+// the boundary) get their corners moved: a pattern search per corner (axis steps from a
+// fifth of the mean edge length at the corner, halved on failure, at most that far from
+// where it started) that raises the worst scaled Jacobian of the tets around it. Every
+// tet stays positive and no tet around the corner drops below the floor or below what it
+// had, so nothing is made worse; boundary corners may leave the surface by that much
+// (their mid-edge nodes still go onto it). Returns the number of corners moved.
+Id ImprovePoorTets(std::vector<double>& pts, const std::vector<Id>& tets, double minQuality)
+{
+  const Id nPts = static_cast<Id>(pts.size() / 3);
+  const Id nTets = static_cast<Id>(tets.size() / 4);
+  if (!(minQuality > 0.0))
+    return 0;
+  std::vector<Id> off(nPts + 1, 0), around(4 * nTets);
+  for (Id t = 0; t < nTets; ++t)
+    for (int a = 0; a < 4; ++a)
+      ++off[tets[4 * t + a] + 1];
+  for (Id i = 0; i < nPts; ++i)
+    off[i + 1] += off[i];
+  {
+    std::vector<Id> fill(off.begin(), off.end() - 1);
+    for (Id t = 0; t < nTets; ++t)
+      for (int a = 0; a < 4; ++a)
+        around[fill[tets[4 * t + a]]++] = t;
+  }
+  // the worst margin around corner v: quality over its bar (the floor, or less for a tet
+  // already below it), the smallest first; -inf when a tet is not positive
+  std::vector<double> bar(nTets);
+  for (Id t = 0; t < nTets; ++t)
+    bar[t] = std::min(minQuality, TetQuality(pts, &tets[4 * t]));
+  auto worst = [&](Id v) {
+    double w = std::numeric_limits<double>::infinity();
+    for (Id k = off[v]; k < off[v + 1]; ++k)
+    {
+      const Id* t = &tets[4 * around[k]];
+      if (!(TetDet(pts, t) > 0.0))
+        return -std::numeric_limits<double>::infinity();
+      w = std::min(w, TetQuality(pts, t));
+    }
+    return w;
+  };
+  auto keepsBars = [&](Id v) {
+    for (Id k = off[v]; k < off[v + 1]; ++k)
+      if (TetQuality(pts, &tets[4 * around[k]]) < bar[around[k]])
+        return false;
+    return true;
+  };
+  Id moved = 0;
+  for (int sweep = 0; sweep < 3; ++sweep)
+  {
+    bool any = false;
+    for (Id t = 0; t < nTets; ++t)
+    {
+      if (TetQuality(pts, &tets[4 * t]) >= minQuality)
+        continue;
+      for (int a = 0; a < 4; ++a)
+      {
+        const Id v = tets[4 * t + a];
+        const double x0[3] = { pts[3 * v], pts[3 * v + 1], pts[3 * v + 2] };
+        double L = 0.0;
+        for (int b = 0; b < 4; ++b)
+          L += std::sqrt(vtkMath::Distance2BetweenPoints(x0, &pts[3 * tets[4 * t + b]])) / 3.0;
+        const double reach = 0.2 * L;
+        double best = worst(v), step = reach;
+        const double start = best;
+        for (int it = 0; it < 60 && step > 0.01 * reach; ++it)
+        {
+          bool better = false;
+          for (int dir = 0; dir < 6 && !better; ++dir)
+          {
+            const int d = dir / 2;
+            const double s = dir % 2 ? -step : step;
+            pts[3 * v + d] += s;
+            const double w = std::fabs(pts[3 * v + d] - x0[d]) <= reach ? worst(v) : -1.0;
+            if (w > best && keepsBars(v))
+            {
+              best = w;
+              better = true;
+            }
+            else
+              pts[3 * v + d] -= s;
+          }
+          if (!better)
+            step *= 0.5;
+        }
+        if (best > start)
+        {
+          ++moved;
+          any = true;
+        }
+      }
+    }
+    if (!any)
+      break;
+  }
+  return moved;
 }
 
 struct QuadraticNodes
@@ -483,8 +589,16 @@ CurvingResult CurveTowardsSurface(CurvedMesh& out, const TetMeshTopology& topo,
     for (int d = 0; d < 3; ++d)
       targets.push_back(out.Points[3 * i + d] + di[d]);
   }
-  return CurveMidEdgeNodes(out.Points, out.Conn, nodes, targets, options.QualityRatio);
+  return CurveMidEdgeNodes(
+    out.Points, out.Conn, nodes, targets, options.QualityRatio, options.MinimumQuality);
 }
+
+// Work limit of the free-node fit, in element evaluations per cell. The quality floor
+// (CurvedMeshOptions::MinimumQuality) pulls back more nodes than validity alone, and the
+// fit brings most of them back given the work (Benchmarks/RESULTS.md, "Element
+// quality"): on scorpion at 1000 elements it brings back 39 of 106 with 300, 65 with
+// 2000, as many with 6000.
+constexpr std::int64_t FitEvaluationsPerCell = 2000;
 
 // Second chances for the pulled-back boundary nodes: other surface points near them, then
 // moves of the free nodes around them (only boundary mid-edge nodes are meant to lie on
@@ -499,17 +613,20 @@ void SecondChances(CurvedMesh& out, const TetMeshTopology& topo, const Quadratic
   const Id nbe = topo.GetNumberOfBoundaryEdges();
   for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
     RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-      surface, options.QualityRatio, Tet10Check(), options.MaxTargetDistance);
+      surface, options.QualityRatio, options.MinimumQuality, Tet10Check(),
+      options.MaxTargetDistance);
   std::vector<char> isFree(nPts, 0);
   for (Id i = 0; i < nPts; ++i)
     isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
   std::vector<double> alphaB(curving.Alpha.begin(), curving.Alpha.begin() + nbe);
   std::vector<double> targetsB(targets.begin(), targets.begin() + 3 * nbe);
   FitWithFreeNodes(
-    out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree, options.QualityRatio);
+    out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree, options.QualityRatio,
+    options.MinimumQuality, FitEvaluationsPerCell);
   std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
   RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-    surface, options.QualityRatio, Tet10Check(), options.MaxTargetDistance);
+    surface, options.QualityRatio, options.MinimumQuality, Tet10Check(),
+      options.MaxTargetDistance);
 }
 
 // The extra test is costly: run it once on the result, and pull back (from the straight
@@ -546,7 +663,8 @@ void ApplyExtraCheck(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   if (redo.empty())
     return;
   CurvingResult again = CurveMidEdgeNodes(
-    out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.ExtraCheck);
+    out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.MinimumQuality,
+    options.ExtraCheck);
   std::vector<Id> edgeOf(nPts, -1);
   for (Id e = 0; e < nbe; ++e)
     edgeOf[quad.EdgeMid[e]] = e;
@@ -871,7 +989,8 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   }
   const std::vector<double> tetgenCorners = pts;
   if (options.ProjectCorners)
-    ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance);
+    ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance, options.MinimumQuality);
+  ImprovePoorTets(pts, tets, options.MinimumQuality); // tet4 and tet10: the same corners
   report(0.3);
 
   out.LinearPoints = pts;

@@ -51,6 +51,7 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
   bool CurveBoundary = true;
   bool ProjectCorners = true;
   double QualityRatio = 0.1;  ///< see hoembed::Tet10Acceptable
+  double MinimumQuality = 0.05; ///< see hoembed::Tet10Acceptable
   double SliverQuality = 0.2; ///< scaled Jacobian below which flat boundary tets go
   /// Surface points farther than this from a boundary node are not its target (the node
   /// stays where it is: an envelope bridging a hole or wrapping a sheet); 0: no limit.

@@ -14,15 +14,19 @@ using Id = std::int64_t;
 namespace
 {
 // Acceptability margin of a tet10: >= 0 exactly when it is acceptable (without an extra
-// check), below -1 when not provably valid, more negative the worse.
-double Margin(const double* x, double qualityRatio)
+// check), below -1 when not provably valid, more negative the worse. `floor` is the part
+// of the required quality set by the element's straight shape before the fit: corners
+// move here, and a corner move that spoils the straight shape must not lower the bar
+// (Tet10RequiredQuality of the new shape alone would accept any sliver it makes).
+double Margin(const double* x, double qualityRatio, double minQuality, double floor)
 {
   const double det4 = Tet4JacobianDeterminant(x);
   if (!(det4 > 0.0))
     return -3.0;
   const double q = Tet10MinScaledJacobian(x);
   if (q > 0.0)
-    return q - qualityRatio * Tet4ScaledJacobian(x);
+    return q -
+      std::max(floor, Tet10RequiredQuality(Tet4ScaledJacobian(x), qualityRatio, minQuality));
   double lo, hi;
   Tet10JacobianBounds(x, lo, hi, 1);
   return -1.0 + std::max(-1.0, std::min(0.0, lo / det4));
@@ -31,8 +35,21 @@ double Margin(const double* x, double qualityRatio)
 
 Id FitWithFreeNodes(std::vector<double>& pts, const std::vector<Id>& conn,
   const std::vector<Id>& nodes, const std::vector<double>& targets, std::vector<double>& alpha,
-  const std::vector<char>& isFree, double qualityRatio, std::int64_t evaluationsPerCell)
+  const std::vector<char>& isFree, double qualityRatio, double minQuality,
+  std::int64_t evaluationsPerCell)
 {
+  // Why it is built so:
+  // - Only boundary mid-edge nodes carry the surface; corners and interior mid-edge
+  //   nodes are free to go wherever keeps their elements acceptable, so a node pulled
+  //   back for quality can often reach the surface after its neighbours make room.
+  // - The objective (the worst margin around a node: a minimum over sampled scaled
+  //   Jacobians and a Bernstein bound) is not smooth, so a derivative-free pattern search
+  //   (axis steps, halved on failure) is used rather than Newton or Ceres; it only ever
+  //   accepts a move that raises the worst margin, so no element gets worse on the way.
+  // - Each node's attempt is all or nothing: positions are restored unless every touched
+  //   element passes the acceptance test itself, so a failed attempt leaves no trace.
+  // - The work is bounded by evaluations per cell (the caller's budget), so the fit costs
+  //   at most a fixed multiple of the mesh size whatever the input.
   const Id np = static_cast<Id>(pts.size() / 3);
   const Id nc = static_cast<Id>(conn.size() / 10);
   // Cells around every node (CSR).
@@ -48,6 +65,16 @@ Id FitWithFreeNodes(std::vector<double>& pts, const std::vector<Id>& conn,
       for (int a = 0; a < 10; ++a)
         cells[fill[conn[10 * c + a]]++] = c;
   }
+  // The floor each element keeps whatever the corners do (see Margin).
+  std::vector<double> floor(nc);
+  for (Id c = 0; c < nc; ++c)
+  {
+    double x[12];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = pts[3 * conn[10 * c + a] + d];
+    floor[c] = std::min(minQuality, 0.999 * Tet4ScaledJacobian(x));
+  }
   // Work limit: margin evaluations, proportional to the mesh size.
   std::int64_t evaluations = 0;
   const std::int64_t budget = evaluationsPerCell * nc;
@@ -57,7 +84,7 @@ Id FitWithFreeNodes(std::vector<double>& pts, const std::vector<Id>& conn,
     for (int a = 0; a < 10; ++a)
       for (int d = 0; d < 3; ++d)
         x[3 * a + d] = pts[3 * conn[10 * c + a] + d];
-    return Margin(x, qualityRatio);
+    return Margin(x, qualityRatio, minQuality, floor[c]);
   };
   auto worstAround = [&](Id i) {
     double w = 1e300;
@@ -171,7 +198,8 @@ Id FitWithFreeNodes(std::vector<double>& pts, const std::vector<Id>& conn,
           for (int a = 0; a < 10; ++a)
             for (int d = 0; d < 3; ++d)
               x[3 * a + d] = pts[3 * conn[10 * touched[i] + a] + d];
-          ok = Tet10Acceptable(x, qualityRatio);
+          ok = Tet10Acceptable(x, qualityRatio, minQuality) &&
+            Tet10MinScaledJacobian(x) >= floor[touched[i]];
         }
       }
       if (!ok)

@@ -31,13 +31,16 @@ namespace hoembed
  * @param alpha        per node, 1 when on the target; updated
  * @param isFree       per point: 1 for mid-edge nodes that may move anywhere
  * @param qualityRatio see hoembed::Tet10Acceptable
+ * @param minQuality   see hoembed::Tet10Acceptable; an element's straight shape before
+ *                     the fit sets its bar: moved corners do not lower it
  * @param evaluationsPerCell work limit: element evaluations per cell of the mesh
  * @return how many nodes reached their target
  */
 HOEMBEDFILTERSMESHING_EXPORT std::int64_t FitWithFreeNodes(std::vector<double>& points,
   const std::vector<std::int64_t>& conn, const std::vector<std::int64_t>& nodes,
   const std::vector<double>& targets, std::vector<double>& alpha,
-  const std::vector<char>& isFree, double qualityRatio, std::int64_t evaluationsPerCell = 300);
+  const std::vector<char>& isFree, double qualityRatio, double minQuality,
+  std::int64_t evaluationsPerCell = 300);
 } // namespace hoembed
 
 #endif

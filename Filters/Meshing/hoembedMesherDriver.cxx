@@ -1,6 +1,7 @@
 #include "hoembedMesherDriver.h"
 
 #include "hoembedElementGeometry.h"
+#include "hoembedQuadraticMap.h"
 #include "hoembedSpatialOrder.h"
 #include "hoembedSurfaceCheck.h"
 #include "hoembedSurfaceWrap.h"
@@ -328,7 +329,8 @@ double MeasureSurfaceDeviation(const std::vector<double>& finePoints, const Curv
 
 // Step 5: memory order (cells along a Morton curve, nodes by first use: neighbouring
 // elements are neighbours in the arrays, the embedding's searches read less scattered
-// memory) and the quality of every element. Returns false when an element is not valid.
+// memory) and the quality of every element. Returns false when an element is not valid
+// (hoembed::TetIsValid).
 bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& invalid)
 {
   std::vector<Id> cellOrder, pointOrder;
@@ -360,11 +362,43 @@ bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& inv
       for (int d = 0; d < 3; ++d)
         x[3 * a + d] = out.Points[3 * id + d];
     }
-    const double q = npc == 10 ? Tet10MinScaledJacobian(x) : Tet4ScaledJacobian(x);
-    out.MinScaledJacobian[t] = q;
-    invalid += q > 0.0 ? 0 : 1;
+    out.MinScaledJacobian[t] = npc == 10 ? Tet10MinScaledJacobian(x) : Tet4ScaledJacobian(x);
+    // Validity is Core's one proof (the same the embedding and the FE reader use), not
+    // the quality's sign.
+    invalid += TetIsValid(x, npc) ? 0 : 1;
   }
   return invalid == 0;
+}
+
+// The distribution of the cells' minimum scaled Jacobian (minimum, 1st percentile,
+// median) and the cells below the floor. Curving never takes a cell below the floor
+// (hoembed::Tet10Acceptable): those left are straight shapes TetGen made that poor
+// (slivers whose four corners lie on the boundary, where two parts of it come close),
+// so the warning says where to act.
+void ReportQuality(const MesherOptions& options, MesherResult& out)
+{
+  std::vector<double> q(out.MinScaledJacobian);
+  if (q.empty())
+    return;
+  std::sort(q.begin(), q.end());
+  const size_t n = q.size();
+  out.QualityQuantiles[0] = q[0];
+  out.QualityQuantiles[1] = q[std::min(n - 1, static_cast<size_t>(0.01 * (n - 1) + 0.5))];
+  out.QualityQuantiles[2] = q[(n - 1) / 2];
+  out.PoorElementCount = static_cast<Id>(
+    std::lower_bound(q.begin(), q.end(), options.MinimumQuality) - q.begin());
+  if (out.PoorElementCount > 0 && options.ElementOrder == 2 && options.CurveBoundary)
+  {
+    std::ostringstream msg;
+    msg << out.PoorElementCount << " of " << n
+        << " elements have a minimum scaled Jacobian below MinimumQuality = "
+        << options.MinimumQuality << " (worst " << q[0] << ", 1st percentile "
+        << out.QualityQuantiles[1]
+        << "): their straight shape from TetGen is already that poor (slivers where parts of "
+           "the surface come closer than the element size: thin parts); ask for more "
+           "elements, or a smaller TargetEdgeLength";
+    out.Warnings.push_back(msg.str());
+  }
 }
 } // namespace
 
@@ -417,6 +451,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   curving.CurveBoundary = options.CurveBoundary;
   curving.ProjectCorners = options.ProjectCorners;
   curving.QualityRatio = options.CurvedQualityRatio;
+  curving.MinimumQuality = options.MinimumQuality;
   curving.ExtraCheck = services.ExtraCheck;
   // The envelope's corners lie at the offset from the surface, its straight mid-edge
   // nodes a little farther: surface points beyond twice the offset belong to parts the
@@ -477,6 +512,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     out.Error = msg.str();
     return out;
   }
+  ReportQuality(options, out);
   report(1.0);
   return out;
 }

@@ -37,6 +37,9 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
   double MinDihedralAngle = 10.0;
   double SurfaceDeviationWarning = 0.05;
   double CurvedQualityRatio = 0.02;
+  /// Floor of every curved element's minimum scaled Jacobian (hoembed::Tet10Acceptable);
+  /// elements whose straight shape is below it are reported (PoorElementCount).
+  double MinimumQuality = 0.05;
   /// Distance of the envelope from a surface that is not a clean closed manifold,
   /// relative to the bounding-box diagonal; 0 (default): a quarter of the target element
   /// size, so that a single sheet becomes a solid about one element thick.
@@ -84,6 +87,9 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherResult
   std::int64_t EnvelopeNodeCount = 0; ///< boundary mid-edge nodes left on the envelope
   std::int64_t BoundaryCrossingsFound = 0; ///< curved boundary face pairs crossing, repaired
   std::int64_t BoundaryCrossingsLeft = 0;  ///< crossing pairs left (0 expected)
+  /// MinScaledJacobian over the cells: minimum, 1st percentile, median
+  double QualityQuantiles[3] = { 0.0, 0.0, 0.0 };
+  std::int64_t PoorElementCount = 0; ///< cells below MesherOptions::MinimumQuality
   bool Wrapped = false;               ///< the boundary is an envelope of the surface
   double EnvelopeOffset = 0.0;        ///< its distance from the surface (when Wrapped)
   std::vector<std::string> Warnings;

@@ -101,10 +101,6 @@ void SurfaceCheck::Run(const double* pts, Id npts, const Id* tris, Id ntris)
   }
 }
 
-namespace
-{
-// Does segment p-q cross triangle (a, b, c)? Moller-Trumbore with a tolerance `eps`
-// (barycentric and segment parameter), so near-touching counts as crossing.
 bool SegmentCrossesTriangle(
   const double* p, const double* q, const double* a, const double* b, const double* c, double eps)
 {
@@ -140,7 +136,6 @@ bool SegmentCrossesTriangle(
   const double t = inv * (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]);
   return t >= -eps && t <= 1.0 + eps;
 }
-} // namespace
 
 SurfaceCheck::Id SurfaceCheck::CountSelfIntersections(
   const double* pts, Id npts, const Id* tris, Id ntris, double relTol, Id maxCount)

@@ -39,6 +39,17 @@ struct HOEMBEDFILTERSMESHING_EXPORT SurfaceCheck
   /// Linear time (edges bucketed by their smallest point id).
   void Run(const double* pts, Id npts, const Id* tris, Id ntris);
 };
+
+/**
+ * Does segment p-q cross triangle (a, b, c) (its interior or edges)? Moller-Trumbore;
+ * `eps` widens the barycentric and segment-parameter ranges, so that near-touching counts
+ * as crossing (0: exact ranges). A segment parallel to the triangle's plane (|det| at most
+ * 1e-12 of its scale) does not count: coplanar contact is left to the other edges' tests.
+ * The meshing module's one segment-triangle test (a surface's self-intersections, flat
+ * boundary faces crossing).
+ */
+HOEMBEDFILTERSMESHING_EXPORT bool SegmentCrossesTriangle(const double* p, const double* q,
+  const double* a, const double* b, const double* c, double eps = 0.0);
 } // namespace hoembed
 
 #endif

@@ -256,14 +256,23 @@ std::string CheckPointIds(vtkPolyData* input)
   return std::string();
 }
 
-// The element count a request asks for: TargetNumberOfElements, or the polygons' enclosed
-// volume (fans; signed, so only a closed surface gives its volume) over the volume of a
-// regular tet of edge TargetEdgeLength.
+// The element count a request asks for: TargetNumberOfElements, or the volume to mesh
+// (below) over the volume of a regular tet of edge TargetEdgeLength.
 double EstimatedElements(vtkPolyData* input, double edge, int target)
 {
   if (!(edge > 0.0))
     return static_cast<double>(target);
-  double volume = 0.0;
+  // The volume to mesh: what the surface encloses (signed volume, taken about the
+  // bounding-box centre so that an open surface's value does not depend on where the
+  // origin is), or, when larger, the envelope of a sheet: its area times the envelope's
+  // thickness (twice the default offset of a quarter of the element size). An open
+  // surface encloses nothing meaningful; its signed volume can be 0 for a sheet through
+  // the origin, which let any request through.
+  double bounds[6];
+  input->GetBounds(bounds);
+  const double o[3] = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+    0.5 * (bounds[4] + bounds[5]) };
+  double volume = 0.0, area = 0.0;
   vtkIdType n;
   const vtkIdType* ids;
   auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
@@ -276,11 +285,26 @@ double EstimatedElements(vtkPolyData* input, double edge, int target)
       input->GetPoint(ids[0], a);
       input->GetPoint(ids[j], b);
       input->GetPoint(ids[j + 1], c);
+      for (int d = 0; d < 3; ++d)
+      {
+        a[d] -= o[d];
+        b[d] -= o[d];
+        c[d] -= o[d];
+      }
+      double ab[3], ac[3], cross[3];
+      for (int d = 0; d < 3; ++d)
+      {
+        ab[d] = b[d] - a[d];
+        ac[d] = c[d] - a[d];
+      }
+      vtkMath::Cross(ab, ac, cross);
+      area += 0.5 * vtkMath::Norm(cross);
       volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                   a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
     }
   }
-  return std::fabs(volume) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
+  const double sheet = area * 0.5 * edge;
+  return std::max(std::fabs(volume), sheet) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
 }
 
 // Distributed pipelines: every process's piece of the surface, gathered in rank order (so
@@ -385,6 +409,7 @@ public:
     this->CheckCell->GetPoints()->SetNumberOfPoints(10);
     for (vtkIdType i = 0; i < 10; ++i)
       this->CheckCell->GetPointIds()->SetId(i, i);
+    this->Diagonal = fine->GetLength();
   }
 
   hoembed::MesherServices Make()
@@ -435,15 +460,20 @@ public:
     // Beyond det J > 0, curved elements must pass VTK's own cell validator (its
     // linearised faces must not intersect or flip), so that VTK tools accept every element.
     s.ExtraCheck = [this](const double* x) {
-      double longest = 0.0;
+      // VTK's validator is not scale-invariant (its tolerance and some of its internal
+      // ones are absolute; seen: a cell of a surface of diagonal 5e-6 passed at its own
+      // scale and failed at unit scale). The cell is checked as it is in the surface
+      // scaled to a unit diagonal, with a tolerance of 1e-6 there: as a user checking the
+      // mesh so finds it.
+      const double scale = this->Diagonal > 0.0 ? 1.0 / this->Diagonal : 1.0;
       for (vtkIdType i = 0; i < 10; ++i)
       {
-        this->CheckCell->GetPoints()->SetPoint(i, x + 3 * i);
-        longest = std::max(longest, vtkMath::Distance2BetweenPoints(x, x + 3 * i));
+        const double p[3] = { (x[3 * i] - x[0]) * scale, (x[3 * i + 1] - x[1]) * scale,
+          (x[3 * i + 2] - x[2]) * scale };
+        this->CheckCell->GetPoints()->SetPoint(i, p);
       }
       // Curved faces are legitimately not convex: only intersections and flips count.
-      const auto state = static_cast<short>(
-        vtkCellValidator::Check(this->CheckCell, 1e-6 * std::sqrt(longest)));
+      const auto state = static_cast<short>(vtkCellValidator::Check(this->CheckCell, 1e-6));
       const short bad = static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
         static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
         static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
@@ -479,6 +509,7 @@ private:
   vtkNew<vtkStaticPointLocator> VertexLocator;
   vtkNew<vtkIdList> NearIds;
   vtkNew<vtkQuadraticTetra> CheckCell;
+  double Diagonal = 0.0;
 };
 
 // Write step: the driver's arrays into the output grid.
@@ -525,6 +556,12 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
   addId("EnvelopeNodeCount", r.EnvelopeNodeCount);
   addId("BoundaryCrossingsFound", r.BoundaryCrossingsFound);
   addId("BoundaryCrossingsLeft", r.BoundaryCrossingsLeft);
+  addId("PoorElementCount", r.PoorElementCount);
+  vtkNew<vtkDoubleArray> quantiles;
+  quantiles->SetName("MinScaledJacobianQuantiles");
+  quantiles->SetNumberOfComponents(3);
+  quantiles->InsertNextTuple(r.QualityQuantiles);
+  output->GetFieldData()->AddArray(quantiles);
   vtkNew<vtkDoubleArray> dev;
   dev->SetName("MaxSurfaceDeviation");
   dev->InsertNextValue(r.MaxSurfaceDeviation);
@@ -567,6 +604,7 @@ bool vtkTet10Mesher::CheckRequest(vtkPolyData* input)
   const std::pair<const char*, double> props[] = { { "TargetEdgeLength", this->TargetEdgeLength },
     { "RadiusEdgeRatio", this->RadiusEdgeRatio }, { "MinDihedralAngle", this->MinDihedralAngle },
     { "CurvedQualityRatio", this->CurvedQualityRatio },
+    { "MinimumQuality", this->MinimumQuality },
     { "SurfaceDeviationWarning", this->SurfaceDeviationWarning },
     { "EnvelopeTolerance", this->EnvelopeTolerance }, { "MergeTolerance", this->MergeTolerance } };
   for (const auto& p : props)
@@ -654,6 +692,7 @@ int vtkTet10Mesher::RequestData(
   options.MinDihedralAngle = this->MinDihedralAngle;
   options.SurfaceDeviationWarning = this->SurfaceDeviationWarning;
   options.CurvedQualityRatio = this->CurvedQualityRatio;
+  options.MinimumQuality = this->MinimumQuality;
   options.EnvelopeTolerance = this->EnvelopeTolerance;
   VTKServices services(fine);
   const hoembed::MesherResult result = hoembed::RunMesher(fineArrays.Points, fineArrays.Tris,
@@ -687,6 +726,7 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RadiusEdgeRatio: " << this->RadiusEdgeRatio << "\n";
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "CurvedQualityRatio: " << this->CurvedQualityRatio << "\n";
+  os << indent << "MinimumQuality: " << this->MinimumQuality << "\n";
   os << indent << "EnvelopeTolerance: " << this->EnvelopeTolerance << "\n";
   os << indent << "MergeTolerance: " << this->MergeTolerance << "\n";
   os << indent << "SurfaceDeviationWarning: " << this->SurfaceDeviationWarning << "\n";

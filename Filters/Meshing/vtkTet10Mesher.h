@@ -47,7 +47,9 @@
  *    pulled back then get second chances: other points of the fine surface near them,
  *    and moves of the corners and interior mid-edge nodes around them (a pattern search
  *    that keeps every element acceptable; corners may leave the surface slightly, only
- *    mid-edge nodes are put on it).
+ *    mid-edge nodes are put on it). Acceptable means valid and a minimum scaled Jacobian of
+ *    at least CurvedQualityRatio times the straight shape's and at least MinimumQuality
+ *    (unless the straight shape is worse: it is then kept).
  * 6. Memory order (hoembed::SpatialOrder): cells sorted along a Morton curve through
  *    their corner centroids, nodes numbered in the order those cells first use them, so
  *    elements near each other in space are near each other in the arrays (the embedding's
@@ -63,7 +65,9 @@
  *   coarse straight boundary, relative to the bounding-box diagonal (a large value means
  *   thin parts were not resolved: a warning is issued above 5%); `EnvelopeNodeCount`
  *   (vtkIdType): boundary mid-edge nodes left on the envelope (no surface near);
- *   `EnvelopeOffset` (double): the envelope's distance from the surface (0: not wrapped).
+ *   `EnvelopeOffset` (double): the envelope's distance from the surface (0: not wrapped);
+ *   `MinScaledJacobianQuantiles` (3 doubles): minimum, 1st percentile and median of
+ *   `MinScaledJacobian`; `PoorElementCount` (vtkIdType): cells below MinimumQuality.
  *
  * Progress events are fired during the steps above.
  *
@@ -182,6 +186,18 @@ public:
 
   ///@{
   /**
+   * Floor of every curved element's minimum scaled Jacobian (default 0.05, a quality a
+   * solver can use): curving pulls mid-edge nodes back (partially, just enough) rather
+   * than go below it, trading surface fidelity (RelaxedNodeCount) for quality. An element
+   * whose straight shape is already below it stays straight there, and a warning gives
+   * the count and the figures (field data `PoorElementCount`). 0: no floor.
+   */
+  vtkSetClampMacro(MinimumQuality, double, 0.0, 1.0);
+  vtkGetMacro(MinimumQuality, double);
+  ///@}
+
+  ///@{
+  /**
    * Distance of the envelope from an input that is not a clean closed manifold, relative
    * to the bounding-box diagonal (default 0: a quarter of the target element size, so
    * that a single open sheet becomes a solid about one element thick). Smaller values
@@ -232,6 +248,7 @@ protected:
   double MinDihedralAngle = 10.0;
   double SurfaceDeviationWarning = 0.05;
   double CurvedQualityRatio = 0.02;
+  double MinimumQuality = 0.05;
   double EnvelopeTolerance = 0.0;
   double MergeTolerance = 1e-6;
 

@@ -56,7 +56,7 @@ bool AllAcceptable(const std::vector<double>& p, const std::vector<Id>& conn, do
   {
     double x[30];
     Gather(p, conn, c, x);
-    ok = ok && hoembed::Tet10Acceptable(x, ratio);
+    ok = ok && hoembed::Tet10Acceptable(x, ratio, 0.0);
     minDet = std::min(minDet, SampledMinDet(x));
   }
   return ok;
@@ -121,7 +121,7 @@ int main(int argc, char* argv[])
   {
     std::vector<double> p(pts), alpha{ 0.0 };
     std::vector<char> isFree(pts.size() / 3, 0);
-    const Id fitted = hoembed::FitWithFreeNodes(p, conn, nodes, target, alpha, isFree, ratio);
+    const Id fitted = hoembed::FitWithFreeNodes(p, conn, nodes, target, alpha, isFree, ratio, 0.0);
     HOEMBED_CHECK(fitted == 0 && alpha[0] == 0.0, "fitted %lld without free nodes", (long long)fitted);
     HOEMBED_CHECK(p == pts, "points moved although nothing could be fitted");
   }
@@ -131,7 +131,7 @@ int main(int argc, char* argv[])
     std::vector<char> isFree(pts.size() / 3, 0);
     for (Id i = 0; i < static_cast<Id>(isFree.size()); ++i)
       isFree[i] = isCorner[i] || !onBox(i);
-    const Id fitted = hoembed::FitWithFreeNodes(p, conn, nodes, target, alpha, isFree, ratio);
+    const Id fitted = hoembed::FitWithFreeNodes(p, conn, nodes, target, alpha, isFree, ratio, 0.0);
     HOEMBED_CHECK(fitted == 1 && alpha[0] == 1.0, "the node was not fitted (push %g)", depth);
     HOEMBED_CHECK(p[3 * m] == target[0] && p[3 * m + 1] == target[1] && p[3 * m + 2] == target[2],
       "the node is not at its target");

@@ -19,20 +19,24 @@
 #include "vtkIdList.h"
 #include "vtkMassProperties.h"
 #include "vtkMath.h"
+#include "vtkMeshQuality.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkQuadraticTetra.h"
 #include "vtkSphereSource.h"
+#include "vtkTetra.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
+#include <vector>
 
 namespace
 {
@@ -175,6 +179,44 @@ void CheckShape(const char* name, vtkPolyData* surface)
   HOEMBED_CHECK(flagged == 0, "%s: %lld cells flagged by vtkCellValidator", name, (long long)flagged);
   vtkDataArray* q = g->GetCellData()->GetArray("MinScaledJacobian");
   HOEMBED_CHECK(q && q->GetRange()[0] > 0.0, "%s: MinScaledJacobian", name);
+  // The quality floor (MinimumQuality, default 0.05): every cell at the floor, or as good
+  // as its straight shape (VTK's own tet scaled Jacobian of its corners) where that is
+  // worse; the field data's count and distribution agree with the cells.
+  if (q)
+  {
+    std::vector<double> all(nc);
+    vtkIdType below = 0, failing = 0;
+    vtkNew<vtkTetra> tet;
+    for (vtkIdType c = 0; c < nc; ++c)
+    {
+      all[c] = q->GetTuple1(c);
+      below += all[c] < 0.05 ? 1 : 0;
+      vtkIdType npts;
+      const vtkIdType* ids;
+      g->GetCellPoints(c, npts, ids);
+      for (int a = 0; a < 4; ++a)
+      {
+        tet->GetPoints()->SetPoint(a, g->GetPoint(ids[a]));
+        tet->GetPointIds()->SetId(a, a);
+      }
+      const double straight = vtkMeshQuality::TetScaledJacobian(tet);
+      failing += all[c] >= std::min(0.05, 0.999 * straight) - 1e-9 ? 0 : 1;
+    }
+    HOEMBED_CHECK(failing == 0, "%s: %lld cells below the floor and their straight shape", name,
+      (long long)failing);
+    std::sort(all.begin(), all.end());
+    vtkDataArray* poor = g->GetFieldData()->GetArray("PoorElementCount");
+    vtkDataArray* quantiles = g->GetFieldData()->GetArray("MinScaledJacobianQuantiles");
+    HOEMBED_CHECK(poor && poor->GetTuple1(0) == static_cast<double>(below),
+      "%s: PoorElementCount %g, %lld cells below 0.05", name, poor ? poor->GetTuple1(0) : -1.0,
+      (long long)below);
+    HOEMBED_CHECK(quantiles && quantiles->GetNumberOfComponents() == 3 &&
+        quantiles->GetComponent(0, 0) == all[0] &&
+        quantiles->GetComponent(0, 2) == all[(all.size() - 1) / 2],
+      "%s: MinScaledJacobianQuantiles", name);
+    std::printf("%s: min scaled Jacobian %g, median %g, %lld below 0.05\n", name, all[0],
+      all[(all.size() - 1) / 2], (long long)below);
+  }
 
   // Boundary mid-edge nodes on the surface: boundary faces are faces of one cell.
   std::map<std::set<vtkIdType>, int> faces;

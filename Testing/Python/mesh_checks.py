@@ -119,6 +119,17 @@ def vtk_cell_validator_states(grid):
     return np.asarray(out.cell_data["ValidityState"])
 
 
+def straight_scaled_jacobian(grid):
+    """vtkMeshQuality's scaled Jacobian of every cell's straight tet (its 4 corners)."""
+    from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
+    straight = pv.UnstructuredGrid({pv.CellType.TETRA: cells(grid)[:, :4]}, grid.points)
+    mq = vtkMeshQuality()
+    mq.SetInputData(straight)
+    mq.SetTetQualityMeasureToScaledJacobian()
+    mq.Update()
+    return np.asarray(pv.wrap(mq.GetOutput()).cell_data["Quality"])
+
+
 def min_det_sampled(grid, n=200, seed=0):
     """Minimum det J over random points of every tet10 (a sample, not a bound)."""
     rng = np.random.default_rng(seed)

@@ -7,7 +7,7 @@ import pyvista as pv
 
 import hoembed
 from mesh_checks import (expect_error, boundary_mid_nodes, cells, distances_to_surface, min_det_sampled,
-                         straight_volumes, surface_volume, tet10_volumes,
+                         straight_scaled_jacobian, straight_volumes, surface_volume, tet10_volumes,
                          vtk_cell_validator_states)
 
 REAL = ["bunny_watertight", "armadillo", "fertility", "rocker-arm", "scorpion_low_resolution"]
@@ -72,6 +72,49 @@ def test_generated_shapes(shape, n):
     figures = check_mesh(surface, mesh, on_surface_fraction=0.95)
     assert 0.5 * n < mesh.n_cells < 2.0 * n
     print(shape, figures)
+
+
+def mesh_with_warnings(surface, n, **properties):
+    alg = hoembed.vtkTet10Mesher()
+    alg.SetInputData(surface)
+    alg.SetTargetNumberOfElements(n)
+    for name, value in properties.items():
+        getattr(alg, "Set" + name)(value)
+    warnings = []
+    return pv.wrap(hoembed._errors.run_filter(alg, warnings)), warnings
+
+
+def check_quality_floor(mesh, warnings, floor=0.05):
+    """Every cell at the floor or, if its straight shape (vtkMeshQuality) is worse, as good
+    as that; the field data's count and distribution agree with the cells; a warning
+    exactly when some cell is below the floor."""
+    q = np.asarray(mesh.cell_data["MinScaledJacobian"])
+    straight = straight_scaled_jacobian(mesh)
+    assert np.all(q >= np.minimum(floor, 0.999 * straight) - 1e-9), (q.min(), straight[q.argmin()])
+    poor = int(mesh.field_data["PoorElementCount"][0])
+    assert poor == int(np.sum(q < floor))
+    quantiles = np.asarray(mesh.field_data["MinScaledJacobianQuantiles"]).ravel()
+    assert quantiles[0] == q.min()
+    assert quantiles[2] == np.sort(q)[(len(q) - 1) // 2]
+    assert np.sum(q < quantiles[1]) <= 0.01 * len(q) + 1
+    assert (poor > 0) == any("MinimumQuality" in w for w in warnings), (poor, warnings)
+    return q
+
+
+@pytest.mark.parametrize("shape", ["bumpy", "torus"])
+def test_quality_floor(shape):
+    """MinimumQuality (default 0.05): curving stops at the floor; with no floor the same
+    input has elements far below it (so the floor is what keeps them)."""
+    surface = SHAPES[shape]()
+    mesh, warnings = mesh_with_warnings(surface, 1000)
+    q = check_quality_floor(mesh, warnings)
+    assert 0.7 * 1000 < mesh.n_cells < 1.3 * 1000
+    loose, loose_warnings = mesh_with_warnings(surface, 1000, MinimumQuality=0.0)
+    q0 = np.asarray(loose.cell_data["MinScaledJacobian"])
+    assert int(loose.field_data["PoorElementCount"][0]) == 0  # no floor: nothing is poor
+    assert np.sum(q0 < 0.05) > np.sum(q < 0.05)
+    print(shape, "min/1%/median", np.percentile(q, [0, 1, 50]), "without floor",
+          np.percentile(q0, [0, 1, 50]))
 
 
 def test_linear_order_same_corners():
@@ -154,18 +197,22 @@ def test_error_leaves_no_output():
 @pytest.mark.parametrize("n", [1000, 3000])
 def test_real_meshes(data_dir, name, n):
     surface = pv.read(data_dir / f"{name}.obj")
-    mesh = hoembed.tet10_mesh(surface, n_elements=n)
-    # The issue asks for 95%: with PreserveBoundary on (the default) every real mesh
-    # reaches 98.6-99.7% (see README "Limitations" and Benchmarks/bench_mesher.py).
+    mesh, warnings = mesh_with_warnings(surface, n)
+    # The issue asks for 95%: with PreserveBoundary on (the default) and the quality floor
+    # every real mesh reaches 95.5-99.1% (Benchmarks/RESULTS.md, "Element quality").
     figures = check_mesh(surface, mesh, on_surface_fraction=0.95)
-    print(name, n, figures)
+    q = check_quality_floor(mesh, warnings)
+    assert 0.7 * n < mesh.n_cells < 1.3 * n
+    print(name, n, figures, "quality min/1%/median", np.percentile(q, [0, 1, 50]))
 
 
 @pytest.mark.parametrize("n", [1000, 3000])
 def test_preserve_boundary(data_dir, n):
     # Fertility is the hardest real mesh for boundary coverage (85% at 3000 elements with
     # PreserveBoundary off); with it on (the default, set explicitly here) the coarse
-    # facets stay whole and 98.9-99.5% of the boundary mid-edge nodes reach the surface.
+    # facets stay whole and 96.1% (1000) / 98.5% (3000) of the boundary mid-edge nodes
+    # reach the surface (98.9-99.5% before the quality floor MinimumQuality, which pulls
+    # nodes back rather than leave elements below 0.05).
     surface = pv.read(data_dir / "fertility.obj")
     alg = hoembed.vtkTet10Mesher()
     alg.SetInputData(surface)
@@ -174,7 +221,7 @@ def test_preserve_boundary(data_dir, n):
     assert "PreserveBoundary: On" in str(alg)
     mesh = pv.wrap(hoembed._errors.run_filter(alg))
     assert 0.7 * n < mesh.n_cells < 1.3 * n
-    figures = check_mesh(surface, mesh, on_surface_fraction=0.97)
+    figures = check_mesh(surface, mesh, on_surface_fraction=0.95)
     print(n, figures)
 
 

@@ -250,3 +250,20 @@ def test_non_planar_quads_and_strips():
     mesh = hoembed.tet10_mesh(strips, n_elements=300)
     assert mesh.field_data["EnvelopeOffset"][0] == 0.0
     assert mesh.cell_data["MinScaledJacobian"].min() > 0
+
+
+def test_size_estimate_of_an_open_sheet():
+    """The size check before any work estimates an open sheet by its envelope (area times
+    half the element size), whatever its position: a flat sheet through the origin has a
+    signed volume of 0, which used to let any request through."""
+    plane = pv.Plane(center=(0, 0, 0), i_size=1.0, j_size=1.0, i_resolution=20,
+                     j_resolution=20).triangulate()
+    for shift in (0.0, 50.0):
+        sheet = plane.translate((shift, shift, shift), inplace=False)
+        alg = hoembed.vtkTet10Mesher()
+        alg.SetInputData(sheet)
+        alg.SetTargetEdgeLength(0.05)
+        # envelope volume about 1 * 0.025; a regular tet of edge 0.05 has 1.47e-5: ~1700
+        alg.SetMaximumNumberOfElements(1000)
+        with pytest.raises(hoembed.HOEmbedError, match="MaximumNumberOfElements"):
+            hoembed._errors.run_filter(alg)

@@ -130,7 +130,7 @@ def _step(label, func, *args, **kwargs):
 
 
 # Surface formats the CLI hands to VTK (through pyvista.read).
-_SURFACE_TYPES = (".obj", ".stl", ".ply", ".vtp", ".vtk", ".vtu", ".g")
+_SURFACE_TYPES = (".obj", ".stl", ".ply", ".vtp", ".vtk", ".vtu", ".g", ".glb", ".gltf")
 
 
 def _check_surface_file(path):
@@ -196,7 +196,7 @@ def _check_ply(path, size):
     if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
         raise UsageError(f"{path}: unknown PLY format {fmt!r}")
     counts = {name: n for name, n, _ in elements}
-    if counts.get("vertex", 0) == 0 or counts.get("face", 0) == 0:
+    if counts.get("vertex", 0) == 0 or counts.get("face", 0) + counts.get("tristrips", 0) == 0:
         raise UsageError(f"{path}: the PLY header declares no vertices or no faces")
     if fmt == "ascii":
         _check_ply_ascii(path, body, elements)
@@ -274,19 +274,25 @@ def _check_stl(path, size):
 
 def _read_child(path, out):
     """Child-process half of _read_surface: read with VTK, keep the surface, write it as
-    .vtp. Exit 3 with a message on stderr when the file holds no surface."""
+    .vtp. Exit 3 with a message on stderr when the file holds no surface. PLY triangle
+    strips (which VTK's reader drops) and glTF scenes (multiblocks) go through
+    hoembed._readers."""
     import pyvista
+    from hoembed import _readers
     try:
-        data = pyvista.read(path)
+        if path.lower().endswith(".ply") and _readers.has_strips(path):
+            points, tris = _readers.read_ply(path)
+            data = pyvista.PolyData(points, np.hstack([np.full((len(tris), 1), 3), tris]).ravel()
+                                    if len(tris) else None)
+        else:
+            data = pyvista.read(path)
     except Exception as err:  # pyvista raises several types for unreadable files
         print(f"{err}", file=sys.stderr)
         return 3
-    if not isinstance(data, pyvista.PolyData):
-        try:
-            data = data.extract_surface()
-        except Exception:
-            print("it holds no surface", file=sys.stderr)
-            return 3
+    data = _readers.surface_of(data)
+    if data is None:
+        print("it holds no surface", file=sys.stderr)
+        return 3
     if data.n_cells == 0:
         print("it holds no triangles", file=sys.stderr)
         return 3
