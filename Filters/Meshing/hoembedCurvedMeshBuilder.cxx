@@ -1,6 +1,7 @@
 #include "hoembedCurvedMeshBuilder.h"
 
 #include "hoembedBoundaryCrossings.h"
+#include "hoembedCsr.h"
 #include "hoembedCurvedBoundary.h"
 #include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
@@ -339,6 +340,21 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
   }
 }
 
+// Corner -> the tets around it (in tet order): around[off[v] .. off[v + 1]).
+void TetsAroundCorners(
+  const std::vector<Id>& tets, Id nPts, std::vector<Id>& off, std::vector<Id>& around)
+{
+  const Id nTets = static_cast<Id>(tets.size() / 4);
+  BuildCsr(
+    nPts,
+    [&](auto&& emit) {
+      for (Id t = 0; t < nTets; ++t)
+        for (int a = 0; a < 4; ++a)
+          emit(tets[4 * t + a], t);
+    },
+    off, around);
+}
+
 // Boundary corners onto the surface, where their tets stay valid and keep half their
 // quality, and stay above the quality floor `minQuality` (a tet already below it keeps
 // all it has: curving cannot mend a poor straight shape, so none is made here); full
@@ -348,19 +364,8 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
   double minQuality)
 {
   const Id nPts = static_cast<Id>(pts.size() / 3);
-  const Id nTets = static_cast<Id>(tets.size() / 4);
-  std::vector<Id> off(nPts + 1, 0), around(4 * nTets);
-  for (Id t = 0; t < nTets; ++t)
-    for (int a = 0; a < 4; ++a)
-      ++off[tets[4 * t + a] + 1];
-  for (Id i = 0; i < nPts; ++i)
-    off[i + 1] += off[i];
-  {
-    std::vector<Id> fill(off.begin(), off.end() - 1);
-    for (Id t = 0; t < nTets; ++t)
-      for (int a = 0; a < 4; ++a)
-        around[fill[tets[4 * t + a]]++] = t;
-  }
+  std::vector<Id> off, around;
+  TetsAroundCorners(tets, nPts, off, around);
   std::vector<double> before;
   for (Id i = 0; i < nPts; ++i)
   {
@@ -417,18 +422,8 @@ Id ImprovePoorTets(std::vector<double>& pts, const std::vector<Id>& tets, double
   const Id nTets = static_cast<Id>(tets.size() / 4);
   if (!(minQuality > 0.0))
     return 0;
-  std::vector<Id> off(nPts + 1, 0), around(4 * nTets);
-  for (Id t = 0; t < nTets; ++t)
-    for (int a = 0; a < 4; ++a)
-      ++off[tets[4 * t + a] + 1];
-  for (Id i = 0; i < nPts; ++i)
-    off[i + 1] += off[i];
-  {
-    std::vector<Id> fill(off.begin(), off.end() - 1);
-    for (Id t = 0; t < nTets; ++t)
-      for (int a = 0; a < 4; ++a)
-        around[fill[tets[4 * t + a]]++] = t;
-  }
+  std::vector<Id> off, around;
+  TetsAroundCorners(tets, nPts, off, around);
   // the worst margin around corner v: quality over its bar (the floor, or less for a tet
   // already below it), the smallest first; -inf when a tet is not positive
   std::vector<double> bar(nTets);

@@ -10,39 +10,15 @@ import hoembed
 from conftest import box_tet_mesh
 
 skfem = pytest.importorskip("skfem")
-from skfem import Basis, BilinearForm, ElementTetP2, ElementVector, LinearForm  # noqa: E402
-from skfem import MeshTet, MeshTet2, asm  # noqa: E402
-from skfem.helpers import dot  # noqa: E402
-from skfem.models.elasticity import lame_parameters, linear_elasticity  # noqa: E402
-
-VTK_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]  # VTK tet10 mid-node order
+from skfem_reference import elasticity, vector_basis  # noqa: E402
 
 
 def skfem_p2(mesh, E, nu, rho):
-    """scikit-fem's isoparametric P2 stiffness and mass of a VTK tet10 box mesh, and the
-    map VTK point -> its 3 DOFs (built from skfem's vertex / edge numbering)."""
-    cells = mesh.cells_dict[pv.CellType.QUADRATIC_TETRA]
-    nv = len(np.unique(cells[:, :4]))
-    pts = np.asarray(mesh.points)
-    sk1 = MeshTet(pts[:nv].T.copy(), cells[:, :4].T.copy())
-    edge_index = {tuple(sorted(e)): i for i, e in enumerate(sk1.edges.T)}
-    vtk_mid = np.full(sk1.edges.shape[1], -1)
-    for c in cells:
-        for k, (p, q) in enumerate(VTK_EDGES):
-            vtk_mid[edge_index[tuple(sorted((c[p], c[q])))]] = c[4 + k]
-    sk = MeshTet2(np.hstack([pts[:nv].T, pts[vtk_mid].T]), cells[:, :4].T.copy())
-    basis = Basis(sk, ElementVector(ElementTetP2()), intorder=8)
-    K = asm(linear_elasticity(*lame_parameters(E, nu)), basis)
-
-    @BilinearForm
-    def mass(u, v, w):
-        return rho * dot(u, v)
-
-    M = asm(mass, basis)
-    dofs = np.zeros((mesh.n_points, 3), dtype=int)
-    dofs[:nv] = basis.nodal_dofs.T
-    dofs[vtk_mid] = basis.edge_dofs.T
-    return K.tocsr(), M.tocsr(), dofs
+    """scikit-fem's P2 stiffness and mass of a VTK tet10 box mesh, and the map VTK point
+    -> its 3 DOFs."""
+    basis, dofs = vector_basis(mesh, 2)
+    K, M, _ = elasticity(basis, E, nu, rho)
+    return K, M, dofs
 
 
 def live_stepper(mesh, **props):

@@ -7,52 +7,17 @@ import hoembed
 from conftest import box_tet_mesh
 
 skfem = pytest.importorskip("skfem")
-from skfem import Basis, ElementTetP2, ElementTetP1, ElementVector, LinearForm  # noqa: E402
-from skfem import MeshTet, MeshTet2  # noqa: E402
-from skfem import asm, condense, solve  # noqa: E402
-from skfem.models.elasticity import lame_parameters, linear_elasticity  # noqa: E402
-
-VTK_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]  # VTK tet10 mid-node order
+from skfem import condense, solve  # noqa: E402
+from skfem_reference import elasticity, vector_basis  # noqa: E402
 
 
 def skfem_static(mesh, E, nu, rho, g, order):
     """Small-strain linear elasticity by scikit-fem (P2 or P1), clamped at x = 0, with the
-    consistent body force rho * g; returned per VTK point (DOF map built from skfem's
-    vertex / edge numbering, not from coordinates)."""
-    ctype = pv.CellType.QUADRATIC_TETRA if order == 2 else pv.CellType.TETRA
-    cells = mesh.cells_dict[ctype]
-    corners = np.unique(cells[:, :4])
-    assert corners.max() + 1 == len(corners)  # corner points come first in box_tet_mesh
-    nv = len(corners)
-    pts = np.asarray(mesh.points)
-    sk = MeshTet(pts[:nv].T.copy(), cells[:, :4].T.copy())
-    if order == 2:
-        # isoparametric P2 geometry: skfem's edge order, mid-node coordinates from VTK's
-        edge_index = {tuple(sorted(e)): i for i, e in enumerate(sk.edges.T)}
-        vtk_mid = np.full(sk.edges.shape[1], -1)
-        for c in cells:
-            for k, (a, b) in enumerate(VTK_EDGES):
-                vtk_mid[edge_index[tuple(sorted((c[a], c[b])))]] = c[4 + k]
-        assert (vtk_mid >= 0).all()
-        sk = MeshTet2(np.hstack([pts[:nv].T, pts[vtk_mid].T]), cells[:, :4].T.copy())
-        assert np.array_equal(sk.edges, MeshTet(pts[:nv].T.copy(), cells[:, :4].T.copy()).edges)
-        basis = Basis(sk, ElementVector(ElementTetP2()), intorder=8)
-    else:
-        basis = Basis(sk, ElementVector(ElementTetP1()))
-    K = asm(linear_elasticity(*lame_parameters(E, nu)), basis)
-
-    @LinearForm
-    def body(v, w):
-        return rho * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2])
-
-    f = asm(body, basis)
+    consistent body force rho * g; returned per VTK point."""
+    basis, dofs = vector_basis(mesh, order)
+    K, _, f = elasticity(basis, E, nu, rho, g)
     D = basis.get_dofs(lambda x: x[0] <= 1e-9).all()
-    u = solve(*condense(K, f, D=D))
-    out = np.zeros((mesh.n_points, 3))
-    out[:nv] = u[basis.nodal_dofs].T
-    if order == 2:
-        out[vtk_mid] = u[basis.edge_dofs].T
-    return out
+    return solve(*condense(K, f, D=D))[dofs]
 
 
 def _curve(p):
@@ -221,34 +186,11 @@ def test_dynamic_steps_match_skfem_backward_euler(n):
     # stiff material, tiny strains: the co-rotated step is the linear backward Euler step
     # (M (1 + dt a) + K (dt b + dt^2)) dv = dt (f - K u - a M v - (b + dt) K v) to O(|grad u|)
     from scipy.sparse.linalg import spsolve
-    from skfem import BilinearForm
-    from skfem.helpers import dot
 
     E, nu, rho, g, dt, a, b, steps = 1e12, 0.49, 1000.0, (0.0, -3.0, -9.81), 0.01, 0.1, 0.01, 4
     mesh = box_tet_mesh(n, (4.0, 1.0, 1.0), 2)
-    cells = mesh.cells_dict[pv.CellType.QUADRATIC_TETRA]
-    nv = len(np.unique(cells[:, :4]))
-    pts = np.asarray(mesh.points)
-    sk1 = MeshTet(pts[:nv].T.copy(), cells[:, :4].T.copy())
-    edge_index = {tuple(sorted(e)): i for i, e in enumerate(sk1.edges.T)}
-    vtk_mid = np.full(sk1.edges.shape[1], -1)
-    for c in cells:
-        for k, (p, q) in enumerate(VTK_EDGES):
-            vtk_mid[edge_index[tuple(sorted((c[p], c[q])))]] = c[4 + k]
-    sk = MeshTet2(np.hstack([pts[:nv].T, pts[vtk_mid].T]), cells[:, :4].T.copy())
-    basis = Basis(sk, ElementVector(ElementTetP2()), intorder=8)
-    K = asm(linear_elasticity(*lame_parameters(E, nu)), basis)
-
-    @BilinearForm
-    def mass(u, v, w):
-        return rho * dot(u, v)
-
-    @LinearForm
-    def body(v, w):
-        return rho * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2])
-
-    M = asm(mass, basis)
-    f = asm(body, basis)
+    basis, dofs = vector_basis(mesh, 2)
+    K, M, f = elasticity(basis, E, nu, rho, g)
     D = basis.get_dofs(lambda x: x[0] <= 1e-9).all()
     free = np.setdiff1d(np.arange(K.shape[0]), D)
     A = ((1 + dt * a) * M + (dt * b + dt * dt) * K).tocsr()[free][:, free]
@@ -258,9 +200,7 @@ def test_dynamic_steps_match_skfem_backward_euler(n):
         rhs = dt * (f - K @ u - a * (M @ v) - (b + dt) * (K @ v))
         v[free] += spsolve(A, rhs[free])
         u += dt * v
-    ref = np.zeros((mesh.n_points, 3))
-    ref[:nv] = u[basis.nodal_dofs].T
-    ref[vtk_mid] = u[basis.edge_dofs].T
+    ref = u[dofs]
 
     frames = hoembed.simulate(mesh, steps=steps, dt=dt, young=E, poisson=nu, density=rho,
                               gravity=g, fixed={"plane": ((0, 0, 0), (1, 0, 0))},

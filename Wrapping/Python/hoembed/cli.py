@@ -163,38 +163,18 @@ def _check_surface_file(path):
                              "'# vtk DataFile Version' and ASCII/BINARY)")
 
 
-_PLY_SIZES = {"char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2,
-              "int16": 2, "uint16": 2, "int": 4, "uint": 4, "int32": 4, "uint32": 4,
-              "float": 4, "float32": 4, "double": 8, "float64": 8}
-
-
 def _check_ply(path, size):
-    with open(path, "rb") as fh:
-        head = fh.read(1 << 16)
-    end = head.find(b"end_header")
-    if not head.startswith(b"ply") or end < 0:
-        raise UsageError(f"{path} is not a PLY file (no 'ply' ... 'end_header' header)")
-    body = head.index(b"\n", end) + 1 if b"\n" in head[end:] else len(head)
-    fmt, elements = None, []
-    for line in head[:end].decode("ascii", "replace").splitlines()[1:]:
-        w = line.split()
-        if not w or w[0] in ("comment", "obj_info"):
-            continue
-        if w[0] == "format" and len(w) >= 2:
-            fmt = w[1]
-        elif w[0] == "element" and len(w) == 3 and w[2].isdigit():
-            elements.append((w[1], int(w[2]), []))
-        elif w[0] == "property" and elements:
-            if w[1] == "list" and len(w) == 5 and w[2] in _PLY_SIZES and w[3] in _PLY_SIZES:
-                elements[-1][2].append(("list", _PLY_SIZES[w[2]], _PLY_SIZES[w[3]], w[2]))
-            elif len(w) == 3 and w[1] in _PLY_SIZES:
-                elements[-1][2].append(("scalar", _PLY_SIZES[w[1]]))
-            else:
-                raise UsageError(f"{path}: bad PLY header line '{line.strip()}'")
-        else:
-            raise UsageError(f"{path}: bad PLY header line '{line.strip()}'")
-    if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
-        raise UsageError(f"{path}: unknown PLY format {fmt!r}")
+    from hoembed import _readers
+    try:
+        fmt, header, body = _readers.ply_elements(path)
+    except _readers.PlyError as err:
+        raise UsageError(f"{path}: {err}") from None
+    # per property ("scalar", size) or ("list", count size, item size), sizes in bytes
+    def nbytes(dtype):
+        return np.dtype(dtype).itemsize
+    elements = [(name, n, [("list", nbytes(p[1]), nbytes(p[2])) if len(p) == 3 else
+                           ("scalar", nbytes(p[1])) for p in props])
+                for name, n, props in header]
     counts = {name: n for name, n, _ in elements}
     if counts.get("vertex", 0) == 0 or counts.get("face", 0) + counts.get("tristrips", 0) == 0:
         raise UsageError(f"{path}: the PLY header declares no vertices or no faces")
