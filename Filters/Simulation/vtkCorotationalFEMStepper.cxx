@@ -726,7 +726,7 @@ void vtkCorotationalFEMStepper::WriteOutput(
   rot->SetNumberOfComponents(9);
   rot->SetNumberOfTuples(np);
   vm->SetName(hoembed::ArrayNames::VonMisesStress);
-  vm->SetNumberOfTuples(nc);
+  vm->SetNumberOfTuples(this->ComputeDiagnostics ? nc : 0);
   for (vtkIdType p = 0; p < np; ++p)
   {
     points->SetPoint(p, x + 3 * p);
@@ -737,12 +737,23 @@ void vtkCorotationalFEMStepper::WriteOutput(
     }
   }
   I.Solver.ComputeNodalRotations(rot->GetPointer(0));
-  I.Solver.ComputeVonMises(vm->GetPointer(0));
+  if (this->ComputeDiagnostics)
+  {
+    I.Solver.ComputeVonMises(vm->GetPointer(0));
+  }
   output->SetPoints(points);
   output->GetPointData()->AddArray(disp);
   output->GetPointData()->AddArray(vel);
   output->GetPointData()->AddArray(rot);
-  output->GetCellData()->AddArray(vm);
+  if (this->ComputeDiagnostics)
+  {
+    output->GetCellData()->AddArray(vm);
+  }
+  else
+  {
+    // an input array of that name (a stepper's output fed back) would describe another state
+    output->GetCellData()->RemoveArray(hoembed::ArrayNames::VonMisesStress);
+  }
   auto addField = [&](const char* name, double value)
   {
     vtkNew<vtkDoubleArray> a;
@@ -750,8 +761,11 @@ void vtkCorotationalFEMStepper::WriteOutput(
     a->InsertNextValue(value);
     output->GetFieldData()->AddArray(a);
   };
-  addField("KineticEnergy", I.Solver.KineticEnergy());
-  addField("StrainEnergy", I.Solver.StrainEnergy());
+  if (this->ComputeDiagnostics)
+  {
+    addField("KineticEnergy", I.Solver.KineticEnergy());
+    addField("StrainEnergy", I.Solver.StrainEnergy());
+  }
   addField("SolverIterations", I.Solver.GetLastIterations());
   output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), tk);
   this->UpdateProgress(1.0);
@@ -789,6 +803,7 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
   os << indent << "MaxSolverIterations: " << this->MaxSolverIterations << "\n";
   os << indent << "LiveMode: " << this->LiveMode << "\n";
+  os << indent << "ComputeDiagnostics: " << this->ComputeDiagnostics << "\n";
   os << indent << "PrescribedSpeedLimit: " << this->PrescribedSpeedLimit << "\n";
   os << indent << "LastNumberOfSteps: " << this->LastNumberOfSteps << "\n";
   os << indent << "LastRotationTime: " << this->LastRotationTime << "\n";

@@ -16,7 +16,8 @@
  * `Displacement` (x - X), `Velocity`, `NodalRotation` (9 doubles, row-major: the polar
  * projection of the average of the element rotations around the node) and cell data
  * `VonMisesStress` (co-rotated small-strain stress at the centroid); field data
- * `KineticEnergy`, `StrainEnergy` and `SolverIterations` (of the last step). Input point
+ * `KineticEnergy`, `StrainEnergy` and `SolverIterations` (of the last step); the stress
+ * and the energies only with ComputeDiagnostics on (default). Input point
  * and cell data are passed.
  *
  * Mechanics (see hoembedCorotationalSolver.h): isotropic linear elasticity, element
@@ -185,6 +186,17 @@ public:
   ///@}
 
   ///@{
+  /// Compute the diagnostics of the output: the `VonMisesStress` cell array and the
+  /// `KineticEnergy` and `StrainEnergy` field arrays (default on). Off, they are left out
+  /// of the output (the positions, the other arrays and the state are the same): a live
+  /// loop that only draws the surface saves their cost every frame. Not part of the
+  /// state: in LiveMode a change does not restart.
+  vtkSetMacro(ComputeDiagnostics, bool);
+  vtkGetMacro(ComputeDiagnostics, bool);
+  vtkBooleanMacro(ComputeDiagnostics, bool);
+  ///@}
+
+  ///@{
   /// Live mode (see the class description): loads change without restarting the state.
   /// Default off (offline: every change restarts from the initial state).
   vtkSetMacro(LiveMode, bool);
@@ -275,6 +287,7 @@ protected:
   double SolverTolerance = 1e-4;
   int MaxSolverIterations = 200;
   bool LiveMode = false;
+  bool ComputeDiagnostics = true;
   double PrescribedSpeedLimit = 0.0;
 
   int LastNumberOfSteps = 0;

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cfloat>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace hoembed
@@ -416,8 +417,18 @@ void TransferDriver::SetPolygons(const std::int64_t* offsets, const std::int64_t
   {
     numberOfPolygons = 0;
   }
-  BuildVertexPolygonIncidence(this->PolyOffsets.data(), this->PolyConn.data(), numberOfPolygons,
-    numberOfVertices, this->IncOffsets, this->IncPolys);
+  this->IncPolys.clear();
+  this->IncPolys32.clear();
+  if (numberOfPolygons <= std::numeric_limits<std::int32_t>::max())
+  {
+    BuildVertexPolygonIncidence(this->PolyOffsets.data(), this->PolyConn.data(), numberOfPolygons,
+      numberOfVertices, this->IncOffsets, this->IncPolys32);
+  }
+  else
+  {
+    BuildVertexPolygonIncidence(this->PolyOffsets.data(), this->PolyConn.data(), numberOfPolygons,
+      numberOfVertices, this->IncOffsets, this->IncPolys);
+  }
   this->PolyNormals.resize(3 * static_cast<size_t>(numberOfPolygons));
 }
 
@@ -434,8 +445,13 @@ void TransferDriver::VertexNormals(const T* points, float* normals)
   });
   const std::int64_t* io = this->IncOffsets.data();
   const std::int64_t* ip = this->IncPolys.data();
+  const std::int32_t* ip32 = this->IncPolys32.data();
+  const bool narrow = this->IncPolys.empty();
   this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
-    hoembed::ComputeVertexNormals(io, ip, pn, b, e, normals);
+    if (narrow)
+      hoembed::ComputeVertexNormals(io, ip32, pn, b, e, normals);
+    else
+      hoembed::ComputeVertexNormals(io, ip, pn, b, e, normals);
   });
 }
 

@@ -139,6 +139,7 @@ private:
   std::int64_t InvertedCells = 0;
   // step 4
   std::vector<std::int64_t> PolyOffsets, PolyConn, IncOffsets, IncPolys;
+  std::vector<std::int32_t> IncPolys32; // used instead of IncPolys when the ids fit
   std::vector<double> PolyNormals;
 };
 } // namespace hoembed

@@ -5,29 +5,49 @@
 
 namespace hoembed
 {
-void BuildVertexPolygonIncidence(const std::int64_t* offsets, const std::int64_t* conn,
-  std::int64_t numberOfPolys, std::int64_t numberOfPoints, std::vector<std::int64_t>& incOffsets,
-  std::vector<std::int64_t>& incPolys)
+namespace
+{
+template <typename Id>
+void IncidenceT(const std::int64_t* offsets, const std::int64_t* conn, std::int64_t numberOfPolys,
+  std::int64_t numberOfPoints, std::vector<std::int64_t>& incOffsets, std::vector<Id>& incPolys)
 {
   BuildCsr(numberOfPoints,
     [&](auto&& emit) {
       for (std::int64_t p = 0; p < numberOfPolys; ++p)
         for (std::int64_t k = offsets[p]; k < offsets[p + 1]; ++k)
-          emit(conn[k], p);
+          emit(conn[k], static_cast<Id>(p));
     },
     incOffsets, incPolys);
 }
 
-namespace
-{
 template <typename T>
 void PolygonNormalsT(const std::int64_t* offsets, const std::int64_t* conn, const T* points,
   std::int64_t begin, std::int64_t end, double* polyNormals)
 {
   for (std::int64_t p = begin; p < end; ++p)
   {
-    double n[3] = { 0.0, 0.0, 0.0 };
     const std::int64_t first = offsets[p], last = offsets[p + 1];
+    if (last - first == 3)
+    {
+      // The general loop below unrolled: edges (a, b), (b, c), (c, a) in that order.
+      const T* a = points + 3 * conn[first];
+      const T* b = points + 3 * conn[first + 1];
+      const T* c = points + 3 * conn[first + 2];
+      double n0 = (double(a[1]) - double(b[1])) * (double(a[2]) + double(b[2]));
+      double n1 = (double(a[2]) - double(b[2])) * (double(a[0]) + double(b[0]));
+      double n2 = (double(a[0]) - double(b[0])) * (double(a[1]) + double(b[1]));
+      n0 += (double(b[1]) - double(c[1])) * (double(b[2]) + double(c[2]));
+      n1 += (double(b[2]) - double(c[2])) * (double(b[0]) + double(c[0]));
+      n2 += (double(b[0]) - double(c[0])) * (double(b[1]) + double(c[1]));
+      n0 += (double(c[1]) - double(a[1])) * (double(c[2]) + double(a[2]));
+      n1 += (double(c[2]) - double(a[2])) * (double(c[0]) + double(a[0]));
+      n2 += (double(c[0]) - double(a[0])) * (double(c[1]) + double(a[1]));
+      polyNormals[3 * p] = n0;
+      polyNormals[3 * p + 1] = n1;
+      polyNormals[3 * p + 2] = n2;
+      continue;
+    }
+    double n[3] = { 0.0, 0.0, 0.0 };
     for (std::int64_t k = first; k < last; ++k)
     {
       const T* a = points + 3 * conn[k];
@@ -41,7 +61,43 @@ void PolygonNormalsT(const std::int64_t* offsets, const std::int64_t* conn, cons
     polyNormals[3 * p + 2] = n[2];
   }
 }
+
+template <typename Id>
+void VertexNormalsT(const std::int64_t* incOffsets, const Id* incPolys, const double* polyNormals,
+  std::int64_t begin, std::int64_t end, float* normals)
+{
+  for (std::int64_t i = begin; i < end; ++i)
+  {
+    double n[3] = { 0.0, 0.0, 0.0 };
+    for (std::int64_t k = incOffsets[i]; k < incOffsets[i + 1]; ++k)
+    {
+      const double* m = polyNormals + 3 * static_cast<std::int64_t>(incPolys[k]);
+      n[0] += m[0];
+      n[1] += m[1];
+      n[2] += m[2];
+    }
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double inv = len > 0.0 ? 1.0 / len : 0.0;
+    normals[3 * i] = static_cast<float>(n[0] * inv);
+    normals[3 * i + 1] = static_cast<float>(n[1] * inv);
+    normals[3 * i + 2] = static_cast<float>(n[2] * inv);
+  }
+}
 } // namespace
+
+void BuildVertexPolygonIncidence(const std::int64_t* offsets, const std::int64_t* conn,
+  std::int64_t numberOfPolys, std::int64_t numberOfPoints, std::vector<std::int64_t>& incOffsets,
+  std::vector<std::int64_t>& incPolys)
+{
+  IncidenceT(offsets, conn, numberOfPolys, numberOfPoints, incOffsets, incPolys);
+}
+
+void BuildVertexPolygonIncidence(const std::int64_t* offsets, const std::int64_t* conn,
+  std::int64_t numberOfPolys, std::int64_t numberOfPoints, std::vector<std::int64_t>& incOffsets,
+  std::vector<std::int32_t>& incPolys)
+{
+  IncidenceT(offsets, conn, numberOfPolys, numberOfPoints, incOffsets, incPolys);
+}
 
 void ComputePolygonNormals(const std::int64_t* offsets, const std::int64_t* conn,
   const double* points, std::int64_t begin, std::int64_t end, double* polyNormals)
@@ -58,21 +114,12 @@ void ComputePolygonNormals(const std::int64_t* offsets, const std::int64_t* conn
 void ComputeVertexNormals(const std::int64_t* incOffsets, const std::int64_t* incPolys,
   const double* polyNormals, std::int64_t begin, std::int64_t end, float* normals)
 {
-  for (std::int64_t i = begin; i < end; ++i)
-  {
-    double n[3] = { 0.0, 0.0, 0.0 };
-    for (std::int64_t k = incOffsets[i]; k < incOffsets[i + 1]; ++k)
-    {
-      const double* m = polyNormals + 3 * incPolys[k];
-      n[0] += m[0];
-      n[1] += m[1];
-      n[2] += m[2];
-    }
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const double inv = len > 0.0 ? 1.0 / len : 0.0;
-    normals[3 * i] = static_cast<float>(n[0] * inv);
-    normals[3 * i + 1] = static_cast<float>(n[1] * inv);
-    normals[3 * i + 2] = static_cast<float>(n[2] * inv);
-  }
+  VertexNormalsT(incOffsets, incPolys, polyNormals, begin, end, normals);
+}
+
+void ComputeVertexNormals(const std::int64_t* incOffsets, const std::int32_t* incPolys,
+  const double* polyNormals, std::int64_t begin, std::int64_t end, float* normals)
+{
+  VertexNormalsT(incOffsets, incPolys, polyNormals, begin, end, normals);
 }
 } // namespace hoembed

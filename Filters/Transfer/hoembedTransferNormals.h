@@ -8,6 +8,12 @@
  * two passes over ranges: polygon normals (Newell's method: the unnormalised normal is
  * twice the area times the unit normal, so the sum is area-weighted), then vertex normals
  * (sum over incident polygons, normalised; (0, 0, 0) for isolated vertices).
+ *
+ * Triangles take a straight-line copy of the same Newell sums (same terms, same order, so
+ * the same bits) instead of the general loop: the loop's variable trip count and
+ * wrap-around index cost more than the arithmetic. The incidence lists come in 32-bit
+ * polygon ids when the polygons fit (every surface in practice: this halves the vertex
+ * pass's gathered index traffic) and in 64-bit ids otherwise.
  */
 #ifndef hoembedTransferNormals_h
 #define hoembedTransferNormals_h
@@ -20,10 +26,14 @@
 namespace hoembed
 {
 /// Vertex -> polygon incidence (CSR): polygons of vertex i are
-/// incPolys[incOffsets[i] .. incOffsets[i + 1]).
+/// incPolys[incOffsets[i] .. incOffsets[i + 1]). The 32-bit form needs numberOfPolys <=
+/// INT32_MAX (the caller checks).
 HOEMBEDFILTERSTRANSFER_EXPORT void BuildVertexPolygonIncidence(const std::int64_t* offsets,
   const std::int64_t* conn, std::int64_t numberOfPolys, std::int64_t numberOfPoints,
   std::vector<std::int64_t>& incOffsets, std::vector<std::int64_t>& incPolys);
+HOEMBEDFILTERSTRANSFER_EXPORT void BuildVertexPolygonIncidence(const std::int64_t* offsets,
+  const std::int64_t* conn, std::int64_t numberOfPolys, std::int64_t numberOfPoints,
+  std::vector<std::int64_t>& incOffsets, std::vector<std::int32_t>& incPolys);
 
 /// Unnormalised (area-weighted) normals of polygons [begin, end), 3 doubles each.
 HOEMBEDFILTERSTRANSFER_EXPORT void ComputePolygonNormals(const std::int64_t* offsets,
@@ -36,6 +46,9 @@ HOEMBEDFILTERSTRANSFER_EXPORT void ComputePolygonNormals(const std::int64_t* off
 /// Unit vertex normals of vertices [begin, end) from the polygon normals, as floats.
 HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormals(const std::int64_t* incOffsets,
   const std::int64_t* incPolys, const double* polyNormals, std::int64_t begin, std::int64_t end,
+  float* normals);
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormals(const std::int64_t* incOffsets,
+  const std::int32_t* incPolys, const double* polyNormals, std::int64_t begin, std::int64_t end,
   float* normals);
 } // namespace hoembed
 

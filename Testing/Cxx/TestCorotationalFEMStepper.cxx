@@ -24,6 +24,7 @@
 #include "vtkCorotationalFEMStepper.h"
 
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -738,6 +739,61 @@ void TestLiveMode()
 }
 } // namespace
 
+// ComputeDiagnostics off: the stress and energy arrays are left out and nothing else
+// changes (points and point arrays bitwise equal to a stepper with it on, offline and in
+// LiveMode, where switching it does not restart).
+void TestDiagnosticsOff()
+{
+  auto mesh = MakeBoxTetMesh(4, 1, 1, 2.0, 1.0, 1.0, 2);
+  auto on = MakeStepper(mesh);
+  auto off = MakeStepper(mesh);
+  off->ComputeDiagnosticsOff();
+  auto same = [&](const char* what)
+  {
+    vtkUnstructuredGrid* a = on->GetOutput();
+    vtkUnstructuredGrid* b = off->GetOutput();
+    bool equal = a->GetNumberOfPoints() == b->GetNumberOfPoints();
+    for (vtkIdType p = 0; equal && p < a->GetNumberOfPoints(); ++p)
+    {
+      double x[3], y[3];
+      a->GetPoint(p, x);
+      b->GetPoint(p, y);
+      equal = std::memcmp(x, y, sizeof(x)) == 0;
+    }
+    for (const char* name : { "Displacement", "Velocity", "NodalRotation" })
+    {
+      vtkDataArray* u = a->GetPointData()->GetArray(name);
+      vtkDataArray* v = b->GetPointData()->GetArray(name);
+      equal = equal && u && v && u->GetNumberOfValues() == v->GetNumberOfValues();
+      for (vtkIdType k = 0; equal && k < u->GetNumberOfValues(); ++k)
+      {
+        equal = u->GetComponent(k / u->GetNumberOfComponents(), k % u->GetNumberOfComponents()) ==
+          v->GetComponent(k / v->GetNumberOfComponents(), k % v->GetNumberOfComponents());
+      }
+    }
+    HOEMBED_CHECK(equal, "%s: outputs differ with ComputeDiagnostics off", what);
+    HOEMBED_CHECK(a->GetCellData()->GetArray("VonMisesStress") &&
+        a->GetFieldData()->GetArray("KineticEnergy") && a->GetFieldData()->GetArray("StrainEnergy"),
+      "%s: diagnostics missing with ComputeDiagnostics on", what);
+    HOEMBED_CHECK(!b->GetCellData()->GetArray("VonMisesStress") &&
+        !b->GetFieldData()->GetArray("KineticEnergy") &&
+        !b->GetFieldData()->GetArray("StrainEnergy") &&
+        b->GetFieldData()->GetArray("SolverIterations"),
+      "%s: wrong field/cell arrays with ComputeDiagnostics off", what);
+  };
+  const double t = 5 * on->GetTimeStep();
+  on->UpdateTimeStep(t);
+  off->UpdateTimeStep(t);
+  same("offline");
+  on->LiveModeOn();
+  off->LiveModeOn();
+  HOEMBED_CHECK(on->Step(3) && off->Step(3), "live steps failed");
+  same("live");
+  off->ComputeDiagnosticsOn();
+  HOEMBED_CHECK(off->Step(0) && off->GetSimulationTime() == on->GetSimulationTime(),
+    "switching ComputeDiagnostics restarted the live state");
+}
+
 int main(int, char*[])
 {
   TestQuadrature();
@@ -752,5 +808,6 @@ int main(int, char*[])
   TestTet4VsTet10();
   TestErrors();
   TestLiveMode();
+  TestDiagnosticsOff();
   return hoembed_test::Report("TestCorotationalFEMStepper");
 }

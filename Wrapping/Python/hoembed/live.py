@@ -113,6 +113,8 @@ class LiveSession:
         st.SetPrescribedSpeedLimit(0.5 * self.h / self.dt if speed_limit is None
                                    else float(speed_limit))  # (per grab when automatic)
         st.LiveModeOn()
+        # the window draws the surface only: no stress or energies every frame
+        st.ComputeDiagnosticsOff()
         self.stepper = st
         tr = vtkDeformationTransferFilter()
         tr.SetInputData(0, embedded)
