@@ -59,7 +59,10 @@ def stepper_runs(mesh):
     stepper = mesh.copy()
     s = (X[:, ax] - lo[ax]) / (hi[ax] - lo[ax])
     stepper.point_data["Clamp"] = (s >= 0.85).astype(np.int32)
-    stepper.point_data["Push"] = np.c_[50.0 * s, 0 * s, -20.0 * s ** 2]
+    # nodal forces scaled with the volume (the thorny tail: L ~ 3.3), so that every mesh
+    # bends moderately instead of blowing up
+    w = (L / 3.3) ** 3
+    stepper.point_data["Push"] = np.c_[50.0 * w * s, 0 * s, -20.0 * w * s ** 2]
     stepper.point_data["Spin"] = np.c_[-0.2 * L * s, 0 * s, 0.1 * L * s]
     runs = {
         "plane": dict(steps=6, dt=0.01, young=2e4, every=2,

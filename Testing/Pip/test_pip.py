@@ -204,10 +204,11 @@ def test_stepper_frames_bitwise(case, run):
             for name in want.keys():
                 assert bitwise(data[name], want[name]), (i, name)
         assert bitwise(got.cells, ref.cells)
-    # not trivially equal: the mesh moved (the first dynamic frame is the initial state)
+    # not trivially equal: the mesh moved (the first dynamic frame is the initial state),
+    # and a meaningful run: it bent without blowing up
     last = frames[-1]
-    assert np.abs(last.point_data["Displacement"]).max() > 0
-    assert np.all(np.isfinite(last.points))
+    diag = np.linalg.norm(np.ptp(np.asarray(mesh.points, float), axis=0))
+    assert 0 < np.abs(last.point_data["Displacement"]).max() < 0.5 * diag
 
 
 def test_static_solve_is_balanced():
