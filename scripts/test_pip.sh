@@ -3,7 +3,8 @@
 #   scripts/test_pip.sh VTK_VERSION
 # 1. builds the wheel from this checkout with `pip wheel` (scikit-build-core + nanobind
 #    from the package index; object files kept in build-pip/, ccache when
-#    CMAKE_CXX_COMPILER_LAUNCHER says so),
+#    CMAKE_CXX_COMPILER_LAUNCHER says so), its stepper kernels with -march=native as
+#    `make build` compiles them (HOEMBED_SIMULATION_NATIVE), for bitwise equal frames,
 # 2. creates a fresh venv WITHOUT system site packages (no Debian VTK) and installs the
 #    wheel, vtk==VTK_VERSION, pyvista and pytest from the package index,
 # 3. writes reference outputs of the VTK build (.venv/bin/python, Debian VTK 9.1) on the
@@ -20,7 +21,8 @@ data="${HOEMBED_DATA_DIR:-$root/../shared/data/meshes}"
 
 echo "[test-pip] building the wheel"
 rm -rf build-pip/dist
-.venv/bin/python -m pip wheel . --no-deps -w build-pip/dist -q
+.venv/bin/python -m pip wheel . --no-deps -w build-pip/dist -q \
+  --config-settings=cmake.define.HOEMBED_SIMULATION_NATIVE=ON
 wheel="$(ls build-pip/dist/hoembed-*.whl)"
 echo "[test-pip] $wheel"
 

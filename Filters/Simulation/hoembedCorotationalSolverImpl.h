@@ -10,6 +10,11 @@
 #include "hoembedTetElementMatrices.h"
 
 #include "hoembedParallel.h"
+#ifdef HOEMBED_NO_VTK
+// The pip wheel has no VTK headers: VTK's 64-bit id type (VTK_USE_64BIT_IDS, Debian's and
+// the VTK wheels' setting), for the loops' index type.
+using vtkIdType = long long;
+#endif
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>

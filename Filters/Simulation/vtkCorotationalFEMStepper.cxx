@@ -1,9 +1,8 @@
 #include "vtkCorotationalFEMStepper.h"
 
 #include "hoembedCorotationalSolver.h"
+#include "hoembedStepperDriver.h"
 #include "hoembedArrayNames.h"
-#include "hoembedElementGeometry.h"
-#include "hoembedQuadraticMap.h"
 #include "hoembedTetMeshInputVTK.h"
 
 #include "vtkCellArray.h"
@@ -32,16 +31,22 @@ vtkStandardNewMacro(vtkCorotationalFEMStepper);
 
 struct vtkCorotationalFEMStepper::Internals
 {
-  hoembed::CorotationalSolver Solver;
+  // The set-up, loads and stepping (hoembedStepperDriver, shared with the pip wheel); the
+  // references keep this file's names for the driver's state.
+  hoembed::StepperDriver Driver;
+  hoembed::CorotationalSolver& Solver = Driver.Solver;
   vtkTimeStamp BuildTime;
   bool Built = false;
-  bool StaticDone = false;
-  int CurrentStep = 0;
-  std::vector<double> InitialX, InitialV;
+  bool& StaticDone = Driver.StaticDone;
+  int& CurrentStep = Driver.CurrentStep;
+  std::vector<double>& InitialX = Driver.InitialX;
+  std::vector<double>& InitialV = Driver.InitialV;
   // loads: forces of the ExternalForceArrayName array (empty: none), and those set by
   // SetNodalForces / SetPrescribedMotion (empty: none)
-  std::vector<double> ArrayForces, NodalForces, Targets;
-  std::vector<unsigned char> Mask;
+  std::vector<double>& ArrayForces = Driver.ArrayForces;
+  std::vector<double>& NodalForces = Driver.NodalForces;
+  std::vector<double>& Targets = Driver.Targets;
+  std::vector<unsigned char>& Mask = Driver.Mask;
   std::string Signature; // BuildSignature() of the build (LiveMode)
   long long PendingSteps = 0;
   bool ResetRequested = false;
@@ -260,38 +265,13 @@ std::string vtkCorotationalFEMStepper::BuildSignature() const
 //------------------------------------------------------------------------------
 bool vtkCorotationalFEMStepper::ApplyLoads(vtkIdType np)
 {
-  Internals& I = *this->Internal;
-  const size_t n3 = 3 * static_cast<size_t>(np);
-  if (!I.NodalForces.empty() && I.NodalForces.size() != n3)
+  const std::string error =
+    this->Internal->Driver.ApplyLoads(this->Gravity, this->PrescribedSpeedLimit, np);
+  if (!error.empty())
   {
-    vtkErrorMacro("SetNodalForces: the array has " << I.NodalForces.size() / 3
-                                                   << " tuples, expected " << np
-                                                   << " (one per input point).");
+    vtkErrorMacro(<< error);
     return false;
   }
-  if (!I.Mask.empty() && I.Mask.size() != static_cast<size_t>(np))
-  {
-    vtkErrorMacro("SetPrescribedMotion: the arrays have " << I.Mask.size()
-                                                          << " tuples, expected " << np
-                                                          << " (one per input point).");
-    return false;
-  }
-  if (I.NodalForces.empty())
-  {
-    I.Solver.SetExternalForces(this->Gravity, I.ArrayForces.empty() ? nullptr : I.ArrayForces.data());
-  }
-  else
-  {
-    std::vector<double> f = I.NodalForces;
-    for (size_t k = 0; k < I.ArrayForces.size(); ++k)
-    {
-      f[k] += I.ArrayForces[k];
-    }
-    I.Solver.SetExternalForces(this->Gravity, f.data());
-  }
-  I.Solver.SetPrescribedMotion(
-    I.Mask.empty() ? nullptr : I.Mask.data(), I.Mask.empty() ? nullptr : I.Targets.data());
-  I.Solver.SetPrescribedSpeedLimit(this->PrescribedSpeedLimit);
   return true;
 }
 
@@ -433,10 +413,7 @@ double vtkCorotationalFEMStepper::GetSimulationTime()
 bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
 {
   Internals& I = *this->Internal;
-  const vtkIdType nc = input->GetNumberOfCells();
-  const vtkIdType np = input->GetNumberOfPoints();
   I.Built = false;
-  I.StaticDone = false;
   // Types, connectivity, node ranges and finite points: the one reader.
   hoembed::TetMeshInput mesh;
   std::vector<double> scratch;
@@ -447,51 +424,20 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
     vtkErrorMacro(<< readError << ".");
     return false;
   }
-  const int npc = mesh.NodesPerCell;
   const std::vector<double>& rest = mesh.Points;
-  // The solver's id type is long long (the reader's std::int64_t may be another 64-bit
-  // type of the same width).
-  const std::vector<long long> conn(mesh.Connectivity.begin(), mesh.Connectivity.end());
-  double xe[30];
-  for (vtkIdType c = 0; c < nc; ++c)
+  hoembed::StepperParameters p;
+  this->GetParameters(p);
+  const std::string error = I.Driver.Initialize(mesh, p);
+  if (!error.empty())
   {
-    for (int a = 0; a < npc; ++a)
-    {
-      for (int i = 0; i < 3; ++i)
-      {
-        xe[3 * a + i] = rest[3 * conn[c * npc + a] + i];
-      }
-    }
-    if (!hoembed::TetIsValid(xe, npc))
-    {
-      vtkErrorMacro("Rest cell " << c << " is inverted or has zero volume (det J <= 0).");
-      return false;
-    }
-  }
-  std::string error;
-  long long bad = -1;
-  if (!I.Solver.Initialize(npc, nc, conn.data(), np, rest.data(), this->YoungModulus,
-        this->PoissonRatio, this->Density, this->LumpedMass, error, bad))
-  {
-    if (bad >= 0)
-    {
-      vtkErrorMacro("Cell " << bad << ": " << error << ".");
-    }
-    else
-    {
-      vtkErrorMacro(<< error << ".");
-    }
+    vtkErrorMacro(<< error);
     return false;
   }
   if (!this->SetupClamps(input, rest) || !this->SetupLoadsAndState(input, rest))
   {
     return false;
   }
-  I.Solver.SetTimeStep(this->TimeStep);
-  I.Solver.SetRayleighDamping(this->RayleighMass, this->RayleighStiffness);
-  I.Solver.SetSolverControls(this->SolverTolerance, this->MaxSolverIterations);
-  I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
-  I.CurrentStep = 0;
+  I.Driver.Start(p);
   I.Signature = this->BuildSignature();
   I.Built = true;
   I.BuildTime.Modified();
@@ -504,8 +450,6 @@ bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const st
 {
   Internals& I = *this->Internal;
   const vtkIdType np = input->GetNumberOfPoints();
-  // Clamps.
-  std::vector<unsigned char> fixed(np, 0);
   const bool named = this->FixedArrayName && *this->FixedArrayName;
   vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
   if (!fixedArray && named)
@@ -543,43 +487,24 @@ bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const st
                                      << np << " (one per point).");
     return false;
   }
-  double bounds[6];
-  input->GetBounds(bounds);
-  const double diag = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
-    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
-  const double tol = 1e-9 * diag;
-  double nrm[3] = { this->ClampPlaneNormal[0], this->ClampPlaneNormal[1],
-    this->ClampPlaneNormal[2] };
-  const double nlen = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-  if (this->UseClampPlane && !(nlen > 0.0))
+  std::vector<double> values;
+  if (fixedArray)
   {
-    vtkErrorMacro("ClampPlaneNormal must be a nonzero vector.");
+    values.resize(np);
+    for (vtkIdType p = 0; p < np; ++p)
+    {
+      values[p] = fixedArray->GetComponent(p, 0);
+    }
+  }
+  hoembed::StepperParameters params;
+  this->GetParameters(params);
+  const std::string error =
+    I.Driver.SetClamps(rest, fixedArray ? values.data() : nullptr, params);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
     return false;
   }
-  for (vtkIdType p = 0; p < np; ++p)
-  {
-    const double* x = &rest[3 * p];
-    bool f = fixedArray && fixedArray->GetComponent(p, 0) != 0.0;
-    if (this->UseClampPlane)
-    {
-      double d = 0.0;
-      for (int i = 0; i < 3; ++i)
-      {
-        d += (x[i] - this->ClampPlaneOrigin[i]) * nrm[i] / nlen;
-      }
-      f = f || d <= tol;
-    }
-    if (this->UseClampBox)
-    {
-      const double* b = this->ClampBox;
-      f = f ||
-        (x[0] >= b[0] - tol && x[0] <= b[1] + tol && x[1] >= b[2] - tol && x[1] <= b[3] + tol &&
-          x[2] >= b[4] - tol && x[2] <= b[5] + tol);
-    }
-    fixed[p] = f ? 1 : 0;
-  }
-  I.Solver.SetFixed(fixed.data());
   return true;
 }
 
@@ -629,22 +554,23 @@ bool vtkCorotationalFEMStepper::SetupLoadsAndState(
                                                << "' is not a 3-component point-data array.");
     return false;
   }
-  I.InitialX = rest;
-  I.InitialV.assign(3 * np, 0.0);
-  for (vtkIdType p = 0; p < np; ++p)
+  auto copy = [np](vtkDataArray* a, std::vector<double>& out)
   {
-    for (int i = 0; i < 3; ++i)
+    if (a)
     {
-      if (u0)
+      out.resize(3 * static_cast<size_t>(np));
+      for (vtkIdType p = 0; p < np; ++p)
       {
-        I.InitialX[3 * p + i] += u0->GetComponent(p, i);
-      }
-      if (v0)
-      {
-        I.InitialV[3 * p + i] = v0->GetComponent(p, i);
+        for (int i = 0; i < 3; ++i)
+        {
+          out[3 * p + i] = a->GetComponent(p, i);
+        }
       }
     }
-  }
+    return a ? out.data() : nullptr;
+  };
+  std::vector<double> u, v;
+  I.Driver.SetInitialState(rest, copy(u0, u), copy(v0, v));
   return true;
 }
 
@@ -652,50 +578,41 @@ bool vtkCorotationalFEMStepper::SetupLoadsAndState(
 // Bring the solver to step k (or to the static equilibrium); false with an error.
 bool vtkCorotationalFEMStepper::Advance(long long k, vtkUnstructuredGrid* output)
 {
-  Internals& I = *this->Internal;
-  I.Solver.ResetTimings();
-  if (this->StaticSolve)
+  const std::string error = this->Internal->Driver.Advance(
+    k, this->StaticSolve, this->TimeStep, [this](double f) { this->UpdateProgress(f); });
+  if (!error.empty())
   {
-    if (!I.StaticDone)
-    {
-      I.Solver.SetState(I.InitialX.data(), nullptr);
-      std::string error;
-      if (!I.Solver.SolveStatic(100, 1e-10, error))
-      {
-        vtkErrorMacro("StaticSolve failed: " << error << ".");
-        I.Built = false;
-        return false;
-      }
-      I.StaticDone = true;
-    }
-  }
-  else
-  {
-    if (k < I.CurrentStep)
-    {
-      I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
-      I.CurrentStep = 0;
-    }
-    const long long todo = k - I.CurrentStep;
-    for (long long s = 0; s < todo; ++s)
-    {
-      if (!I.Solver.Step())
-      {
-        vtkErrorMacro("Non-finite state at time step " << I.CurrentStep + 1 << " (t = "
-                                                       << (I.CurrentStep + 1) * this->TimeStep
-                                                       << "): reduce TimeStep or the loads.");
-        I.Built = false; // restart from the initial state next time
-        output->Initialize();
-        return false;
-      }
-      ++I.CurrentStep;
-      if (todo > 1 && (s % 16 == 0 || s + 1 == todo))
-      {
-        this->UpdateProgress(static_cast<double>(s + 1) / static_cast<double>(todo));
-      }
-    }
+    vtkErrorMacro(<< error);
+    this->Internal->Built = false; // restart from the initial state next time
+    output->Initialize();
+    return false;
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkCorotationalFEMStepper::GetParameters(hoembed::StepperParameters& p) const
+{
+  p.YoungModulus = this->YoungModulus;
+  p.PoissonRatio = this->PoissonRatio;
+  p.Density = this->Density;
+  p.LumpedMass = this->LumpedMass;
+  p.TimeStep = this->TimeStep;
+  p.RayleighMass = this->RayleighMass;
+  p.RayleighStiffness = this->RayleighStiffness;
+  p.SolverTolerance = this->SolverTolerance;
+  p.MaxSolverIterations = this->MaxSolverIterations;
+  p.UseClampPlane = this->UseClampPlane;
+  p.UseClampBox = this->UseClampBox;
+  for (int i = 0; i < 3; ++i)
+  {
+    p.ClampPlaneOrigin[i] = this->ClampPlaneOrigin[i];
+    p.ClampPlaneNormal[i] = this->ClampPlaneNormal[i];
+  }
+  for (int i = 0; i < 6; ++i)
+  {
+    p.ClampBox[i] = this->ClampBox[i];
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -99,6 +99,10 @@
 #include <vector> // for std::vector
 
 class vtkDataArray;
+namespace hoembed
+{
+struct StepperParameters;
+}
 
 class HOEMBEDFILTERSSIMULATION_EXPORT vtkCorotationalFEMStepper : public vtkUnstructuredGridAlgorithm
 {
@@ -313,6 +317,8 @@ private:
   // Live loads to the solver (gravity, forces, prescribed motion); false for arrays whose
   // size does not match the mesh.
   bool ApplyLoads(vtkIdType numberOfPoints);
+  // the properties the driver's set-up reads
+  void GetParameters(hoembed::StepperParameters& p) const;
   // The properties whose change rebuilds in LiveMode (all but the loads and LiveMode).
   std::string BuildSignature() const;
   struct Internals;

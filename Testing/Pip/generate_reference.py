@@ -5,7 +5,8 @@ Run with the VTK build's Python (`.venv/bin/python`, `make test-pip` does):
     generate_reference.py OUTDIR
 It writes, per case, the inputs (surface.vtp, mesh.vtu, deformed_<k>.vtu) and the
 filters' outputs (embedded_<method>.vtp, transferred_<mode>_<k>.vtp) as binary VTK XML
-(exact doubles), and cases.json. Cases: the built-in thorny tail meshed with tet10 and
+(exact doubles), the stepper's frames (stepper_<run>_<i>.vtu of hoembed.simulate on the
+runs STEPPER_RUNS describes, on stepper_mesh.vtu), and cases.json. Cases: the built-in thorny tail meshed with tet10 and
 tet4; bunny_lowres.obj from HOEMBED_DATA_DIR when that folder exists.
 """
 import json
@@ -45,6 +46,47 @@ def frames(mesh):
     return out
 
 
+def stepper_runs(mesh):
+    """The stepper runs (simulate() keyword arguments; "@Name" = the point array Name of
+    stepper_mesh.vtu): clamped by a plane under gravity, by a mask array with nodal forces
+    and an initial velocity (lumped mass), and the static solve."""
+    X = np.asarray(mesh.points, float)
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    L = float((hi - lo).max())
+    ax = int(np.argmax(hi - lo))  # clamped at one end of the longest extent
+    axis = [float(i == ax) for i in range(3)]
+    origin = [float(lo[i] + 0.15 * (hi[i] - lo[i])) if i == ax else 0.0 for i in range(3)]
+    stepper = mesh.copy()
+    s = (X[:, ax] - lo[ax]) / (hi[ax] - lo[ax])
+    stepper.point_data["Clamp"] = (s >= 0.85).astype(np.int32)
+    # nodal forces scaled with the volume (the thorny tail: L ~ 3.3), so that every mesh
+    # bends moderately instead of blowing up
+    w = (L / 3.3) ** 3
+    stepper.point_data["Push"] = np.c_[50.0 * w * s, 0 * s, -20.0 * w * s ** 2]
+    stepper.point_data["Spin"] = np.c_[-0.2 * L * s, 0 * s, 0.1 * L * s]
+    runs = {
+        "plane": dict(steps=6, dt=0.01, young=2e4, every=2,
+                      fixed={"plane": [origin, axis]}),
+        "mask": dict(steps=5, dt=0.005, young=5e4, poisson=0.45, gravity=[-3.0, 0.0, 0.0],
+                     fixed="@Clamp", external_force="@Push", initial_velocity="@Spin",
+                     lumped_mass=True, rayleigh_mass=0.5),
+        "static": dict(static=True, young=2e7,
+                       fixed={"plane": [origin, axis]}),
+    }
+    return stepper, runs
+
+
+def resolve(kwargs, mesh):
+    """simulate()'s keyword arguments with "@Name" replaced by that point array's name
+    (fixed) or values (others)."""
+    out = {}
+    for k, v in kwargs.items():
+        if isinstance(v, str) and v.startswith("@"):
+            v = v[1:] if k == "fixed" else np.asarray(mesh.point_data[v[1:]])
+        out[k] = v
+    return out
+
+
 def main(outdir):
     os.makedirs(outdir, exist_ok=True)
     cases = {}
@@ -79,6 +121,15 @@ def main(outdir):
                                        compute_point_normals=(mode == "recompute"))
                 out.save(os.path.join(d, f"transferred_{mode}_{k}.vtp"))
             info["frames"] = k + 1
+        stepper, runs = stepper_runs(mesh)
+        stepper.save(os.path.join(d, "stepper_mesh.vtu"))
+        stepper = pyvista.read(os.path.join(d, "stepper_mesh.vtu"))
+        info["stepper"] = {}
+        for run, kwargs in runs.items():
+            out = hoembed.simulate(stepper, **resolve(kwargs, stepper))
+            for i, frame in enumerate(out):
+                frame.save(os.path.join(d, f"stepper_{run}_{i}.vtu"))
+            info["stepper"][run] = dict(kwargs=kwargs, frames=len(out))
         cases[name] = info
         print(f"[reference] {name}: {surface.n_points} surface points, {mesh.n_cells} cells")
     with open(os.path.join(outdir, "cases.json"), "w") as f:

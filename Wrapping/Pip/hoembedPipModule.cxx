@@ -1,12 +1,15 @@
 // hoembed._hoembed: the nanobind binding of the VTK-free drivers for the pip wheel.
 //
-// The drivers are the ones vtkEmbeddingCoordinatesFilter and vtkDeformationTransferFilter
-// call (hoembedEmbeddingDriver.h, hoembedTransferDriver.h); this file only turns numpy
+// The drivers are the ones vtkEmbeddingCoordinatesFilter, vtkDeformationTransferFilter
+// and vtkCorotationalFEMStepper call (hoembedEmbeddingDriver.h, hoembedTransferDriver.h,
+// hoembedStepperDriver.h); this file only turns numpy
 // arrays into the drivers' plain views and back. Output arrays are allocated by the
 // Python side (Wrapping/Pip/hoembed) and written in place. Errors: the drivers' sentences
 // are raised as RuntimeError; the Python side turns them into hoembed.HOEmbedError.
 #include "hoembedEmbeddingDriver.h"
 #include "hoembedParallel.h"
+#include "hoembedStepperDriver.h"
+#include "hoembedTetMeshInput.h"
 #include "hoembedTransferDriver.h"
 
 #include <nanobind/nanobind.h>
@@ -109,6 +112,26 @@ void PoolFor(std::int64_t n, std::int64_t grain,
 struct Transfer
 {
   hoembed::TransferDriver Driver{ PoolFor };
+};
+
+// An optional float64 array of `count` values (None: nullptr); `keep` holds the view.
+const double* Optional(const nb::object& o, In& keep, const char* what, std::size_t count)
+{
+  if (o.is_none())
+    return nullptr;
+  keep = nb::cast<In>(o);
+  return Data<double>(keep, what, count);
+}
+
+// vtkCorotationalFEMStepper's BuildSolver and Advance on numpy arrays; the frame's arrays
+// are written as the filter's WriteOutput writes them.
+struct Stepper
+{
+  hoembed::StepperDriver Driver;
+  hoembed::StepperParameters Parameters;
+  long long NumberOfPoints = 0;
+  long long NumberOfCells = 0;
+  bool Static = false;
 };
 } // namespace
 
@@ -272,6 +295,117 @@ NB_MODULE(_hoembed, m)
         else
           t.Driver.ComputeVertexNormals(Data<float>(points, "points", 3 * nv), n);
       });
+
+  nb::class_<Stepper>(m, "StepperDriver")
+    .def(nb::init<>())
+    .def(
+      "build",
+      [](Stepper& st, std::int64_t numberOfPoints, const In& points, const In& types,
+        const In& offsets, const In& conn, const std::vector<double>& material,
+        bool lumpedMass, bool staticSolve, const std::vector<double>& gravity,
+        const std::vector<double>& clampPlane, const std::vector<double>& clampBox,
+        nb::object fixed, nb::object forces, nb::object u0, nb::object v0) {
+        // material: E, nu, density, dt, Rayleigh mass, Rayleigh stiffness, solver tolerance
+        if (material.size() != 7 || gravity.size() != 3 ||
+          (!clampPlane.empty() && clampPlane.size() != 6) ||
+          (!clampBox.empty() && clampBox.size() != 6))
+          throw std::invalid_argument("StepperDriver.build: wrong number of parameters");
+        hoembed::StepperParameters& p = st.Parameters;
+        p.YoungModulus = material[0];
+        p.PoissonRatio = material[1];
+        p.Density = material[2];
+        p.TimeStep = material[3];
+        p.RayleighMass = material[4];
+        p.RayleighStiffness = material[5];
+        p.SolverTolerance = material[6];
+        p.LumpedMass = lumpedMass;
+        p.UseClampPlane = !clampPlane.empty();
+        for (int i = 0; p.UseClampPlane && i < 3; ++i)
+        {
+          p.ClampPlaneOrigin[i] = clampPlane[i];
+          p.ClampPlaneNormal[i] = clampPlane[3 + i];
+        }
+        p.UseClampBox = !clampBox.empty();
+        for (int i = 0; p.UseClampBox && i < 6; ++i)
+          p.ClampBox[i] = clampBox[i];
+        st.Static = staticSolve;
+        const hoembed::TetMeshArrays arrays = Mesh(numberOfPoints, &points, types, offsets, conn);
+        const std::size_t n = static_cast<std::size_t>(numberOfPoints);
+        In keepFixed, keepForces, keepU, keepV;
+        const double* fixedValues = Optional(fixed, keepFixed, "fixed", n);
+        const double* f = Optional(forces, keepForces, "external_force", 3 * n);
+        const double* u = Optional(u0, keepU, "initial_displacement", 3 * n);
+        const double* v = Optional(v0, keepV, "initial_velocity", 3 * n);
+        const double g[3] = { gravity[0], gravity[1], gravity[2] };
+        std::string error;
+        {
+          nb::gil_scoped_release release;
+          // the filter's BuildSolver: read, initialise, clamps, loads, initial state
+          hoembed::TetMeshInput mesh;
+          error = mesh.Read(arrays, hoembed::TetMeshInput::KeepPoints);
+          if (!error.empty())
+            error += ".";
+          if (error.empty())
+            error = st.Driver.Initialize(mesh, p);
+          if (error.empty())
+            error = st.Driver.SetClamps(mesh.Points, fixedValues, p);
+          if (error.empty())
+          {
+            st.Driver.ArrayForces.assign(f ? f : nullptr, f ? f + 3 * n : nullptr);
+            error = st.Driver.ApplyLoads(g, 0.0, numberOfPoints);
+          }
+          if (error.empty())
+          {
+            st.Driver.SetInitialState(mesh.Points, u, v);
+            st.Driver.Start(p);
+            st.NumberOfPoints = mesh.NumberOfPoints;
+            st.NumberOfCells = mesh.NumberOfCells;
+          }
+        }
+        Check(error);
+      },
+      nb::arg("number_of_points"), nb::arg("points"), nb::arg("cell_types"),
+      nb::arg("cell_offsets"), nb::arg("cell_connectivity"), nb::arg("material"),
+      nb::arg("lumped_mass"), nb::arg("static"), nb::arg("gravity"), nb::arg("clamp_plane"),
+      nb::arg("clamp_box"), nb::arg("fixed").none(), nb::arg("external_force").none(),
+      nb::arg("initial_displacement").none(), nb::arg("initial_velocity").none())
+    .def(
+      "advance",
+      [](Stepper& st, long long k) {
+        std::string error;
+        {
+          nb::gil_scoped_release release;
+          error = st.Driver.Advance(k, st.Static, st.Parameters.TimeStep, {});
+        }
+        Check(error);
+      },
+      nb::arg("step"))
+    .def(
+      "write_frame",
+      [](const Stepper& st, Array points, Array displacement, Array velocity, Array rotation,
+        Array vonMises) {
+        const std::size_t np = static_cast<std::size_t>(st.NumberOfPoints);
+        double* xo = Out<double>(points, "points", 3 * np);
+        double* d = Out<double>(displacement, "Displacement", 3 * np);
+        double* vo = Out<double>(velocity, "Velocity", 3 * np);
+        double* r = Out<double>(rotation, "NodalRotation", 9 * np);
+        double* vm = Out<double>(vonMises, "VonMisesStress", static_cast<std::size_t>(st.NumberOfCells));
+        const hoembed::CorotationalSolver& s = st.Driver.Solver;
+        const double* x = s.GetPositions();
+        const double* v = s.GetVelocities();
+        const double* X = s.GetRestPositions();
+        for (std::size_t k = 0; k < 3 * np; ++k)
+        {
+          xo[k] = x[k];
+          d[k] = x[k] - X[k];
+          vo[k] = v[k];
+        }
+        s.ComputeNodalRotations(r);
+        s.ComputeVonMises(vm);
+        return nb::make_tuple(s.KineticEnergy(), s.StrainEnergy(), s.GetLastIterations());
+      },
+      nb::arg("points"), nb::arg("displacement"), nb::arg("velocity"), nb::arg("rotation"),
+      nb::arg("von_mises"));
 
   m.def("number_of_threads", [] { return hoembed::parallel_detail::NumberOfThreads(); },
     "Threads the kernels' loops use (HOEMBED_NUM_THREADS, else the hardware's).");

@@ -1,8 +1,12 @@
-"""Argument checks of the pyvista-level embed() and transfer(), shared by both bindings:
-the VTK build's package (embedding.py, transfer.py over the VTK filters) and the pip
-wheel's (Wrapping/Pip/hoembed, over the nanobind module). Pure Python."""
+"""Argument checks of the pyvista-level embed(), transfer() and simulate(), shared by both
+bindings: the VTK build's package (embedding.py, transfer.py, simulation.py over the VTK
+filters) and the pip wheel's (Wrapping/Pip/hoembed, over the nanobind module). Pure
+Python."""
 
-from ._errors import HOEmbedArgumentError, check_callable, check_dataset, check_int
+import numpy as np
+
+from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check_int,
+                      check_real, check_vector)
 
 # values of hoembed::EmbeddingMethod (= vtkEmbeddingCoordinatesFilter's Method)
 EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
@@ -30,3 +34,93 @@ def transfer_arguments(embedded_surface, deformed_mesh, normals):
     check_dataset("transfer", "embedded_surface", embedded_surface, "vtkPolyData")
     check_dataset("transfer", "deformed_mesh", deformed_mesh, "vtkUnstructuredGrid")
     return NORMAL_MODES[normals]
+
+
+def simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity, rayleigh_mass,
+                       rayleigh_stiffness, every, solver_tolerance, progress):
+    """Refuse what vtkCorotationalFEMStepper would clamp, or accept as NaN. Each message
+    names the argument and the stepper property it sets."""
+    f = "simulate"
+    check_dataset(f, "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
+    return dict(
+        steps=check_int(f, "steps (NumberOfTimeSteps)", steps, 0),
+        dt=check_real(f, "dt (TimeStep)", dt, 0.0, low_open=True),
+        young=check_real(f, "young (YoungModulus)", young, 0.0, low_open=True),
+        poisson=check_real(f, "poisson (PoissonRatio)", poisson, -1.0, 0.5, True, True),
+        density=check_real(f, "density (Density)", density, 0.0, low_open=True),
+        gravity=check_vector(f, "gravity (Gravity)", gravity),
+        rayleigh_mass=check_real(f, "rayleigh_mass (RayleighMass)", rayleigh_mass, 0.0),
+        rayleigh_stiffness=check_real(f, "rayleigh_stiffness (RayleighStiffness)",
+                                      rayleigh_stiffness, 0.0),
+        every=check_int(f, "every", every, 1),
+        solver_tolerance=check_real(f, "solver_tolerance (SolverTolerance)", solver_tolerance,
+                                    1e-16, 1.0),
+        progress=check_callable(f, "progress", progress))
+
+
+def simulate_vector(n_points, values, what):
+    """An (n_points, 3) finite float64 array of simulate()'s per-node vectors."""
+    try:
+        values = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise HOEmbedArgumentError(f"simulate: {what} must be numbers") from None
+    if values.shape != (n_points, 3):
+        raise HOEmbedArgumentError(
+            f"simulate: {what} must have shape ({n_points}, 3), got {values.shape}")
+    if not np.all(np.isfinite(values)):
+        bad = int(np.flatnonzero(~np.all(np.isfinite(values), axis=1))[0])
+        raise HOEmbedArgumentError(f"simulate: {what} is not finite at node {bad}")
+    return values
+
+
+def simulate_clamps(fixed, n_points):
+    """simulate()'s ``fixed``: a dict with "name" (a point array's name), "mask" (uint8
+    per node), "plane" ((origin, normal)) and "box" (6 numbers), each None when not given."""
+    out = dict(name=None, mask=None, plane=None, box=None)
+    if fixed is None:
+        return out
+    if isinstance(fixed, str):
+        out["name"] = fixed
+    elif isinstance(fixed, dict):
+        unknown = set(fixed) - {"plane", "box"}
+        if unknown or not fixed:
+            raise HOEmbedArgumentError("simulate: fixed dict needs a 'plane' or 'box' "
+                                       f"entry (unknown keys: {sorted(map(str, unknown))})")
+        if "plane" in fixed:
+            try:
+                origin, normal = fixed["plane"]
+            except (TypeError, ValueError):
+                raise HOEmbedArgumentError(
+                    "simulate: fixed['plane'] must be (origin, normal)") from None
+            origin = check_vector("simulate", "fixed['plane'] origin", origin)
+            normal = check_vector("simulate", "fixed['plane'] normal", normal)
+            if not any(normal):
+                raise HOEmbedArgumentError("simulate: fixed['plane'] normal is zero")
+            out["plane"] = (origin, normal)
+        if "box" in fixed:
+            box = check_vector("simulate", "fixed['box']", fixed["box"], 6)
+            if box[0] > box[1] or box[2] > box[3] or box[4] > box[5]:
+                raise HOEmbedArgumentError("simulate: fixed['box'] must be (xmin, xmax, "
+                                           f"ymin, ymax, zmin, zmax), got {box}")
+            out["box"] = box
+    else:
+        try:
+            mask = np.asarray(fixed, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise HOEmbedArgumentError("simulate: fixed must be a mask, an array name or "
+                                       "a dict") from None
+        if mask.shape[0] != n_points:
+            raise HOEmbedArgumentError(
+                f"simulate: fixed mask must have {n_points} entries, got {mask.shape[0]}")
+        if not np.all(np.isfinite(mask)):
+            raise HOEmbedArgumentError("simulate: fixed mask holds NaN or Inf")
+        out["mask"] = (mask != 0).astype(np.uint8)
+    return out
+
+
+def simulate_frames(steps, every, static):
+    """The step indices simulate() returns frames of: 0, every, 2 every, ..., steps."""
+    ks = [0] if static else list(range(0, steps + 1, every))
+    if not static and ks[-1] != steps:
+        ks.append(steps)
+    return ks

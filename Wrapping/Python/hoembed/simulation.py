@@ -6,45 +6,9 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 __all__ = ["simulate"]
 
-from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check_int,
-                      check_real, check_vector, run_filter)
+from ._checks import simulate_arguments, simulate_clamps, simulate_frames, simulate_vector
+from ._errors import run_filter
 from .hoembedFiltersSimulation import vtkCorotationalFEMStepper
-
-
-def _vector_array(mesh, name, values, what):
-    try:
-        values = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise HOEmbedArgumentError(f"simulate: {what} must be numbers") from None
-    if values.shape != (mesh.n_points, 3):
-        raise HOEmbedArgumentError(
-            f"simulate: {what} must have shape ({mesh.n_points}, 3), got {values.shape}")
-    if not np.all(np.isfinite(values)):
-        bad = int(np.flatnonzero(~np.all(np.isfinite(values), axis=1))[0])
-        raise HOEmbedArgumentError(f"simulate: {what} is not finite at node {bad}")
-    mesh.point_data[name] = values
-
-
-def _check_arguments(fe_mesh, steps, dt, young, poisson, density, gravity, rayleigh_mass,
-                     rayleigh_stiffness, every, solver_tolerance, progress):
-    """Refuse what vtkCorotationalFEMStepper would clamp, or accept as NaN. Each message
-    names the argument and the stepper property it sets."""
-    f = "simulate"
-    check_dataset(f, "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
-    return dict(
-        steps=check_int(f, "steps (NumberOfTimeSteps)", steps, 0),
-        dt=check_real(f, "dt (TimeStep)", dt, 0.0, low_open=True),
-        young=check_real(f, "young (YoungModulus)", young, 0.0, low_open=True),
-        poisson=check_real(f, "poisson (PoissonRatio)", poisson, -1.0, 0.5, True, True),
-        density=check_real(f, "density (Density)", density, 0.0, low_open=True),
-        gravity=check_vector(f, "gravity (Gravity)", gravity),
-        rayleigh_mass=check_real(f, "rayleigh_mass (RayleighMass)", rayleigh_mass, 0.0),
-        rayleigh_stiffness=check_real(f, "rayleigh_stiffness (RayleighStiffness)",
-                                      rayleigh_stiffness, 0.0),
-        every=check_int(f, "every", every, 1),
-        solver_tolerance=check_real(f, "solver_tolerance (SolverTolerance)", solver_tolerance,
-                                    1e-16, 1.0),
-        progress=check_callable(f, "progress", progress))
 
 
 def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=1000.0,
@@ -105,61 +69,36 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
     >>> frames = hoembed.simulate(mesh, steps=50, dt=0.01, young=5e4,
     ...                           fixed={"plane": ((0, 0, 0), (1, 0, 0))})
     """
-    a = _check_arguments(fe_mesh, steps, dt, young, poisson, density, gravity, rayleigh_mass,
-                         rayleigh_stiffness, every, solver_tolerance, progress)
+    a = simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity,
+                           rayleigh_mass, rayleigh_stiffness, every, solver_tolerance,
+                           progress)
     steps, dt, every = a["steps"], a["dt"], a["every"]
     mesh = pyvista.wrap(fe_mesh).copy(deep=False)
     alg = vtkCorotationalFEMStepper()
-    if fixed is not None:
-        if isinstance(fixed, str):
-            alg.SetFixedArrayName(fixed)
-        elif isinstance(fixed, dict):
-            unknown = set(fixed) - {"plane", "box"}
-            if unknown or not fixed:
-                raise HOEmbedArgumentError("simulate: fixed dict needs a 'plane' or 'box' "
-                                           f"entry (unknown keys: {sorted(map(str, unknown))})")
-            if "plane" in fixed:
-                try:
-                    origin, normal = fixed["plane"]
-                except (TypeError, ValueError):
-                    raise HOEmbedArgumentError(
-                        "simulate: fixed['plane'] must be (origin, normal)") from None
-                origin = check_vector("simulate", "fixed['plane'] origin", origin)
-                normal = check_vector("simulate", "fixed['plane'] normal", normal)
-                if not any(normal):
-                    raise HOEmbedArgumentError("simulate: fixed['plane'] normal is zero")
-                alg.SetUseClampPlane(True)
-                alg.SetClampPlaneOrigin(*origin)
-                alg.SetClampPlaneNormal(*normal)
-            if "box" in fixed:
-                box = check_vector("simulate", "fixed['box']", fixed["box"], 6)
-                if box[0] > box[1] or box[2] > box[3] or box[4] > box[5]:
-                    raise HOEmbedArgumentError("simulate: fixed['box'] must be (xmin, xmax, "
-                                               f"ymin, ymax, zmin, zmax), got {box}")
-                alg.SetUseClampBox(True)
-                alg.SetClampBox(*box)
-        else:
-            try:
-                mask = np.asarray(fixed, dtype=float).reshape(-1)
-            except (TypeError, ValueError):
-                raise HOEmbedArgumentError("simulate: fixed must be a mask, an array name or "
-                                           "a dict") from None
-            if mask.shape[0] != mesh.n_points:
-                raise HOEmbedArgumentError(
-                    f"simulate: fixed mask must have {mesh.n_points} entries, "
-                    f"got {mask.shape[0]}")
-            if not np.all(np.isfinite(mask)):
-                raise HOEmbedArgumentError("simulate: fixed mask holds NaN or Inf")
-            mesh.point_data["Fixed"] = (mask != 0).astype(np.uint8)
-            alg.SetFixedArrayName("Fixed")
+    clamps = simulate_clamps(fixed, mesh.n_points)
+    if clamps["name"] is not None:
+        alg.SetFixedArrayName(clamps["name"])
+    if clamps["plane"] is not None:
+        alg.SetUseClampPlane(True)
+        alg.SetClampPlaneOrigin(*clamps["plane"][0])
+        alg.SetClampPlaneNormal(*clamps["plane"][1])
+    if clamps["box"] is not None:
+        alg.SetUseClampBox(True)
+        alg.SetClampBox(*clamps["box"])
+    if clamps["mask"] is not None:
+        mesh.point_data["Fixed"] = clamps["mask"]
+        alg.SetFixedArrayName("Fixed")
     if external_force is not None:
-        _vector_array(mesh, "ExternalForce", external_force, "external_force")
+        mesh.point_data["ExternalForce"] = simulate_vector(mesh.n_points, external_force,
+                                                           "external_force")
         alg.SetExternalForceArrayName("ExternalForce")
     if initial_displacement is not None:
-        _vector_array(mesh, "InitialDisplacement", initial_displacement, "initial_displacement")
+        mesh.point_data["InitialDisplacement"] = simulate_vector(
+            mesh.n_points, initial_displacement, "initial_displacement")
         alg.SetInitialDisplacementArrayName("InitialDisplacement")
     if initial_velocity is not None:
-        _vector_array(mesh, "InitialVelocity", initial_velocity, "initial_velocity")
+        mesh.point_data["InitialVelocity"] = simulate_vector(mesh.n_points, initial_velocity,
+                                                             "initial_velocity")
         alg.SetInitialVelocityArrayName("InitialVelocity")
     alg.SetInputData(mesh)
     alg.SetYoungModulus(a["young"])
@@ -173,9 +112,7 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
     alg.SetLumpedMass(bool(lumped_mass))
     alg.SetStaticSolve(bool(static))
     alg.SetSolverTolerance(a["solver_tolerance"])
-    ks = [0] if static else list(range(0, steps + 1, every))
-    if not static and ks[-1] != steps:
-        ks.append(steps)
+    ks = simulate_frames(steps, every, static)
     frames = []
     for i, k in enumerate(ks):
         alg.UpdateInformation()

@@ -1,0 +1,227 @@
+#include "hoembedStepperDriver.h"
+
+#include "hoembedElementGeometry.h"
+#include "hoembedQuadraticMap.h"
+#include "hoembedTetMeshInput.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace hoembed
+{
+//------------------------------------------------------------------------------
+std::string StepperDriver::Initialize(const TetMeshInput& mesh, const StepperParameters& p)
+{
+  this->StaticDone = false;
+  const long long nc = mesh.NumberOfCells;
+  const long long np = mesh.NumberOfPoints;
+  const int npc = mesh.NodesPerCell;
+  const std::vector<double>& rest = mesh.Points;
+  // The solver's id type is long long (the reader's std::int64_t may be another 64-bit
+  // type of the same width).
+  const std::vector<long long> conn(mesh.Connectivity.begin(), mesh.Connectivity.end());
+  double xe[30];
+  for (long long c = 0; c < nc; ++c)
+  {
+    for (int a = 0; a < npc; ++a)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        xe[3 * a + i] = rest[3 * conn[c * npc + a] + i];
+      }
+    }
+    if (!TetIsValid(xe, npc))
+    {
+      std::ostringstream o;
+      o << "Rest cell " << c << " is inverted or has zero volume (det J <= 0).";
+      return o.str();
+    }
+  }
+  std::string error;
+  long long bad = -1;
+  if (!this->Solver.Initialize(npc, nc, conn.data(), np, rest.data(), p.YoungModulus,
+        p.PoissonRatio, p.Density, p.LumpedMass, error, bad))
+  {
+    std::ostringstream o;
+    if (bad >= 0)
+    {
+      o << "Cell " << bad << ": ";
+    }
+    o << error << ".";
+    return o.str();
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::SetClamps(
+  const std::vector<double>& rest, const double* fixedValues, const StepperParameters& p)
+{
+  const long long np = static_cast<long long>(rest.size() / 3);
+  std::vector<unsigned char> fixed(np, 0);
+  // the points' bounding box (all points, as vtkPointSet::GetBounds)
+  double bounds[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
+  if (np > 0)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      bounds[2 * i] = bounds[2 * i + 1] = rest[i];
+    }
+    for (long long q = 1; q < np; ++q)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        const double v = rest[3 * q + i];
+        bounds[2 * i] = v < bounds[2 * i] ? v : bounds[2 * i];
+        bounds[2 * i + 1] = v > bounds[2 * i + 1] ? v : bounds[2 * i + 1];
+      }
+    }
+  }
+  const double diag = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  const double tol = 1e-9 * diag;
+  const double nrm[3] = { p.ClampPlaneNormal[0], p.ClampPlaneNormal[1], p.ClampPlaneNormal[2] };
+  const double nlen = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  if (p.UseClampPlane && !(nlen > 0.0))
+  {
+    return "ClampPlaneNormal must be a nonzero vector.";
+  }
+  for (long long q = 0; q < np; ++q)
+  {
+    const double* x = &rest[3 * q];
+    bool f = fixedValues && fixedValues[q] != 0.0;
+    if (p.UseClampPlane)
+    {
+      double d = 0.0;
+      for (int i = 0; i < 3; ++i)
+      {
+        d += (x[i] - p.ClampPlaneOrigin[i]) * nrm[i] / nlen;
+      }
+      f = f || d <= tol;
+    }
+    if (p.UseClampBox)
+    {
+      const double* b = p.ClampBox;
+      f = f ||
+        (x[0] >= b[0] - tol && x[0] <= b[1] + tol && x[1] >= b[2] - tol && x[1] <= b[3] + tol &&
+          x[2] >= b[4] - tol && x[2] <= b[5] + tol);
+    }
+    fixed[q] = f ? 1 : 0;
+  }
+  this->Solver.SetFixed(fixed.data());
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::ApplyLoads(
+  const double gravity[3], double prescribedSpeedLimit, long long np)
+{
+  const size_t n3 = 3 * static_cast<size_t>(np);
+  if (!this->NodalForces.empty() && this->NodalForces.size() != n3)
+  {
+    std::ostringstream o;
+    o << "SetNodalForces: the array has " << this->NodalForces.size() / 3
+      << " tuples, expected " << np << " (one per input point).";
+    return o.str();
+  }
+  if (!this->Mask.empty() && this->Mask.size() != static_cast<size_t>(np))
+  {
+    std::ostringstream o;
+    o << "SetPrescribedMotion: the arrays have " << this->Mask.size() << " tuples, expected "
+      << np << " (one per input point).";
+    return o.str();
+  }
+  if (this->NodalForces.empty())
+  {
+    this->Solver.SetExternalForces(
+      gravity, this->ArrayForces.empty() ? nullptr : this->ArrayForces.data());
+  }
+  else
+  {
+    std::vector<double> f = this->NodalForces;
+    for (size_t k = 0; k < this->ArrayForces.size(); ++k)
+    {
+      f[k] += this->ArrayForces[k];
+    }
+    this->Solver.SetExternalForces(gravity, f.data());
+  }
+  this->Solver.SetPrescribedMotion(this->Mask.empty() ? nullptr : this->Mask.data(),
+    this->Mask.empty() ? nullptr : this->Targets.data());
+  this->Solver.SetPrescribedSpeedLimit(prescribedSpeedLimit);
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+void StepperDriver::SetInitialState(
+  const std::vector<double>& rest, const double* u0, const double* v0)
+{
+  this->InitialX = rest;
+  this->InitialV.assign(rest.size(), 0.0);
+  for (size_t k = 0; k < rest.size(); ++k)
+  {
+    if (u0)
+    {
+      this->InitialX[k] += u0[k];
+    }
+    if (v0)
+    {
+      this->InitialV[k] = v0[k];
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void StepperDriver::Start(const StepperParameters& p)
+{
+  this->Solver.SetTimeStep(p.TimeStep);
+  this->Solver.SetRayleighDamping(p.RayleighMass, p.RayleighStiffness);
+  this->Solver.SetSolverControls(p.SolverTolerance, p.MaxSolverIterations);
+  this->Solver.SetState(this->InitialX.data(), this->InitialV.data());
+  this->CurrentStep = 0;
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::Advance(long long k, bool staticSolve, double timeStep,
+  const std::function<void(double)>& progress)
+{
+  this->Solver.ResetTimings();
+  if (staticSolve)
+  {
+    if (!this->StaticDone)
+    {
+      this->Solver.SetState(this->InitialX.data(), nullptr);
+      std::string error;
+      if (!this->Solver.SolveStatic(100, 1e-10, error))
+      {
+        return "StaticSolve failed: " + error + ".";
+      }
+      this->StaticDone = true;
+    }
+    return std::string();
+  }
+  if (k < this->CurrentStep)
+  {
+    this->Solver.SetState(this->InitialX.data(), this->InitialV.data());
+    this->CurrentStep = 0;
+  }
+  const long long todo = k - this->CurrentStep;
+  for (long long s = 0; s < todo; ++s)
+  {
+    if (!this->Solver.Step())
+    {
+      std::ostringstream o;
+      o << "Non-finite state at time step " << this->CurrentStep + 1
+        << " (t = " << (this->CurrentStep + 1) * timeStep
+        << "): reduce TimeStep or the loads.";
+      return o.str();
+    }
+    ++this->CurrentStep;
+    if (progress && todo > 1 && (s % 16 == 0 || s + 1 == todo))
+    {
+      progress(static_cast<double>(s + 1) / static_cast<double>(todo));
+    }
+  }
+  return std::string();
+}
+} // namespace hoembed

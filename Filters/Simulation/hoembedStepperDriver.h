@@ -1,0 +1,88 @@
+/**
+ * @file hoembedStepperDriver.h
+ * @brief The FE stepper's work between reading its input and writing a frame, VTK-free:
+ * the rest-mesh checks, the solver's set-up, the clamps (mask, plane, box), the loads,
+ * the initial state, stepping to a step index and the static solve.
+ *
+ * vtkCorotationalFEMStepper reads its vtkUnstructuredGrid and arrays, calls these steps
+ * and writes the output frame from `Solver`; the pip wheel's binding
+ * (Wrapping/Pip/hoembedPipModule.cxx) calls the same steps on numpy arrays, so both give
+ * the same frames bit for bit. Errors are returned as one sentence ending in '.' (the
+ * empty string on success); the caller prefixes its own name.
+ */
+#ifndef hoembedStepperDriver_h
+#define hoembedStepperDriver_h
+
+#include "hoembedCorotationalSolver.h"
+#include "hoembedFiltersSimulationModule.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hoembed
+{
+class TetMeshInput;
+
+/// The stepper's properties that the set-up reads (vtkCorotationalFEMStepper's names and
+/// defaults).
+struct StepperParameters
+{
+  double YoungModulus = 1.0e5;
+  double PoissonRatio = 0.49;
+  double Density = 1000.0;
+  bool LumpedMass = false;
+  double TimeStep = 0.01;
+  double RayleighMass = 0.1;
+  double RayleighStiffness = 0.01;
+  double SolverTolerance = 1e-4;
+  int MaxSolverIterations = 200;
+  bool UseClampPlane = false;
+  double ClampPlaneOrigin[3] = { 0.0, 0.0, 0.0 };
+  double ClampPlaneNormal[3] = { 1.0, 0.0, 0.0 };
+  bool UseClampBox = false;
+  double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
+};
+
+class HOEMBEDFILTERSSIMULATION_EXPORT StepperDriver
+{
+public:
+  /// Rest validity of every cell of `mesh` (read with TetMeshInput::KeepPoints), then the
+  /// solver's mesh, material and mass.
+  std::string Initialize(const TetMeshInput& mesh, const StepperParameters& p);
+
+  /// Clamped nodes: `fixedValues` (one value per point, nonzero = clamped; nullptr: none),
+  /// or within 1e-9 of the bounding-box diagonal of the clamp plane's negative side or of
+  /// the clamp box. `rest`: 3 per point.
+  std::string SetClamps(const std::vector<double>& rest, const double* fixedValues,
+    const StepperParameters& p);
+
+  /// Gravity plus ArrayForces plus NodalForces (each empty = none) and the prescribed
+  /// motion (Mask, Targets; empty = none) into the solver.
+  std::string ApplyLoads(const double gravity[3], double prescribedSpeedLimit,
+    long long numberOfPoints);
+
+  /// Initial positions rest + u0 and velocities v0 (3 per point each; nullptr = zero).
+  void SetInitialState(const std::vector<double>& rest, const double* u0, const double* v0);
+
+  /// Time step, damping and solver controls; the solver at the initial state, step 0.
+  void Start(const StepperParameters& p);
+
+  /// Bring the solver to step k (from the initial state again when k is behind), or with
+  /// `staticSolve` to the static equilibrium (once, until StaticDone is cleared).
+  /// `progress` (may be empty) gets the fraction of the steps done.
+  std::string Advance(long long k, bool staticSolve, double timeStep,
+    const std::function<void(double)>& progress);
+
+  CorotationalSolver Solver;
+  std::vector<double> InitialX, InitialV;
+  /// loads: forces of a point array (empty: none) and those set between steps (empty:
+  /// none); the prescribed motion's mask and target displacements (empty: none)
+  std::vector<double> ArrayForces, NodalForces, Targets;
+  std::vector<unsigned char> Mask;
+  int CurrentStep = 0;
+  bool StaticDone = false;
+};
+} // namespace hoembed
+
+#endif

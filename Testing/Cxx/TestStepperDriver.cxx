@@ -1,0 +1,185 @@
+// hoembedStepperDriver alone, on plain arrays (what the pip wheel's binding gives it),
+// against vtkCorotationalFEMStepper on the same mesh: the same frames bit for bit (the
+// filter calls this driver; this checks that nothing of the set-up stayed behind in the
+// filter), a restart when asked for an earlier step, the static solve, and the driver's
+// errors as sentences.
+#include "hoembedStepperDriver.h"
+#include "hoembedTestUtilities.h"
+#include "hoembedTetMeshInput.h"
+
+#include "vtkCellArray.h"
+#include "vtkCorotationalFEMStepper.h"
+#include "vtkDataArray.h"
+#include "vtkPoints.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace
+{
+using hoembed_test::MakeBoxTetMesh;
+
+struct PlainMesh
+{
+  std::vector<double> Points;
+  std::vector<unsigned char> Types;
+  std::vector<std::int64_t> Offsets, Connectivity;
+  hoembed::TetMeshArrays View() const
+  {
+    hoembed::TetMeshArrays m;
+    m.NumberOfPoints = static_cast<std::int64_t>(this->Points.size() / 3);
+    m.PointsDouble = this->Points.data();
+    m.NumberOfCells = static_cast<std::int64_t>(this->Types.size());
+    m.CellTypes = this->Types.data();
+    m.Offsets64 = this->Offsets.data();
+    m.Connectivity64 = this->Connectivity.data();
+    return m;
+  }
+};
+
+PlainMesh Plain(vtkUnstructuredGrid* g)
+{
+  PlainMesh m;
+  for (vtkIdType p = 0; p < g->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    g->GetPoint(p, x);
+    m.Points.insert(m.Points.end(), x, x + 3);
+  }
+  m.Offsets.push_back(0);
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c)
+  {
+    m.Types.push_back(static_cast<unsigned char>(g->GetCellType(c)));
+    vtkIdType n;
+    const vtkIdType* ids;
+    g->GetCellPoints(c, n, ids);
+    m.Connectivity.insert(m.Connectivity.end(), ids, ids + n);
+    m.Offsets.push_back(static_cast<std::int64_t>(m.Connectivity.size()));
+  }
+  return m;
+}
+
+bool SamePositions(const hoembed::StepperDriver& d, vtkUnstructuredGrid* out)
+{
+  const vtkIdType n = out->GetNumberOfPoints();
+  std::vector<double> x(3 * n);
+  for (vtkIdType p = 0; p < n; ++p)
+    out->GetPoint(p, &x[3 * p]);
+  return n > 0 && std::memcmp(x.data(), d.Solver.GetPositions(), x.size() * sizeof(double)) == 0;
+}
+
+std::string Build(hoembed::StepperDriver& d, const PlainMesh& m, const hoembed::StepperParameters& p,
+  const double gravity[3])
+{
+  hoembed::TetMeshInput mesh;
+  std::string error = mesh.Read(m.View(), hoembed::TetMeshInput::KeepPoints);
+  if (error.empty())
+    error = d.Initialize(mesh, p);
+  if (error.empty())
+    error = d.SetClamps(mesh.Points, nullptr, p);
+  if (error.empty())
+    error = d.ApplyLoads(gravity, 0.0, mesh.NumberOfPoints);
+  if (error.empty())
+  {
+    d.SetInitialState(mesh.Points, nullptr, nullptr);
+    d.Start(p);
+  }
+  return error;
+}
+
+void TestFramesEqualTheFilter(int order)
+{
+  auto grid = MakeBoxTetMesh(8, 2, 2, 4.0, 0.5, 0.5, order);
+  const double gravity[3] = { 0.0, -2.0, -9.81 };
+  hoembed::StepperParameters p;
+  p.YoungModulus = 3e4;
+  p.TimeStep = 0.02;
+  p.UseClampPlane = true; // the end x <= 0
+  p.ClampPlaneNormal[0] = 1.0;
+  vtkNew<vtkCorotationalFEMStepper> filter;
+  filter->SetInputData(grid);
+  filter->SetYoungModulus(p.YoungModulus);
+  filter->SetTimeStep(p.TimeStep);
+  filter->SetNumberOfTimeSteps(10);
+  filter->SetUseClampPlane(true);
+  filter->SetClampPlaneNormal(1.0, 0.0, 0.0);
+  filter->SetGravity(gravity[0], gravity[1], gravity[2]);
+
+  hoembed::StepperDriver d;
+  const PlainMesh m = Plain(grid);
+  HOEMBED_CHECK(Build(d, m, p, gravity).empty(), "driver set-up failed");
+  // forward, then back (a restart from the initial state), then forward again
+  for (long long k : { 1, 4, 7, 2, 10 })
+  {
+    filter->UpdateTimeStep(k * p.TimeStep);
+    HOEMBED_CHECK(d.Advance(k, false, p.TimeStep, {}).empty(), "driver step failed");
+    HOEMBED_CHECK(d.CurrentStep == k, "driver at step %d, asked %lld", d.CurrentStep, k);
+    HOEMBED_CHECK(SamePositions(d, filter->GetOutput()),
+      "order %d step %lld: driver positions differ from the filter's", order, k);
+  }
+  // not trivially equal: the beam moved down, and the clamped end stayed
+  double sag = 0.0;
+  for (std::size_t i = 0; i < m.Points.size() / 3; ++i)
+  {
+    const double dz = d.Solver.GetPositions()[3 * i + 2] - m.Points[3 * i + 2];
+    sag = std::min(sag, dz);
+    if (m.Points[3 * i] <= 0.0)
+      HOEMBED_CHECK(dz == 0.0, "clamped node %zu moved", i);
+  }
+  HOEMBED_CHECK(sag < -1e-3, "the beam did not sag (%g)", sag);
+
+  // the static solve (a stiffer beam: the soft one's sag is beyond the static iteration)
+  p.YoungModulus = 1e9;
+  filter->SetYoungModulus(p.YoungModulus);
+  filter->SetStaticSolve(true);
+  filter->UpdateTimeStep(0.0);
+  hoembed::StepperDriver s;
+  HOEMBED_CHECK(Build(s, m, p, gravity).empty(), "driver set-up failed");
+  HOEMBED_CHECK(s.Advance(0, true, p.TimeStep, {}).empty(), "driver static solve failed");
+  HOEMBED_CHECK(SamePositions(s, filter->GetOutput()), "order %d: static solves differ", order);
+}
+
+void TestErrors()
+{
+  auto grid = MakeBoxTetMesh(2, 1, 1, 2.0, 1.0, 1.0, 2);
+  PlainMesh m = Plain(grid);
+  const double g[3] = { 0.0, 0.0, -9.81 };
+  hoembed::StepperParameters p;
+  p.UseClampPlane = true;
+  p.ClampPlaneNormal[0] = 0.0;
+  hoembed::StepperDriver d;
+  std::string e = Build(d, m, p, g);
+  HOEMBED_CHECK(e == "ClampPlaneNormal must be a nonzero vector.", "got '%s'", e.c_str());
+  // cell 0 inverted: its first two corners swapped
+  std::swap(m.Connectivity[0], m.Connectivity[1]);
+  p.ClampPlaneNormal[0] = 1.0;
+  hoembed::StepperDriver d2;
+  e = Build(d2, m, p, g);
+  HOEMBED_CHECK(e == "Rest cell 0 is inverted or has zero volume (det J <= 0).", "got '%s'",
+    e.c_str());
+  // a free body has no static equilibrium
+  std::swap(m.Connectivity[0], m.Connectivity[1]);
+  p.UseClampPlane = false;
+  hoembed::StepperDriver d3;
+  HOEMBED_CHECK(Build(d3, m, p, g).empty(), "free body set-up failed");
+  e = d3.Advance(0, true, p.TimeStep, {});
+  HOEMBED_CHECK(e.rfind("StaticSolve failed: ", 0) == 0 && e.back() == '.', "got '%s'", e.c_str());
+  // loads of the wrong size
+  d3.NodalForces.assign(6, 1.0);
+  e = d3.ApplyLoads(g, 0.0, static_cast<long long>(m.Points.size() / 3));
+  HOEMBED_CHECK(e.find("SetNodalForces: the array has 2 tuples") == 0, "got '%s'", e.c_str());
+}
+} // namespace
+
+int main(int, char*[])
+{
+  TestFramesEqualTheFilter(2);
+  TestFramesEqualTheFilter(1);
+  TestErrors();
+  return hoembed_test::Report("TestStepperDriver");
+}
