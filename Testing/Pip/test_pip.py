@@ -21,6 +21,7 @@ import pytest
 import pyvista
 
 import hoembed
+from generate_reference import resolve  # the same "@Name" arguments as the references
 
 REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
 if not REF or not os.path.exists(os.path.join(REF, "cases.json")):
@@ -171,14 +172,6 @@ def test_not_yet_in_the_wheel():
         assert not hasattr(hoembed, name)
 
 
-def resolve(kwargs, mesh):
-    # generate_reference.py's: "@Name" = the point array Name (its name for fixed)
-    out = {}
-    for k, v in kwargs.items():
-        if isinstance(v, str) and v.startswith("@"):
-            v = v[1:] if k == "fixed" else np.asarray(mesh.point_data[v[1:]])
-        out[k] = v
-    return out
 
 
 STEPPER_RUNS = sorted((case, run) for case in CASES for run in CASES[case].get("stepper", {}))
