@@ -294,6 +294,8 @@ void CorotationalSolver::SetFixed(const unsigned char* fixed)
   I.PrescribedMask.resize(I.NP, 0);
   I.UpdateFree();
   I.HaveFactor = false;
+  I.Base.reset(); // made for other clamps
+  ++I.Generation;
 }
 
 void CorotationalSolver::SetPrescribedMotion(const unsigned char* mask, const double* targets)
@@ -315,11 +317,38 @@ void CorotationalSolver::SetPrescribedMotion(const unsigned char* mask, const do
       }
     }
   }
-  if (I.UpdateFree())
+  if (I.UpdateFree() && !I.Background)
   {
     // Other DOFs leave (or join) the system: the factor no longer matches. The targets
-    // alone do not change the matrix, so moving them keeps the factor.
+    // alone do not change the matrix, so moving them keeps the factor. (With background
+    // factorisation, the step compares the factor's free set with the system's.)
     I.HaveFactor = false;
+  }
+}
+
+void CorotationalSolver::SetBackgroundFactorization(bool on, int lag)
+{
+  Impl& I = *this->P;
+  I.Lag = std::max(0, lag);
+  if (on == I.Background)
+  {
+    return;
+  }
+  I.Background = on;
+  if (!on)
+  {
+    // back to the synchronous rules: a factor of another free set is not reused
+    if (I.Worker.joinable())
+    {
+      I.Worker.join();
+    }
+    I.Recycle(std::move(I.Job));
+    I.Job.reset();
+    I.Base.reset();
+    if (I.Cur && I.Cur->Free != I.Free)
+    {
+      I.HaveFactor = false;
+    }
   }
 }
 
@@ -494,7 +523,11 @@ bool CorotationalSolver::Step()
   // the factor of a recent system matrix, refreshed when the CG iterations since the
   // last factorisation exceed an estimate of its cost (RefactorBudget) and the
   // iterations per step have grown by half (so that it pays for itself).
-  if (!I.HaveFactor || cM != I.FactorCM || cK != I.FactorCK)
+  if (I.Background && !I.StaticMode)
+  {
+    I.BackgroundPreconditioner(cM, cK);
+  }
+  else if (!I.HaveFactor || cM != I.Cur->CM || cK != I.Cur->CK)
   {
     I.Factor(cM, cK);
   }
@@ -534,6 +567,7 @@ bool CorotationalSolver::Step()
       I.History.pop_back();
     }
   }
+  I.StepCount++;
   I.SolveSinceFactor += Seconds(ts, Clock::now());
   I.IterationsSinceFactor += I.LastIt;
   bool finite = true;

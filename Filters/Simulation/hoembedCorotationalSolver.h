@@ -53,6 +53,25 @@
  *   large factor run on two threads: the elimination tree is cut below its top separator
  *   into two groups of independent subtrees of equal work.
  *
+ * Background factorisation (SetBackgroundFactorization; vtkCorotationalFEMStepper's
+ * BackgroundFactorization in LiveMode): a grab or a release changes the prescribed set,
+ * and the synchronous rule above refactorises at that step, ~0.5 s for 14k DOF (numeric
+ * factorisation ~85%, copy into node blocks ~15%; Benchmarks/RESULTS.md, live loop): the
+ * interactive model froze at every click. With it, that factorisation (and the refresh of
+ * a drifted factor) runs on a worker thread, on the step matrix of the step that asked
+ * for it (rotated, like a refresh), while the CG keeps a factor it has as preconditioner:
+ * the current one when its free DOFs contain the new ones (a grab: restricted to them it
+ * is a principal submatrix of an SPD inverse, so still SPD, and off the exact inverse by
+ * a term of rank at most the DOFs that left), else the last factor made without
+ * prescribed nodes (kept for that: its free DOFs contain every prescribed set's; a
+ * release). Each step is still solved to the tolerance; only the iterations differ (a
+ * few more while the stand-in serves). The new factor is swapped in between steps only:
+ * at the first step after the worker is done, or, with a lag, exactly that many steps
+ * after it was asked for (waited for then: results independent of timing). A set that
+ * changes again before its factor is ready makes the job stale (dropped, or kept as the
+ * newer unprescribed factor); one job at a time. Static solves, and the first step, stay
+ * synchronous.
+ *
  * StaticSolve: solves f_int(x) = f_ext by repeated linearised solves (the first one is
  * exactly small-strain linear elasticity from the rest state), needs clamped nodes.
  *
@@ -75,10 +94,13 @@
  * fraction of an element size per step, and a target that jumps is then approached at
  * that speed. The prescribed DOFs leave the system exactly like clamped
  * ones: changing the targets keeps the factorised preconditioner, changing the mask
- * refactorises at the next step. Loads and targets can change between steps: the state
- * (x, v) is kept. SolveStatic puts the prescribed nodes on their targets and holds them.
+ * refactorises at the next step (or in the background, below). Loads and targets can
+ * change between steps: the state (x, v) is kept. SolveStatic puts the prescribed nodes
+ * on their targets and holds them.
  *
- * Threading (vtkSMPTools): rotations, the assembly of S (two halves of the cells cut by
+ * Threading (vtkSMPTools; and one std::thread for the background factorisation, which
+ * touches nothing but its own factor object until it is joined): rotations, the
+ * assembly of S (two halves of the cells cut by
  * a plane, without common nodes, in parallel, then the layer of cells along the cut; on
  * one thread all cells in order, so 1- and 2-thread runs differ in the last bits of S),
  * products (block rows), the two subtree groups of the triangular solves. Small meshes
@@ -106,6 +128,9 @@ public:
     long long Iterations = 0; ///< total CG iterations
     long long Factorizations = 0; ///< numeric factorisations of the preconditioner
     double Factorization = 0.0;   ///< seconds in them (part of Solve)
+    /// factors computed by the background worker and taken (SetBackgroundFactorization)
+    long long BackgroundFactorizations = 0;
+    double BackgroundFactorization = 0.0; ///< the worker's seconds for the jobs finished
   };
 
   CorotationalSolver();
@@ -131,6 +156,11 @@ public:
   /// Speed limit of the prescribed points (distance per unit time, <= 0: none): a point
   /// farther from its target than speed * dt moves that far towards it in a step.
   void SetPrescribedSpeedLimit(double speed);
+  /// Background factorisation, for interactive loops (off by default; see the header's
+  /// "Background factorisation"). `lag` 0: a new factor is taken at the first step after
+  /// the worker is done (when depends on timing); lag > 0: exactly `lag` steps after it
+  /// was asked for, waiting for it then if needed (deterministic: for tests, benchmarks).
+  void SetBackgroundFactorization(bool on, int lag = 0);
   /// Number of points with prescribed motion.
   long long GetNumberOfPrescribedPoints() const;
   /// Gravity (consistent body force density * g) plus optional nodal forces (3 per point).

@@ -24,11 +24,14 @@ using vtkIdType = long long;
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 namespace hoembed
@@ -160,6 +163,33 @@ inline void SymmetricTimes(int D, const double* K, const double* l, double* w)
   }
 }
 constexpr vtkIdType ParallelValues = 1000000;
+
+// One factorised preconditioner (hoembedCorotationalSolverLinear.cxx): the factor of a step
+// matrix whose rows and columns of the DOFs that were not free are replaced by the
+// identity, the nodal rotations baked into it and the free-DOF mask it was made for. Its
+// symbolic analysis is kept (a slot is reused). Heap-held: the solver serves with one and,
+// with background factorisation, a worker thread fills another that nothing else reads
+// until the worker is joined.
+struct PreconditionerFactor
+{
+  SmallFactorization SmallLLT;
+  BlockFactor<double> SmallBlocks;
+  LargeFactorization LargeLLT;
+  BlockFactor<LargeValue> LargeBlocks;
+  bool UseLargeBlocks = false;
+  bool Analyzed = false;   // symbolic analysis of Permuted's pattern done
+  ColMat Permuted;         // permuted lower part of the matrix (pattern fixed)
+  std::vector<double> Q;   // NP * 9 nodal rotations baked into the factor
+  std::vector<char> Free;  // 3 NP: the free DOFs of its matrix
+  double CM = -1, CK = -1; // its mass and stiffness coefficients
+  bool NoPrescribed = false; // made without prescribed nodes (Free = not clamped)
+  bool OK = false;
+  double Seconds = 0.0; // of the last Compute
+  // symbolic analysis (first time), numeric factorisation and the node blocks; touches
+  // nothing outside this object (the worker thread runs it)
+  void Compute(bool large, long long np);
+  void BuildLargeBlocks(long long np);
+};
 } // namespace corotational_detail
 using namespace corotational_detail;
 
@@ -210,27 +240,48 @@ struct CorotationalSolver::Impl
   double Tol = 1e-4;
   int MaxIt = 500;
   RowMat A, M;
-  // preconditioner
-  SmallFactorization SmallLLT;
-  BlockFactor<double> SmallBlocks;
-  BlockFactor<LargeValue> LargeBlocks;
-  bool UseLargeBlocks = false;
-  void BuildLargeBlocks();
-  std::vector<int> NodeNew;   // old node -> position in the small factor's order
+  // preconditioner: the factor it serves with (Cur)
+  std::shared_ptr<PreconditionerFactor> Cur;
+  std::vector<int> NodeNew;   // old node -> position in the factor's order
   std::vector<int> PermValue; // A value index -> value index of the permuted lower part
-  ColMat Permuted;            // permuted lower part (pattern fixed after the analysis)
+  ColMat PermutedPattern;     // permuted lower part (pattern fixed after the analysis)
   Eigen::VectorXd PrecT;      // work vector of ApplyPrec
-  LargeFactorization LargeLLT;
   bool Large() const { return 3 * NP >= LargeSystem; }
-  bool FactorOK() const
-  {
-    return (Large() ? LargeLLT.info() : SmallLLT.info()) == Eigen::Success;
-  }
+  bool FactorOK() const { return Cur && Cur->OK; }
   bool HaveFactor = false;
   bool Analyzed = false;
   int ItAfterFactor = 0;
   bool JustFactored = false;
-  double FactorCM = -1, FactorCK = -1;
+  // Background factorisation (SetBackgroundFactorization; not in static solves): a new
+  // factor for a changed prescribed set, or the refresh of a drifted one, is computed by
+  // a worker thread (Job) while the CG keeps the current factor (or Base) as its
+  // preconditioner, and is taken at the start of a step: the first after it is done
+  // (Lag 0), or exactly Lag steps after it was asked for (then waited for: deterministic).
+  // Base: the last factor made without prescribed nodes; its free DOFs contain those of
+  // any prescribed set, so it serves any of them (see BackgroundPreconditioner).
+  bool Background = false;
+  int Lag = 0;
+  std::shared_ptr<PreconditionerFactor> Base, Job;
+  std::vector<std::shared_ptr<PreconditionerFactor>> Spare; // analysed slots to reuse
+  std::thread Worker;
+  std::atomic<bool> WorkerDone{ false };
+  long long StepCount = 0, JobStep = 0; // steps taken; the step that asked for Job
+  unsigned Generation = 0, JobGeneration = 0; // a restart makes older jobs stale
+  std::shared_ptr<PreconditionerFactor> NewFactor();
+  void Recycle(std::shared_ptr<PreconditionerFactor> f);
+  // copy source (rest: cM M + cK K instead) into f with the current Free mask
+  void FillFactor(PreconditionerFactor& f, const RowMat& source, bool rest, double cM, double cK);
+  void BackgroundPreconditioner(double cM, double cK);
+  void PollJob(double cM, double cK);
+  void StartJob(double cM, double cK);
+  bool Covers(const PreconditionerFactor& f) const; // f's free DOFs contain Free
+  ~Impl()
+  {
+    if (Worker.joinable())
+    {
+      Worker.join();
+    }
+  }
   double FactorSeconds = 0.0;   // cost of the last factorisation
   double SolveSinceFactor = 0.0; // CG seconds spent with it since (reported only)
   long long IterationsSinceFactor = 0;
@@ -242,8 +293,7 @@ struct CorotationalSolver::Impl
     const double b = 0.25 * std::pow(static_cast<double>(3 * NP), 2.0 / 3.0);
     return std::min(500.0, std::max(10.0, b));
   }
-  std::vector<double> FactorQ;  // NP * 9 nodal rotations baked into the factor
-  std::vector<double> RelRot;   // NP * 9: NodeRot * FactorQ^T (preconditioner rotation)
+  std::vector<double> RelRot;   // NP * 9: NodeRot * Cur->Q^T (preconditioner rotation)
   double LoadFloor = 0.0;       // |dt f_ext|: residual scale when the system is at rest
   Timings T;
   int LastIt = 0;
@@ -266,6 +316,7 @@ struct CorotationalSolver::Impl
   {
     History.clear();
     HaveFactor = false;
+    ++Generation; // a factor being computed in the background is of the old state
     LastIt = 0;
     ItAfterFactor = 0;
     IterationsSinceFactor = 0;

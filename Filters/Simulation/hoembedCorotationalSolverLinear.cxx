@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <thread>
+#include <utility>
 #include <vector>
 
 namespace hoembed
@@ -63,7 +66,7 @@ void CorotationalSolver::Impl::ComputeRotations()
 
 bool CorotationalSolver::Impl::Factor(double cM, double cK)
 {
-  if (HaveFactor && cM == FactorCM && cK == FactorCK)
+  if (HaveFactor && Cur && cM == Cur->CM && cK == Cur->CK)
   {
     return FactorOK();
   }
@@ -76,76 +79,293 @@ bool CorotationalSolver::Impl::Factor(double cM, double cK)
 bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, double cM, double cK)
 {
   auto t0 = Clock::now();
-  RowMat A0 = source;
-  double* val = A0.valuePtr();
-  const double* cur = source.valuePtr();
-  const int* outer = A0.outerIndexPtr();
-  const int* inner = A0.innerIndexPtr();
-  for (long long r = 0; r < 3 * NP; ++r)
-  {
-    for (int k = outer[r]; k < outer[r + 1]; ++k)
-    {
-      const int c = inner[k];
-      if (!Free[r] || !Free[c])
-      {
-        val[k] = (r == c) ? 1.0 : 0.0;
-      }
-      else
-      {
-        val[k] = rest ? cM * MassValues[k] + cK * StiffValues[k] : cur[k];
-      }
-    }
-  }
   if (!Analyzed)
   {
     Analyze();
     Analyzed = true;
   }
-  double* pv = Permuted.valuePtr();
-  for (long long k = 0; k < A0.nonZeros(); ++k)
+  if (!Cur || Cur == Base)
   {
-    if (PermValue[k] >= 0)
-    {
-      pv[PermValue[k]] = val[k];
-    }
+    Cur = NewFactor(); // Base is kept for the prescribed sets to come
   }
-  if (Large())
+  FillFactor(*Cur, source, rest, cM, cK);
+  Cur->Compute(Large(), NP);
+  if (Background && Cur->NoPrescribed)
   {
-    LargeLLT.factorize(Permuted);
-    BuildLargeBlocks();
-  }
-  else
-  {
-    SmallLLT.factorize(Permuted);
-    if (SmallLLT.info() == Eigen::Success)
-    {
-      const ColMat& L = SmallLLT.matrixL().nestedExpression();
-      SmallBlocks.Build(static_cast<int>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(),
-        L.valuePtr());
-    }
+    Base = Cur;
   }
   JustFactored = true;
   HaveFactor = true;
-  FactorCM = cM;
-  FactorCK = cK;
-  FactorQ.assign(9 * NP, 0.0);
-  if (rest)
-  {
-    for (long long p = 0; p < NP; ++p)
-    {
-      FactorQ[9 * p] = FactorQ[9 * p + 4] = FactorQ[9 * p + 8] = 1.0;
-    }
-  }
-  else
-  {
-    FactorQ = NodeRot;
-  }
   FactorSeconds = Seconds(t0, Clock::now());
   T.Factorizations++;
   T.Factorization += FactorSeconds;
   SolveSinceFactor = 0.0;
   IterationsSinceFactor = 0;
   return FactorOK();
+}
+
+void CorotationalSolver::Impl::FillFactor(
+  PreconditionerFactor& f, const RowMat& source, bool rest, double cM, double cK)
+{
+  double* pv = f.Permuted.valuePtr();
+  const double* cur = source.valuePtr();
+  const int* outer = source.outerIndexPtr();
+  const int* inner = source.innerIndexPtr();
+  for (long long r = 0; r < 3 * NP; ++r)
+  {
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      if (PermValue[k] < 0)
+      {
+        continue; // upper part
+      }
+      const int c = inner[k];
+      double v;
+      if (!Free[r] || !Free[c])
+      {
+        v = (r == c) ? 1.0 : 0.0;
+      }
+      else
+      {
+        v = rest ? cM * MassValues[k] + cK * StiffValues[k] : cur[k];
+      }
+      pv[PermValue[k]] = v;
+    }
+  }
+  f.Free = Free;
+  f.CM = cM;
+  f.CK = cK;
+  f.NoPrescribed = NumberPrescribed == 0;
+  if (rest)
+  {
+    f.Q.assign(9 * NP, 0.0);
+    for (long long p = 0; p < NP; ++p)
+    {
+      f.Q[9 * p] = f.Q[9 * p + 4] = f.Q[9 * p + 8] = 1.0;
+    }
+  }
+  else
+  {
+    f.Q = NodeRot;
+  }
+}
+
+void PreconditionerFactor::Compute(bool large, long long np)
+{
+  auto t0 = Clock::now();
+  if (!Analyzed)
+  {
+    if (large)
+    {
+#ifdef HOEMBED_HAVE_CHOLMOD
+      cholmod_common& c = LargeLLT.cholmod();
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_NATURAL; // the matrix comes permuted
+      c.postorder = 0;                        // keep it so (node blocks stay in order)
+#endif
+      LargeLLT.analyzePattern(Permuted);
+    }
+    else
+    {
+      SmallLLT.analyzePattern(Permuted);
+    }
+    Analyzed = true;
+  }
+  if (large)
+  {
+    LargeLLT.factorize(Permuted);
+    BuildLargeBlocks(np);
+    OK = LargeLLT.info() == Eigen::Success;
+  }
+  else
+  {
+    SmallLLT.factorize(Permuted);
+    OK = SmallLLT.info() == Eigen::Success;
+    if (OK)
+    {
+      const ColMat& L = SmallLLT.matrixL().nestedExpression();
+      SmallBlocks.Build(static_cast<int>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(),
+        L.valuePtr());
+    }
+  }
+  Seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::shared_ptr<PreconditionerFactor> CorotationalSolver::Impl::NewFactor()
+{
+  if (!Spare.empty())
+  {
+    std::shared_ptr<PreconditionerFactor> f = std::move(Spare.back());
+    Spare.pop_back();
+    return f;
+  }
+  auto f = std::make_shared<PreconditionerFactor>();
+  f->Permuted = PermutedPattern;
+  return f;
+}
+
+void CorotationalSolver::Impl::Recycle(std::shared_ptr<PreconditionerFactor> f)
+{
+  // two spares at most: the factor memory stays bounded whatever the user clicks
+  if (f && f != Cur && f != Base && f != Job && Spare.size() < 2)
+  {
+    Spare.push_back(std::move(f));
+  }
+}
+
+bool CorotationalSolver::Impl::Covers(const PreconditionerFactor& f) const
+{
+  for (long long k = 0; k < 3 * NP; ++k)
+  {
+    if (Free[k] && !f.Free[k])
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Why a factor of another free set serves: the CG runs on the free DOFs F of the current
+// system, and ApplyPrec applies P = Q B^-1 Q^T restricted to F (r and z are masked), where
+// B is the factor's matrix. When the factor's free DOFs contain F, P restricted to F is a
+// principal submatrix of the SPD B^-1, so it is SPD (the CG converges), and it differs
+// from the inverse of B's own F block by a term of rank at most the number of DOFs that
+// left (B_FF^-1 vs (B^-1)_FF: a Schur complement), so a grab of k nodes costs about 3k
+// extra iterations at worst, fewer in practice. A factor that lacks some of F (its
+// rows there are identity rows: a release seen from the grabbed factor) has no such
+// bound: the CG reached its iteration cap (Benchmarks/RESULTS.md, live loop). Hence Base,
+// made without prescribed nodes: its free DOFs contain every prescribed set's.
+void CorotationalSolver::Impl::BackgroundPreconditioner(double cM, double cK)
+{
+  PollJob(cM, cK);
+  if (!HaveFactor || !Cur || cM != Cur->CM || cK != Cur->CK)
+  {
+    FactorMatrix(A, true, cM, cK); // first step, new dt / damping / clamps, a restart
+    return;
+  }
+  if (Cur->Free != Free)
+  {
+    if (!Covers(*Cur))
+    {
+      if (Base && Base->CM == cM && Base->CK == cK && Covers(*Base))
+      {
+        Recycle(std::exchange(Cur, Base));
+        JustFactored = true; // its iterations from now on are the reference
+        IterationsSinceFactor = 0;
+      }
+      else
+      {
+        FactorMatrix(A, true, cM, cK); // nothing serves: as without the background
+        return;
+      }
+    }
+    if (!Job || Job->Free != Free || Job->CM != cM || Job->CK != cK ||
+      JobGeneration != Generation)
+    {
+      StartJob(cM, cK);
+    }
+    return;
+  }
+  // the factor is of this system: refreshed when it has drifted, as in Step, but by the
+  // worker
+  if (!Job && LastIt > std::max(2, (3 * ItAfterFactor) / 2) &&
+    IterationsSinceFactor > RefactorBudget())
+  {
+    StartJob(cM, cK);
+  }
+}
+
+// Start the worker on the current system (A at this step's rotations, the current free
+// set). With a worker still busy on a stale job: waited for with a lag (so that the
+// outcome does not depend on timing), else tried again at the next step.
+void CorotationalSolver::Impl::StartJob(double cM, double cK)
+{
+  if (Worker.joinable())
+  {
+    if (Lag == 0 && !WorkerDone.load(std::memory_order_acquire))
+    {
+      return;
+    }
+    Worker.join();
+    T.BackgroundFactorization += Job->Seconds;
+    Recycle(std::move(Job));
+    Job.reset();
+  }
+  auto ta = Clock::now();
+  AssembleA(cM, cK);
+  const double assembly = Seconds(ta, Clock::now());
+  T.Assembly += assembly;
+  T.Solve -= assembly; // counted in the solve phase of Step; keep it in assembly
+  std::shared_ptr<PreconditionerFactor> job = NewFactor();
+  FillFactor(*job, A, false, cM, cK);
+  Job = job;
+  JobStep = StepCount;
+  JobGeneration = Generation;
+  WorkerDone.store(false, std::memory_order_relaxed);
+  const bool large = Large();
+  const long long np = NP;
+  std::atomic<bool>* done = &WorkerDone;
+  Worker = std::thread(
+    [job, large, np, done]()
+    {
+      job->Compute(large, np);
+      done->store(true, std::memory_order_release);
+    });
+}
+
+// At the start of a step: a finished job (Lag 0), or the job asked for Lag steps ago
+// (waited for), is taken when it is of the current system. One of another free set
+// (the user grabbed or released meanwhile) is dropped (at once with a lag, when it
+// finishes without), unless it was made without prescribed nodes: then it is the newer
+// Base, and the stand-in when Base was.
+void CorotationalSolver::Impl::PollJob(double cM, double cK)
+{
+  if (!Job)
+  {
+    return;
+  }
+  const bool current = JobGeneration == Generation && Job->CM == cM && Job->CK == cK;
+  const bool stale = !current || Job->Free != Free;
+  const bool due = Lag > 0 ? (stale || StepCount - JobStep >= Lag)
+                           : WorkerDone.load(std::memory_order_acquire);
+  if (!due)
+  {
+    return;
+  }
+  Worker.join();
+  std::shared_ptr<PreconditionerFactor> job = std::move(Job);
+  Job.reset();
+  T.BackgroundFactorization += job->Seconds;
+  if (stale && current && job->OK && job->NoPrescribed)
+  {
+    std::shared_ptr<PreconditionerFactor> old = std::move(Base);
+    Base = std::move(job);
+    if (Cur == old)
+    {
+      Cur = Base;
+      JustFactored = true;
+      IterationsSinceFactor = 0;
+    }
+    Recycle(std::move(old));
+    return;
+  }
+  if (stale || !job->OK)
+  {
+    Recycle(std::move(job));
+    return;
+  }
+  std::shared_ptr<PreconditionerFactor> old = std::move(Cur);
+  Cur = std::move(job);
+  Recycle(std::move(old));
+  if (Cur->NoPrescribed)
+  {
+    Base = Cur;
+  }
+  HaveFactor = true;
+  JustFactored = true;
+  SolveSinceFactor = 0.0;
+  IterationsSinceFactor = 0;
+  T.BackgroundFactorizations++;
 }
 
 // Node-level AMD ordering of the pattern, the permuted lower part of the DOF matrix (three
@@ -170,10 +390,6 @@ void CorotationalSolver::Impl::Analyze()
     {
       NodeNew[perm ? perm[k] : k] = static_cast<int>(k);
     }
-    cholmod_common& c = LargeLLT.cholmod();
-    c.nmethods = 1;
-    c.method[0].ordering = CHOLMOD_NATURAL; // the matrix comes permuted
-    c.postorder = 0;                        // keep it so (node blocks stay in order)
 #else
     std::iota(NodeNew.begin(), NodeNew.end(), 0); // the simplicial factor orders itself
 #endif
@@ -205,21 +421,13 @@ void CorotationalSolver::Impl::Analyze()
       }
     }
   }
-  Permuted.resize(3 * NP, 3 * NP);
-  Permuted.setFromTriplets(trip.begin(), trip.end());
-  Permuted.makeCompressed();
+  PermutedPattern.resize(3 * NP, 3 * NP);
+  PermutedPattern.setFromTriplets(trip.begin(), trip.end());
+  PermutedPattern.makeCompressed();
   PermValue.assign(A.nonZeros(), -1);
-  for (long long j = 0; j < Permuted.nonZeros(); ++j)
+  for (long long j = 0; j < PermutedPattern.nonZeros(); ++j)
   {
-    PermValue[static_cast<long long>(Permuted.valuePtr()[j])] = static_cast<int>(j);
-  }
-  if (Large())
-  {
-    LargeLLT.analyzePattern(Permuted);
-  }
-  else
-  {
-    SmallLLT.analyzePattern(Permuted);
+    PermValue[static_cast<long long>(PermutedPattern.valuePtr()[j])] = static_cast<int>(j);
   }
 }
 
@@ -245,8 +453,9 @@ bool InPermutedOrder(const cholmod_factor* F)
 
 // Copy CHOLMOD's supernodal factor (of the node-permuted matrix, natural order) into
 // float node blocks; should CHOLMOD have reordered it anyway, the solves stay with it.
-void CorotationalSolver::Impl::BuildLargeBlocks()
+void PreconditionerFactor::BuildLargeBlocks(long long NP)
 {
+  (void)NP; // without CHOLMOD
   UseLargeBlocks = false;
 #ifdef HOEMBED_HAVE_CHOLMOD
   if (LargeLLT.info() != Eigen::Success || !LargeLLT.Factor())
@@ -314,7 +523,7 @@ void CorotationalSolver::Impl::UpdateRelativeRotations()
   for (long long p = 0; p < NP; ++p)
   {
     const double* Q = &NodeRot[9 * p];
-    const double* F = &FactorQ[9 * p];
+    const double* F = &Cur->Q[9 * p];
     double* R = &RelRot[9 * p];
     for (int i = 0; i < 3; ++i)
     {
@@ -343,15 +552,15 @@ void CorotationalSolver::Impl::ApplyPrec(const Eigen::VectorXd& r, Eigen::Vector
   }
   if (!Large())
   {
-    SmallBlocks.Solve(t.data());
+    Cur->SmallBlocks.Solve(t.data());
   }
-  else if (UseLargeBlocks)
+  else if (Cur->UseLargeBlocks)
   {
-    LargeBlocks.Solve(t.data());
+    Cur->LargeBlocks.Solve(t.data());
   }
   else
   {
-    t = LargeLLT.solve(t).eval();
+    t = Cur->LargeLLT.solve(t).eval();
   }
   for (long long p = 0; p < NP; ++p)
   {

@@ -160,6 +160,7 @@ int vtkCorotationalFEMStepper::RequestData(
   this->LastSolverIterations = 0;
   this->LastNumberOfFactorizations = 0;
   this->LastFactorizationTime = 0.0;
+  this->LastNumberOfBackgroundFactorizations = 0;
   Internals& I = *this->Internal;
 
   if (!input || input->GetNumberOfCells() == 0 || !input->GetPoints())
@@ -219,6 +220,8 @@ int vtkCorotationalFEMStepper::RequestData(
   }
   const double tk = static_cast<double>(k) * this->TimeStep;
 
+  I.Solver.SetBackgroundFactorization(
+    this->LiveMode && this->BackgroundFactorization, this->FactorizationLag);
   if (!this->Advance(k, output))
   {
     return 0;
@@ -231,6 +234,7 @@ int vtkCorotationalFEMStepper::RequestData(
   this->LastSolverIterations = static_cast<int>(T.Iterations);
   this->LastNumberOfFactorizations = static_cast<int>(T.Factorizations);
   this->LastFactorizationTime = T.Factorization;
+  this->LastNumberOfBackgroundFactorizations = static_cast<int>(T.BackgroundFactorizations);
 
   this->WriteOutput(input, output, tk);
   I.LastOK = true;
@@ -722,6 +726,8 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LiveMode: " << this->LiveMode << "\n";
   os << indent << "ComputeDiagnostics: " << this->ComputeDiagnostics << "\n";
   os << indent << "PrescribedSpeedLimit: " << this->PrescribedSpeedLimit << "\n";
+  os << indent << "BackgroundFactorization: " << this->BackgroundFactorization << "\n";
+  os << indent << "FactorizationLag: " << this->FactorizationLag << "\n";
   os << indent << "LastNumberOfSteps: " << this->LastNumberOfSteps << "\n";
   os << indent << "LastRotationTime: " << this->LastRotationTime << "\n";
   os << indent << "LastAssemblyTime: " << this->LastAssemblyTime << "\n";
@@ -729,6 +735,8 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastSolverIterations: " << this->LastSolverIterations << "\n";
   os << indent << "LastNumberOfFactorizations: " << this->LastNumberOfFactorizations << "\n";
   os << indent << "LastFactorizationTime: " << this->LastFactorizationTime << "\n";
+  os << indent << "LastNumberOfBackgroundFactorizations: "
+     << this->LastNumberOfBackgroundFactorizations << "\n";
 }//------------------------------------------------------------------------------
 int vtkCorotationalFEMStepper::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
