@@ -273,7 +273,7 @@ struct CorotationalSolver::Impl
   void FillFactor(PreconditionerFactor& f, const RowMat& source, bool rest, double cM, double cK);
   void BackgroundPreconditioner(double cM, double cK);
   void PollJob(double cM, double cK);
-  void StartJob(double cM, double cK);
+  void StartJob(double cM, double cK, bool rest);
   bool Covers(const PreconditionerFactor& f) const; // f's free DOFs contain Free
   ~Impl()
   {

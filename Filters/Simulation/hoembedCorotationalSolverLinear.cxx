@@ -259,26 +259,30 @@ void CorotationalSolver::Impl::BackgroundPreconditioner(double cM, double cK)
         return;
       }
     }
-    if (!Job || Job->Free != Free || Job->CM != cM || Job->CK != cK ||
-      JobGeneration != Generation)
+    // the factor the synchronous rule makes at a change of the set (of the rest matrix),
+    // unless the stand-in is of this set (a release onto Base)
+    if (Cur->Free != Free &&
+      (!Job || Job->Free != Free || Job->CM != cM || Job->CK != cK ||
+        JobGeneration != Generation))
     {
-      StartJob(cM, cK);
+      StartJob(cM, cK, true);
     }
     return;
   }
-  // the factor is of this system: refreshed when it has drifted, as in Step, but by the
-  // worker
+  // the factor is of this system: refreshed from the current matrix when it has drifted,
+  // by the synchronous rule's test, but by the worker
   if (!Job && LastIt > std::max(2, (3 * ItAfterFactor) / 2) &&
     IterationsSinceFactor > RefactorBudget())
   {
-    StartJob(cM, cK);
+    StartJob(cM, cK, false);
   }
 }
 
-// Start the worker on the current system (A at this step's rotations, the current free
-// set). With a worker still busy on a stale job: waited for with a lag (so that the
-// outcome does not depend on timing), else tried again at the next step.
-void CorotationalSolver::Impl::StartJob(double cM, double cK)
+// Start the worker on the current free set, with the matrix the synchronous rule would
+// factorise (rest: cM M + cK K; else A at this step's rotations). With a worker still
+// busy on a stale job: waited for with a lag (so that the outcome does not depend on
+// timing), else tried again at the next step.
+void CorotationalSolver::Impl::StartJob(double cM, double cK, bool rest)
 {
   if (Worker.joinable())
   {
@@ -291,13 +295,16 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK)
     Recycle(std::move(Job));
     Job.reset();
   }
-  auto ta = Clock::now();
-  AssembleA(cM, cK);
-  const double assembly = Seconds(ta, Clock::now());
-  T.Assembly += assembly;
-  T.Solve -= assembly; // counted in the solve phase of Step; keep it in assembly
+  if (!rest)
+  {
+    auto ta = Clock::now();
+    AssembleA(cM, cK);
+    const double assembly = Seconds(ta, Clock::now());
+    T.Assembly += assembly;
+    T.Solve -= assembly; // counted in the solve phase of Step; keep it in assembly
+  }
   std::shared_ptr<PreconditionerFactor> job = NewFactor();
-  FillFactor(*job, A, false, cM, cK);
+  FillFactor(*job, A, rest, cM, cK);
   Job = job;
   JobStep = StepCount;
   JobGeneration = Generation;
@@ -308,7 +315,14 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK)
   Worker = std::thread(
     [job, large, np, done]()
     {
-      job->Compute(large, np);
+      try
+      {
+        job->Compute(large, np);
+      }
+      catch (...) // out of memory: the job is dropped, the stand-in keeps serving
+      {
+        job->OK = false;
+      }
       done->store(true, std::memory_order_release);
     });
 }

@@ -291,3 +291,76 @@ def test_bad_live_input_is_refused():
     assert s.Step(1)
     s.LiveModeOff()
     assert not s.Step(1)
+
+
+@pytest.mark.parametrize("lag", [1, 3, 0])
+def test_grab_release_with_background_factorization_matches_linear_backward_euler(lag):
+    # BackgroundFactorization: a grab or a release is stepped with a stand-in
+    # preconditioner while a thread factorises the new system (taken `lag` steps later;
+    # 0: whenever it is done). Each step must still be the backward Euler step of its own
+    # prescribed set: the same reference as above, and the same steps as a stepper that
+    # refactorises synchronously, with the set changing (tip grabbed, released, grabbed,
+    # released and a middle patch grabbed on consecutive steps, before any new factor is
+    # ready), and no grab or release factorising on the calling thread.
+    from scipy.sparse.linalg import spsolve
+    E, nu, rho, dt, a, b = 1e12, 0.3, 1000.0, 0.01, 0.1, 0.01
+    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
+    pts = np.asarray(mesh.points)
+    clamp = pts[:, 0] <= 1e-9
+    tip = np.isclose(pts[:, 0], 4.0)
+    mid = np.isclose(pts[:, 0], 2.0) & np.isclose(pts[:, 2], 1.0)
+    none = np.zeros(len(pts), bool)
+    schedule = [none, none, tip, tip, tip, tip, none, none, tip, none, mid, mid, mid, none, none]
+    K, M, dofs = skfem_p2(mesh, E, nu, rho)
+
+    def target(k):  # a lift and a twist, changed every step; small enough (rotations
+        # ~1e-7) that the co-rotated step is the linear one to ~1e-7
+        t = np.zeros_like(pts)
+        t[:, 2] = 1e-8 * k * (1 + pts[:, 1])
+        t[:, 1] = -2e-9 * k * k * pts[:, 2]
+        return t
+
+    props = dict(YoungModulus=E, PoissonRatio=nu, Density=rho, TimeStep=dt, RayleighMass=a,
+                 RayleighStiffness=b, SolverTolerance=1e-13, MaxSolverIterations=2000)
+    s = live_stepper(mesh, BackgroundFactorization=True, FactorizationLag=lag, **props)
+    sync = live_stepper(mesh, **props)  # refactorises at each grab and release
+    n = K.shape[0]
+    A = ((1 + dt * a) * M + (dt * b + dt * dt) * K).tocsr()
+    u, v = np.zeros(n), np.zeros(n)
+    background, scale = 0, 0.0
+    for k, grabbed in enumerate(schedule, start=1):
+        for stepper in (s, sync):
+            if grabbed.any():
+                prescribe(stepper, grabbed, target(k))
+            else:
+                assert stepper.SetPrescribedMotion(None, None)
+            assert stepper.Step(1)
+        assert s.GetLastSolverIterations() < 2000  # converged, not capped
+        if k > 1:
+            assert s.GetLastNumberOfFactorizations() == 0, k
+        background += s.GetLastNumberOfBackgroundFactorizations()
+        got = output(s).point_data["Displacement"]
+        other = output(sync).point_data["Displacement"]
+        # the two CG solutions differ by the tolerance (1e-13); x - X has ~1e-16 * |x|
+        scale = max(scale, np.linalg.norm(other))
+        assert np.linalg.norm(got - other) <= 1e-8 * scale, k
+        held = np.zeros(n, bool)
+        held[dofs[clamp].ravel()] = True
+        held[dofs[grabbed].ravel()] = True
+        free = ~held
+        uc = np.zeros(n)
+        uc[dofs[grabbed].ravel()] = target(k)[grabbed].ravel()
+        vnew = v.copy()
+        vnew[held] = (uc[held] - u[held]) / dt
+        dvc = np.where(held, vnew - v, 0.0)
+        rhs = dt * (-K @ u - a * (M @ v) - (b + dt) * (K @ v)) - A @ dvc
+        vnew[free] = v[free] + spsolve(A[free][:, free], rhs[free])
+        v = vnew
+        u = u + dt * v
+        ref = u[dofs]
+        assert np.linalg.norm(got - ref) <= 1e-6 * np.linalg.norm(ref), k  # 0 before a grab
+        if k == 1:
+            assert sync.GetLastNumberOfFactorizations() == 1
+    assert np.linalg.norm(u) > 0
+    if lag == 1:
+        assert background >= 2

@@ -208,3 +208,67 @@ def test_dynamic_steps_match_skfem_backward_euler(n):
     got = frames[-1].point_data["Displacement"]
     assert np.linalg.norm(ref) > 0
     assert np.linalg.norm(got - ref) / np.linalg.norm(ref) < 1e-6
+
+
+def test_prescribed_static_matches_skfem_and_dynamic_reaches_targets():
+    # simulate(prescribed=(mask, displacement)): static, a tiny prescribed displacement of
+    # the tip is linear elasticity with inhomogeneous Dirichlet values (scikit-fem's
+    # condense with x); dynamic, the tip lands on its target exactly, at the speed limit
+    # when one is given, and the rest follows (the stepper itself: test_live_stepper.py)
+    E, nu = 1e5, 0.45
+    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
+    pts = np.asarray(mesh.points)
+    clamp = pts[:, 0] <= 1e-9
+    tip = np.isclose(pts[:, 0], 4.0)
+    t = np.zeros_like(pts)
+    t[tip] = 1e-7 * np.c_[0.3 + 0 * pts[tip, 0], 1 + pts[tip, 2], -2 + pts[tip, 1]]
+    basis, dofs = vector_basis(mesh, 2)
+    K, _, _ = elasticity(basis, E, nu, 1000.0)
+    x = np.zeros(K.shape[0])
+    x[dofs[tip].ravel()] = t[tip].ravel()
+    D = np.concatenate([dofs[clamp].ravel(), dofs[tip].ravel()])
+    ref = solve(*condense(K, np.zeros(K.shape[0]), x=x, D=D))[dofs]
+    plane = {"plane": ((0, 0, 0), (1, 0, 0))}
+    u = hoembed.simulate(mesh, young=E, poisson=nu, gravity=(0, 0, 0), fixed=plane,
+                         static=True, prescribed=(tip, t))[0].point_data["Displacement"]
+    assert np.array_equal(u[tip], (pts[tip] + t[tip]) - pts[tip])
+    assert np.linalg.norm(u - ref) / np.linalg.norm(ref) < 1e-5
+
+    lift = (0.0, 0.0, 0.3)  # one vector for every prescribed node
+    dt, speed = 0.01, 5.0   # 0.05 per step: there after 6 steps
+    frames = hoembed.simulate(mesh, steps=10, dt=dt, young=E, poisson=nu,
+                              gravity=(0, 0, 0), fixed=plane, prescribed=(tip, lift),
+                              prescribed_speed_limit=speed)
+    for k, f in enumerate(frames):
+        z = f.point_data["Displacement"][tip, 2]
+        np.testing.assert_allclose(z, min(0.3, k * speed * dt), rtol=0, atol=1e-12)
+        assert np.abs(f.point_data["Displacement"][clamp]).max() == 0.0
+    middle = np.isclose(pts[:, 0], 2.0)
+    assert frames[-1].point_data["Displacement"][middle, 2].mean() > 1e-3  # pulled up
+    # without a limit: on the target after the first step
+    first = hoembed.simulate(mesh, steps=1, dt=dt, young=E, gravity=(0, 0, 0), fixed=plane,
+                             prescribed=(tip.astype(int), lift))[-1]
+    np.testing.assert_allclose(first.point_data["Displacement"][tip, 2], 0.3, rtol=0,
+                               atol=1e-12)
+
+
+def test_bad_prescribed_raises():
+    mesh = box_tet_mesh((2, 1, 1), (2.0, 1.0, 1.0), 2)
+    n = mesh.n_points
+    ones = np.ones(n)
+    cases = [
+        ((np.ones(3), (0, 0, 1)), 0.0, "entries"),
+        ("tip", 0.0, r"\(mask, displacement\)"),
+        ((None, (0, 0, 1)), 0.0, "prescribed mask"),
+        ((["a"] * n, (0, 0, 1)), 0.0, "prescribed mask must be numbers"),
+        ((np.full(n, np.nan), (0, 0, 1)), 0.0, "NaN"),
+        ((ones, (0, 0, np.nan)), 0.0, "not finite"),
+        ((ones, np.zeros((4, 3))), 0.0, "shape"),
+        ((ones, (0, 0, 1)), -1.0, "prescribed_speed_limit"),
+        (None, np.inf, "prescribed_speed_limit"),
+        (None, "fast", "prescribed_speed_limit"),
+    ]
+    for prescribed, speed, needle in cases:
+        with pytest.raises(hoembed.HOEmbedError, match=needle):
+            hoembed.simulate(mesh, steps=1, prescribed=prescribed,
+                             prescribed_speed_limit=speed)

@@ -73,6 +73,45 @@ def simulate_vector(n_points, values, what):
     return values
 
 
+def simulate_prescribed(prescribed, speed_limit, n_points):
+    """simulate()'s ``prescribed`` ((mask, displacement): None or a uint8 mask per node and
+    an (n_points, 3) target displacement, a 3-vector being the same for every node) and
+    ``prescribed_speed_limit`` (a finite number >= 0)."""
+    try:
+        speed_limit = float(speed_limit)
+    except (TypeError, ValueError):
+        raise HOEmbedArgumentError("simulate: prescribed_speed_limit must be a number") from None
+    if not (np.isfinite(speed_limit) and speed_limit >= 0.0):
+        raise HOEmbedArgumentError(
+            f"simulate: prescribed_speed_limit must be finite and >= 0, got {speed_limit}")
+    if prescribed is None:
+        return None, None, speed_limit
+    try:
+        mask, displacement = prescribed
+    except (TypeError, ValueError):
+        raise HOEmbedArgumentError(
+            "simulate: prescribed must be (mask, displacement)") from None
+    try:
+        mask = np.asarray(mask, dtype=float)
+    except (TypeError, ValueError):
+        raise HOEmbedArgumentError("simulate: prescribed mask must be numbers") from None
+    if mask.shape != (n_points,):
+        raise HOEmbedArgumentError(
+            f"simulate: prescribed mask must have {n_points} entries (one per node), "
+            f"got shape {mask.shape}")
+    if not np.all(np.isfinite(mask)):
+        raise HOEmbedArgumentError("simulate: prescribed mask holds NaN or Inf")
+    try:
+        d = np.asarray(displacement, dtype=float)
+    except (TypeError, ValueError):
+        raise HOEmbedArgumentError(
+            "simulate: prescribed displacement must be numbers") from None
+    if d.shape == (3,):
+        d = np.tile(d, (n_points, 1))
+    d = simulate_vector(n_points, d, "prescribed displacement")
+    return (mask != 0).astype(np.uint8), d, speed_limit
+
+
 def simulate_clamps(fixed, n_points):
     """simulate()'s ``fixed``: a dict with "name" (a point array's name), "mask" (uint8
     per node), "plane" ((origin, normal)) and "box" (6 numbers), each None when not given."""

@@ -81,12 +81,16 @@ class LiveSession:
         cells around the grabbed nodes per step).
     normals : str
         Transfer normal mode ("recompute", "rotate" or "deform").
+    background_factorization : bool
+        The stepper's BackgroundFactorization (default on): a grab or a release is
+        stepped at once while the new factorisation runs on a thread, instead of a frame
+        of about half a second at 3000 tet10 (Benchmarks/RESULTS.md, live loop).
     """
 
     def __init__(self, fe_mesh, embedded, fixed=None, dt=1.0 / 60.0, young=2e5,
                  poisson=0.45, density=1000.0, gravity=(0.0, 0.0, 0.0), rayleigh_mass=1.0,
                  rayleigh_stiffness=0.005, grab_radius=None, speed_limit=None,
-                 normals="recompute", point_normals=True):
+                 normals="recompute", point_normals=True, background_factorization=True):
         self.fe_rest = pyvista.wrap(fe_mesh).copy()
         n = self.fe_rest.n_points
         self.fixed = np.zeros(n, bool) if fixed is None else np.asarray(fixed, bool)
@@ -113,6 +117,7 @@ class LiveSession:
         st.SetPrescribedSpeedLimit(0.5 * self.h / self.dt if speed_limit is None
                                    else float(speed_limit))  # (per grab when automatic)
         st.LiveModeOn()
+        st.SetBackgroundFactorization(bool(background_factorization))
         # the window draws the surface only: no stress or energies every frame
         st.ComputeDiagnosticsOff()
         self.stepper = st

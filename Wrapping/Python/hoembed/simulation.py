@@ -2,12 +2,14 @@
 
 import numpy as np
 import pyvista
+from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 __all__ = ["simulate"]
 
-from ._checks import simulate_arguments, simulate_clamps, simulate_frames, simulate_vector
-from ._errors import run_filter
+from ._checks import (simulate_arguments, simulate_clamps, simulate_frames,
+                      simulate_prescribed, simulate_vector)
+from ._errors import HOEmbedError, run_filter
 from .hoembedFiltersSimulation import vtkCorotationalFEMStepper
 
 
@@ -15,7 +17,8 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
              gravity=(0.0, 0.0, -9.81), fixed=None, rayleigh_mass=0.1,
              rayleigh_stiffness=0.01, external_force=None, initial_displacement=None,
              initial_velocity=None, lumped_mass=False, static=False, every=1,
-             solver_tolerance=1e-4, progress=None):
+             solver_tolerance=1e-4, progress=None, prescribed=None,
+             prescribed_speed_limit=0.0):
     """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Euler steps.
 
     Parameters
@@ -42,6 +45,15 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
         Optional nodal forces (N) and initial state.
     lumped_mass : bool
         HRZ-lumped mass instead of the consistent mass.
+    prescribed : (mask, displacement), optional
+        Prescribed motion (vtkCorotationalFEMStepper.SetPrescribedMotion): the nodes where
+        ``mask`` (length n_points) is nonzero are hard Dirichlet nodes held at rest +
+        ``displacement`` ((n_points, 3), or one 3-vector for all of them), reached in the
+        first step (a velocity kick) or, with ``prescribed_speed_limit``, moved there at
+        that speed. Clamped nodes stay clamped. With ``static``, the equilibrium with those
+        nodes displaced.
+    prescribed_speed_limit : float
+        Distance per second the prescribed nodes move at most (0, default: no limit).
     static : bool
         Return the static equilibrium (one frame) instead of a time series.
     every : int
@@ -75,6 +87,14 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
     steps, dt, every = a["steps"], a["dt"], a["every"]
     mesh = pyvista.wrap(fe_mesh).copy(deep=False)
     alg = vtkCorotationalFEMStepper()
+    prescribed_mask, prescribed_u, speed = simulate_prescribed(
+        prescribed, prescribed_speed_limit, mesh.n_points)
+    if prescribed_mask is not None:
+        if not alg.SetPrescribedMotion(numpy_to_vtk(prescribed_mask, deep=True),
+                                       numpy_to_vtk(prescribed_u, deep=True)):
+            raise HOEmbedError("simulate: vtkCorotationalFEMStepper refused the prescribed "
+                               "motion")
+    alg.SetPrescribedSpeedLimit(speed)
     clamps = simulate_clamps(fixed, mesh.n_points)
     if clamps["name"] is not None:
         alg.SetFixedArrayName(clamps["name"])
