@@ -208,6 +208,19 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
 {
   Impl& I = *this->P;
   badCell = -1;
+  // A new mesh: the ordering, the symbolic analyses and every factor are of the old
+  // pattern (kept, a mesh of another size was read through the old maps out of bounds).
+  if (I.Worker.joinable())
+  {
+    I.Worker.join();
+  }
+  I.Job.reset();
+  I.Cur.reset();
+  I.Base.reset();
+  I.Spare.clear();
+  I.Analyzed = false;
+  I.HaveFactor = false;
+  ++I.Generation;
   if (nodesPerCell != 4 && nodesPerCell != 10)
   {
     error = "only 4- or 10-node tetrahedra are supported";

@@ -20,6 +20,7 @@
 #include "vtkPoints.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkWeakPointer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -36,6 +37,10 @@ struct vtkCorotationalFEMStepper::Internals
   hoembed::StepperDriver Driver;
   hoembed::CorotationalSolver& Solver = Driver.Solver;
   vtkTimeStamp BuildTime;
+  // the mesh the solver was built from: another object (an older one: its MTime does not
+  // tell) or another size rebuilds, also in LiveMode, whose rebuild test ignores the
+  // filter's MTime
+  vtkWeakPointer<vtkUnstructuredGrid> BuiltInput;
   bool Built = false;
   bool& StaticDone = Driver.StaticDone;
   int& CurrentStep = Driver.CurrentStep;
@@ -179,7 +184,10 @@ int vtkCorotationalFEMStepper::RequestData(
   // is not a load.
   const bool changed = this->LiveMode ? this->BuildSignature() != I.Signature
                                       : this->GetMTime() > I.BuildTime;
-  if (!I.Built || input->GetMTime() > I.BuildTime || changed)
+  const bool otherMesh = input != I.BuiltInput ||
+    input->GetNumberOfPoints() != I.Solver.GetNumberOfPoints() ||
+    input->GetNumberOfCells() != I.Solver.GetNumberOfCells();
+  if (!I.Built || input->GetMTime() > I.BuildTime || changed || otherMesh)
   {
     if (!this->BuildSolver(input))
     {
@@ -445,6 +453,7 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
   I.Signature = this->BuildSignature();
   I.Built = true;
   I.BuildTime.Modified();
+  I.BuiltInput = input;
   return true;
 }
 

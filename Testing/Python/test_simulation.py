@@ -272,3 +272,36 @@ def test_bad_prescribed_raises():
         with pytest.raises(hoembed.HOEmbedError, match=needle):
             hoembed.simulate(mesh, steps=1, prescribed=prescribed,
                              prescribed_speed_limit=speed)
+
+
+def test_new_input_mesh_of_another_size_rebuilds():
+    # the stepper given another mesh (another node count) after a run: the same frames as
+    # a fresh stepper (the solver's ordering and factors were kept from the first mesh
+    # and read out of bounds: a segfault); also in LiveMode with a background
+    # factorisation under way (a grab on the step before)
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    small = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
+    large = box_tet_mesh((6, 2, 2), (4.0, 1.0, 1.0), 2)
+    plane = {"plane": ((0, 0, 0), (1, 0, 0))}
+    ref = hoembed.simulate(large, steps=5, dt=0.01, fixed=plane)[-1]
+    s = hoembed.vtkCorotationalFEMStepper()
+    s.SetUseClampPlane(True)
+    s.SetClampPlaneOrigin(0, 0, 0)
+    s.SetClampPlaneNormal(1, 0, 0)
+    for mesh in (small, large):
+        s.SetInputData(mesh)
+        s.UpdateTimeStep(0.05)
+    np.testing.assert_array_equal(pv.wrap(s.GetOutput()).points, ref.points)
+
+    s.LiveModeOn()
+    s.SetBackgroundFactorization(True)
+    s.SetFactorizationLag(1000)  # the grab's factor is never taken: still being made
+    for mesh in (small, large, small):
+        s.SetInputData(mesh)
+        assert s.Step(2)
+        tip = np.isclose(np.asarray(mesh.points)[:, 0], 4.0).astype(np.uint8)
+        assert s.SetPrescribedMotion(numpy_to_vtk(tip, deep=True),
+                                     numpy_to_vtk(np.zeros((mesh.n_points, 3)), deep=True))
+        assert s.Step(1)
+        assert s.SetPrescribedMotion(None, None)
+    assert np.all(np.isfinite(pv.wrap(s.GetOutput()).points))
