@@ -25,6 +25,9 @@
 
 namespace nb = nanobind;
 
+// hoembedPipSeries.cxx
+void BindSeries(nb::module_& m);
+
 namespace
 {
 // inputs may be read-only numpy arrays (views of VTK arrays); outputs are written
@@ -406,6 +409,8 @@ NB_MODULE(_hoembed, m)
       },
       nb::arg("points"), nb::arg("displacement"), nb::arg("velocity"), nb::arg("rotation"),
       nb::arg("von_mises"));
+
+  BindSeries(m);
 
   m.def("number_of_threads", [] { return hoembed::parallel_detail::NumberOfThreads(); },
     "Threads the kernels' loops use (HOEMBED_NUM_THREADS, else the hardware's).");
