@@ -16,6 +16,11 @@
  *     deform, paper eq. 6-7 and §5.1), the face normal fields, then v' = p' + d n'.
  *  4. SetPolygons / ComputeVertexNormals: optional area-weighted vertex normals of the
  *     transferred surface (polygon incidence cached).
+ * The checks of what the binding read, before the steps that use it (so that every
+ * binding refuses the same inputs with the same sentences; a binding only reads its
+ * objects and passes shapes and arrays): CheckMeshSize before step 1, CheckSurface
+ * (field data and embedding arrays) before step 2, FrameArraysUsed (which deformed-mesh
+ * arrays a normal mode reads) before step 3.
  * Errors come back as one sentence (empty: success); the binding adds its name.
  *
  * Threading: every loop runs through the ParallelFor given to the constructor (serial by
