@@ -116,6 +116,33 @@ std::string SeriesFiles::FrameName(
   return name.str();
 }
 
+std::vector<double> SeriesFiles::InputTimes(
+  const std::vector<double>* requested, const std::vector<double>* advertised, bool& timed)
+{
+  std::vector<double> times;
+  timed = requested || advertised;
+  if (requested)
+  {
+    times = *requested;
+  }
+  else if (advertised)
+  {
+    times = *advertised;
+  }
+  if (times.empty())
+  {
+    times.push_back(0.0);
+  }
+  return times;
+}
+
+std::string SeriesFiles::InputFailed(double time, std::size_t step)
+{
+  std::ostringstream msg;
+  msg << "The input failed at time " << time << " (step " << step << ").";
+  return msg.str();
+}
+
 std::string SeriesFiles::CollectionText(
   const std::vector<double>& times, const std::vector<std::string>& relativePaths)
 {

@@ -72,6 +72,15 @@ public:
   /// still in the staging folder.
   const std::string& GetFrameFileName(std::size_t i) const;
 
+  /// The times a pipeline input is written at (vtkTimeSeriesWriter::Write): `requested`
+  /// when the caller gives times (TimeValues), else the input's TIME_STEPS when it
+  /// advertises them, else one frame at 0. `timed`: whether each update asks for its
+  /// time (UPDATE_TIME_STEP), false for an input without time.
+  static std::vector<double> InputTimes(const std::vector<double>* requested,
+    const std::vector<double>* advertised, bool& timed);
+  /// The error when the input failed to update at step `step`, time `time`.
+  static std::string InputFailed(double time, std::size_t step);
+
   /// The .pvd collection's text for frames at `times` in files `relativePaths`.
   static std::string CollectionText(
     const std::vector<double>& times, const std::vector<std::string>& relativePaths);

@@ -143,27 +143,24 @@ int vtkTimeSeriesWriter::Write()
     return 0;
   }
   vtkInformation* outInfo = up->GetOutputInformation(port);
-  std::vector<double> times;
-  bool timed = false;
+  std::vector<double> requested, advertised;
   if (this->TimeValues)
   {
     for (vtkIdType i = 0; i < this->TimeValues->GetNumberOfTuples(); ++i)
     {
-      times.push_back(this->TimeValues->GetValue(i));
+      requested.push_back(this->TimeValues->GetValue(i));
     }
-    timed = true;
   }
   else if (outInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
   {
     const int n = outInfo->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
     const double* t = outInfo->Get(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-    times.assign(t, t + n);
-    timed = true;
+    advertised.assign(t, t + n);
   }
-  if (times.empty())
-  {
-    times.push_back(0.0);
-  }
+  bool timed = false;
+  const std::vector<double> times = hoembed::SeriesFiles::InputTimes(
+    this->TimeValues ? &requested : nullptr,
+    outInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()) ? &advertised : nullptr, timed);
   if (!this->BeginSeries())
   {
     return 0;
@@ -176,7 +173,7 @@ int vtkTimeSeriesWriter::Write()
     }
     if (!sddp->Update(port))
     {
-      vtkErrorMacro("The input failed at time " << times[k] << " (step " << k << ").");
+      vtkErrorMacro(<< hoembed::SeriesFiles::InputFailed(times[k], k));
       this->Abandon();
       return 0;
     }

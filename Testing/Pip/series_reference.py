@@ -71,6 +71,19 @@ def timed_sphere_class():
     return TimedSphere
 
 
+def failing_sphere():
+    """A TimedSphere that fails (RequestData returns 0) past t = 1."""
+    from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as SDDP
+
+    class FailingSphere(timed_sphere_class()):
+        def RequestData(self, request, inInfo, outInfo):
+            if outInfo.GetInformationObject(0).Get(SDDP.UPDATE_TIME_STEP()) > 1.0:
+                return 0
+            return super().RequestData(request, inInfo, outInfo)
+
+    return FailingSphere()
+
+
 def bad_calls(pv, write_series, folder):
     """The bad calls whose messages both builds must give: name -> (callable, folder)."""
     def frames(k):
@@ -101,6 +114,7 @@ def bad_calls(pv, write_series, folder):
         "bad_name": lambda: write_series(frames(1), folder, "../up"),
         "dot_name": lambda: write_series(frames(1), folder, ".hidden"),
         "no_frames": lambda: write_series([], folder, "empty"),
+        "failing_algorithm": lambda: write_series(failing_sphere(), folder, "alg"),
     }
 
 

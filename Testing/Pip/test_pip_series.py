@@ -122,17 +122,8 @@ def test_algorithm_series_explicit_times(tmp_path):
 def test_failing_algorithm_leaves_nothing(tmp_path):
     hoembed.write_series([pyvista.Sphere()], tmp_path, "s")
     before = snapshot(tmp_path)
-
-    class Failing(sr.timed_sphere_class()):
-        def RequestData(self, request, inInfo, outInfo):
-            from vtkmodules.vtkCommonExecutionModel import \
-                vtkStreamingDemandDrivenPipeline as SDDP
-            if outInfo.GetInformationObject(0).Get(SDDP.UPDATE_TIME_STEP()) > 1.0:
-                return 0
-            return super().RequestData(request, inInfo, outInfo)
-
     with pytest.raises(hoembed.HOEmbedError, match=r"The input failed at time 1.5 \(step 2\)"):
-        hoembed.write_series(Failing(), tmp_path, "s")
+        hoembed.write_series(sr.failing_sphere(), tmp_path, "s")
     assert snapshot(tmp_path) == before
 
 

@@ -6,9 +6,11 @@
 #include "hoembedSeriesFiles.h"
 
 #include <nanobind/nanobind.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -47,6 +49,19 @@ void BindSeries(nb::module_& m)
     .def_prop_ro("is_open", &SeriesFiles::IsOpen)
     .def_prop_ro("number_of_frames", &SeriesFiles::GetNumberOfFrames)
     .def("frame_file_name", &SeriesFiles::GetFrameFileName, nb::arg("index"))
+    .def_static(
+      "input_times",
+      [](const std::optional<std::vector<double>>& requested,
+        const std::optional<std::vector<double>>& advertised) {
+        bool timed = false;
+        std::vector<double> times = SeriesFiles::InputTimes(
+          requested ? &*requested : nullptr, advertised ? &*advertised : nullptr, timed);
+        return nb::make_tuple(times, timed);
+      },
+      nb::arg("requested").none(), nb::arg("advertised").none(),
+      "(times, timed): the times a pipeline input is written at, and whether each update "
+      "asks for its time.")
+    .def_static("input_failed", &SeriesFiles::InputFailed, nb::arg("time"), nb::arg("step"))
     .def_static("collection_text", &SeriesFiles::CollectionText, nb::arg("times"),
       nb::arg("relative_paths"));
 }

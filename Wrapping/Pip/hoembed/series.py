@@ -69,16 +69,18 @@ def _add_frame(files, data, time):
 
 
 def _algorithm_series(files, path, alg, times):
-    """vtkTimeSeriesWriter::Write: the algorithm's output over its TIME_STEPS (or times),
-    each updated through its executive with UPDATE_TIME_STEP, as VTK's writer does."""
+    """What vtkTimeSeriesWriter::Write does, through the user's pip VTK: the algorithm's
+    output at each of SeriesFiles.input_times (its TIME_STEPS, or `times`), updated
+    through its executive with UPDATE_TIME_STEP."""
     obs = _ErrorObserver()
     exe = alg.GetExecutive()
     attached = _watch(obs, alg, exe)
 
     def fail(sentence):
+        # as the VTK build reports it: the input's own errors and this sentence, the
+        # executive's request dump left out when there are such
         files.abandon()
-        own = _clean(obs.errors)
-        raise HOEmbedError((own + "\n" if own else "") + f"write_series: {sentence}")
+        raise HOEmbedError(_clean(obs.errors + [f"write_series: {sentence}"]))
 
     try:
         if alg.GetNumberOfOutputPorts() < 1 or not isinstance(exe, _SDDP):
@@ -86,22 +88,16 @@ def _algorithm_series(files, path, alg, times):
         if not exe.UpdateInformation():
             fail("The input failed to provide its information.")
         info = alg.GetOutputInformation(0)
-        timed = True
-        if times is not None:
-            steps = [float(t) for t in times]
-        elif info.Has(_SDDP.TIME_STEPS()):
-            steps = [float(t) for t in (info.Get(_SDDP.TIME_STEPS()) or ())]
-        else:
-            steps, timed = [], False
-        if not steps:
-            steps = [0.0]
+        advertised = [float(t) for t in (info.Get(_SDDP.TIME_STEPS()) or ())] \
+            if info.Has(_SDDP.TIME_STEPS()) else None
+        steps, timed = SeriesFiles.input_times(
+            None if times is None else [float(t) for t in times], advertised)
         _check(files.begin, path)
         for k, t in enumerate(steps):
             if timed:
                 info.Set(_SDDP.UPDATE_TIME_STEP(), t)
             if not exe.Update(0) or obs.errors:
-                # C++ ostream's default format (the VTK writer's message)
-                fail(f"The input failed at time {t:g} (step {k}).")
+                fail(SeriesFiles.input_failed(t, k))
             _add_frame(files, alg.GetOutputDataObject(0), t)
     finally:
         _unwatch(attached)
