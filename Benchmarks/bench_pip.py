@@ -1,11 +1,14 @@
-"""The pip package's embed and transfer against the VTK build's, in the same run.
+"""The pip package's embed, transfer and simulate against the VTK build's, in the same run.
 
     .venv/bin/python Benchmarks/bench_pip.py [--pip-python PATH] [--rounds N] [--reps N]
 
-Both are the pyvista-level functions (hoembed.embed, hoembed.transfer) on the same
-inputs: the VTK build's run vtkEmbeddingCoordinatesFilter / vtkDeformationTransferFilter
-(Debian VTK 9.1, vtkSMPTools), the pip package's run the same drivers through nanobind
-(pip VTK, std::thread loops). Each is timed in its own Python (the two VTKs cannot share
+Both are the pyvista-level functions (hoembed.embed, hoembed.transfer, hoembed.simulate)
+on the same inputs: the VTK build's run vtkEmbeddingCoordinatesFilter /
+vtkDeformationTransferFilter / vtkCorotationalFEMStepper (Debian VTK 9.1, vtkSMPTools),
+the pip package's run the same drivers through nanobind (pip VTK, std::thread loops).
+simulate: SIM_STEPS steps of the co-rotated stepper on the same mesh, clamped at one
+end by a plane, under gravity, a frame every SIM_EVERY steps (the set-up and
+factorisation included, as a user's call has them). Each is timed in its own Python (the two VTKs cannot share
 a process): children alternate, round after round, each timing `reps` calls; inputs
 are written once by the VTK build. Wall-clock and process CPU time (all threads) per
 call, median and minimum over all calls; the ratios pip / VTK are what to read (this
@@ -15,6 +18,7 @@ Inputs: the thorny tail (46k vertices) with ~1000 tet10, and armadillo.obj from
 is also the last line printed.
 """
 import argparse
+import hashlib
 import json
 import os
 import pathlib
@@ -26,6 +30,7 @@ import time
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent
 RESULTS = HERE / "results"
+SIM_STEPS, SIM_EVERY = 20, 5
 DATA = pathlib.Path(os.environ.get("HOEMBED_DATA_DIR", ROOT.parent / "shared" / "data" / "meshes"))
 
 
@@ -45,10 +50,28 @@ def child(folder, reps):
             res[name] = timed(call, reps)
         embedded = hoembed.embed(surface, mesh)
         res["transfer"] = timed(lambda: hoembed.transfer(embedded, deformed), reps)
-        x = np.asarray(hoembed.transfer(embedded, deformed).points)
-        res["transfer_checksum"] = float(np.abs(x).sum())
+        # a hash of the bytes: a float32 sum's rounding depends on numpy's version and
+        # SIMD (the two Pythons have different numpys)
+        x = np.ascontiguousarray(hoembed.transfer(embedded, deformed).points)
+        res["transfer_checksum"] = hashlib.sha256(x.tobytes()).hexdigest()
+        sim = simulate_kwargs(mesh)
+        res["simulate"] = timed(lambda: hoembed.simulate(mesh, **sim), reps)
+        u = np.ascontiguousarray(hoembed.simulate(mesh, **sim)[-1].point_data["Displacement"])
+        res["simulate_checksum"] = hashlib.sha256(u.tobytes()).hexdigest()
         out["cases"][case] = res
     print(json.dumps(out))
+
+
+def simulate_kwargs(mesh):
+    """simulate()'s arguments: a soft body clamped near one end of its longest extent."""
+    import numpy as np
+    X = np.asarray(mesh.points, float)
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    ax = int(np.argmax(hi - lo))
+    origin = [float(lo[i] + 0.15 * (hi[i] - lo[i])) if i == ax else 0.0 for i in range(3)]
+    normal = [float(i == ax) for i in range(3)]
+    return dict(steps=SIM_STEPS, every=SIM_EVERY, dt=0.01, young=3e4, poisson=0.45,
+                fixed={"plane": [origin, normal]})
 
 
 def timed(call, reps):
@@ -117,10 +140,11 @@ def main():
                                    env=dict(os.environ, PYTHONWARNINGS="ignore"))
                 runs[label].append(json.loads(r.stdout.strip().splitlines()[-1]))
     result = {"benchmark": "bench_pip", "threads": os.cpu_count(), "rounds": args.rounds,
-              "reps": args.reps, "cases": {}}
+              "reps": args.reps, "simulate": {"steps": SIM_STEPS, "every": SIM_EVERY},
+              "cases": {}}
     for case, size in sizes.items():
         entry = dict(size)
-        for op in ("embed", "transfer"):
+        for op in ("embed", "transfer", "simulate"):
             per = {}
             for label in pythons:
                 wall = [t for run in runs[label] for t in run["cases"][case][op]["wall"]]
@@ -132,11 +156,13 @@ def main():
             entry[op] = per
         checks = {label: runs[label][0]["cases"][case]["transfer_checksum"] for label in pythons}
         entry["same_transfer_output"] = checks["vtk"] == checks["pip"]
+        checks = {label: runs[label][0]["cases"][case]["simulate_checksum"] for label in pythons}
+        entry["same_simulate_output"] = checks["vtk"] == checks["pip"]
         result["cases"][case] = entry
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "bench_pip.json").write_text(json.dumps(result, indent=1))
     for case, e in result["cases"].items():
-        for op in ("embed", "transfer"):
+        for op in ("embed", "transfer", "simulate"):
             r = e[op]["ratio_pip_over_vtk"]
             print(f"{case:12s} {op:8s} vtk {e[op]['vtk']['wall']['median_ms']:8.1f} ms  "
                   f"pip {e[op]['pip']['wall']['median_ms']:8.1f} ms  ratio wall "

@@ -63,6 +63,21 @@ void TransferDriver::For(std::int64_t n, std::int64_t grain,
 }
 
 //------------------------------------------------------------------------------
+std::string TransferDriver::CheckMeshSize(
+  std::int64_t numberOfPoints, std::int64_t numberOfCells, bool hasCells)
+{
+  if (numberOfPoints < 4 || numberOfCells < 1 || !hasCells)
+  {
+    return "the deformed FE mesh (port 1) is empty";
+  }
+  if (numberOfCells > INT32_MAX)
+  {
+    return "the deformed FE mesh has too many cells (" + std::to_string(numberOfCells) + ")";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
 std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& rebuilt)
 {
   rebuilt = false;
@@ -104,6 +119,89 @@ void TransferDriver::ForgetMesh()
   this->Fingerprint.clear();
   this->NodesPerCell = 0;
   this->PlanVersion = -1;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+bool Fits(const TransferArrayShape& a, int components, std::int64_t tuples)
+{
+  return a.Present && a.Components == components && a.Tuples == tuples;
+}
+} // namespace
+
+std::string TransferDriver::CheckSurface(
+  const TransferSurfaceInfo& s, EmbeddingMethod& method, TransferArraysUsed& used) const
+{
+  used = TransferArraysUsed();
+  if (!s.Method)
+  {
+    return "the surface (port 0) has no field data EmbeddingMethod: is it the output of "
+           "vtkEmbeddingCoordinatesFilter?";
+  }
+  if (!ParseEmbeddingMethod(s.Method, method))
+  {
+    return std::string("unknown EmbeddingMethod '") + s.Method +
+      "' (expected normal-offset or barycentric)";
+  }
+  if (!s.Fingerprint)
+  {
+    return "the surface (port 0) has no field data EmbeddingMeshFingerprint";
+  }
+  if (this->Fingerprint != s.Fingerprint)
+  {
+    std::ostringstream msg;
+    msg << "the FE mesh (port 1) is not the mesh the surface was embedded in: mesh "
+           "fingerprint "
+        << this->Fingerprint << " (" << this->Topology.NumberOfPoints << " points, "
+        << this->NumberOfCells << " cells), embedding fingerprint " << s.Fingerprint;
+    return msg.str();
+  }
+  const std::int64_t n = s.NumberOfVertices;
+  const bool offset = method == EmbeddingMethod::NormalOffset;
+  std::string missing;
+  if (!Fits(s.CellIds, 1, n))
+  {
+    missing += " EmbeddingCellId (1 component)";
+  }
+  if (!Fits(s.ParametricCoords, 3, n))
+  {
+    missing += " EmbeddingParametricCoords (3 components)";
+  }
+  if (offset && !Fits(s.Distances, 1, n))
+  {
+    missing += " EmbeddingDistance (1 component)";
+  }
+  if (s.Faces.Present && !Fits(s.Faces, 1, n))
+  {
+    missing += " EmbeddingFace (1 component)";
+  }
+  // the fallback offsets belong to the normal-offset embedding only
+  if (offset && s.FallbackOffsets.Present && !Fits(s.FallbackOffsets, 3, n))
+  {
+    missing += " EmbeddingFallbackOffset (3 components)";
+  }
+  if (!missing.empty())
+  {
+    return "the surface (port 0) lacks point data arrays, or they do not have one tuple per "
+           "point:" +
+      missing;
+  }
+  used.Distances = offset;
+  used.Faces = s.Faces.Present;
+  used.FallbackOffsets = offset && s.FallbackOffsets.Present;
+  return std::string();
+}
+
+void TransferDriver::FrameArraysUsed(TransferNormals normals, std::int64_t numberOfPoints,
+  const TransferArrayShape& displacements, const TransferArrayShape& rotations,
+  bool& useDisplacements, bool& useRotations)
+{
+  // recompute needs neither; deform the displacements; rotate both (the displacements
+  // for its fallback where rotations are missing). A wrong shape counts as missing.
+  useDisplacements =
+    normals != TransferNormals::Recompute && Fits(displacements, 3, numberOfPoints);
+  useRotations = normals == TransferNormals::Rotate && Fits(rotations, 9, numberOfPoints);
 }
 
 //------------------------------------------------------------------------------

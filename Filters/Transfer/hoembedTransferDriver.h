@@ -16,6 +16,11 @@
  *     deform, paper eq. 6-7 and §5.1), the face normal fields, then v' = p' + d n'.
  *  4. SetPolygons / ComputeVertexNormals: optional area-weighted vertex normals of the
  *     transferred surface (polygon incidence cached).
+ * The checks of what the binding read, before the steps that use it (so that every
+ * binding refuses the same inputs with the same sentences; a binding only reads its
+ * objects and passes shapes and arrays): CheckMeshSize before step 1, CheckSurface
+ * (field data and embedding arrays) before step 2, FrameArraysUsed (which deformed-mesh
+ * arrays a normal mode reads) before step 3.
  * Errors come back as one sentence (empty: success); the binding adds its name.
  *
  * Threading: every loop runs through the ParallelFor given to the constructor (serial by
@@ -55,6 +60,34 @@ struct TransferEmbedding
   const double* FallbackOffsets = nullptr;
 };
 
+/// The shape of a point array as a binding found it (Present false: no array of that name).
+struct TransferArrayShape
+{
+  bool Present = false;
+  int Components = 0;
+  std::int64_t Tuples = 0;
+};
+
+/// What the embedded surface holds, as a binding reads it before copying any value: its
+/// field data strings (null: absent, empty or not a string array) and its point arrays'
+/// shapes. CheckSurface judges it.
+struct TransferSurfaceInfo
+{
+  std::int64_t NumberOfVertices = 0;
+  const char* Method = nullptr;      ///< field data EmbeddingMethod (first value)
+  const char* Fingerprint = nullptr; ///< field data EmbeddingMeshFingerprint (first value)
+  TransferArrayShape CellIds, ParametricCoords, Distances, Faces, FallbackOffsets;
+};
+
+/// Which of the optional embedding arrays the plan reads (CheckSurface's answer; the
+/// binding passes those to BuildPlan, as doubles, and null for the others).
+struct TransferArraysUsed
+{
+  bool Distances = false;
+  bool Faces = false;
+  bool FallbackOffsets = false;
+};
+
 /// How the deformed normals n' are obtained (values of vtkDeformationTransferFilter's
 /// NormalMode).
 enum class TransferNormals : int
@@ -79,6 +112,11 @@ class HOEMBEDFILTERSTRANSFER_EXPORT TransferDriver
 public:
   explicit TransferDriver(ParallelFor parallelFor = ParallelFor());
 
+  /// Before step 1: the deformed mesh is not empty (at least 4 points and a cell, a
+  /// cell array) and its cells fit the plan's 32-bit cell ids.
+  static std::string CheckMeshSize(
+    std::int64_t numberOfPoints, std::int64_t numberOfCells, bool hasCells);
+
   /// Step 1. `cells` needs no points. Sets `rebuilt` when the topology was built anew.
   std::string SetMeshTopology(const TetMeshArrays& cells, bool& rebuilt);
   /// Drop the topology (and so the plan): the next SetMeshTopology rebuilds.
@@ -87,6 +125,20 @@ public:
   int GetNodesPerCell() const { return this->NodesPerCell; }
   std::int64_t GetNumberOfCells() const { return this->NumberOfCells; }
   std::int64_t GetNumberOfPoints() const { return this->Topology.NumberOfPoints; }
+
+  /// Before step 2 (after step 1), every frame: the surface's field data (an embedding
+  /// method, the fingerprint of this mesh) and point arrays (EmbeddingCellId,
+  /// EmbeddingParametricCoords, EmbeddingDistance for normal-offset; EmbeddingFace and
+  /// EmbeddingFallbackOffset when present: one tuple per vertex, the right number of
+  /// components). Sets `method` and which optional arrays the plan reads.
+  std::string CheckSurface(
+    const TransferSurfaceInfo& surface, EmbeddingMethod& method, TransferArraysUsed& used) const;
+  /// Which point arrays of the deformed mesh a frame reads in `normals` mode, given their
+  /// shapes (one tuple per node; Displacement 3 components, NodalRotation 9): the others
+  /// are passed as null.
+  static void FrameArraysUsed(TransferNormals normals, std::int64_t numberOfPoints,
+    const TransferArrayShape& displacements, const TransferArrayShape& rotations,
+    bool& useDisplacements, bool& useRotations);
 
   /// Step 2 (after step 1). `faceTolerance`: see DeduceBoundaryFace; `meshLength`: the
   /// mesh's bounding-box diagonal (scale of the distance check; <= 0 or not finite: no

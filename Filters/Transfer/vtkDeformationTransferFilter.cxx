@@ -62,11 +62,17 @@ const double* ContiguousDoubles(vtkDataArray* a, vtkIdType n, std::vector<double
   return buffer.data();
 }
 
-// A point-data array with `nc` components and one tuple per point, or null.
-vtkDataArray* PointArray(vtkPointData* pd, const char* name, int nc, vtkIdType n)
+// What the driver's checks need to know of a point array (null: absent).
+hoembed::TransferArrayShape Shape(vtkDataArray* a)
 {
-  vtkDataArray* a = pd->GetArray(name);
-  return a && a->GetNumberOfComponents() == nc && a->GetNumberOfTuples() == n ? a : nullptr;
+  hoembed::TransferArrayShape shape;
+  if (a)
+  {
+    shape.Present = true;
+    shape.Components = a->GetNumberOfComponents();
+    shape.Tuples = static_cast<std::int64_t>(a->GetNumberOfTuples());
+  }
+  return shape;
 }
 
 // The driver's loops on VTK's SMP backend.
@@ -229,15 +235,11 @@ bool vtkDeformationTransferFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
 {
   Internals& I = *this->Internal;
   const vtkIdType numMeshPoints = mesh->GetNumberOfPoints();
-  const vtkIdType numCells = mesh->GetNumberOfCells();
-  if (numMeshPoints < 4 || numCells < 1 || !mesh->GetCells())
+  const std::string sizeError = hoembed::TransferDriver::CheckMeshSize(
+    numMeshPoints, mesh->GetNumberOfCells(), mesh->GetCells() != nullptr);
+  if (!sizeError.empty())
   {
-    vtkErrorMacro("the deformed FE mesh (port 1) is empty");
-    return false;
-  }
-  if (numCells > INT32_MAX)
-  {
-    vtkErrorMacro("the deformed FE mesh has too many cells (" << numCells << ")");
+    vtkErrorMacro(<< sizeError);
     return false;
   }
   vtkCellArray* cells = mesh->GetCells();
@@ -274,87 +276,50 @@ bool vtkDeformationTransferFilter::PreparePlan(vtkPolyData* surface, vtkUnstruct
 {
   Internals& I = *this->Internal;
   hoembed::TransferDriver& driver = I.Driver;
-  const vtkStdString* methodValue =
-    FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMethod);
-  if (!methodValue)
-  {
-    vtkErrorMacro("the surface (port 0) has no field data EmbeddingMethod: is it the output of "
-                  "vtkEmbeddingCoordinatesFilter?");
-    return false;
-  }
-  const std::string& method = *methodValue;
+  // the driver judges what the surface holds (CheckSurface); this only reads it
+  vtkFieldData* fd = surface->GetFieldData();
+  const vtkStdString* methodValue = FieldString(fd, hoembed::ArrayNames::EmbeddingMethod);
+  const vtkStdString* fpValue = FieldString(fd, hoembed::ArrayNames::EmbeddingMeshFingerprint);
+  const vtkIdType numVerts = surface->GetNumberOfPoints();
+  vtkPointData* pd = surface->GetPointData();
+  vtkDataArray* cellIds = pd->GetArray(EmbeddingCellId);
+  vtkDataArray* pcoords = pd->GetArray(EmbeddingParametricCoords);
+  vtkDataArray* dist = pd->GetArray(EmbeddingDistance);
+  vtkDataArray* faces = pd->GetArray(EmbeddingFace);
+  vtkDataArray* fallback = pd->GetArray(EmbeddingFallbackOffset);
+  hoembed::TransferSurfaceInfo info;
+  info.NumberOfVertices = numVerts;
+  info.Method = methodValue ? methodValue->c_str() : nullptr;
+  info.Fingerprint = fpValue ? fpValue->c_str() : nullptr;
+  info.CellIds = Shape(cellIds);
+  info.ParametricCoords = Shape(pcoords);
+  info.Distances = Shape(dist);
+  info.Faces = Shape(faces);
+  info.FallbackOffsets = Shape(fallback);
   hoembed::EmbeddingMethod m;
-  if (!hoembed::ParseEmbeddingMethod(method.c_str(), m))
+  hoembed::TransferArraysUsed used;
+  const std::string checkError = driver.CheckSurface(info, m, used);
+  if (!checkError.empty())
   {
-    vtkErrorMacro("unknown EmbeddingMethod '" << method
-                                              << "' (expected normal-offset or barycentric)");
+    vtkErrorMacro(<< checkError);
     return false;
   }
-  const vtkStdString* fpValue =
-    FieldString(surface->GetFieldData(), hoembed::ArrayNames::EmbeddingMeshFingerprint);
-  if (!fpValue)
-  {
-    vtkErrorMacro("the surface (port 0) has no field data EmbeddingMeshFingerprint");
-    return false;
-  }
-  if (*fpValue != driver.GetFingerprint())
-  {
-    vtkErrorMacro("the FE mesh (port 1) is not the mesh the surface was embedded in: mesh "
-                  "fingerprint "
-      << driver.GetFingerprint() << " (" << mesh->GetNumberOfPoints() << " points, "
-      << mesh->GetNumberOfCells() << " cells), embedding fingerprint " << *fpValue);
-    return false;
-  }
+  const std::string method = *methodValue;
   if (surface == I.SurfaceKey && surface->GetMTime() == I.SurfaceMTime && driver.HasPlan() &&
     method == I.PlanMethod)
   {
     return true;
   }
   I.SurfaceKey = nullptr;
-  const vtkIdType numVerts = surface->GetNumberOfPoints();
-  vtkPointData* pd = surface->GetPointData();
-  const bool offset = m == hoembed::EmbeddingMethod::NormalOffset;
-  vtkDataArray* cellIds = PointArray(pd, EmbeddingCellId, 1, numVerts);
-  vtkDataArray* pcoords = PointArray(pd, EmbeddingParametricCoords, 3, numVerts);
-  vtkDataArray* dist = PointArray(pd, EmbeddingDistance, 1, numVerts);
-  vtkDataArray* faces = pd->GetArray(EmbeddingFace);
-  vtkDataArray* fallback = offset ? pd->GetArray(EmbeddingFallbackOffset) : nullptr;
-  std::string missing;
-  if (!cellIds)
-  {
-    missing += " EmbeddingCellId (1 component)";
-  }
-  if (!pcoords)
-  {
-    missing += " EmbeddingParametricCoords (3 components)";
-  }
-  if (offset && !dist)
-  {
-    missing += " EmbeddingDistance (1 component)";
-  }
-  if (faces && !PointArray(pd, EmbeddingFace, 1, numVerts))
-  {
-    missing += " EmbeddingFace (1 component)";
-  }
-  if (fallback && !PointArray(pd, EmbeddingFallbackOffset, 3, numVerts))
-  {
-    missing += " EmbeddingFallbackOffset (3 components)";
-  }
-  if (!missing.empty())
-  {
-    vtkErrorMacro("the surface (port 0) lacks point data arrays, or they do not have one tuple "
-                  "per point:"
-      << missing);
-    return false;
-  }
   hoembed::TransferEmbedding em;
   em.NumberOfVertices = numVerts;
   em.Method = m;
   em.CellIds = ContiguousDoubles(cellIds, numVerts, I.CellIds);
   em.ParametricCoords = ContiguousDoubles(pcoords, numVerts, I.PCoords);
-  em.Distances = offset ? ContiguousDoubles(dist, numVerts, I.Distances) : nullptr;
-  em.Faces = faces ? ContiguousDoubles(faces, numVerts, I.Faces) : nullptr;
-  em.FallbackOffsets = fallback ? ContiguousDoubles(fallback, numVerts, I.Fallback) : nullptr;
+  em.Distances = used.Distances ? ContiguousDoubles(dist, numVerts, I.Distances) : nullptr;
+  em.Faces = used.Faces ? ContiguousDoubles(faces, numVerts, I.Faces) : nullptr;
+  em.FallbackOffsets =
+    used.FallbackOffsets ? ContiguousDoubles(fallback, numVerts, I.Fallback) : nullptr;
   const std::string error = driver.BuildPlan(em, this->FaceTolerance, mesh->GetLength());
   // the copies are needed only while the plan is built
   std::vector<double>().swap(I.CellIds);
@@ -384,16 +349,14 @@ bool vtkDeformationTransferFilter::TransferPoints(
   frame.Points = ContiguousDoubles(mesh->GetPoints()->GetData(), numMeshPoints, I.Points);
   frame.Normals = static_cast<hoembed::TransferNormals>(this->NormalMode);
   frame.CountInverted = this->CheckInvertedElements;
-  if (this->NormalMode != RECOMPUTE_NORMALS)
-  {
-    vtkPointData* pd = mesh->GetPointData();
-    vtkDataArray* disp = PointArray(pd, hoembed::ArrayNames::Displacement, 3, numMeshPoints);
-    vtkDataArray* rot = PointArray(pd, hoembed::ArrayNames::NodalRotation, 9, numMeshPoints);
-    frame.Displacements = disp ? ContiguousDoubles(disp, numMeshPoints, I.Displacements) : nullptr;
-    frame.Rotations = rot && this->NormalMode == ROTATE_NORMALS
-      ? ContiguousDoubles(rot, numMeshPoints, I.Rotations)
-      : nullptr;
-  }
+  vtkPointData* pd = mesh->GetPointData();
+  vtkDataArray* disp = pd->GetArray(hoembed::ArrayNames::Displacement);
+  vtkDataArray* rot = pd->GetArray(hoembed::ArrayNames::NodalRotation);
+  bool useDisp = false, useRot = false;
+  hoembed::TransferDriver::FrameArraysUsed(
+    frame.Normals, numMeshPoints, Shape(disp), Shape(rot), useDisp, useRot);
+  frame.Displacements = useDisp ? ContiguousDoubles(disp, numMeshPoints, I.Displacements) : nullptr;
+  frame.Rotations = useRot ? ContiguousDoubles(rot, numMeshPoints, I.Rotations) : nullptr;
   int precision = VTK_DOUBLE;
   if (this->OutputPointsPrecision == SINGLE_PRECISION ||
     (this->OutputPointsPrecision == DEFAULT_PRECISION && surface->GetPoints() &&

@@ -29,10 +29,15 @@
  * this series (`beam_NNNNNN.vtu/.vtp`): the writer replaces that folder as a whole and
  * will not delete someone else's files. AddFrame refuses a NaN or infinite time.
  *
+ * The files of the series (staging, refusals, the .pvd text, the swap-in) are
+ * hoembed::SeriesFiles' work (VTK-free, shared with the pip wheel); this class writes
+ * each frame with the XML writers (appended data, zlib) into the path it gives.
+ *
  * Defaults: FileName nullptr (required), TimeValues nullptr (use the input's).
  * Errors: vtkErrorMacro and a 0 return value.
  *
- * @sa vtkXMLUnstructuredGridWriter vtkXMLPolyDataWriter vtkCorotationalFEMStepper
+ * @sa hoembed::SeriesFiles vtkXMLUnstructuredGridWriter vtkXMLPolyDataWriter
+ * vtkCorotationalFEMStepper
  */
 #ifndef vtkTimeSeriesWriter_h
 #define vtkTimeSeriesWriter_h

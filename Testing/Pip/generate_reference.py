@@ -6,7 +6,9 @@ Run with the VTK build's Python (`.venv/bin/python`, `make test-pip` does):
 It writes, per case, the inputs (surface.vtp, mesh.vtu, deformed_<k>.vtu) and the
 filters' outputs (embedded_<method>.vtp, transferred_<mode>_<k>.vtp) as binary VTK XML
 (exact doubles), the stepper's frames (stepper_<run>_<i>.vtu of hoembed.simulate on the
-runs STEPPER_RUNS describes, on stepper_mesh.vtu), and cases.json. Cases: the built-in thorny tail meshed with tet10 and
+runs STEPPER_RUNS describes, on stepper_mesh.vtu), cases.json, write_series outputs
+(series/, series_reference.py) and transfer()'s checks on broken inputs
+(transfer_checks/, transfer_checks_reference.py). Cases: the built-in thorny tail meshed with tet10 and
 tet4; bunny_lowres.obj from HOEMBED_DATA_DIR when that folder exists.
 """
 import json
@@ -17,6 +19,8 @@ import numpy as np
 import pyvista
 
 import hoembed
+import series_reference
+import transfer_checks_reference
 
 
 def rotation(axis, angle):
@@ -134,6 +138,8 @@ def main(outdir):
         print(f"[reference] {name}: {surface.n_points} surface points, {mesh.n_cells} cells")
     with open(os.path.join(outdir, "cases.json"), "w") as f:
         json.dump(cases, f, indent=1)
+    series_reference.write(outdir)  # write_series of these cases' frames (series/)
+    transfer_checks_reference.write(outdir)  # transfer()'s checks (transfer_checks/)
 
 
 if __name__ == "__main__":

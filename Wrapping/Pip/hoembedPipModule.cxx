@@ -14,6 +14,7 @@
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
@@ -24,6 +25,9 @@
 #include <vector>
 
 namespace nb = nanobind;
+
+// hoembedPipSeries.cxx
+void BindSeries(nb::module_& m);
 
 namespace
 {
@@ -107,6 +111,20 @@ void PoolFor(std::int64_t n, std::int64_t grain,
   const std::function<void(std::int64_t, std::int64_t)>& body)
 {
   hoembed::ParallelLoop(std::int64_t(0), n, grain, body);
+}
+
+// A point array's shape for the transfer driver's checks: (components, tuples), or None.
+hoembed::TransferArrayShape Shape(const nb::object& o)
+{
+  hoembed::TransferArrayShape shape;
+  if (!o.is_none())
+  {
+    const auto ct = nb::cast<std::pair<int, std::int64_t>>(o);
+    shape.Present = true;
+    shape.Components = ct.first;
+    shape.Tuples = ct.second;
+  }
+  return shape;
 }
 
 struct Transfer
@@ -219,6 +237,51 @@ NB_MODULE(_hoembed, m)
         Check(t.Driver.SetMeshTopology(Mesh(numberOfPoints, nullptr, types, offsets, conn), rebuilt));
       })
     .def_prop_ro("fingerprint", [](const Transfer& t) { return t.Driver.GetFingerprint(); })
+    .def_static(
+      "check_mesh_size",
+      [](std::int64_t numberOfPoints, std::int64_t numberOfCells, bool hasCells) {
+        Check(hoembed::TransferDriver::CheckMeshSize(numberOfPoints, numberOfCells, hasCells));
+      },
+      nb::arg("number_of_points"), nb::arg("number_of_cells"), nb::arg("has_cells"))
+    .def(
+      "check_surface",
+      [](const Transfer& t, std::int64_t numberOfVertices, nb::object method,
+        nb::object fingerprint, nb::object cellIds, nb::object pcoords, nb::object distances,
+        nb::object faces, nb::object fallback) {
+        // strings: None when absent; arrays: (components, tuples) or None when absent
+        hoembed::TransferSurfaceInfo info;
+        info.NumberOfVertices = numberOfVertices;
+        std::string m, f;
+        if (!method.is_none())
+          info.Method = (m = nb::cast<std::string>(method)).c_str();
+        if (!fingerprint.is_none())
+          info.Fingerprint = (f = nb::cast<std::string>(fingerprint)).c_str();
+        info.CellIds = Shape(cellIds);
+        info.ParametricCoords = Shape(pcoords);
+        info.Distances = Shape(distances);
+        info.Faces = Shape(faces);
+        info.FallbackOffsets = Shape(fallback);
+        hoembed::EmbeddingMethod em;
+        hoembed::TransferArraysUsed used;
+        Check(t.Driver.CheckSurface(info, em, used));
+        return nb::make_tuple(used.Distances, used.Faces, used.FallbackOffsets);
+      },
+      nb::arg("number_of_vertices"), nb::arg("method").none(), nb::arg("fingerprint").none(),
+      nb::arg("cell_ids").none(), nb::arg("pcoords").none(), nb::arg("distances").none(),
+      nb::arg("faces").none(), nb::arg("fallback_offsets").none(),
+      "The driver's checks of the embedded surface (shapes (components, tuples) or None); "
+      "returns which of distances, faces, fallback offsets the plan reads.")
+    .def_static(
+      "frame_arrays_used",
+      [](int normals, std::int64_t numberOfPoints, nb::object displacements,
+        nb::object rotations) {
+        bool d = false, r = false;
+        hoembed::TransferDriver::FrameArraysUsed(static_cast<hoembed::TransferNormals>(normals),
+          numberOfPoints, Shape(displacements), Shape(rotations), d, r);
+        return nb::make_tuple(d, r);
+      },
+      nb::arg("normals"), nb::arg("number_of_points"), nb::arg("displacements").none(),
+      nb::arg("rotations").none())
     .def(
       "build_plan",
       [](Transfer& t, const std::string& method, const In& cellIds, const In& pcoords,
@@ -226,8 +289,8 @@ NB_MODULE(_hoembed, m)
         double meshLength) {
         hoembed::TransferEmbedding em;
         if (!hoembed::ParseEmbeddingMethod(method.c_str(), em.Method))
-          throw std::runtime_error("unknown EmbeddingMethod '" + method +
-            "' (expected normal-offset or barycentric)");
+          throw std::invalid_argument("build_plan: method '" + method +
+            "' (check_surface judges the surface first)");
         const std::size_t n = cellIds.size();
         em.NumberOfVertices = static_cast<std::int64_t>(n);
         em.CellIds = Data<double>(cellIds, "EmbeddingCellId", n);
@@ -406,6 +469,8 @@ NB_MODULE(_hoembed, m)
       },
       nb::arg("points"), nb::arg("displacement"), nb::arg("velocity"), nb::arg("rotation"),
       nb::arg("von_mises"));
+
+  BindSeries(m);
 
   m.def("number_of_threads", [] { return hoembed::parallel_detail::NumberOfThreads(); },
     "Threads the kernels' loops use (HOEMBED_NUM_THREADS, else the hardware's).");

@@ -1,8 +1,9 @@
 """pyvista-level transfer() of the pip package: hoembed::TransferDriver through _hoembed.
 
 The same arguments, outputs and errors as the VTK build's hoembed.transfer (which runs
-vtkDeformationTransferFilter over the same driver). Reading the embedding's field data
-and point arrays is the binding's part, as in the filter (its messages are the filter's)."""
+vtkDeformationTransferFilter over the same driver). This only reads the surface's and the
+mesh's VTK objects: the driver checks them (CheckMeshSize, CheckSurface: the filter's
+messages) and says which arrays it reads (FrameArraysUsed)."""
 import numpy as np
 import pyvista
 from vtkmodules.vtkCommonCore import VTK_FLOAT
@@ -24,10 +25,9 @@ def _field_string(fd, name):
     return a.GetValue(0)
 
 
-def _point_array(pd, name, nc, n):
-    a = pd.GetArray(name)
-    return a if a is not None and a.GetNumberOfComponents() == nc and \
-        a.GetNumberOfTuples() == n else None
+def _shape(a):
+    """(components, tuples) of a VTK data array for the driver's checks; None: absent."""
+    return None if a is None else (a.GetNumberOfComponents(), a.GetNumberOfTuples())
 
 
 def _fail(message):
@@ -45,64 +45,41 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
     surface, mesh = embedded_surface, deformed_mesh
     nmp, ncells = mesh.GetNumberOfPoints(), mesh.GetNumberOfCells()
-    if nmp < 4 or ncells < 1 or mesh.GetCells() is None:
-        _fail("the deformed FE mesh (port 1) is empty")
     driver = TransferDriver()
-    offsets, conn = _arrays.cells(mesh.GetCells())
-    types = np.ascontiguousarray(_arrays.vtk_to_numpy(mesh.GetCellTypesArray()), dtype=np.uint8)
     try:
+        TransferDriver.check_mesh_size(nmp, ncells, mesh.GetCells() is not None)
+        offsets, conn = _arrays.cells(mesh.GetCells())
+        types = np.ascontiguousarray(_arrays.vtk_to_numpy(mesh.GetCellTypesArray()),
+                                     dtype=np.uint8)
         driver.set_mesh_topology(nmp, types, offsets, conn)
     except RuntimeError as e:
         _fail(e)
-    fd = surface.GetFieldData()
+    # reading only: the driver judges the field data and the arrays (check_surface)
+    fd, pd = surface.GetFieldData(), surface.GetPointData()
     method = _field_string(fd, "EmbeddingMethod")
-    if method is None:
-        _fail("the surface (port 0) has no field data EmbeddingMethod: is it the output of "
-              "vtkEmbeddingCoordinatesFilter?")
-    fingerprint = _field_string(fd, "EmbeddingMeshFingerprint")
-    if fingerprint is None:
-        _fail("the surface (port 0) has no field data EmbeddingMeshFingerprint")
-    if fingerprint != driver.fingerprint:
-        _fail(f"the FE mesh (port 1) is not the mesh the surface was embedded in: mesh "
-              f"fingerprint {driver.fingerprint} ({nmp} points, {ncells} cells), embedding "
-              f"fingerprint {fingerprint}")
     nv = surface.GetNumberOfPoints()
-    pd = surface.GetPointData()
-    offset = method == "normal-offset"
-    cell_ids = _point_array(pd, "EmbeddingCellId", 1, nv)
-    pcoords = _point_array(pd, "EmbeddingParametricCoords", 3, nv)
-    dist = _point_array(pd, "EmbeddingDistance", 1, nv)
-    faces = pd.GetArray("EmbeddingFace")
-    fallback = pd.GetArray("EmbeddingFallbackOffset") if offset else None
-    missing = ""
-    if cell_ids is None:
-        missing += " EmbeddingCellId (1 component)"
-    if pcoords is None:
-        missing += " EmbeddingParametricCoords (3 components)"
-    if offset and dist is None:
-        missing += " EmbeddingDistance (1 component)"
-    if faces is not None and _point_array(pd, "EmbeddingFace", 1, nv) is None:
-        missing += " EmbeddingFace (1 component)"
-    if fallback is not None and _point_array(pd, "EmbeddingFallbackOffset", 3, nv) is None:
-        missing += " EmbeddingFallbackOffset (3 components)"
-    if missing:
-        _fail("the surface (port 0) lacks point data arrays, or they do not have one tuple "
-              "per point:" + missing)
+    cell_ids, pcoords, dist, faces, fallback = (pd.GetArray(name) for name in (
+        "EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance", "EmbeddingFace",
+        "EmbeddingFallbackOffset"))
+    try:
+        use_dist, use_faces, use_fallback = driver.check_surface(
+            nv, method, _field_string(fd, "EmbeddingMeshFingerprint"), _shape(cell_ids),
+            _shape(pcoords), _shape(dist), _shape(faces), _shape(fallback))
+    except RuntimeError as e:
+        _fail(e)
     d = _arrays.doubles
-    disp = rot = None
-    if mode != 0:
-        mpd = mesh.GetPointData()
-        a = _point_array(mpd, "Displacement", 3, nmp)
-        disp = d(a) if a is not None else None
-        a = _point_array(mpd, "NodalRotation", 9, nmp)
-        rot = d(a) if a is not None and mode == 1 else None
+    mpd = mesh.GetPointData()
+    m_disp, m_rot = mpd.GetArray("Displacement"), mpd.GetArray("NodalRotation")
+    use_disp, use_rot = TransferDriver.frame_arrays_used(mode, nmp, _shape(m_disp), _shape(m_rot))
+    disp = d(m_disp) if use_disp else None
+    rot = d(m_rot) if use_rot else None
     float_out = surface.GetPoints() is not None and \
         surface.GetPoints().GetDataType() == VTK_FLOAT
     new_points = np.empty((nv, 3), dtype=np.float32 if float_out else np.float64)
     try:
-        driver.build_plan(method, d(cell_ids), d(pcoords), d(dist) if offset else None,
-                          d(faces) if faces is not None else None,
-                          d(fallback) if fallback is not None else None,
+        driver.build_plan(method, d(cell_ids), d(pcoords), d(dist) if use_dist else None,
+                          d(faces) if use_faces else None,
+                          d(fallback) if use_fallback else None,
                           _FACE_TOLERANCE, mesh.GetLength())
         frame_warnings = driver.evaluate_frame(d(mesh.GetPoints().GetData()), mode, disp, rot,
                                                True, new_points)

@@ -1,12 +1,12 @@
-"""Argument checks of the pyvista-level embed(), transfer() and simulate(), shared by both
-bindings: the VTK build's package (embedding.py, transfer.py, simulation.py over the VTK
-filters) and the pip wheel's (Wrapping/Pip/hoembed, over the nanobind module). Pure
-Python."""
+"""Argument checks of the pyvista-level embed(), transfer(), simulate() and
+write_series(), shared by both bindings: the VTK build's package (embedding.py,
+transfer.py, simulation.py, series.py over the VTK filters) and the pip wheel's
+(Wrapping/Pip/hoembed, over the nanobind module). Pure Python."""
 
 import numpy as np
 
-from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check_int,
-                      check_real, check_vector)
+from ._errors import (HOEmbedArgumentError, HOEmbedError, check_callable, check_dataset,
+                      check_int, check_real, check_vector)
 
 # values of hoembed::EmbeddingMethod (= vtkEmbeddingCoordinatesFilter's Method)
 EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
@@ -163,3 +163,73 @@ def simulate_frames(steps, every, static):
     if not static and ks[-1] != steps:
         ks.append(steps)
     return ks
+
+
+# ---- write_series: one signature, docstring and set of argument checks for both bindings
+# (the VTK build's series.py over vtkTimeSeriesWriter, the wheel's over SeriesFiles)
+
+WRITE_SERIES_DOC = """Write a time series readable by ParaView and ``pyvista.read``.
+
+    Parameters
+    ----------
+    frames_or_algorithm : sequence of datasets, or a vtkAlgorithm
+        Either frames (pyvista / VTK unstructured grids or poly data; each frame's time is
+        its field data ``TimeValue`` when present, else its index, unless ``times`` is
+        given), or a VTK algorithm whose output is written over its advertised time steps
+        (or ``times``).
+    folder : str or path
+        Output folder (created if needed).
+    name : str
+        Series name: writes ``folder/name.pvd`` and ``folder/name/name_NNNNNN.vt[up]``.
+    times : sequence of float, optional
+        Times of the frames / times to request from the algorithm.
+
+    Returns
+    -------
+    str
+        Path of the .pvd file.
+
+    Raises
+    ------
+    hoembed.HOEmbedError
+        If a frame has an unsupported type or a non-finite time, the input fails, or the
+        folder or a file cannot be written. Nothing is half-written: the frames go to a
+        staging folder and replace an older series of the same name only once all of
+        them and the .pvd are complete; on failure the older series is left intact.
+    """
+
+
+def series_path(folder, name):
+    """write_series()'s name and folder checked, the folder created; the .pvd path."""
+    import os
+    folder = os.fspath(folder)
+    name = str(name)
+    if not name or name.startswith(".") or os.sep in name or (os.altsep and os.altsep in name):
+        raise HOEmbedError(f"write_series: the series name {name!r} must be a plain file "
+                           "name (no folder, not starting with '.')")
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as err:
+        raise HOEmbedError(f"write_series: cannot create the output folder {folder!r}: "
+                           f"{err.strerror or err}") from None
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise HOEmbedError(f"write_series: the output folder {folder!r} is not writable")
+    return os.path.join(folder, f"{name}.pvd")
+
+
+def series_frame_times(frames, times):
+    """The time of each frame: ``times`` (one per frame), else the frame's field data
+    ``TimeValue`` when present, else its index."""
+    if times is not None and len(times) != len(frames):
+        raise ValueError("times must have one value per frame")
+    out = []
+    for i, frame in enumerate(frames):
+        if times is not None:
+            out.append(float(times[i]))
+            continue
+        fd = getattr(frame, "field_data", None)
+        if fd is not None and "TimeValue" in fd and len(fd["TimeValue"]):
+            out.append(float(fd["TimeValue"][0]))
+        else:
+            out.append(float(i))
+    return out
