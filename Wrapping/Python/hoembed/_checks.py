@@ -1,6 +1,6 @@
-"""Argument checks of the pyvista-level embed(), transfer() and simulate(), shared by both
-bindings: the VTK build's package (embedding.py, transfer.py, simulation.py over the VTK
-filters) and the pip wheel's (Wrapping/Pip/hoembed, over the nanobind module). Pure
+"""Argument checks of the pyvista-level tet10_mesh(), embed(), transfer() and simulate(),
+shared by both bindings: the VTK build's package (meshing.py, embedding.py, transfer.py,
+simulation.py over the VTK filters) and the pip wheel's (Wrapping/Pip/hoembed, over the nanobind module). Pure
 Python."""
 
 import numpy as np
@@ -12,6 +12,25 @@ from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check
 EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
 # values of hoembed::TransferNormals (= vtkDeformationTransferFilter's NormalMode)
 NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
+
+
+def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
+                   radius_edge_ratio, min_dihedral_angle, progress):
+    """Check tet10_mesh()'s arguments: the same ranges as vtkTet10Mesher's setters, which
+    would clamp instead of refusing. Returns the vtkTet10Mesher properties they set."""
+    f = "tet10_mesh"
+    check_dataset(f, "surface", surface, "vtkPolyData")
+    n_elements = check_int(f, "n_elements", n_elements, 1, 10_000_000)
+    edge_length = check_real(f, "edge_length", edge_length, 0.0)
+    order = check_int(f, "order", order, 1, 2)
+    if not isinstance(curve_boundary, (bool, int)):
+        raise HOEmbedArgumentError(f"{f}: curve_boundary must be True or False")
+    radius_edge_ratio = check_real(f, "radius_edge_ratio", radius_edge_ratio, 1.05, 100.0)
+    min_dihedral_angle = check_real(f, "min_dihedral_angle", min_dihedral_angle, 0.0, 30.0)
+    check_callable(f, "progress", progress)
+    return dict(TargetNumberOfElements=n_elements, TargetEdgeLength=edge_length,
+                ElementOrder=order, CurveBoundary=bool(curve_boundary),
+                RadiusEdgeRatio=radius_edge_ratio, MinDihedralAngle=min_dihedral_angle)
 
 
 def embed_arguments(surface, fe_mesh, method, n_partitions, progress):

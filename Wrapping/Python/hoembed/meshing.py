@@ -4,8 +4,8 @@ import pyvista
 
 __all__ = ["tet10_mesh"]
 
-from ._errors import (HOEmbedArgumentError, check_callable, check_dataset, check_int,
-                      check_real, run_filter)
+from ._checks import mesh_arguments
+from ._errors import run_filter
 from .hoembedFiltersMeshing import vtkTet10Mesher
 
 
@@ -55,25 +55,12 @@ def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundar
     >>> import pyvista as pv, hoembed
     >>> mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=500)
     """
-    f = "tet10_mesh"
-    check_dataset(f, "surface", surface, "vtkPolyData")
-    # The same ranges as vtkTet10Mesher's setters, which would clamp instead of refusing.
-    n_elements = check_int(f, "n_elements", n_elements, 1, 10_000_000)
-    edge_length = check_real(f, "edge_length", edge_length, 0.0)
-    order = check_int(f, "order", order, 1, 2)
-    if not isinstance(curve_boundary, (bool, int)):
-        raise HOEmbedArgumentError(f"{f}: curve_boundary must be True or False")
-    radius_edge_ratio = check_real(f, "radius_edge_ratio", radius_edge_ratio, 1.05, 100.0)
-    min_dihedral_angle = check_real(f, "min_dihedral_angle", min_dihedral_angle, 0.0, 30.0)
-    check_callable(f, "progress", progress)
+    options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
+                             radius_edge_ratio, min_dihedral_angle, progress)
     alg = vtkTet10Mesher()
     alg.SetInputData(surface)
-    alg.SetTargetNumberOfElements(n_elements)
-    alg.SetTargetEdgeLength(edge_length)
-    alg.SetElementOrder(order)
-    alg.SetCurveBoundary(bool(curve_boundary))
-    alg.SetRadiusEdgeRatio(radius_edge_ratio)
-    alg.SetMinDihedralAngle(min_dihedral_angle)
+    for name, value in options.items():
+        getattr(alg, "Set" + name)(value)
     if progress is not None:
         alg.AddObserver("ProgressEvent", lambda o, e: progress(o.GetProgress()))
     out = run_filter(alg)
