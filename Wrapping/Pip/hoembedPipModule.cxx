@@ -25,6 +25,9 @@
 
 namespace nb = nanobind;
 
+// the mesher's bindings (hoembedPipMesher.cxx)
+void BindMesher(nb::module_& m);
+
 namespace
 {
 // inputs may be read-only numpy arrays (views of VTK arrays); outputs are written
@@ -138,6 +141,7 @@ struct Stepper
 NB_MODULE(_hoembed, m)
 {
   m.doc() = "HOEmbed's VTK-free drivers (embedding, deformation transfer) for the pip package";
+  BindMesher(m);
 
   nb::class_<hoembed::EmbeddingDriver>(m, "EmbeddingDriver")
     .def(nb::init<>())
