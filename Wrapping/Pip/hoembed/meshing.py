@@ -14,7 +14,7 @@ import warnings as _warnings
 
 import numpy as np
 import pyvista
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import (VTK_DOUBLE, VTK_ID_TYPE, VTK_UNSIGNED_CHAR,
                                       reference, vtkIdList, vtkIdTypeArray, vtkDoubleArray,
                                       vtkPoints)
