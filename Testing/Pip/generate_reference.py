@@ -137,7 +137,10 @@ def mesher_stats(mesh):
 def write_mesher_references(outdir, data_dir):
     root = os.path.join(outdir, "mesher")
     os.makedirs(root, exist_ok=True)
-    info = {"cases": {}, "errors": {}}
+    import inspect
+    info = {"cases": {}, "errors": {},
+            "signature": str(inspect.signature(hoembed.tet10_mesh)),
+            "doc": inspect.getdoc(hoembed.tet10_mesh)}
     for name, (surface, kwargs) in mesher_cases(data_dir).items():
         d = os.path.join(root, name)
         os.makedirs(d, exist_ok=True)

@@ -188,6 +188,13 @@ def test_bad_input_errors(name):
         hoembed.tet10_mesh(surface, n_elements=300)
 
 
+def test_same_signature_and_doc():
+    import inspect
+    assert str(inspect.signature(hoembed.tet10_mesh)) == INFO["signature"]
+    assert inspect.getdoc(hoembed.tet10_mesh).startswith(INFO["doc"])
+    assert "pip VTK" in inspect.getdoc(hoembed.tet10_mesh)
+
+
 def test_argument_errors():
     s = pyvista.Sphere()
     for kwargs, text in ((dict(n_elements=0), "n_elements must be in"),

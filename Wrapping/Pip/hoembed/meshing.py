@@ -27,7 +27,7 @@ from vtkmodules.vtkFiltersCore import (vtkCleanPolyData, vtkQuadricDecimation,
 from vtkmodules.vtkFiltersGeneral import vtkCellValidator
 
 from . import _arrays
-from ._checks import mesh_arguments
+from ._checks import MESH_DOC, mesh_arguments
 from ._errors import HOEmbedError
 from ._hoembed import mesh_surface
 
@@ -291,30 +291,21 @@ def _grid(r):
 
 def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundary=True,
                radius_edge_ratio=1.5, min_dihedral_angle=10.0, progress=None):
-    """Mesh any triangle surface with coarse, curved, valid tet10 (or tet4) elements.
-
-    See the VTK build's ``hoembed.tet10_mesh``: same parameters and defaults, same cell
-    data (``MinScaledJacobian``), point data (``BoundaryNode``) and field data
-    (``RelaxedNodeCount``, ``CurvedNodeCount``, ``EnvelopeNodeCount``,
-    ``BoundaryCrossingsFound``, ``BoundaryCrossingsLeft``, ``PoorElementCount``,
-    ``MinScaledJacobianQuantiles``, ``MaxSurfaceDeviation``, ``EnvelopeOffset``), same
-    errors (hoembed.HOEmbedError, "tet10_mesh: " and the filter's sentence; bad arguments
-    raise HOEmbedArgumentError, also a ValueError). The same C++ algorithm runs; its
-    decimation, smoothing, locators and cell validator come from the installed pip VTK, so
-    the mesh can differ from the VTK build's (VTK 9.1) in its details. The mesher's
-    warnings go through Python's ``warnings`` (RuntimeWarning).
-
-    Examples
-    --------
-    >>> import pyvista as pv, hoembed
-    >>> mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=500)
-    """
     options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
                              radius_edge_ratio, min_dihedral_angle, progress)
     r = _run(surface, options, progress)[0]
     if progress is not None:
         progress(1.0)
     return pyvista.wrap(_grid(r))
+
+
+tet10_mesh.__doc__ = MESH_DOC + """
+In this (pip) package, the errors read "tet10_mesh: " and vtkTet10Mesher's sentence, and
+the mesher's warnings go through Python's ``warnings`` (RuntimeWarning). The same C++
+algorithm runs as in the VTK build; its decimation, smoothing, locators and cell
+validator come from the installed pip VTK, so the mesh can differ from the VTK build's
+(VTK 9.1) in its details (Benchmarks/RESULTS.md, pip section).
+"""
 
 
 def _run(surface, options, progress=None):
