@@ -13,7 +13,9 @@ A dump runs, on the built-in model and on real surfaces of ../shared/data/meshes
 present), the mesher (tet10, and tet4 on the first surface), the embedding (normal-offset
 and barycentric), the stepper (a few dynamic steps and a static solve) and the transfer
 (recompute, rotate, deform) and saves every point, cell and field array plus points and
-connectivity. `compare` prints each array that differs (bit patterns, NaN included) or is
+connectivity. Then the mesher's read step on surfaces given as they are (quads, polygons,
+strips, float32 points; not cleaned first) and its error messages on bad inputs.
+`compare` prints each array that differs (bit patterns, NaN included) or is
 missing on one side, and exits 1 if any does.
 """
 import argparse
@@ -96,8 +98,52 @@ def _dump(path, data_dir, elements):
                     moved = hoembed.transfer(embedded, frames[-1], normals=mode,
                                              compute_point_normals=True, warnings=[])
                     _arrays(f"{tag}/{method}/transfer-{mode}", moved, out)
+    _read_step(out)
     np.savez_compressed(path, **out)
     print(json.dumps({"dump": path, "arrays": len(out), "cases": [c[0] for c in cases]}))
+
+
+def read_step_surfaces():
+    """Surfaces that exercise the mesher's read step: quads (split along the shorter
+    diagonal), polygons of more than 4 points (ear cut), strips (decomposed), float32
+    points with an unused far point and a point merge; and bad inputs."""
+    import pyvista
+    import hoembed
+    cube = pyvista.Cube(x_length=1.0, y_length=0.7, z_length=0.5)
+    quads = pyvista.Box(level=3, quads=True)
+    cylinder = pyvista.Cylinder(resolution=12, capping=True)  # 12-gon caps
+    strips = pyvista.Sphere(theta_resolution=24, phi_resolution=16).strip()
+    f32 = hoembed.thorny_tail(rings=40, sectors=16)
+    pts = np.vstack([np.asarray(f32.points), [[50.0, 0.0, 0.0]]]).astype(np.float32)
+    f32 = pyvista.PolyData(pts, f32.faces)
+    good = {"cube_quads": cube, "box_quads": quads, "cylinder_polygons": cylinder,
+            "sphere_strips": strips, "tail_float32": f32}
+    nan = pyvista.Sphere()
+    nan.points[5] = np.nan
+    bad_ids = pyvista.PolyData(np.asarray(pyvista.Sphere().points)[:10],
+                               np.array([3, 0, 1, 42]))
+    bad = {"empty": pyvista.PolyData(), "nan": nan, "ids": bad_ids,
+           "lines": pyvista.Line(), "degenerate": pyvista.PolyData(
+               np.zeros((3, 3)), np.array([3, 0, 1, 2]))}
+    return good, bad
+
+
+def _read_step(out):
+    import hoembed
+    good, bad = read_step_surfaces()
+    for name, surface in good.items():
+        fe = hoembed.tet10_mesh(surface, n_elements=200)
+        _arrays(f"read/{name}", fe, out)
+    for name, surface in bad.items():
+        try:
+            hoembed.tet10_mesh(surface, n_elements=200)
+            out[f"read/{name}/error"] = np.array(["no error"])
+        except hoembed.HOEmbedError as e:
+            out[f"read/{name}/error"] = np.array([str(e).split("): ", 1)[-1]])
+    try:  # the size estimate's error
+        hoembed.tet10_mesh(good["box_quads"], edge_length=1e-3)
+    except hoembed.HOEmbedError as e:
+        out["read/too_many/error"] = np.array([str(e).split("): ", 1)[-1]])
 
 
 def _bits(a):

@@ -9,7 +9,7 @@
 #    wheel, vtk==VTK_VERSION, pyvista and pytest from the package index,
 # 3. writes reference outputs of the VTK build (.venv/bin/python, Debian VTK 9.1) on the
 #    same inputs (Testing/Pip/generate_reference.py), and
-# 4. runs Testing/Pip/test_pip.py in the fresh venv against them.
+# 4. runs Testing/Pip (test_pip.py, test_pip_mesher.py) in the fresh venv against them.
 set -euo pipefail
 vtk_version="${1:?usage: test_pip.sh VTK_VERSION}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -21,8 +21,14 @@ data="${HOEMBED_DATA_DIR:-$root/../shared/data/meshes}"
 
 echo "[test-pip] building the wheel"
 rm -rf build-pip/dist
+# the TetGen sources the VTK build fetched (pinned, hash-checked), when there: no second
+# download for the wheel's copy of the mesher
+tetgen=()
+for src in build/_deps/tetgen/tetgen-*/src; do
+  [ -f "$src/tetgen.cxx" ] && tetgen=(--config-settings=cmake.define.HOEMBED_TETGEN_SOURCE_DIR="$root/$src")
+done
 .venv/bin/python -m pip wheel . --no-deps -w build-pip/dist -q \
-  --config-settings=cmake.define.HOEMBED_SIMULATION_NATIVE=ON
+  --config-settings=cmake.define.HOEMBED_SIMULATION_NATIVE=ON "${tetgen[@]}"
 wheel="$(ls build-pip/dist/hoembed-*.whl)"
 echo "[test-pip] $wheel"
 

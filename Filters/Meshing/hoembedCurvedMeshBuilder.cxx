@@ -7,9 +7,7 @@
 #include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
 #include "hoembedTetMeshTopology.h"
-
-#include "vtkMath.h"
-#include "vtkType.h"
+#include "hoembedVector3.h"
 
 #include <algorithm>
 #include <array>
@@ -22,6 +20,7 @@ namespace hoembed
 namespace
 {
 using Id = std::int64_t;
+constexpr double kPi = 3.141592653589793;
 
 double TetDet(const std::vector<double>& p, const Id* t)
 {
@@ -155,8 +154,8 @@ void AddUnitNormal(const double* pts, const Id* f, double n[3])
     a[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
     b[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
   }
-  vtkMath::Cross(a, b, fn);
-  vtkMath::Normalize(fn);
+  hoembed::Cross(a, b, fn);
+  hoembed::Normalize(fn);
   for (int d = 0; d < 3; ++d)
     n[d] += fn[d];
 }
@@ -173,7 +172,7 @@ bool BoundaryEdgeNormal(
       continue;
     AddUnitNormal(pts.data(), f, n);
   }
-  return vtkMath::Normalize(n) > 0.0;
+  return hoembed::Normalize(n) > 0.0;
 }
 
 // Target of the mid-edge node of boundary edge e on the fine surface: where the edge's
@@ -188,11 +187,11 @@ void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4,
     S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
   double closest[3];
   surface.Closest(S, closest);
-  const double dist = std::sqrt(vtkMath::Distance2BetweenPoints(S, closest));
+  const double dist = std::sqrt(hoembed::Distance2(S, closest));
   if (rayFirst && BoundaryEdgeNormal(pts, topo4, e, n))
   {
-    const double L = std::sqrt(vtkMath::Distance2BetweenPoints(&pts[3 * u], &pts[3 * v]));
-    double best = VTK_DOUBLE_MAX;
+    const double L = std::sqrt(hoembed::Distance2(&pts[3 * u], &pts[3 * v]));
+    double best = std::numeric_limits<double>::max();
     for (double sgn : { 1.0, -1.0 })
     {
       double end[3], hit[3];
@@ -200,7 +199,7 @@ void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4,
         end[d] = S[d] + sgn * 0.5 * L * n[d];
       if (surface.Ray(S, end, hit))
       {
-        const double dh = std::sqrt(vtkMath::Distance2BetweenPoints(hit, S));
+        const double dh = std::sqrt(hoembed::Distance2(hit, S));
         if (dh < best && dh < 3.0 * dist + 1e-12 * L)
         {
           best = dh;
@@ -210,7 +209,7 @@ void MidEdgeTarget(const std::vector<double>& pts, const TetMeshTopology& topo4,
         }
       }
     }
-    if (best < VTK_DOUBLE_MAX)
+    if (best < std::numeric_limits<double>::max())
       return;
   }
   target[0] = closest[0];
@@ -232,7 +231,7 @@ bool KeepOnEnvelope(const std::vector<double>& pts, const TetMeshTopology& topo4
     S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
   const bool faces =
     !surface.Faces || !BoundaryEdgeNormal(pts, topo4, e, n) || surface.Faces(target, n);
-  if (faces && vtkMath::Distance2BetweenPoints(S, target) <= limit * limit)
+  if (faces && hoembed::Distance2(S, target) <= limit * limit)
     return false;
   for (int d = 0; d < 3; ++d)
     target[d] = S[d];
@@ -284,13 +283,13 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
     double S[3], n[3], t1[3], t2[3];
     for (int d = 0; d < 3; ++d)
       S[d] = 0.5 * (pts[3 * u + d] + pts[3 * v + d]);
-    const double L = std::sqrt(vtkMath::Distance2BetweenPoints(&pts[3 * u], &pts[3 * v]));
+    const double L = std::sqrt(hoembed::Distance2(&pts[3 * u], &pts[3 * v]));
     if (!BoundaryEdgeNormal(pts, topo4, e, n))
       continue;
-    vtkMath::Perpendiculars(n, t1, t2, 0.0);
+    hoembed::Perpendiculars(n, t1, t2);
     std::vector<std::array<double, 4>> candidates; // distance to S, point
     auto add = [&](const double p[3]) {
-      const double dist = std::sqrt(vtkMath::Distance2BetweenPoints(p, S));
+      const double dist = std::sqrt(hoembed::Distance2(p, S));
       if (!(maxDistance > 0.0) || (dist <= maxDistance && (!surface.Faces || surface.Faces(p, n))))
         candidates.push_back({ dist, p[0], p[1], p[2] });
     };
@@ -305,7 +304,7 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
     for (double r : { 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7 })
       for (int k = 0; k < 16; ++k)
       {
-        const double th = 2.0 * vtkMath::Pi() * k / 16.0;
+        const double th = 2.0 * kPi * k / 16.0;
         double q[3], cp[3];
         for (int d = 0; d < 3; ++d)
           q[d] = S[d] + r * L * (std::cos(th) * t1[d] + std::sin(th) * t2[d]);
@@ -373,7 +372,7 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
       continue;
     double x0[3] = { pts[3 * i], pts[3 * i + 1], pts[3 * i + 2] }, target[3];
     surface.Closest(x0, target);
-    if (maxDistance > 0.0 && vtkMath::Distance2BetweenPoints(x0, target) > maxDistance * maxDistance)
+    if (maxDistance > 0.0 && hoembed::Distance2(x0, target) > maxDistance * maxDistance)
       continue;
     if (maxDistance > 0.0 && surface.Faces)
     {
@@ -384,7 +383,7 @@ void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
         const Id* f = &topo.BoundaryFaceNodes[3 * topo.NodeFaces[k]];
         AddUnitNormal(pts.data(), f, n);
       }
-      if (vtkMath::Normalize(n) > 0.0 && !surface.Faces(target, n))
+      if (hoembed::Normalize(n) > 0.0 && !surface.Faces(target, n))
         continue;
     }
     before.clear();
@@ -460,7 +459,7 @@ Id ImprovePoorTets(std::vector<double>& pts, const std::vector<Id>& tets, double
         const double x0[3] = { pts[3 * v], pts[3 * v + 1], pts[3 * v + 2] };
         double L = 0.0;
         for (int b = 0; b < 4; ++b)
-          L += std::sqrt(vtkMath::Distance2BetweenPoints(x0, &pts[3 * tets[4 * t + b]])) / 3.0;
+          L += std::sqrt(hoembed::Distance2(x0, &pts[3 * tets[4 * t + b]])) / 3.0;
         const double reach = 0.2 * L;
         double best = worst(v), step = reach;
         const double start = best;

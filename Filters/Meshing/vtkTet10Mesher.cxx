@@ -2,22 +2,22 @@
 
 #include "hoembedMesherDriver.h"
 #include "hoembedSurfaceCheck.h"
+#include "hoembedSurfaceRead.h"
 #include "hoembedTetGenBridge.h"
 
 #include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkCellValidator.h"
 #include "vtkQuadraticTetra.h"
 #include "vtkCleanPolyData.h"
+#include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkGenericCell.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
-#include "vtkMath.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -29,9 +29,9 @@
 #include "vtkStaticCellLocator.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTypeInt64Array.h"
 #include "vtkIdList.h"
 #include "vtkPolygon.h"
-#include "vtkTriangleStrip.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkWindowedSincPolyDataFilter.h"
@@ -159,153 +159,54 @@ int vtkTet10Mesher::FillInputPortInformation(int, vtkInformation* info)
 
 namespace
 {
-// Triangles of every polygon and strip (vertices and lines dropped). vtkTriangleFilter
-// drops polygons its ear cut cannot split (non-planar or degenerate quads of artist
-// meshes, opening false holes): a quad is split along its shorter diagonal, a larger
-// polygon by vtkPolygon's ear cut, else as a fan from its first vertex.
-vtkSmartPointer<vtkPolyData> Triangulate(vtkPolyData* input)
+// The input surface as the read step's plain arrays (points as doubles, cells as 64-bit
+// ids: copies where VTK stores something else). Holds the copies.
+struct InputArrays
 {
-  vtkNew<vtkCellArray> tris;
-  vtkNew<vtkPolygon> polygon;
-  vtkNew<vtkIdList> local;
-  vtkIdType n;
-  const vtkIdType* ids;
-  vtkCellArray* polys = input->GetPolys();
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
-  {
-    if (n == 3)
-    {
-      tris->InsertNextCell(3, ids);
-      continue;
-    }
-    if (n == 4)
-    {
-      double x[4][3];
-      for (int k = 0; k < 4; ++k)
-        input->GetPoint(ids[k], x[k]);
-      const bool d02 =
-        vtkMath::Distance2BetweenPoints(x[0], x[2]) <= vtkMath::Distance2BetweenPoints(x[1], x[3]);
-      const vtkIdType t1[3] = { ids[0], ids[1], ids[d02 ? 2 : 3] };
-      const vtkIdType t2[3] = { d02 ? ids[0] : ids[1], ids[2], ids[3] };
-      tris->InsertNextCell(3, t1);
-      tris->InsertNextCell(3, t2);
-      continue;
-    }
-    if (n < 3)
-      continue;
-    polygon->GetPointIds()->SetNumberOfIds(n);
-    polygon->GetPoints()->SetNumberOfPoints(n);
-    for (vtkIdType k = 0; k < n; ++k)
-    {
-      polygon->GetPointIds()->SetId(k, ids[k]);
-      polygon->GetPoints()->SetPoint(k, input->GetPoint(ids[k]));
-    }
-    if (polygon->Triangulate(local) && local->GetNumberOfIds() == 3 * (n - 2))
-    {
-      for (vtkIdType t = 0; t < n - 2; ++t)
-      {
-        const vtkIdType tri[3] = { ids[local->GetId(3 * t)], ids[local->GetId(3 * t + 1)],
-          ids[local->GetId(3 * t + 2)] };
-        tris->InsertNextCell(3, tri);
-      }
-    }
-    else
-      for (vtkIdType k = 1; k + 1 < n; ++k)
-      {
-        const vtkIdType tri[3] = { ids[0], ids[k], ids[k + 1] };
-        tris->InsertNextCell(3, tri);
-      }
-  }
-  vtkCellArray* strips = input->GetStrips();
-  for (strips->InitTraversal(); strips->GetNextCell(n, ids);)
-    vtkTriangleStrip::DecomposeStrip(static_cast<int>(n), ids, tris);
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->SetPoints(input->GetPoints());
-  out->SetPolys(tris);
-  return out;
-}
+  std::vector<double> Points;
+  std::vector<Id> Copies[8];
+  hoembed::SurfaceInput View;
 
-// Point ids of every cell kind in range. vtkCleanPolyData (and the triangulation below)
-// read them unchecked: an id out of range crashes them.
-std::string CheckPointIds(vtkPolyData* input)
-{
-  const vtkIdType np = input->GetNumberOfPoints();
-  const std::pair<const char*, vtkCellArray*> kinds[] = { { "vertex", input->GetVerts() },
-    { "line", input->GetLines() }, { "polygon", input->GetPolys() },
-    { "triangle strip", input->GetStrips() } };
-  for (const auto& kind : kinds)
+  explicit InputArrays(vtkPolyData* input)
   {
-    vtkIdType n, k = 0;
-    const vtkIdType* ids;
-    auto it = vtk::TakeSmartPointer(kind.second->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++k)
-    {
-      it->GetCurrentCell(n, ids);
-      for (vtkIdType j = 0; j < n; ++j)
-      {
-        if (ids[j] < 0 || ids[j] >= np)
-        {
-          std::ostringstream msg;
-          msg << kind.first << " " << k << " of the input names point id " << ids[j]
-              << ", but the surface has " << np << " points (ids 0.." << np - 1 << ")";
-          return msg.str();
-        }
-      }
-    }
+    const vtkIdType np = input->GetNumberOfPoints();
+    this->Points.resize(3 * static_cast<size_t>(np));
+    for (vtkIdType i = 0; i < np; ++i)
+      input->GetPoint(i, &this->Points[3 * i]);
+    this->View.NumberOfPoints = np;
+    this->View.Points = this->Points.data();
+    this->View.Verts = this->Cells(input->GetVerts(), 0);
+    this->View.Lines = this->Cells(input->GetLines(), 2);
+    this->View.Polys = this->Cells(input->GetPolys(), 4);
+    this->View.Strips = this->Cells(input->GetStrips(), 6);
   }
-  return std::string();
-}
 
-// The element count a request asks for: TargetNumberOfElements, or the volume to mesh
-// (below) over the volume of a regular tet of edge TargetEdgeLength.
-double EstimatedElements(vtkPolyData* input, double edge, int target)
-{
-  if (!(edge > 0.0))
-    return static_cast<double>(target);
-  // The volume to mesh: what the surface encloses (signed volume, taken about the
-  // bounding-box centre so that an open surface's value does not depend on where the
-  // origin is), or, when larger, the envelope of a sheet: its area times the envelope's
-  // thickness (twice the default offset of a quarter of the element size). An open
-  // surface encloses nothing meaningful; its signed volume can be 0 for a sheet through
-  // the origin, which let any request through.
-  double bounds[6];
-  input->GetBounds(bounds);
-  const double o[3] = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
-    0.5 * (bounds[4] + bounds[5]) };
-  double volume = 0.0, area = 0.0;
-  vtkIdType n;
-  const vtkIdType* ids;
-  auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+private:
+  hoembed::SurfaceCells Cells(vtkCellArray* ca, int slot)
   {
-    it->GetCurrentCell(n, ids);
-    double a[3], b[3], c[3];
-    for (vtkIdType j = 1; j + 1 < n; ++j)
+    hoembed::SurfaceCells c;
+    if (!ca || ca->GetNumberOfCells() == 0)
+      return c;
+    c.NumberOfCells = ca->GetNumberOfCells();
+    if (ca->IsStorage64Bit())
     {
-      input->GetPoint(ids[0], a);
-      input->GetPoint(ids[j], b);
-      input->GetPoint(ids[j + 1], c);
-      for (int d = 0; d < 3; ++d)
-      {
-        a[d] -= o[d];
-        b[d] -= o[d];
-        c[d] -= o[d];
-      }
-      double ab[3], ac[3], cross[3];
-      for (int d = 0; d < 3; ++d)
-      {
-        ab[d] = b[d] - a[d];
-        ac[d] = c[d] - a[d];
-      }
-      vtkMath::Cross(ab, ac, cross);
-      area += 0.5 * vtkMath::Norm(cross);
-      volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                  a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+      c.Offsets = reinterpret_cast<const Id*>(ca->GetOffsetsArray64()->GetPointer(0));
+      c.Connectivity = reinterpret_cast<const Id*>(ca->GetConnectivityArray64()->GetPointer(0));
+      return c;
     }
+    auto copy = [](vtkDataArray* a, std::vector<Id>& out) {
+      out.resize(static_cast<size_t>(a->GetNumberOfValues()));
+      for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+        out[i] = static_cast<Id>(a->GetComponent(i, 0));
+    };
+    copy(ca->GetOffsetsArray(), this->Copies[slot]);
+    copy(ca->GetConnectivityArray(), this->Copies[slot + 1]);
+    c.Offsets = this->Copies[slot].data();
+    c.Connectivity = this->Copies[slot + 1].data();
+    return c;
   }
-  const double sheet = area * 0.5 * edge;
-  return std::max(std::fabs(volume), sheet) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
-}
+};
+static_assert(sizeof(vtkIdType) == sizeof(Id), "64-bit vtkIdType expected");
 
 // Distributed pipelines: every process's piece of the surface, gathered in rank order (so
 // every process appends the same surface) before any check, so that all processes take
@@ -341,57 +242,71 @@ std::string GatherPieces(vtkPolyData*& input, vtkAppendPolyData* gathered)
   return std::string();
 }
 
-// Read step: triangulate polygons and strips, drop vertices and lines, merge coincident
-// points. Returns an error message, empty on success.
-std::string CleanInput(vtkPolyData* input, double mergeTolerance, vtkSmartPointer<vtkPolyData>& fine,
-  TriSurface& arrays)
+// Read step (hoembed::ReadSurface) with its VTK services: vtkPolygon's ear cut, and
+// vtkCleanPolyData to merge coincident points (on the input's own vtkPoints). `fine`
+// receives the merged surface, which the mesher's services query. Returns an error
+// message, empty on success.
+std::string ReadInput(vtkPolyData* input, const InputArrays& arrays, double mergeTolerance,
+  vtkSmartPointer<vtkPolyData>& fine, TriSurface& merged)
 {
-  if (input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
-  {
-    std::ostringstream msg;
-    msg << "the input surface is empty (" << input->GetNumberOfPoints() << " points, "
-        << input->GetNumberOfCells() << " cells)";
-    return msg.str();
-  }
-  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
-  {
-    double x[3];
-    input->GetPoint(i, x);
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+  hoembed::SurfaceReadServices services;
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> local;
+  services.EarCut = [&](const Id* ids, Id n, const double* xyz, std::vector<Id>& out) {
+    polygon->GetPointIds()->SetNumberOfIds(n);
+    polygon->GetPoints()->SetNumberOfPoints(n);
+    for (vtkIdType k = 0; k < n; ++k)
     {
-      std::ostringstream msg;
-      msg << "the input surface has a non-finite coordinate (NaN or Inf) at point " << i;
-      return msg.str();
+      polygon->GetPointIds()->SetId(k, ids[k]);
+      polygon->GetPoints()->SetPoint(k, xyz + 3 * k);
     }
-  }
-  if (input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0)
-    return "the input has no polygons (only points or lines), so nothing to enclose in a "
-           "volume: give a triangle surface (reconstruct one from a point cloud first, e.g. "
-           "with vtkSurfaceReconstructionFilter)";
-  vtkSmartPointer<vtkPolyData> triangles = Triangulate(input);
-  vtkNew<vtkCleanPolyData> clean;
-  clean->SetInputData(triangles);
-  clean->PointMergingOn();
-  // Shared vertices stored with rounding (STL exports: ~1e-6 apart) must meet: the merge
-  // tolerance is relative to the bounding-box diagonal.
-  if (mergeTolerance > 0.0)
-  {
-    clean->ToleranceIsAbsoluteOff();
-    clean->SetTolerance(mergeTolerance);
-  }
-  else
-  {
-    clean->SetAbsoluteTolerance(0.0);
-    clean->ToleranceIsAbsoluteOn();
-  }
-  clean->ConvertLinesToPointsOff();
-  clean->ConvertPolysToLinesOff();
-  clean->ConvertStripsToPolysOff();
-  clean->Update();
-  fine = clean->GetOutput();
-  if (!ToArrays(fine, arrays) || arrays.Tris.empty())
-    return "the input has no usable triangles after triangulation";
-  return std::string();
+    if (!polygon->Triangulate(local))
+      return false;
+    out.resize(static_cast<size_t>(local->GetNumberOfIds()));
+    for (vtkIdType k = 0; k < local->GetNumberOfIds(); ++k)
+      out[k] = local->GetId(k);
+    return true;
+  };
+  services.Merge = [&](const std::vector<Id>& tris, std::vector<double>& points,
+                     std::vector<Id>& mergedTris) {
+    vtkNew<vtkCellArray> cells;
+    cells->AllocateExact(static_cast<vtkIdType>(tris.size() / 3), static_cast<vtkIdType>(tris.size()));
+    for (size_t t = 0; t < tris.size() / 3; ++t)
+    {
+      const vtkIdType ids[3] = { tris[3 * t], tris[3 * t + 1], tris[3 * t + 2] };
+      cells->InsertNextCell(3, ids);
+    }
+    vtkNew<vtkPolyData> triangles;
+    triangles->SetPoints(input->GetPoints());
+    triangles->SetPolys(cells);
+    vtkNew<vtkCleanPolyData> clean;
+    clean->SetInputData(triangles);
+    clean->PointMergingOn();
+    // Shared vertices stored with rounding (STL exports: ~1e-6 apart) must meet: the
+    // merge tolerance is relative to the bounding-box diagonal.
+    if (mergeTolerance > 0.0)
+    {
+      clean->ToleranceIsAbsoluteOff();
+      clean->SetTolerance(mergeTolerance);
+    }
+    else
+    {
+      clean->SetAbsoluteTolerance(0.0);
+      clean->ToleranceIsAbsoluteOn();
+    }
+    clean->ConvertLinesToPointsOff();
+    clean->ConvertPolysToLinesOff();
+    clean->ConvertStripsToPolysOff();
+    clean->Update();
+    fine = clean->GetOutput();
+    TriSurface out;
+    if (!ToArrays(fine, out))
+      return false;
+    points.swap(out.Points);
+    mergedTris.swap(out.Tris);
+    return true;
+  };
+  return hoembed::ReadSurface(arrays.View, services, merged.Points, merged.Tris);
 }
 
 // The VTK side of the driver's services: decimation and smoothing of the fine surface,
@@ -597,9 +512,8 @@ int vtkTet10Mesher::RequestUpdateExtent(
   return 1;
 }
 
-// Before any VTK filter sees the input: properties finite (the clamp macros let NaN
-// through), point ids in range, and a size TetGen can mesh in reasonable time and memory.
-bool vtkTet10Mesher::CheckRequest(vtkPolyData* input)
+// Before any work: properties finite (the clamp macros let NaN through).
+bool vtkTet10Mesher::CheckRequest(vtkPolyData*)
 {
   const std::pair<const char*, double> props[] = { { "TargetEdgeLength", this->TargetEdgeLength },
     { "RadiusEdgeRatio", this->RadiusEdgeRatio }, { "MinDihedralAngle", this->MinDihedralAngle },
@@ -614,28 +528,6 @@ bool vtkTet10Mesher::CheckRequest(vtkPolyData* input)
       vtkErrorMacro(<< p.first << " is " << p.second << ": a finite value is needed");
       return false;
     }
-  }
-  const std::string idError = CheckPointIds(input);
-  if (!idError.empty())
-  {
-    vtkErrorMacro(<< idError);
-    return false;
-  }
-  const double estimate =
-    EstimatedElements(input, this->TargetEdgeLength, this->TargetNumberOfElements);
-  if (estimate > static_cast<double>(this->MaximumNumberOfElements))
-  {
-    // Peak memory of the mesher per element, rounded up from a measurement
-    // (Benchmarks/RESULTS.md, Reliability).
-    const double bytesPerElement = 1.0e3;
-    vtkErrorMacro("the mesh would have about "
-      << static_cast<long long>(estimate) << " elements (about "
-      << std::ceil(estimate * bytesPerElement / 1e9)
-      << " GB of memory to mesh), more than MaximumNumberOfElements = "
-      << this->MaximumNumberOfElements
-      << ": ask for fewer elements (or a longer TargetEdgeLength), or raise "
-         "MaximumNumberOfElements");
-    return false;
   }
   return true;
 }
@@ -666,6 +558,23 @@ int vtkTet10Mesher::RequestData(
   {
     return 0;
   }
+  // point ids in range (the read step's VTK services read them unchecked: an id out of
+  // range crashes them) and a size TetGen can mesh in reasonable time and memory
+  const InputArrays arrays(input);
+  const std::string idError = hoembed::CheckSurfacePointIds(arrays.View);
+  if (!idError.empty())
+  {
+    vtkErrorMacro(<< idError);
+    return 0;
+  }
+  const std::string sizeError = hoembed::CheckEstimatedSize(arrays.View, this->TargetEdgeLength,
+    this->TargetNumberOfElements, this->MaximumNumberOfElements, "MaximumNumberOfElements");
+  if (!sizeError.empty())
+  {
+    vtkErrorMacro(<< sizeError);
+    return 0;
+  }
+
   // AbortExecute stops TetGen too (polled through progress events while it meshes).
   hoembed::ScopedTetGenAbort tetgenAbort([this]() {
     this->UpdateProgress(std::min(1.0, this->GetProgress() + 1e-6));
@@ -674,7 +583,7 @@ int vtkTet10Mesher::RequestData(
 
   vtkSmartPointer<vtkPolyData> fine;
   TriSurface fineArrays;
-  const std::string readError = CleanInput(input, this->MergeTolerance, fine, fineArrays);
+  const std::string readError = ReadInput(input, arrays, this->MergeTolerance, fine, fineArrays);
   if (!readError.empty())
   {
     vtkErrorMacro(<< readError);

@@ -233,8 +233,9 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// Properties finite, point ids in range, estimated size within MaximumNumberOfElements
-  /// (errors reported); false: refuse the request before any work.
+  /// Properties finite (the clamp macros let NaN through; errors reported); false: refuse
+  /// the request before any work. RequestData then checks the input's point ids and
+  /// estimated size (hoembed::CheckSurfacePointIds, hoembed::CheckEstimatedSize).
   bool CheckRequest(vtkPolyData* input);
 
   int TargetNumberOfElements = 1000;

@@ -8,8 +8,11 @@ filters' outputs (embedded_<method>.vtp, transferred_<mode>_<k>.vtp) as binary V
 (exact doubles), the stepper's frames (stepper_<run>_<i>.vtu of hoembed.simulate on the
 runs STEPPER_RUNS describes, on stepper_mesh.vtu), cases.json, write_series outputs
 (series/, series_reference.py) and transfer()'s checks on broken inputs
-(transfer_checks/, transfer_checks_reference.py). Cases: the built-in thorny tail meshed with tet10 and
-tet4; bunny_lowres.obj from HOEMBED_DATA_DIR when that folder exists.
+(transfer_checks/, transfer_checks_reference.py). Cases: the built-in thorny tail meshed
+with tet10 and tet4; bunny_lowres.obj from HOEMBED_DATA_DIR when that folder exists. For
+the mesher (test_pip_mesher.py): mesher/<case>/surface.vtp and mesh.vtu of the surfaces
+mesher_cases() builds, mesher/bad_<case>.vtp of bad inputs, and mesher/mesher.json with
+the VTK build's element counts, quality quantiles and error sentences.
 """
 import json
 import os
@@ -91,6 +94,80 @@ def resolve(kwargs, mesh):
     return out
 
 
+def mesher_cases(data_dir=""):
+    """Surfaces for the wheel's mesher (name -> (surface, tet10_mesh keyword arguments)):
+    closed, open with a hole, a sheet, overlapping parts, quads with polygon caps, strips,
+    the thorny tail, and bunny_lowres.obj of data_dir when present."""
+    sphere = pyvista.Sphere(theta_resolution=40, phi_resolution=40)
+    s = pyvista.Sphere(theta_resolution=30, phi_resolution=30).triangulate()
+    keep = np.where(s.cell_centers().points[:, 2] < 0.35)[0]
+    holed = s.extract_cells(keep).extract_surface()
+    sheet = pyvista.Plane(i_resolution=24, j_resolution=24).triangulate()
+    sheet.points[:, 2] = 0.1 * np.sin(3 * sheet.points[:, 0])
+    overlapping = pyvista.Sphere().merge(pyvista.Sphere(center=(0.3, 0, 0)))
+    cylinder = pyvista.Cylinder(resolution=24, height=2.0, capping=True)  # quads + 24-gons
+    strips = pyvista.Sphere(theta_resolution=30, phi_resolution=20).strip()
+    cases = {"sphere": (sphere, dict(n_elements=300)),
+             "open_with_hole": (holed, dict(n_elements=300)),
+             "sheet": (sheet, dict(n_elements=300)),
+             "overlapping": (overlapping, dict(n_elements=300)),
+             "quads_polygons": (cylinder, dict(n_elements=300)),
+             "strips": (strips, dict(n_elements=300)),
+             "tail_tet4": (hoembed.thorny_tail(), dict(n_elements=300, order=1)),
+             "tail_edge": (hoembed.thorny_tail(), dict(edge_length=0.4))}
+    bunny = os.path.join(data_dir, "bunny_lowres.obj") if data_dir else ""
+    if bunny and os.path.exists(bunny):
+        cases["bunny"] = (pyvista.read(bunny), dict(n_elements=500))
+    return cases
+
+
+def bad_mesher_inputs():
+    """Bad inputs of the mesher: name -> surface."""
+    nan = pyvista.Sphere()
+    nan.points[7] = np.nan
+    ids = pyvista.PolyData(np.asarray(pyvista.Sphere().points)[:10], np.array([3, 0, 1, 42]))
+    return {"empty": pyvista.PolyData(), "nan": nan, "ids": ids, "lines": pyvista.Line(),
+            "zero_area": pyvista.PolyData(np.zeros((3, 3)), np.array([3, 0, 1, 2]))}
+
+
+def mesher_stats(mesh):
+    q = np.asarray(mesh.cell_data["MinScaledJacobian"], float)
+    return {"cells": int(mesh.n_cells), "points": int(mesh.n_points),
+            "quantiles": [float(v) for v in mesh.field_data["MinScaledJacobianQuantiles"][0]],
+            "min": float(q.min()), "median": float(np.median(q)),
+            "envelope_offset": float(mesh.field_data["EnvelopeOffset"][0])}
+
+
+def write_mesher_references(outdir, data_dir):
+    root = os.path.join(outdir, "mesher")
+    os.makedirs(root, exist_ok=True)
+    import inspect
+    info = {"cases": {}, "errors": {},
+            "signature": str(inspect.signature(hoembed.tet10_mesh)),
+            "doc": inspect.getdoc(hoembed.tet10_mesh)}
+    for name, (surface, kwargs) in mesher_cases(data_dir).items():
+        d = os.path.join(root, name)
+        os.makedirs(d, exist_ok=True)
+        surface.save(os.path.join(d, "surface.vtp"))
+        surface = pyvista.read(os.path.join(d, "surface.vtp"))
+        mesh = hoembed.tet10_mesh(surface, **kwargs)
+        mesh.save(os.path.join(d, "mesh.vtu"))
+        info["cases"][name] = dict(kwargs=kwargs, **mesher_stats(mesh))
+        print(f"[reference] mesher {name}: {surface.n_points} points, {mesh.n_cells} cells")
+    for name, surface in bad_mesher_inputs().items():
+        if surface.n_points:  # (the empty one is made again by the test)
+            path = os.path.join(root, f"bad_{name}.vtp")
+            surface.save(path)
+            surface = pyvista.read(path)
+        try:
+            hoembed.tet10_mesh(surface, n_elements=300)
+            info["errors"][name] = None
+        except hoembed.HOEmbedError as e:  # "vtkTet10Mesher (0x...): sentence"
+            info["errors"][name] = str(e).split("): ", 1)[-1]
+    with open(os.path.join(root, "mesher.json"), "w") as f:
+        json.dump(info, f, indent=1)
+
+
 def main(outdir):
     os.makedirs(outdir, exist_ok=True)
     cases = {}
@@ -140,6 +217,7 @@ def main(outdir):
         json.dump(cases, f, indent=1)
     series_reference.write(outdir)  # write_series of these cases' frames (series/)
     transfer_checks_reference.write(outdir)  # transfer()'s checks (transfer_checks/)
+    write_mesher_references(outdir, data)
 
 
 if __name__ == "__main__":

@@ -167,9 +167,10 @@ def test_errors():
 
 
 def test_not_yet_in_the_wheel():
-    # the mesher needs the VTK build for now: absent, not stubbed (write_series:
-    # test_pip_series.py)
-    for name in ("tet10_mesh",):
+    # the six pyvista-level functions of the VTK build's package, none stubbed (the
+    # mesher: test_pip_mesher.py, write_series: test_pip_series.py)
+    for name in ("tet10_mesh", "embed", "transfer", "simulate", "write_series", "thorny_tail"):
+        assert callable(getattr(hoembed, name)) and name in hoembed.__all__
         assert not hasattr(hoembed, name)
 
 

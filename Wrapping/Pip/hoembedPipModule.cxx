@@ -28,6 +28,8 @@ namespace nb = nanobind;
 
 // hoembedPipSeries.cxx
 void BindSeries(nb::module_& m);
+// the mesher's bindings (hoembedPipMesher.cxx)
+void BindMesher(nb::module_& m);
 
 namespace
 {
@@ -156,6 +158,7 @@ struct Stepper
 NB_MODULE(_hoembed, m)
 {
   m.doc() = "HOEmbed's VTK-free drivers (embedding, deformation transfer) for the pip package";
+  BindMesher(m);
 
   nb::class_<hoembed::EmbeddingDriver>(m, "EmbeddingDriver")
     .def(nb::init<>())

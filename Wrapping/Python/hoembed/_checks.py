@@ -1,7 +1,7 @@
-"""Argument checks of the pyvista-level embed(), transfer(), simulate() and
-write_series(), shared by both bindings: the VTK build's package (embedding.py,
-transfer.py, simulation.py, series.py over the VTK filters) and the pip wheel's
-(Wrapping/Pip/hoembed, over the nanobind module). Pure Python."""
+"""Argument checks of the pyvista-level tet10_mesh(), embed(), transfer(), simulate()
+and write_series(), shared by both bindings: the VTK build's package (meshing.py,
+embedding.py, transfer.py, simulation.py, series.py over the VTK filters) and the pip
+wheel's (Wrapping/Pip/hoembed, over the nanobind module). Pure Python."""
 
 import numpy as np
 
@@ -12,6 +12,73 @@ from ._errors import (HOEmbedArgumentError, HOEmbedError, check_callable, check_
 EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
 # values of hoembed::TransferNormals (= vtkDeformationTransferFilter's NormalMode)
 NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
+
+
+# tet10_mesh()'s docstring, the same in both packages (the wheel appends how its VTK
+# steps run)
+MESH_DOC = """Mesh any triangle surface with coarse, curved, valid tet10 (or tet4) elements.
+
+Parameters
+----------
+surface : pyvista.PolyData or vtkPolyData
+    Any triangle surface: closed or open, one or several parts, non-manifold or
+    self-intersecting (polygons and strips are triangulated). A surface that is not
+    a clean closed manifold is meshed through its envelope (vtkTet10Mesher's
+    EnvelopeTolerance; field data ``EnvelopeOffset``, ``EnvelopeNodeCount``).
+n_elements : int
+    Approximate number of elements (default 1000); ignored if ``edge_length > 0``.
+edge_length : float
+    Target edge length in surface units (default 0: from ``n_elements``).
+order : int
+    2 for VTK_QUADRATIC_TETRA (default), 1 for VTK_TETRA.
+curve_boundary : bool
+    Move boundary mid-edge nodes onto the surface (default True).
+radius_edge_ratio, min_dihedral_angle : float
+    TetGen quality bounds (defaults 1.5 and 10 degrees).
+progress : callable, optional
+    Called with a float in [0, 1] on the filter's progress events.
+
+Returns
+-------
+pyvista.UnstructuredGrid
+    With cell data ``MinScaledJacobian`` and field data ``RelaxedNodeCount``,
+    ``CurvedNodeCount``, ``EnvelopeNodeCount``, ``BoundaryCrossingsFound``,
+    ``BoundaryCrossingsLeft``, ``MaxSurfaceDeviation`` and ``EnvelopeOffset``.
+
+Raises
+------
+hoembed.HOEmbedError
+    On bad input (empty, NaN, point ids out of range, no polygons, no triangle with
+    an area), a TetGen failure, or a mesh estimated beyond the element limit. Bad
+    arguments (``n_elements`` < 1, ``order`` other than 1 or 2, NaN or out-of-range
+    quality bounds, a negative or NaN ``edge_length``, a surface that is not poly
+    data) raise ``hoembed._errors.HOEmbedArgumentError`` (a HOEmbedError and a
+    ValueError) before the filter runs.
+
+Examples
+--------
+>>> import pyvista as pv, hoembed
+>>> mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=500)
+"""
+
+
+def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
+                   radius_edge_ratio, min_dihedral_angle, progress):
+    """Check tet10_mesh()'s arguments: the same ranges as vtkTet10Mesher's setters, which
+    would clamp instead of refusing. Returns the vtkTet10Mesher properties they set."""
+    f = "tet10_mesh"
+    check_dataset(f, "surface", surface, "vtkPolyData")
+    n_elements = check_int(f, "n_elements", n_elements, 1, 10_000_000)
+    edge_length = check_real(f, "edge_length", edge_length, 0.0)
+    order = check_int(f, "order", order, 1, 2)
+    if not isinstance(curve_boundary, (bool, int)):
+        raise HOEmbedArgumentError(f"{f}: curve_boundary must be True or False")
+    radius_edge_ratio = check_real(f, "radius_edge_ratio", radius_edge_ratio, 1.05, 100.0)
+    min_dihedral_angle = check_real(f, "min_dihedral_angle", min_dihedral_angle, 0.0, 30.0)
+    check_callable(f, "progress", progress)
+    return dict(TargetNumberOfElements=n_elements, TargetEdgeLength=edge_length,
+                ElementOrder=order, CurveBoundary=bool(curve_boundary),
+                RadiusEdgeRatio=radius_edge_ratio, MinDihedralAngle=min_dihedral_angle)
 
 
 def embed_arguments(surface, fe_mesh, method, n_partitions, progress):
