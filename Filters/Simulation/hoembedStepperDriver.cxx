@@ -114,6 +114,42 @@ std::string StepperDriver::SetClamps(
 }
 
 //------------------------------------------------------------------------------
+std::string StepperDriver::SetPrescribedMotion(
+  long long np, const double* mask, const double* targets)
+{
+  if (!mask)
+  {
+    this->Mask.clear();
+    this->Targets.clear();
+    return std::string();
+  }
+  std::vector<unsigned char> m(static_cast<size_t>(np));
+  std::vector<double> t(3 * static_cast<size_t>(np), 0.0);
+  for (long long q = 0; q < np; ++q)
+  {
+    m[q] = mask[q] != 0.0 ? 1 : 0;
+    if (!m[q])
+    {
+      continue;
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      t[3 * q + i] = targets[3 * q + i];
+    }
+    if (!std::isfinite(t[3 * q]) || !std::isfinite(t[3 * q + 1]) ||
+      !std::isfinite(t[3 * q + 2]))
+    {
+      std::ostringstream o;
+      o << "the target displacement of point " << q << " is not finite.";
+      return o.str();
+    }
+  }
+  this->Mask.swap(m);
+  this->Targets.swap(t);
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
 std::string StepperDriver::ApplyLoads(
   const double gravity[3], double prescribedSpeedLimit, long long np)
 {

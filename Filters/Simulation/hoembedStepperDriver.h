@@ -57,6 +57,15 @@ public:
   std::string SetClamps(const std::vector<double>& rest, const double* fixedValues,
     const StepperParameters& p);
 
+  /// Prescribed motion of `numberOfPoints` points into Mask and Targets (applied by the
+  /// next ApplyLoads): `mask` nonzero = prescribed (nullptr: none, clearing them),
+  /// `targets` the displacements from rest (3 per point, read only where the mask is
+  /// set; the others are kept 0 so that the state does not depend on unread values). A
+  /// non-finite target of a prescribed point is refused and leaves Mask and Targets as
+  /// they were.
+  std::string SetPrescribedMotion(
+    long long numberOfPoints, const double* mask, const double* targets);
+
   /// Gravity plus ArrayForces plus NodalForces (each empty = none) and the prescribed
   /// motion (Mask, Targets; empty = none) into the solver.
   std::string ApplyLoads(const double gravity[3], double prescribedSpeedLimit,

@@ -308,26 +308,23 @@ bool vtkCorotationalFEMStepper::SetPrescribedMotion(vtkDataArray* mask, vtkDataA
                   "displacement array with the same number of tuples (one per point).");
     return false;
   }
+  // the arrays' values as doubles; the driver keeps the mask and the prescribed rows
   const vtkIdType n = mask->GetNumberOfTuples();
-  std::vector<unsigned char> m(n);
-  std::vector<double> t(3 * n, 0.0);
+  std::vector<double> m(n), t(3 * n, 0.0);
   for (vtkIdType p = 0; p < n; ++p)
   {
-    m[p] = mask->GetComponent(p, 0) != 0.0 ? 1 : 0;
-    if (m[p])
+    m[p] = mask->GetComponent(p, 0);
+    if (m[p] != 0.0)
     {
       targets->GetTuple(p, &t[3 * p]);
-      if (!std::isfinite(t[3 * p]) || !std::isfinite(t[3 * p + 1]) ||
-        !std::isfinite(t[3 * p + 2]))
-      {
-        vtkErrorMacro("SetPrescribedMotion: the target displacement of point " << p
-                                                                                << " is not finite.");
-        return false;
-      }
     }
   }
-  I.Mask.swap(m);
-  I.Targets.swap(t);
+  const std::string error = I.Driver.SetPrescribedMotion(n, m.data(), t.data());
+  if (!error.empty())
+  {
+    vtkErrorMacro("SetPrescribedMotion: " << error);
+    return false;
+  }
   this->Modified();
   return true;
 }

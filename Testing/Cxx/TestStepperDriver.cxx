@@ -15,8 +15,10 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -174,6 +176,74 @@ void TestErrors()
   e = d3.ApplyLoads(g, 0.0, static_cast<long long>(m.Points.size() / 3));
   HOEMBED_CHECK(e.find("SetNodalForces: the array has 2 tuples") == 0, "got '%s'", e.c_str());
 }
+
+// SetPrescribedMotion (the filter's and the wheel's way in): the prescribed nodes reach
+// rest + target in the first step (no speed limit), an unread target row of an
+// unprescribed node may hold anything, and a non-finite prescribed target is refused
+// leaving the previous motion in place.
+void TestPrescribedMotion()
+{
+  auto grid = MakeBoxTetMesh(4, 1, 1, 2.0, 0.5, 0.5, 2);
+  const PlainMesh m = Plain(grid);
+  const long long n = static_cast<long long>(m.Points.size() / 3);
+  const double g[3] = { 0.0, 0.0, 0.0 };
+  hoembed::StepperParameters p;
+  p.UseClampPlane = true; // the end x <= 0
+  hoembed::StepperDriver d;
+  HOEMBED_CHECK(Build(d, m, p, g).empty(), "driver set-up failed");
+  std::vector<double> mask(n, 0.0), t(3 * n, 0.0);
+  long long held = 0;
+  for (long long q = 0; q < n; ++q)
+  {
+    if (m.Points[3 * q] >= 2.0 - 1e-9)
+    {
+      mask[q] = 2.0; // any nonzero value
+      t[3 * q + 2] = 0.1;
+      ++held;
+    }
+    else
+    {
+      t[3 * q] = std::numeric_limits<double>::quiet_NaN(); // not read
+    }
+  }
+  HOEMBED_CHECK(held > 0, "no node at the free end");
+  std::string e = d.SetPrescribedMotion(n, mask.data(), t.data());
+  HOEMBED_CHECK(e.empty(), "got '%s'", e.c_str());
+  HOEMBED_CHECK(d.ApplyLoads(g, 0.0, n).empty(), "ApplyLoads failed");
+  HOEMBED_CHECK(d.Solver.GetNumberOfPrescribedPoints() == held, "%lld prescribed, expected %lld",
+    d.Solver.GetNumberOfPrescribedPoints(), held);
+  d.Start(p);
+  HOEMBED_CHECK(d.Advance(1, false, p.TimeStep, {}).empty(), "driver step failed");
+  double worst = 0.0, moved = 0.0;
+  for (long long q = 0; q < n; ++q)
+  {
+    const double dz = d.Solver.GetPositions()[3 * q + 2] - m.Points[3 * q + 2];
+    if (mask[q] != 0.0)
+      worst = std::max(worst, std::abs(dz - 0.1));
+    else if (m.Points[3 * q] > 0.0)
+      moved = std::max(moved, std::abs(dz));
+  }
+  HOEMBED_CHECK(worst < 1e-12, "prescribed nodes %g from their targets", worst);
+  HOEMBED_CHECK(moved > 1e-4, "the free nodes did not follow (%g)", moved);
+  // a non-finite target of a prescribed node: refused, the old motion kept
+  const std::vector<unsigned char> before = d.Mask;
+  std::vector<double> bad = t;
+  for (long long q = 0; q < n; ++q)
+    if (mask[q] != 0.0)
+    {
+      bad[3 * q + 1] = std::numeric_limits<double>::infinity();
+      e = d.SetPrescribedMotion(n, mask.data(), bad.data());
+      HOEMBED_CHECK(e.find("the target displacement of point ") == 0 &&
+          e.find(" is not finite.") != std::string::npos,
+        "got '%s'", e.c_str());
+      break;
+    }
+  HOEMBED_CHECK(d.Mask == before && d.Targets.size() == 3 * static_cast<std::size_t>(n),
+    "a refused motion changed the driver's");
+  HOEMBED_CHECK(d.SetPrescribedMotion(n, nullptr, nullptr).empty() && d.Mask.empty() &&
+      d.Targets.empty(),
+    "clearing the motion failed");
+}
 } // namespace
 
 int main(int, char*[])
@@ -181,5 +251,6 @@ int main(int, char*[])
   TestFramesEqualTheFilter(2);
   TestFramesEqualTheFilter(1);
   TestErrors();
+  TestPrescribedMotion();
   return hoembed_test::Report("TestStepperDriver");
 }

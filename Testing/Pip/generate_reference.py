@@ -5,7 +5,7 @@ Run with the VTK build's Python (`.venv/bin/python`, `make test-pip` does):
     generate_reference.py OUTDIR
 It writes, per case, the inputs (surface.vtp, mesh.vtu, deformed_<k>.vtu) and the
 filters' outputs (embedded_<method>.vtp, transferred_<mode>_<k>.vtp) as binary VTK XML
-(exact doubles), the stepper's frames (stepper_<run>_<i>.vtu of hoembed.simulate on the
+(exact doubles), simulate()'s signature and docstring (simulate_api.json), the stepper's frames (stepper_<run>_<i>.vtu of hoembed.simulate on the
 runs STEPPER_RUNS describes, on stepper_mesh.vtu), cases.json, write_series outputs
 (series/, series_reference.py) and transfer()'s checks on broken inputs
 (transfer_checks/, transfer_checks_reference.py). Cases: the built-in thorny tail meshed
@@ -14,6 +14,7 @@ the mesher (test_pip_mesher.py): mesher/<case>/surface.vtp and mesh.vtu of the s
 mesher_cases() builds, mesher/bad_<case>.vtp of bad inputs, and mesher/mesher.json with
 the VTK build's element counts, quality quantiles and error sentences.
 """
+import inspect
 import json
 import os
 import sys
@@ -56,7 +57,9 @@ def frames(mesh):
 def stepper_runs(mesh):
     """The stepper runs (simulate() keyword arguments; "@Name" = the point array Name of
     stepper_mesh.vtu): clamped by a plane under gravity, by a mask array with nodal forces
-    and an initial velocity (lumped mass), and the static solve."""
+    and an initial velocity (lumped mass), the static solve, and prescribed motion (the
+    free end's nodes pulled: one 3-vector reached in the first step, per-node targets at a
+    speed limit, and the static solve with them)."""
     X = np.asarray(mesh.points, float)
     lo, hi = X.min(axis=0), X.max(axis=0)
     L = float((hi - lo).max())
@@ -71,6 +74,8 @@ def stepper_runs(mesh):
     w = (L / 3.3) ** 3
     stepper.point_data["Push"] = np.c_[50.0 * w * s, 0 * s, -20.0 * w * s ** 2]
     stepper.point_data["Spin"] = np.c_[-0.2 * L * s, 0 * s, 0.1 * L * s]
+    stepper.point_data["Grab"] = (s <= 0.05).astype(np.int32)
+    stepper.point_data["Pull"] = np.c_[0 * s, 0.04 * L * (1 - s), 0.08 * L * (1 - s)]
     runs = {
         "plane": dict(steps=6, dt=0.01, young=2e4, every=2,
                       fixed={"plane": [origin, axis]}),
@@ -79,17 +84,32 @@ def stepper_runs(mesh):
                      lumped_mass=True, rayleigh_mass=0.5),
         "static": dict(static=True, young=2e7,
                        fixed={"plane": [origin, axis]}),
+        "prescribed": dict(steps=4, dt=0.01, young=2e4, fixed="@Clamp",
+                           prescribed=["@Grab", [0.0, 0.0, 0.03 * L]]),
+        "prescribed_speed": dict(steps=5, dt=0.01, young=2e4, gravity=[0.0, 0.0, 0.0],
+                                 fixed="@Clamp", prescribed=["@Grab", "@Pull"],
+                                 prescribed_speed_limit=0.02 * L / 0.01 / 2),
+        "prescribed_static": dict(static=True, young=2e7, fixed="@Clamp",
+                                  prescribed=["@Grab", "@Pull"]),
     }
     return stepper, runs
 
 
 def resolve(kwargs, mesh):
     """simulate()'s keyword arguments with "@Name" replaced by that point array's name
-    (fixed) or values (others)."""
+    (fixed) or values (others, and the parts of prescribed)."""
+    def values(v):
+        if isinstance(v, str) and v.startswith("@"):
+            return np.asarray(mesh.point_data[v[1:]])
+        return v
     out = {}
     for k, v in kwargs.items():
-        if isinstance(v, str) and v.startswith("@"):
-            v = v[1:] if k == "fixed" else np.asarray(mesh.point_data[v[1:]])
+        if k == "prescribed":
+            v = tuple(values(p) for p in v)
+        elif k == "fixed" and isinstance(v, str) and v.startswith("@"):
+            v = v[1:]
+        else:
+            v = values(v)
         out[k] = v
     return out
 
@@ -215,6 +235,10 @@ def main(outdir):
         print(f"[reference] {name}: {surface.n_points} surface points, {mesh.n_cells} cells")
     with open(os.path.join(outdir, "cases.json"), "w") as f:
         json.dump(cases, f, indent=1)
+    # simulate()'s signature and docstring in the VTK build, for the wheel's to equal
+    with open(os.path.join(outdir, "simulate_api.json"), "w") as f:
+        json.dump(dict(signature=str(inspect.signature(hoembed.simulate)),
+                       doc=hoembed.simulate.__doc__), f, indent=1)
     series_reference.write(outdir)  # write_series of these cases' frames (series/)
     transfer_checks_reference.write(outdir)  # transfer()'s checks (transfer_checks/)
     write_mesher_references(outdir, data)

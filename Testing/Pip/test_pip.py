@@ -222,6 +222,41 @@ def test_static_solve_is_balanced():
     assert float(frame.field_data["TimeValue"][0]) == 0.0
 
 
+def test_prescribed_nodes_reach_their_targets():
+    # independent of the reference: without a speed limit the grabbed nodes sit at rest +
+    # the 3-vector from the first step on; at the speed limit they move that far per step
+    # and no farther; the static solve holds them on their targets
+    case = sorted(CASES)[0]
+    runs = CASES[case]["stepper"]
+    mesh = read(case, "stepper_mesh.vtu")
+    grab = np.asarray(mesh.point_data["Grab"]) != 0
+    pull = np.asarray(mesh.point_data["Pull"], float)
+    assert grab.any() and not grab.all()
+    kwargs = resolve(runs["prescribed"]["kwargs"], mesh)
+    target = np.asarray(kwargs["prescribed"][1], float)
+    frames = hoembed.simulate(mesh, **kwargs)
+    assert np.all(frames[0].point_data["Displacement"] == 0.0)
+    for f in frames[1:]:
+        assert np.allclose(f.point_data["Displacement"][grab], target, rtol=0, atol=1e-12)
+    kwargs = resolve(runs["prescribed_speed"]["kwargs"], mesh)
+    step = kwargs["prescribed_speed_limit"] * kwargs["dt"]
+    frames = hoembed.simulate(mesh, **kwargs)
+    moved = [np.linalg.norm(f.point_data["Displacement"][grab], axis=1).max() for f in frames]
+    assert np.all(np.diff(moved) <= step * (1 + 1e-9)) and moved[-1] > 0.5 * step
+    assert moved[-1] < np.linalg.norm(pull[grab], axis=1).max()  # the limit held them back
+    (static,) = hoembed.simulate(mesh, **resolve(runs["prescribed_static"]["kwargs"], mesh))
+    assert np.allclose(static.point_data["Displacement"][grab], pull[grab], rtol=0, atol=1e-12)
+
+
+def test_simulate_signature_and_docstring_are_the_vtk_builds():
+    with open(os.path.join(REF, "simulate_api.json")) as f:
+        api = json.load(f)
+    import inspect
+    assert str(inspect.signature(hoembed.simulate)) == api["signature"]
+    assert hoembed.simulate.__doc__ == api["doc"]
+    assert "prescribed_speed_limit=0.0" in api["signature"]
+
+
 def test_stepper_errors():
     case = sorted(CASES)[0]
     mesh = read(case, "stepper_mesh.vtu")
@@ -231,6 +266,16 @@ def test_stepper_errors():
         hoembed.simulate(mesh, external_force=np.zeros((3, 3)))
     with pytest.raises(hoembed.HOEmbedError, match="FixedArrayName 'Nope' is not a point-data"):
         hoembed.simulate(mesh, fixed="Nope")
+    # prescribed motion's arguments (the checks shared with the VTK build, _checks.py)
+    grab = np.asarray(mesh.point_data["Grab"])
+    with pytest.raises(ValueError, match="prescribed mask must have %d entries" % mesh.n_points):
+        hoembed.simulate(mesh, prescribed=(grab[:-1], (0, 0, 1)))
+    with pytest.raises(hoembed.HOEmbedError, match="prescribed must be \\(mask, displacement\\)"):
+        hoembed.simulate(mesh, prescribed=grab)
+    with pytest.raises(ValueError, match="prescribed displacement"):
+        hoembed.simulate(mesh, prescribed=(grab, (0, np.nan, 1)))
+    with pytest.raises(ValueError, match="prescribed_speed_limit must be finite and >= 0"):
+        hoembed.simulate(mesh, prescribed=(grab, (0, 0, 1)), prescribed_speed_limit=-1)
     cells = mesh.cell_connectivity.reshape(mesh.n_cells, -1).copy()
     cells[0, [0, 1]] = cells[0, [1, 0]]
     inverted = pyvista.UnstructuredGrid({mesh.celltypes[0]: cells}, mesh.points)

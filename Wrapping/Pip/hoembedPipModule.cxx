@@ -370,7 +370,8 @@ NB_MODULE(_hoembed, m)
         const In& offsets, const In& conn, const std::vector<double>& material,
         bool lumpedMass, bool staticSolve, const std::vector<double>& gravity,
         const std::vector<double>& clampPlane, const std::vector<double>& clampBox,
-        nb::object fixed, nb::object forces, nb::object u0, nb::object v0) {
+        nb::object fixed, nb::object forces, nb::object u0, nb::object v0,
+        nb::object prescribedMask, nb::object prescribedTargets, double prescribedSpeedLimit) {
         // material: E, nu, density, dt, Rayleigh mass, Rayleigh stiffness, solver tolerance
         if (material.size() != 7 || gravity.size() != 3 ||
           (!clampPlane.empty() && clampPlane.size() != 6) ||
@@ -402,6 +403,12 @@ NB_MODULE(_hoembed, m)
         const double* f = Optional(forces, keepForces, "external_force", 3 * n);
         const double* u = Optional(u0, keepU, "initial_displacement", 3 * n);
         const double* v = Optional(v0, keepV, "initial_velocity", 3 * n);
+        // prescribed motion: a float64 mask (nonzero = prescribed) and its targets
+        In keepPM, keepPT;
+        const double* pm = Optional(prescribedMask, keepPM, "prescribed mask", n);
+        const double* pt = Optional(prescribedTargets, keepPT, "prescribed displacement", 3 * n);
+        if (pm && !pt)
+          throw std::invalid_argument("StepperDriver.build: prescribed mask without targets");
         const double g[3] = { gravity[0], gravity[1], gravity[2] };
         std::string error;
         {
@@ -418,8 +425,12 @@ NB_MODULE(_hoembed, m)
           if (error.empty())
           {
             st.Driver.ArrayForces.assign(f ? f : nullptr, f ? f + 3 * n : nullptr);
-            error = st.Driver.ApplyLoads(g, 0.0, numberOfPoints);
+            error = st.Driver.SetPrescribedMotion(numberOfPoints, pm, pt);
+            if (!error.empty())
+              error = "SetPrescribedMotion: " + error;
           }
+          if (error.empty())
+            error = st.Driver.ApplyLoads(g, prescribedSpeedLimit, numberOfPoints);
           if (error.empty())
           {
             st.Driver.SetInitialState(mesh.Points, u, v);
@@ -434,7 +445,10 @@ NB_MODULE(_hoembed, m)
       nb::arg("cell_offsets"), nb::arg("cell_connectivity"), nb::arg("material"),
       nb::arg("lumped_mass"), nb::arg("static"), nb::arg("gravity"), nb::arg("clamp_plane"),
       nb::arg("clamp_box"), nb::arg("fixed").none(), nb::arg("external_force").none(),
-      nb::arg("initial_displacement").none(), nb::arg("initial_velocity").none())
+      nb::arg("initial_displacement").none(), nb::arg("initial_velocity").none(),
+      nb::arg("prescribed_mask").none() = nb::none(),
+      nb::arg("prescribed_displacement").none() = nb::none(),
+      nb::arg("prescribed_speed_limit") = 0.0)
     .def(
       "advance",
       [](Stepper& st, long long k) {

@@ -1,15 +1,17 @@
 """pyvista-level simulate() of the pip package: hoembed::StepperDriver through _hoembed.
 
-The same arguments, frames and errors as the VTK build's hoembed.simulate (which runs
-vtkCorotationalFEMStepper over the same driver). Reading the clamps' point array is the
-binding's part, as in the filter (its messages are the filter's); the frame's arrays are
-written as the filter's WriteOutput writes them."""
+The same arguments (prescribed motion included), docstring (shared in _checks.py), frames
+and errors as the VTK build's hoembed.simulate (which runs vtkCorotationalFEMStepper over
+the same driver). Reading the clamps' point array is the binding's part, as in the filter
+(its messages are the filter's); the frame's arrays are written as the filter's
+WriteOutput writes them."""
 import numpy as np
 import pyvista
 from vtkmodules.vtkCommonCore import VTK_DOUBLE
 
 from . import _arrays
-from ._checks import simulate_arguments, simulate_clamps, simulate_frames, simulate_vector
+from ._checks import (SIMULATE_DOC, simulate_arguments, simulate_clamps, simulate_frames,
+                      simulate_prescribed, simulate_vector)
 from ._errors import HOEmbedError
 from ._hoembed import StepperDriver
 
@@ -47,19 +49,15 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
              gravity=(0.0, 0.0, -9.81), fixed=None, rayleigh_mass=0.1,
              rayleigh_stiffness=0.01, external_force=None, initial_displacement=None,
              initial_velocity=None, lumped_mass=False, static=False, every=1,
-             solver_tolerance=1e-4, progress=None):
-    """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Euler steps.
-
-    See the VTK build's ``hoembed.simulate``: same parameters, same frames (point data
-    ``Displacement``, ``Velocity``, ``NodalRotation``, cell data ``VonMisesStress``, field
-    data ``KineticEnergy``, ``StrainEnergy``, ``SolverIterations``, ``TimeValue``), bit for
-    bit when the wheel's stepper kernels are compiled with the VTK build's flags.
-    """
+             solver_tolerance=1e-4, progress=None, prescribed=None,
+             prescribed_speed_limit=0.0):
     a = simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity,
                            rayleigh_mass, rayleigh_stiffness, every, solver_tolerance,
                            progress)
     steps, dt, every = a["steps"], a["dt"], a["every"]
     mesh = pyvista.wrap(fe_mesh)
+    prescribed_mask, prescribed_u, speed = simulate_prescribed(
+        prescribed, prescribed_speed_limit, mesh.n_points)
     clamps = simulate_clamps(fixed, mesh.n_points)
     vectors = {}
     for key, value in (("external_force", external_force),
@@ -86,7 +84,12 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
                       a["rayleigh_stiffness"], a["solver_tolerance"]],
                      bool(lumped_mass), bool(static), list(a["gravity"]), list(plane),
                      list(box), fixed_values,
-                     *(None if v is None else v.reshape(-1) for v in vectors.values()))
+                     *(None if v is None else v.reshape(-1) for v in vectors.values()),
+                     prescribed_mask=None if prescribed_mask is None else
+                     prescribed_mask.astype(np.float64),
+                     prescribed_displacement=None if prescribed_u is None else
+                     np.ascontiguousarray(prescribed_u, dtype=np.float64).reshape(-1),
+                     prescribed_speed_limit=speed)
     except RuntimeError as e:
         _fail(e)
     n, nc = mesh.n_points, mesh.n_cells
@@ -120,3 +123,6 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
         if progress is not None:
             progress(i + 1, len(ks))
     return frames
+
+
+simulate.__doc__ = SIMULATE_DOC

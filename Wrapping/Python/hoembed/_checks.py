@@ -232,6 +232,76 @@ def simulate_frames(steps, every, static):
     return ks
 
 
+# ---- simulate: one docstring for both bindings (the VTK build's simulation.py over
+# vtkCorotationalFEMStepper, the wheel's over hoembed::StepperDriver)
+
+SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Euler steps.
+
+    Parameters
+    ----------
+    fe_mesh : pyvista.UnstructuredGrid
+        Rest mesh of VTK_QUADRATIC_TETRA (or VTK_TETRA) cells. A point array ``Fixed``
+        (nonzero = clamped) on it is honoured.
+    steps, dt : int, float
+        Number of time steps and their length (s). Frames are returned for
+        t = 0, every*dt, 2*every*dt, ..., steps*dt (the first frame is the initial state).
+    young, poisson, density : float
+        Young's modulus (Pa, > 0), Poisson's ratio (in (-1, 0.5), default 0.49) and
+        density (kg/m^3, > 0).
+    gravity : 3 floats
+        Gravity acceleration (default (0, 0, -9.81)).
+    fixed : None, array, str or dict
+        Clamped nodes: a boolean / integer mask of length n_points, the name of a point
+        array, ``{"plane": (origin, normal)}`` (nodes with (x - origin) . normal <= 0)
+        or ``{"box": (xmin, xmax, ymin, ymax, zmin, zmax)}``; None uses the mesh's own
+        ``Fixed`` array if any.
+    rayleigh_mass, rayleigh_stiffness : float
+        Rayleigh damping C = a M + b K (defaults 0.1 and 0.01).
+    external_force, initial_displacement, initial_velocity : (n_points, 3) arrays
+        Optional nodal forces (N) and initial state.
+    lumped_mass : bool
+        HRZ-lumped mass instead of the consistent mass.
+    prescribed : (mask, displacement), optional
+        Prescribed motion (the stepper's SetPrescribedMotion): the nodes where
+        ``mask`` (length n_points) is nonzero are hard Dirichlet nodes held at rest +
+        ``displacement`` ((n_points, 3), or one 3-vector for all of them), reached in the
+        first step (a velocity kick) or, with ``prescribed_speed_limit``, moved there at
+        that speed. Clamped nodes stay clamped. With ``static``, the equilibrium with those
+        nodes displaced.
+    prescribed_speed_limit : float
+        Distance per second the prescribed nodes move at most (0, default: no limit).
+    static : bool
+        Return the static equilibrium (one frame) instead of a time series.
+    every : int
+        Keep every ``every``-th step as a frame.
+    progress : callable, optional
+        Called with (frame index, number of frames) after each frame.
+
+    Returns
+    -------
+    list of pyvista.UnstructuredGrid
+        Deformed meshes with point data ``Displacement``, ``Velocity``, ``NodalRotation``,
+        cell data ``VonMisesStress`` and field data ``KineticEnergy``, ``StrainEnergy``,
+        ``SolverIterations`` and ``TimeValue`` (the same in the VTK build and the pip
+        wheel, bit for bit when the wheel's stepper kernels are compiled with the VTK
+        build's flags).
+
+    Raises
+    ------
+    hoembed.HOEmbedError
+        On bad input (cells, clamps, non-finite state during integration). Bad arguments
+        (a non-positive or NaN ``dt``, ``young`` or ``density``, ``poisson`` outside
+        (-1, 0.5), negative ``steps``, ``every`` < 1, non-finite gravity, forces or initial
+        state, a mask of the wrong length) raise ``hoembed._errors.HOEmbedArgumentError``
+        (a HOEmbedError and a ValueError) before the stepper runs.
+
+    Examples
+    --------
+    >>> frames = hoembed.simulate(mesh, steps=50, dt=0.01, young=5e4,
+    ...                           fixed={"plane": ((0, 0, 0), (1, 0, 0))})
+    """
+
+
 # ---- write_series: one signature, docstring and set of argument checks for both bindings
 # (the VTK build's series.py over vtkTimeSeriesWriter, the wheel's over SeriesFiles)
 
