@@ -55,9 +55,9 @@
  *
  * Background factorisation (SetBackgroundFactorization; vtkCorotationalFEMStepper's
  * BackgroundFactorization in LiveMode): a grab or a release changes the prescribed set,
- * and the synchronous rule above refactorises at that step, ~0.5 s for 14k DOF (numeric
- * factorisation ~85%, copy into node blocks ~15%; Benchmarks/RESULTS.md, live loop): the
- * interactive model froze at every click. With it, that factorisation (and the refresh of
+ * and the synchronous rule above refactorises at that step, many ordinary steps' worth of
+ * time (Benchmarks/RESULTS.md, live loop): the interactive model froze at every click.
+ * With it, that factorisation (and the refresh of
  * a drifted factor) runs on a worker thread, on the step matrix of the step that asked
  * for it (rotated, like a refresh), while the CG keeps a factor it has as preconditioner:
  * the current one when its free DOFs contain the new ones (a grab: restricted to them it
