@@ -4,7 +4,7 @@ and edge numbering (not from coordinates). Import after pytest.importorskip("skf
 import numpy as np
 import pyvista as pv
 from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, LinearForm
-from skfem import MeshTet, MeshTet2, asm
+from skfem import MeshTet, MeshTet2, asm, condense, solve
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
@@ -51,3 +51,25 @@ def elasticity(basis, E, nu, rho, g=(0.0, 0.0, 0.0)):
 
     K = asm(linear_elasticity(*lame_parameters(E, nu)), basis)
     return K.tocsr(), asm(mass, basis).tocsr(), asm(body, basis)
+
+
+def tip_pull(E, nu):
+    """The prescribed-motion problem of the stepper's static tests: a (4, 2, 2) tet10 box
+    of length 4, clamped at x = 0, its tip (x = 4) given a tiny prescribed displacement t.
+    Returns (mesh, clamp, tip, t, ref): ref is linear elasticity with those inhomogeneous
+    Dirichlet values (scikit-fem's condense with x), which the co-rotated equilibrium
+    equals for so small a displacement."""
+    from conftest import box_tet_mesh
+    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
+    pts = np.asarray(mesh.points)
+    clamp = pts[:, 0] <= 1e-9
+    tip = np.isclose(pts[:, 0], 4.0)
+    t = np.zeros_like(pts)
+    t[tip] = 1e-7 * np.c_[0.3 + 0 * pts[tip, 0], 1 + pts[tip, 2], -2 + pts[tip, 1]]
+    basis, dofs = vector_basis(mesh, 2)
+    K, _, _ = elasticity(basis, E, nu, 1000.0)
+    x = np.zeros(K.shape[0])
+    x[dofs[tip].ravel()] = t[tip].ravel()
+    D = np.concatenate([dofs[clamp].ravel(), dofs[tip].ravel()])
+    ref = solve(*condense(K, np.zeros(K.shape[0]), x=x, D=D))[dofs]
+    return mesh, clamp, tip, t, ref

@@ -10,7 +10,7 @@ import hoembed
 from conftest import box_tet_mesh
 
 skfem = pytest.importorskip("skfem")
-from skfem_reference import elasticity, vector_basis  # noqa: E402
+from skfem_reference import elasticity, tip_pull, vector_basis  # noqa: E402
 
 
 def skfem_p2(mesh, E, nu, rho):
@@ -95,19 +95,9 @@ def test_moving_targets_reached_and_match_linear_backward_euler():
 def test_static_with_prescribed_displacement_matches_skfem():
     # tiny prescribed displacement: the co-rotated equilibrium is linear elasticity with
     # inhomogeneous Dirichlet values (scikit-fem's condense with x)
-    from skfem import condense, solve
     E, nu = 1e5, 0.45
-    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
+    mesh, clamp, tip, t, ref = tip_pull(E, nu)
     pts = np.asarray(mesh.points)
-    clamp = pts[:, 0] <= 1e-9
-    tip = np.isclose(pts[:, 0], 4.0)
-    t = np.zeros_like(pts)
-    t[tip] = 1e-7 * np.c_[0.3 + 0 * pts[tip, 0], 1 + pts[tip, 2], -2 + pts[tip, 1]]
-    K, M, dofs = skfem_p2(mesh, E, nu, 1000.0)
-    x = np.zeros(K.shape[0])
-    x[dofs[tip].ravel()] = t[tip].ravel()
-    D = np.concatenate([dofs[clamp].ravel(), dofs[tip].ravel()])
-    ref = solve(*condense(K, np.zeros(K.shape[0]), x=x, D=D))[dofs]
     s = live_stepper(mesh, YoungModulus=E, PoissonRatio=nu)
     s.LiveModeOff()
     s.StaticSolveOn()

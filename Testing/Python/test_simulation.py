@@ -8,7 +8,7 @@ from conftest import box_tet_mesh
 
 skfem = pytest.importorskip("skfem")
 from skfem import condense, solve  # noqa: E402
-from skfem_reference import elasticity, vector_basis  # noqa: E402
+from skfem_reference import elasticity, tip_pull, vector_basis  # noqa: E402
 
 
 def skfem_static(mesh, E, nu, rho, g, order):
@@ -216,18 +216,8 @@ def test_prescribed_static_matches_skfem_and_dynamic_reaches_targets():
     # condense with x); dynamic, the tip lands on its target exactly, at the speed limit
     # when one is given, and the rest follows (the stepper itself: test_live_stepper.py)
     E, nu = 1e5, 0.45
-    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
+    mesh, clamp, tip, t, ref = tip_pull(E, nu)
     pts = np.asarray(mesh.points)
-    clamp = pts[:, 0] <= 1e-9
-    tip = np.isclose(pts[:, 0], 4.0)
-    t = np.zeros_like(pts)
-    t[tip] = 1e-7 * np.c_[0.3 + 0 * pts[tip, 0], 1 + pts[tip, 2], -2 + pts[tip, 1]]
-    basis, dofs = vector_basis(mesh, 2)
-    K, _, _ = elasticity(basis, E, nu, 1000.0)
-    x = np.zeros(K.shape[0])
-    x[dofs[tip].ravel()] = t[tip].ravel()
-    D = np.concatenate([dofs[clamp].ravel(), dofs[tip].ravel()])
-    ref = solve(*condense(K, np.zeros(K.shape[0]), x=x, D=D))[dofs]
     plane = {"plane": ((0, 0, 0), (1, 0, 0))}
     u = hoembed.simulate(mesh, young=E, poisson=nu, gravity=(0, 0, 0), fixed=plane,
                          static=True, prescribed=(tip, t))[0].point_data["Displacement"]
