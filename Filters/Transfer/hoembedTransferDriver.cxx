@@ -110,6 +110,8 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
     static_cast<size_t>(FaceCoefficientSize(npc)) * this->Topology.GetNumberOfBoundaryFaces(), 0.0);
   this->NodalNormals.assign(3 * static_cast<size_t>(input.NumberOfPoints), 0.0);
   this->RestValid = false;
+  this->RestFrame = -1;
+  this->RestPoints.clear();
   rebuilt = true;
   return std::string();
 }
@@ -202,6 +204,15 @@ void TransferDriver::FrameArraysUsed(TransferNormals normals, std::int64_t numbe
   useDisplacements =
     normals != TransferNormals::Recompute && Fits(displacements, 3, numberOfPoints);
   useRotations = normals == TransferNormals::Rotate && Fits(rotations, 9, numberOfPoints);
+}
+
+void TransferDriver::FrameArraysUsed(TransferNormals normals, TransferPointNormals pointNormals,
+  std::int64_t numberOfPoints, const TransferArrayShape& displacements,
+  const TransferArrayShape& rotations, bool& useDisplacements, bool& useRotations)
+{
+  FrameArraysUsed(normals, numberOfPoints, displacements, rotations, useDisplacements, useRotations);
+  useDisplacements = useDisplacements ||
+    (pointNormals == TransferPointNormals::Transform && Fits(displacements, 3, numberOfPoints));
 }
 
 //------------------------------------------------------------------------------
@@ -319,6 +330,7 @@ std::string TransferDriver::BuildPlan(
   this->PlanHasOffsets = hasOffsets;
   this->PlanMethod = em.Method;
   this->PlanVersion = this->TopologyVersion;
+  ++this->PlanStamp;
   return std::string();
 }
 
@@ -327,6 +339,7 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
   float* outFloat, std::vector<std::string>& warnings)
 {
   this->InvertedCells = 0;
+  ++this->FrameCount;
   if (!this->HasPlan())
   {
     return "no transfer plan for this mesh (BuildPlan first)";
@@ -381,29 +394,129 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
       [&](std::int64_t b, std::int64_t e) { ComputeFaceNormalCoefficients(this->Topology, nn, b, e, fc); });
   }
 
-  // The per-vertex evaluation.
+  if (outDouble)
+  {
+    return this->EvaluatePoints(frame, outDouble, warnings);
+  }
+  return this->EvaluatePoints(frame, outFloat, warnings);
+}
+
+template <typename T>
+std::string TransferDriver::EvaluatePoints(
+  const TransferFrame& frame, T* out, std::vector<std::string>& warnings)
+{
+  const int npc = this->NodesPerCell;
+  const bool offsets = this->PlanHasOffsets && this->PlanMethod == EmbeddingMethod::NormalOffset;
   const TransferEntry* plan = this->Plan.data();
   const double* cc = this->CellCoeffs.data();
   const double* fc = offsets ? this->FaceCoeffs.data() : nullptr;
   const std::int64_t numVerts = this->GetNumberOfVertices();
-  if (outDouble)
+  float* normals = frame.PointNormals;
+  bool transform = normals && frame.PointNormalsMode == TransferPointNormals::Transform;
+  if (transform && !(this->RestSurfaceValid && frame.Displacements))
   {
+    warnings.push_back(std::string("PointNormalsMode is TRANSFORM but ") +
+      (frame.Displacements ? "the rest surface points were not given"
+                           : std::string("the FE mesh lacks point data ") +
+            ArrayNames::Displacement + " (3 components)") +
+      ": recomputing the point normals from the deformed polygons");
+    transform = false;
+  }
+  if (transform)
+  {
+    // The covectors m = J0^T n0 / det J0 depend on the rest mesh, the plan and the rest
+    // surface: rebuilt when one of them changed (rest points: beyond 1e-9 of the mesh).
+    const std::string error = this->UpdateRestPoints(frame);
+    if (!error.empty())
+    {
+      return error;
+    }
+    if (this->CovRest != this->RestVersion || this->CovPlan != this->PlanStamp ||
+      this->CovSurface != this->RestSurfaceStamp)
+    {
+      const std::int64_t* conn = this->Conn.data();
+      this->RestCellCoeffs.resize(this->CellCoeffs.size());
+      double* rc = this->RestCellCoeffs.data();
+      const double* rp = this->RestPoints.data();
+      this->For(this->NumberOfCells, 1024, [&](std::int64_t b, std::int64_t e) {
+        ComputeCellMapCoefficients(conn, npc, rp, b, e, rc);
+      });
+      this->Covectors.resize(3 * static_cast<size_t>(numVerts));
+      float* cov = this->Covectors.data();
+      const float* rn = this->RestSurfaceNormals.data();
+      this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
+        ComputeNormalCovectors(plan, npc, rc, rn, b, e, cov);
+      });
+      this->CovRest = this->RestVersion;
+      this->CovPlan = this->PlanStamp;
+      this->CovSurface = this->RestSurfaceStamp;
+    }
+    const float* cov = this->Covectors.data();
     this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
-      EvaluateTransfer(plan, npc, cc, fc, b, e, outDouble);
+      EvaluateTransfer(plan, npc, cc, fc, cov, b, e, out, normals);
     });
-    EvaluateFallbackTransfer(plan, npc, cc, this->FallbackVertices.data(),
-      this->FallbackOffsets.data(), 0, static_cast<std::int64_t>(this->FallbackVertices.size()),
-      outDouble);
   }
   else
   {
     this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
-      EvaluateTransfer(plan, npc, cc, fc, b, e, outFloat);
+      EvaluateTransfer(plan, npc, cc, fc, b, e, out);
     });
-    EvaluateFallbackTransfer(plan, npc, cc, this->FallbackVertices.data(),
-      this->FallbackOffsets.data(), 0, static_cast<std::int64_t>(this->FallbackVertices.size()),
-      outFloat);
   }
+  EvaluateFallbackTransfer(plan, npc, cc, this->FallbackVertices.data(),
+    this->FallbackOffsets.data(), 0, static_cast<std::int64_t>(this->FallbackVertices.size()), out);
+  if (normals && !transform)
+  {
+    this->VertexNormals(static_cast<const T*>(out), normals);
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string TransferDriver::UpdateRestPoints(const TransferFrame& frame)
+{
+  // once per frame: the nodal normals and the point normals may both ask
+  if (this->RestFrame == this->FrameCount)
+  {
+    return std::string();
+  }
+  const std::int64_t numMeshPoints = this->Topology.NumberOfPoints;
+  const double* pts = frame.Points;
+  const double* disp = frame.Displacements;
+  const bool had = this->RestPoints.size() == 3 * static_cast<size_t>(numMeshPoints);
+  this->RestPoints.resize(3 * static_cast<size_t>(numMeshPoints));
+  double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX };
+  double hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+  double change = had ? 0.0 : DBL_MAX;
+  for (std::int64_t i = 0; i < numMeshPoints; ++i)
+  {
+    for (int d = 0; d < 3; ++d)
+    {
+      const double x = pts[3 * i + d] - disp[3 * i + d];
+      if (!std::isfinite(x))
+      {
+        change = -1.0;
+      }
+      if (had && change >= 0.0)
+      {
+        change = std::max(change, std::fabs(x - this->RestPoints[3 * i + d]));
+      }
+      this->RestPoints[3 * i + d] = x;
+      lo[d] = std::min(lo[d], x);
+      hi[d] = std::max(hi[d], x);
+    }
+  }
+  if (change < 0.0)
+  {
+    this->RestPoints.clear();
+    return std::string("the FE mesh's ") + ArrayNames::Displacement + " array has non-finite values";
+  }
+  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  if (change > 1e-9 * diag)
+  {
+    ++this->RestVersion;
+  }
+  this->RestFrame = this->FrameCount;
   return std::string();
 }
 
@@ -438,44 +551,21 @@ std::string TransferDriver::ComputeNodalNormals(
     return std::string();
   }
   // Rest points x - u; the rest normals are recomputed only when these change.
-  this->RestPoints.resize(3 * static_cast<size_t>(numMeshPoints));
+  const std::string restError = this->UpdateRestPoints(frame);
+  if (!restError.empty())
+  {
+    return restError;
+  }
   if (this->RestNormals.size() != this->RestPoints.size())
   {
     this->RestNormals.assign(this->RestPoints.size(), 0.0);
     this->RestValid = false;
   }
-  double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX };
-  double hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
-  double change = this->RestValid ? 0.0 : DBL_MAX;
-  const double* disp = frame.Displacements;
-  for (std::int64_t i = 0; i < numMeshPoints; ++i)
-  {
-    for (int d = 0; d < 3; ++d)
-    {
-      const double x = pts[3 * i + d] - disp[3 * i + d];
-      if (!std::isfinite(x))
-      {
-        change = -1.0;
-      }
-      if (this->RestValid)
-      {
-        change = std::max(change, std::fabs(x - this->RestPoints[3 * i + d]));
-      }
-      this->RestPoints[3 * i + d] = x;
-      lo[d] = std::min(lo[d], x);
-      hi[d] = std::max(hi[d], x);
-    }
-  }
-  if (change < 0.0)
-  {
-    return std::string("the FE mesh's ") + ArrayNames::Displacement + " array has non-finite values";
-  }
-  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  if (change > 1e-9 * diag)
+  if (!this->RestValid || this->RestNormalsVersion != this->RestVersion)
   {
     ComputeBoundaryNodeNormals(this->Topology, this->RestPoints.data(), this->RestNormals.data());
     this->RestValid = true;
+    this->RestNormalsVersion = this->RestVersion;
   }
   const double* rest = this->RestNormals.data();
   double* nn = this->NodalNormals.data();
@@ -528,6 +618,7 @@ void TransferDriver::SetPolygons(const std::int64_t* offsets, const std::int64_t
       numberOfVertices, this->IncOffsets, this->IncPolys);
   }
   this->PolyNormals.resize(3 * static_cast<size_t>(numberOfPolygons));
+  this->RestSurfaceValid = false;
 }
 
 template <typename T>
@@ -551,6 +642,29 @@ void TransferDriver::VertexNormals(const T* points, float* normals)
     else
       hoembed::ComputeVertexNormals(io, ip, pn, b, e, normals);
   });
+}
+
+template <typename T>
+void TransferDriver::RestSurfacePoints(const T* points)
+{
+  const std::int64_t numVerts = static_cast<std::int64_t>(this->IncOffsets.size()) - 1;
+  this->RestSurfaceNormals.resize(3 * static_cast<size_t>(numVerts > 0 ? numVerts : 0));
+  if (numVerts > 0)
+  {
+    this->VertexNormals(points, this->RestSurfaceNormals.data());
+  }
+  this->RestSurfaceValid = numVerts == this->GetNumberOfVertices();
+  ++this->RestSurfaceStamp;
+}
+
+void TransferDriver::SetRestSurfacePoints(const double* points)
+{
+  this->RestSurfacePoints(points);
+}
+
+void TransferDriver::SetRestSurfacePoints(const float* points)
+{
+  this->RestSurfacePoints(points);
 }
 
 void TransferDriver::ComputeVertexNormals(const double* points, float* normals)

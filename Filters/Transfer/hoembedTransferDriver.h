@@ -97,6 +97,18 @@ enum class TransferNormals : int
   Deform = 2     ///< rest normals pushed forward by the nodal deformation gradient
 };
 
+/// How the unit point normals of the transferred surface (for shading) are obtained
+/// (values of vtkDeformationTransferFilter's PointNormalsMode).
+enum class TransferPointNormals : int
+{
+  /// area-weighted normals of the deformed polygons (Newell), recomputed every frame
+  Recompute = 0,
+  /// the rest surface's area-weighted normals carried by the deformation: cof(F) n0 at
+  /// each vertex's p (hoembed::ComputeNormalCovectors), in the same pass as the positions;
+  /// needs the surface's rest points (SetRestSurfacePoints) and the mesh's Displacement
+  Transform = 1
+};
+
 /// One frame of the deformed mesh (3 doubles per node unless said otherwise).
 struct TransferFrame
 {
@@ -105,6 +117,10 @@ struct TransferFrame
   const double* Displacements = nullptr; ///< x - X, or null
   const double* Rotations = nullptr;     ///< 9 per node (row-major), or null
   bool CountInverted = true;
+  /// When set, EvaluateFrame also writes unit point normals (3 floats per vertex) of the
+  /// transferred surface, as PointNormalsMode says (both need SetPolygons first).
+  float* PointNormals = nullptr;
+  TransferPointNormals PointNormalsMode = TransferPointNormals::Recompute;
 };
 
 class HOEMBEDFILTERSTRANSFER_EXPORT TransferDriver
@@ -139,6 +155,11 @@ public:
   static void FrameArraysUsed(TransferNormals normals, std::int64_t numberOfPoints,
     const TransferArrayShape& displacements, const TransferArrayShape& rotations,
     bool& useDisplacements, bool& useRotations);
+  /// The same when the frame also writes point normals in `pointNormals` mode (Transform
+  /// reads the displacements for the rest mesh).
+  static void FrameArraysUsed(TransferNormals normals, TransferPointNormals pointNormals,
+    std::int64_t numberOfPoints, const TransferArrayShape& displacements,
+    const TransferArrayShape& rotations, bool& useDisplacements, bool& useRotations);
 
   /// Step 2 (after step 1). `faceTolerance`: see DeduceBoundaryFace; `meshLength`: the
   /// mesh's bounding-box diagonal (scale of the distance check; <= 0 or not finite: no
@@ -149,8 +170,10 @@ public:
   std::int64_t GetNumberOfVertices() const { return static_cast<std::int64_t>(this->Plan.size()); }
 
   /// Step 3 (after step 2): deformed vertices into `outDouble` or `outFloat` (3 per
-  /// vertex; exactly one given). `warnings` receives what the binding should report
-  /// (inverted cells, a normal mode that falls back to recompute).
+  /// vertex; exactly one given), and point normals when frame.PointNormals is set (after
+  /// step 4; Transform falls back to Recompute, with a warning, without the rest surface
+  /// points or the Displacement array). `warnings` receives what the binding should
+  /// report (inverted cells, a normal mode that falls back to recompute).
   std::string EvaluateFrame(const TransferFrame& frame, double* outDouble, float* outFloat,
     std::vector<std::string>& warnings);
   /// Inverted or degenerate cells of the last frame (0 unless counted).
@@ -162,12 +185,23 @@ public:
   /// Unit area-weighted vertex normals (3 floats per vertex) of the transferred points.
   void ComputeVertexNormals(const double* points, float* normals);
   void ComputeVertexNormals(const float* points, float* normals);
+  /// Step 4b (after step 4), for TransferPointNormals::Transform: the surface's rest
+  /// points (those its embedding was made from; 3 per vertex). Their area-weighted normals
+  /// are kept until the next call, SetPolygons or BuildPlan.
+  void SetRestSurfacePoints(const double* points);
+  void SetRestSurfacePoints(const float* points);
+  bool HasRestSurfaceNormals() const { return this->RestSurfaceValid; }
 
 private:
   void For(std::int64_t n, std::int64_t grain, const std::function<void(std::int64_t, std::int64_t)>& body) const;
   std::string ComputeNodalNormals(const TransferFrame& frame, std::vector<std::string>& warnings);
+  std::string UpdateRestPoints(const TransferFrame& frame);
   template <typename T>
   void VertexNormals(const T* points, float* normals);
+  template <typename T>
+  void RestSurfacePoints(const T* points);
+  template <typename T>
+  std::string EvaluatePoints(const TransferFrame& frame, T* out, std::vector<std::string>& warnings);
 
   ParallelFor Parallel;
   // step 1
@@ -188,6 +222,15 @@ private:
   std::vector<double> NodalNormals, CellCoeffs, FaceCoeffs;
   std::vector<double> RestPoints, RestNormals;
   bool RestValid = false;
+  // rest points (x - u) of the mesh: updated once per frame, RestVersion counts changes
+  std::int64_t FrameCount = 0, RestFrame = -1, RestVersion = 0, RestNormalsVersion = -1;
+  // step 4b: rest surface normals and the per-vertex covectors (rebuilt when the rest
+  // mesh, the plan or the rest surface changed: the versions they were built from)
+  std::vector<float> RestSurfaceNormals, Covectors;
+  std::vector<double> RestCellCoeffs;
+  bool RestSurfaceValid = false;
+  std::int64_t PlanStamp = 0, RestSurfaceStamp = 0;
+  std::int64_t CovRest = -1, CovPlan = -1, CovSurface = -1;
   std::int64_t InvertedCells = 0;
   // step 4
   std::vector<std::int64_t> PolyOffsets, PolyConn, IncOffsets, IncPolys;

@@ -167,9 +167,45 @@ inline void OffsetScales(const double* len2, const double* w, double* scale, int
   }
 }
 
+// The columns a = dx/dr, b = dx/ds, c = dx/dt of a cell map at (r, s, t) from its
+// monomial coefficients (the header's layout; Q_ii / 2 is stored, hence the 2).
+inline void MapJacobian(const double* k, bool quadratic, double r, double s, double t,
+  double a[3], double b[3], double c[3])
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    a[d] = k[3 + d];
+    b[d] = k[6 + d];
+    c[d] = k[9 + d];
+    if (quadratic)
+    {
+      a[d] += (2.0 * k[12 + d] * r + k[21 + d] * s) + k[24 + d] * t;
+      b[d] += (2.0 * k[15 + d] * s + k[21 + d] * r) + k[27 + d] * t;
+      c[d] += (2.0 * k[18 + d] * t + k[24 + d] * r) + k[27 + d] * s;
+    }
+  }
+}
+
+// cof(J) m = m0 (b x c) + m1 (c x a) + m2 (a x b) for J = [a b c].
+inline void CofactorTimes(const double a[3], const double b[3], const double c[3],
+  const double m[3], double n[3])
+{
+  const double bc[3] = { b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
+    b[0] * c[1] - b[1] * c[0] };
+  const double ca[3] = { c[1] * a[2] - c[2] * a[1], c[2] * a[0] - c[0] * a[2],
+    c[0] * a[1] - c[1] * a[0] };
+  const double ab[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+    a[0] * b[1] - a[1] * b[0] };
+  for (int d = 0; d < 3; ++d)
+  {
+    n[d] = (m[0] * bc[d] + m[1] * ca[d]) + m[2] * ab[d];
+  }
+}
+
 template <typename T>
 void EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, std::int64_t begin, std::int64_t end, T* out)
+  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end, T* out,
+  float* normals)
 {
   // Blocks of vertices in short passes (positions; normals; scales; sums) rather than one
   // long dependency chain per vertex: the out-of-order core overlaps many vertices, and
@@ -246,6 +282,33 @@ void EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double
     {
       o[j] = static_cast<T>(x[j]);
     }
+    if (!normals)
+    {
+      continue;
+    }
+    // Shading normals: cof(J'(p)) m, normalised (the cell's coefficients are still in
+    // cache from the position pass). The n and len2 buffers are free again.
+    const float* cv = covectors + 3 * b;
+    const int csize = quadratic ? 30 : 12;
+    for (int j = 0; j < m; ++j)
+    {
+      const double* k = cellCoeffs + csize * static_cast<std::int64_t>(e[j].Cell);
+      double ja[3], jb[3], jc[3];
+      MapJacobian(k, quadratic, e[j].PC[0], e[j].PC[1], e[j].PC[2], ja, jb, jc);
+      const double mv[3] = { cv[3 * j], cv[3 * j + 1], cv[3 * j + 2] };
+      double* nj = n + 3 * j;
+      CofactorTimes(ja, jb, jc, mv, nj);
+      len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
+      w[j] = 1.0;
+    }
+    OffsetScales(len2, w, scale, m);
+    float* no = normals + 3 * b;
+    for (int j = 0; j < m; ++j)
+    {
+      no[3 * j] = static_cast<float>(n[3 * j] * scale[j]);
+      no[3 * j + 1] = static_cast<float>(n[3 * j + 1] * scale[j]);
+      no[3 * j + 2] = static_cast<float>(n[3 * j + 2] * scale[j]);
+    }
   }
 }
 
@@ -298,13 +361,59 @@ void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell,
 void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, std::int64_t begin, std::int64_t end, double* out)
 {
-  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, begin, end, out);
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, nullptr, begin, end, out,
+    static_cast<float*>(nullptr));
 }
 
 void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, std::int64_t begin, std::int64_t end, float* out)
 {
-  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, begin, end, out);
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, nullptr, begin, end, out,
+    static_cast<float*>(nullptr));
+}
+
+void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
+  double* out, float* normals)
+{
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+}
+
+void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
+  float* out, float* normals)
+{
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+}
+
+void ComputeNormalCovectors(const TransferEntry* plan, int nodesPerCell,
+  const double* restCellCoeffs, const float* restNormals, std::int64_t begin, std::int64_t end,
+  float* covectors)
+{
+  const bool quadratic = nodesPerCell == 10;
+  const int csize = CellCoefficientSize(nodesPerCell);
+  for (std::int64_t i = begin; i < end; ++i)
+  {
+    const TransferEntry& e = plan[i];
+    const double* k = restCellCoeffs + csize * static_cast<std::int64_t>(e.Cell);
+    double a[3], b[3], c[3];
+    MapJacobian(k, quadratic, e.PC[0], e.PC[1], e.PC[2], a, b, c);
+    const double n0[3] = { restNormals[3 * i], restNormals[3 * i + 1], restNormals[3 * i + 2] };
+    // J0^T n0 / det J0 = (a.n0, b.n0, c.n0) / det J0; only its direction is kept (the
+    // frame normalises), with the sign of det J0.
+    const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+      a[2] * (b[0] * c[1] - b[1] * c[0]);
+    double m[3] = { a[0] * n0[0] + a[1] * n0[1] + a[2] * n0[2],
+      b[0] * n0[0] + b[1] * n0[1] + b[2] * n0[2], c[0] * n0[0] + c[1] * n0[1] + c[2] * n0[2] };
+    const double len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    const double scale = det != 0.0 && len > 0.0 && std::isfinite(len) && std::isfinite(det)
+      ? (det > 0.0 ? 1.0 : -1.0) / len
+      : 0.0;
+    for (int d = 0; d < 3; ++d)
+    {
+      covectors[3 * i + d] = static_cast<float>(m[d] * scale);
+    }
+  }
 }
 
 void RotateNodalNormals(const double* restNormals, const double* rotations, std::int64_t begin,

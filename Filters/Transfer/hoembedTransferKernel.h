@@ -96,6 +96,35 @@ HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, i
   float* out);
 
 /**
+ * Shading normals transformed from the rest surface (fused with the position transfer):
+ * the deformed normal of a material surface element is cof(F) n0 (Nanson), F = J' J0^-1
+ * the deformation gradient at p, and cof(F) n0 = cof(J') (J0^T n0) / det J0 with J0, J'
+ * = d x / d(r, s, t) of the rest and the deformed cell at p. The rest factor is constant
+ * per vertex: ComputeNormalCovectors stores m = J0^T n0 / det J0, normalised, 3 floats
+ * per vertex (zero where n0 or det J0 is zero), once per rest state; a frame then needs
+ * only J' at p (from the cell map coefficients it already reads) and m:
+ * n' = normalise(m_r (J'_s x J'_t) + m_s (J'_t x J'_r) + m_t (J'_r x J'_s)).
+ * At rest this gives n0 and under a rigid motion R n0, to round-off.
+ */
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeNormalCovectors(const TransferEntry* plan,
+  int nodesPerCell, const double* restCellCoeffs, const float* restNormals, std::int64_t begin,
+  std::int64_t end, float* covectors);
+
+/**
+ * EvaluateTransfer that also writes the transformed shading normals of entries
+ * [begin, end) into `normals` (3 floats per vertex; (0, 0, 0) where the covector is zero
+ * or the deformed cofactor maps it to zero). The positions are those of EvaluateTransfer,
+ * bit for bit.
+ */
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors, std::int64_t begin,
+  std::int64_t end, double* out, float* normals);
+/// The same, writing single precision positions.
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors, std::int64_t begin,
+  std::int64_t end, float* out, float* normals);
+
+/**
  * Deformed positions of the fallback vertices (vtkEmbeddingCoordinatesFilter's
  * EmbeddingFallback: no normal offset, v = p + J q at rest): for k in [begin, end),
  * i = vertices[k], out[3 i..3 i+2] = x'(pc) + J'(pc) q_k with x' the cell map of plan

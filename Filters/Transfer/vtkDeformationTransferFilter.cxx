@@ -18,6 +18,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
@@ -103,8 +104,11 @@ struct vtkDeformationTransferFilter::Internals
   // polygon key: the surface's polygon cell array and its MTime
   vtkCellArray* PolysKey = nullptr;
   vtkMTimeType PolysMTime = 0;
+  // rest surface normals key (TRANSFORM_POINT_NORMALS): the points object and its MTime
+  vtkPoints* RestKey = nullptr;
+  vtkMTimeType RestMTime = 0;
   // buffers for arrays that are not vtkDoubleArray
-  std::vector<double> Points, Displacements, Rotations, CellIds, PCoords, Distances, Faces, Fallback;
+  std::vector<double> RestPoints, Points, Displacements, Rotations, CellIds, PCoords, Distances, Faces, Fallback;
 };
 
 //------------------------------------------------------------------------------
@@ -220,12 +224,21 @@ int vtkDeformationTransferFilter::RequestData(
   }
   this->UpdateProgress(0.3);
   vtkNew<vtkPoints> newPoints;
-  if (!this->TransferPoints(surface, mesh, newPoints))
+  vtkSmartPointer<vtkFloatArray> normals;
+  if (this->ComputePointNormals)
+  {
+    this->PreparePolygons(surface);
+    normals = vtkSmartPointer<vtkFloatArray>::New();
+    normals->SetName("Normals");
+    normals->SetNumberOfComponents(3);
+    normals->SetNumberOfTuples(surface->GetNumberOfPoints());
+  }
+  if (!this->TransferPoints(surface, mesh, newPoints, normals))
   {
     return 0;
   }
   this->UpdateProgress(0.8);
-  this->WriteOutput(surface, newPoints, output);
+  this->WriteOutput(surface, newPoints, normals, output);
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -341,7 +354,7 @@ bool vtkDeformationTransferFilter::PreparePlan(vtkPolyData* surface, vtkUnstruct
 
 //------------------------------------------------------------------------------
 bool vtkDeformationTransferFilter::TransferPoints(
-  vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints)
+  vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints, vtkFloatArray* normals)
 {
   Internals& I = *this->Internal;
   const vtkIdType numMeshPoints = mesh->GetNumberOfPoints();
@@ -349,12 +362,33 @@ bool vtkDeformationTransferFilter::TransferPoints(
   frame.Points = ContiguousDoubles(mesh->GetPoints()->GetData(), numMeshPoints, I.Points);
   frame.Normals = static_cast<hoembed::TransferNormals>(this->NormalMode);
   frame.CountInverted = this->CheckInvertedElements;
+  if (normals)
+  {
+    frame.PointNormals = normals->GetPointer(0);
+    frame.PointNormalsMode = static_cast<hoembed::TransferPointNormals>(this->PointNormalsMode);
+    vtkPoints* rest = surface->GetPoints();
+    if (frame.PointNormalsMode == hoembed::TransferPointNormals::Transform && rest &&
+      (!I.Driver.HasRestSurfaceNormals() || rest != I.RestKey || rest->GetMTime() != I.RestMTime))
+    {
+      if (rest->GetDataType() == VTK_FLOAT)
+      {
+        I.Driver.SetRestSurfacePoints(static_cast<const float*>(rest->GetVoidPointer(0)));
+      }
+      else
+      {
+        I.Driver.SetRestSurfacePoints(
+          ContiguousDoubles(rest->GetData(), rest->GetNumberOfPoints(), I.RestPoints));
+      }
+      I.RestKey = rest;
+      I.RestMTime = rest->GetMTime();
+    }
+  }
   vtkPointData* pd = mesh->GetPointData();
   vtkDataArray* disp = pd->GetArray(hoembed::ArrayNames::Displacement);
   vtkDataArray* rot = pd->GetArray(hoembed::ArrayNames::NodalRotation);
   bool useDisp = false, useRot = false;
-  hoembed::TransferDriver::FrameArraysUsed(
-    frame.Normals, numMeshPoints, Shape(disp), Shape(rot), useDisp, useRot);
+  hoembed::TransferDriver::FrameArraysUsed(frame.Normals, frame.PointNormalsMode, numMeshPoints,
+    Shape(disp), Shape(rot), useDisp, useRot);
   frame.Displacements = useDisp ? ContiguousDoubles(disp, numMeshPoints, I.Displacements) : nullptr;
   frame.Rotations = useRot ? ContiguousDoubles(rot, numMeshPoints, I.Rotations) : nullptr;
   int precision = VTK_DOUBLE;
@@ -386,9 +420,8 @@ bool vtkDeformationTransferFilter::TransferPoints(
 
 //------------------------------------------------------------------------------
 void vtkDeformationTransferFilter::WriteOutput(
-  vtkPolyData* surface, vtkPoints* newPoints, vtkPolyData* output)
+  vtkPolyData* surface, vtkPoints* newPoints, vtkFloatArray* normals, vtkPolyData* output)
 {
-  Internals& I = *this->Internal;
   output->CopyStructure(surface);
   output->SetPoints(newPoints);
   output->GetPointData()->ShallowCopy(surface->GetPointData());
@@ -415,10 +448,17 @@ void vtkDeformationTransferFilter::WriteOutput(
     output->GetCellData()->RemoveArray(stale->GetName());
     output->GetCellData()->SetNormals(nullptr);
   }
-  if (!this->ComputePointNormals)
+  if (normals)
   {
-    return;
+    output->GetPointData()->SetNormals(normals);
   }
+}
+
+// The driver's polygons (for the point normals), rebuilt when the surface's polygon
+// array changed.
+void vtkDeformationTransferFilter::PreparePolygons(vtkPolyData* surface)
+{
+  Internals& I = *this->Internal;
   const vtkIdType numVerts = surface->GetNumberOfPoints();
   vtkCellArray* polys = surface->GetPolys();
   if (polys != I.PolysKey || (polys && polys->GetMTime() != I.PolysMTime))
@@ -440,19 +480,6 @@ void vtkDeformationTransferFilter::WriteOutput(
     I.PolysKey = polys;
     I.PolysMTime = polys ? polys->GetMTime() : 0;
   }
-  vtkNew<vtkFloatArray> normals;
-  normals->SetName("Normals");
-  normals->SetNumberOfComponents(3);
-  normals->SetNumberOfTuples(numVerts);
-  if (newPoints->GetDataType() == VTK_DOUBLE)
-  {
-    I.Driver.ComputeVertexNormals(static_cast<const double*>(newPoints->GetVoidPointer(0)), normals->GetPointer(0));
-  }
-  else
-  {
-    I.Driver.ComputeVertexNormals(static_cast<const float*>(newPoints->GetVoidPointer(0)), normals->GetPointer(0));
-  }
-  output->GetPointData()->SetNormals(normals);
 }
 
 //------------------------------------------------------------------------------
@@ -465,6 +492,10 @@ void vtkDeformationTransferFilter::PrintSelf(ostream& os, vtkIndent indent)
             : (this->NormalMode == DEFORM_NORMALS ? "DEFORM_NORMALS" : "RECOMPUTE_NORMALS"))
      << "\n";
   os << indent << "ComputePointNormals: " << (this->ComputePointNormals ? "On" : "Off") << "\n";
+  os << indent << "PointNormalsMode: "
+     << (this->PointNormalsMode == TRANSFORM_POINT_NORMALS ? "TRANSFORM_POINT_NORMALS"
+                                                          : "RECOMPUTE_POINT_NORMALS")
+     << "\n";
   os << indent << "CheckInvertedElements: " << (this->CheckInvertedElements ? "On" : "Off")
      << "\n";
   os << indent << "FaceTolerance: " << this->FaceTolerance << "\n";

@@ -55,8 +55,19 @@
  *   (they have no normal offset; at rest this rebuilds v to round-off, and a rigid motion
  *   moves them rigidly).
  * - barycentric method: v' = p'.
- * - with ComputePointNormals on, area-weighted vertex normals of the output polygons
- *   (float array `Normals`, the active point normals) for rendering.
+ * - with ComputePointNormals on, unit vertex normals (float array `Normals`, the active
+ *   point normals) for rendering, as PointNormalsMode says:
+ *   - RECOMPUTE_POINT_NORMALS (default): area-weighted normals of the output polygons;
+ *   - TRANSFORM_POINT_NORMALS: the rest surface's area-weighted normals n0 (from port 0's
+ *     points, computed once) carried by the deformation at each vertex's p: cof(F) n0,
+ *     F the deformation gradient of the cell map at p (Nanson's formula for a material
+ *     surface element), computed in the same per-vertex pass as the positions, with no
+ *     pass over the polygons. Equal to the recomputed normals at rest and under a rigid
+ *     motion to float round-off; under a deformation they differ by what the map does
+ *     between p and v (the offset d n' is not differentiated) and by the discretisation
+ *     of the recomputed ones (Benchmarks/RESULTS.md, live loop). Needs `Displacement`
+ *     on port 1 (the rest mesh is x - Displacement); without it the filter warns and
+ *     recomputes.
  *
  * Time: the mesh's DATA_TIME_STEP is set on the output; TIME_STEPS / TIME_RANGE of port
  * 1 are announced downstream and a requested UPDATE_TIME_STEP is forwarded to port 1, so
@@ -88,6 +99,7 @@
 
 #include <memory> // for std::unique_ptr
 
+class vtkFloatArray;
 class vtkPoints;
 class vtkUnstructuredGrid;
 
@@ -124,6 +136,24 @@ public:
   vtkSetMacro(ComputePointNormals, bool);
   vtkGetMacro(ComputePointNormals, bool);
   vtkBooleanMacro(ComputePointNormals, bool);
+  ///@}
+
+  enum PointNormalsModes
+  {
+    RECOMPUTE_POINT_NORMALS = 0,
+    TRANSFORM_POINT_NORMALS = 1
+  };
+
+  ///@{
+  /**
+   * How the output point normals (ComputePointNormals) are obtained:
+   * RECOMPUTE_POINT_NORMALS (default) from the deformed polygons, TRANSFORM_POINT_NORMALS
+   * from the rest normals carried by the deformation gradient (needs `Displacement`).
+   */
+  vtkSetClampMacro(PointNormalsMode, int, RECOMPUTE_POINT_NORMALS, TRANSFORM_POINT_NORMALS);
+  vtkGetMacro(PointNormalsMode, int);
+  void SetPointNormalsModeToRecompute() { this->SetPointNormalsMode(RECOMPUTE_POINT_NORMALS); }
+  void SetPointNormalsModeToTransform() { this->SetPointNormalsMode(TRANSFORM_POINT_NORMALS); }
   ///@}
 
   ///@{
@@ -174,6 +204,7 @@ protected:
 
   int NormalMode = RECOMPUTE_NORMALS;
   bool ComputePointNormals = false;
+  int PointNormalsMode = RECOMPUTE_POINT_NORMALS;
   bool CheckInvertedElements = true;
   double FaceTolerance = 1e-6;
   int OutputPointsPrecision = DEFAULT_PRECISION;
@@ -191,8 +222,11 @@ private:
   // run one frame into `newPoints`, write the output (and its optional normals).
   bool PrepareMesh(vtkUnstructuredGrid* mesh);
   bool PreparePlan(vtkPolyData* surface, vtkUnstructuredGrid* mesh);
-  bool TransferPoints(vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints);
-  void WriteOutput(vtkPolyData* surface, vtkPoints* newPoints, vtkPolyData* output);
+  void PreparePolygons(vtkPolyData* surface);
+  bool TransferPoints(vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints,
+    vtkFloatArray* normals);
+  void WriteOutput(vtkPolyData* surface, vtkPoints* newPoints, vtkFloatArray* normals,
+    vtkPolyData* output);
 
   struct Internals;
   std::unique_ptr<Internals> Internal;
