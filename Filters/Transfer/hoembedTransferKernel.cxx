@@ -1,4 +1,5 @@
 #include "hoembedTransferKernel.h"
+#include "hoembedTransferKernelBlock.h"
 
 #include "hoembedElementGeometry.h"
 #include "hoembedQuadraticMap.h"
@@ -6,9 +7,6 @@
 
 #include <cmath>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace hoembed
 {
@@ -109,16 +107,6 @@ std::int32_t DeduceBoundaryFace(
 
 namespace
 {
-// Barycentric coordinate of the face corners (a, b, c) as indices into L = (L0, r, s, t).
-struct FaceCorners
-{
-  int A, B, C;
-};
-const FaceCorners kFaceCorners[4] = { { TetFaceNodes[0][0], TetFaceNodes[0][1], TetFaceNodes[0][2] },
-  { TetFaceNodes[1][0], TetFaceNodes[1][1], TetFaceNodes[1][2] },
-  { TetFaceNodes[2][0], TetFaceNodes[2][1], TetFaceNodes[2][2] },
-  { TetFaceNodes[3][0], TetFaceNodes[3][1], TetFaceNodes[3][2] } };
-
 // p' of one entry from its cell's map coefficients.
 inline void MapPoint(const TransferEntry& e, bool quadratic, const double* cellCoeffs, double x[3])
 {
@@ -145,61 +133,101 @@ inline void MapPoint(const TransferEntry& e, bool quadratic, const double* cellC
   }
 }
 
-// scale = w / sqrt(len2) (0 where len2 = 0), two entries at a time with SSE2.
-inline void OffsetScales(const double* len2, const double* w, double* scale, int m)
-{
-  int j = 0;
-#if defined(__SSE2__)
-  const __m128d zero = _mm_setzero_pd();
-  const __m128d one = _mm_set1_pd(1.0);
-  for (; j + 1 < m; j += 2)
-  {
-    const __m128d l = _mm_loadu_pd(len2 + j);
-    const __m128d positive = _mm_cmpgt_pd(l, zero);
-    const __m128d safe = _mm_or_pd(_mm_and_pd(positive, l), _mm_andnot_pd(positive, one));
-    const __m128d q = _mm_div_pd(_mm_loadu_pd(w + j), _mm_sqrt_pd(safe));
-    _mm_storeu_pd(scale + j, _mm_and_pd(positive, q));
-  }
-#endif
-  for (; j < m; ++j)
-  {
-    scale[j] = len2[j] > 0.0 ? w[j] / std::sqrt(len2[j]) : 0.0;
-  }
-}
+// The per-vertex arithmetic of the block kernel (hoembedTransferKernelBlock.h), plain C++.
+using transfer_detail::CofactorTimes;
+using transfer_detail::MapJacobian;
 
-// The columns a = dx/dr, b = dx/ds, c = dx/dt of a cell map at (r, s, t) from its
-// monomial coefficients (the header's layout; Q_ii / 2 is stored, hence the 2).
-inline void MapJacobian(const double* k, bool quadratic, double r, double s, double t,
-  double a[3], double b[3], double c[3])
+struct ScalarOps
 {
-  for (int d = 0; d < 3; ++d)
+  static void Map(const double* k, bool quadratic, double r, double s, double t, double x[3])
   {
-    a[d] = k[3 + d];
-    b[d] = k[6 + d];
-    c[d] = k[9 + d];
     if (quadratic)
     {
-      a[d] += (2.0 * k[12 + d] * r + k[21 + d] * s) + k[24 + d] * t;
-      b[d] += (2.0 * k[15 + d] * s + k[21 + d] * r) + k[27 + d] * t;
-      c[d] += (2.0 * k[18 + d] * t + k[24 + d] * r) + k[27 + d] * s;
+      const double rr = r * r, ss = s * s, tt = t * t, rs = r * s, rt = r * t, st = s * t;
+      for (int d = 0; d < 3; ++d)
+      {
+        // Summed as a tree: short dependency chains.
+        x[d] = ((k[d] + k[3 + d] * r) + (k[6 + d] * s + k[9 + d] * t)) +
+          ((k[12 + d] * rr + k[15 + d] * ss) + (k[18 + d] * tt + k[21 + d] * rs)) +
+          (k[24 + d] * rt + k[27 + d] * st);
+      }
+    }
+    else
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        x[d] = (k[d] + k[3 + d] * r) + (k[6 + d] * s + k[9 + d] * t);
+      }
     }
   }
+  static void Field(const double* a, bool quadratic, double S, double lb, double lc, double n[3])
+  {
+    if (quadratic)
+    {
+      const double SS = S * S, Sb = S * lb, Sc = S * lc, bb = lb * lb, cc = lc * lc;
+      const double bc = lb * lc;
+      for (int d = 0; d < 3; ++d)
+      {
+        n[d] = ((a[d] * SS + a[3 + d] * Sb) + (a[6 + d] * Sc + a[9 + d] * bb)) +
+          (a[12 + d] * cc + a[15 + d] * bc);
+      }
+    }
+    else
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        n[d] = a[d] * S + (a[3 + d] * lb + a[6 + d] * lc);
+      }
+    }
+  }
+  static void Cofactor(const double* k, bool quadratic, double r, double s, double t,
+    const double m[3], double n[3])
+  {
+    double ja[3], jb[3], jc[3];
+    MapJacobian(k, quadratic, r, s, t, ja, jb, jc);
+    CofactorTimes(ja, jb, jc, m, n);
+  }
+};
+} // namespace
+
+namespace transfer_detail
+{
+// hoembedTransferKernelAvx2.cxx: the same block kernel with AVX2 per-vertex arithmetic
+// (the same operations in the same order: the same bits).
+void EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
+  double* out, float* normals);
+void EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
+  float* out, float* normals);
+} // namespace transfer_detail
+
+namespace
+{
+int SimdSetting = -1; // -1: decide from the CPU; 0: plain; 1: AVX2
+
+bool UseAvx2()
+{
+#if defined(HOEMBED_TRANSFER_AVX2)
+  if (SimdSetting < 0)
+  {
+    __builtin_cpu_init();
+    SimdSetting = __builtin_cpu_supports("avx2") ? 1 : 0;
+  }
+  return SimdSetting == 1;
+#else
+  return false;
+#endif
 }
 
-// cof(J) m = m0 (b x c) + m1 (c x a) + m2 (a x b) for J = [a b c].
-inline void CofactorTimes(const double a[3], const double b[3], const double c[3],
-  const double m[3], double n[3])
+bool Avx2Available()
 {
-  const double bc[3] = { b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
-    b[0] * c[1] - b[1] * c[0] };
-  const double ca[3] = { c[1] * a[2] - c[2] * a[1], c[2] * a[0] - c[0] * a[2],
-    c[0] * a[1] - c[1] * a[0] };
-  const double ab[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-    a[0] * b[1] - a[1] * b[0] };
-  for (int d = 0; d < 3; ++d)
-  {
-    n[d] = (m[0] * bc[d] + m[1] * ca[d]) + m[2] * ab[d];
-  }
+#if defined(HOEMBED_TRANSFER_AVX2)
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
 }
 
 template <typename T>
@@ -207,109 +235,14 @@ void EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end, T* out,
   float* normals)
 {
-  // Blocks of vertices in short passes (positions; normals; scales; sums) rather than one
-  // long dependency chain per vertex: the out-of-order core overlaps many vertices, and
-  // the square roots and divisions run two at a time.
-  //
-  // The face coordinates are u = lb / S, v = lc / S with lb, lc, S = la + lb + lc the
-  // barycentric coordinates of the face's corners (S = 1 on the face). The normal field
-  // is a polynomial of degree q (2 for tri6, 1 for tri3) in (u, v); it is evaluated as
-  // S^q n(u, v), a homogeneous polynomial in (S, lb, lc): no division, and the factor
-  // S^q > 0 disappears in the normalisation.
-  constexpr int kBlock = 64;
-  const bool quadratic = nodesPerCell == 10;
-  const int fsize = quadratic ? 18 : 9;
-  double x[3 * kBlock], n[3 * kBlock], w[kBlock], len2[kBlock], scale[kBlock];
-  for (std::int64_t b = begin; b < end; b += kBlock)
+  if (UseAvx2())
   {
-    const int m = static_cast<int>(end - b < kBlock ? end - b : kBlock);
-    const TransferEntry* e = plan + b;
-    for (int j = 0; j < m; ++j)
-    {
-      MapPoint(e[j], quadratic, cellCoeffs, x + 3 * j);
-    }
-    int offsets = 0;
-    for (int j = 0; faceCoeffs && j < m; ++j)
-    {
-      double* nj = n + 3 * j;
-      const bool has = e[j].Face >= 0 && e[j].Distance != 0.0;
-      w[j] = has ? e[j].Distance : 0.0;
-      if (!has)
-      {
-        nj[0] = nj[1] = nj[2] = 0.0;
-        len2[j] = 0.0;
-        continue;
-      }
-      ++offsets;
-      const double r = e[j].PC[0], s = e[j].PC[1], t = e[j].PC[2];
-      const double L[4] = { 1.0 - r - s - t, r, s, t };
-      const FaceCorners& fc = kFaceCorners[e[j].Face & 3];
-      const double lb = L[fc.B], lc = L[fc.C];
-      double S = L[fc.A] + lb + lc;
-      S = S > 0.0 ? S : 1.0;
-      const double* a = faceCoeffs + fsize * static_cast<std::int64_t>(e[j].Face >> 2);
-      if (quadratic)
-      {
-        const double SS = S * S, Sb = S * lb, Sc = S * lc, bb = lb * lb, cc = lc * lc;
-        const double bc = lb * lc;
-        for (int d = 0; d < 3; ++d)
-        {
-          nj[d] = ((a[d] * SS + a[3 + d] * Sb) + (a[6 + d] * Sc + a[9 + d] * bb)) +
-            (a[12 + d] * cc + a[15 + d] * bc);
-        }
-      }
-      else
-      {
-        for (int d = 0; d < 3; ++d)
-        {
-          nj[d] = a[d] * S + (a[3 + d] * lb + a[6 + d] * lc);
-        }
-      }
-      len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
-    }
-    if (offsets > 0)
-    {
-      OffsetScales(len2, w, scale, m);
-      for (int j = 0; j < m; ++j)
-      {
-        x[3 * j] += scale[j] * n[3 * j];
-        x[3 * j + 1] += scale[j] * n[3 * j + 1];
-        x[3 * j + 2] += scale[j] * n[3 * j + 2];
-      }
-    }
-    T* o = out + 3 * b;
-    for (int j = 0; j < 3 * m; ++j)
-    {
-      o[j] = static_cast<T>(x[j]);
-    }
-    if (!normals)
-    {
-      continue;
-    }
-    // Shading normals: cof(J'(p)) m, normalised (the cell's coefficients are still in
-    // cache from the position pass). The n and len2 buffers are free again.
-    const float* cv = covectors + 3 * b;
-    const int csize = quadratic ? 30 : 12;
-    for (int j = 0; j < m; ++j)
-    {
-      const double* k = cellCoeffs + csize * static_cast<std::int64_t>(e[j].Cell);
-      double ja[3], jb[3], jc[3];
-      MapJacobian(k, quadratic, e[j].PC[0], e[j].PC[1], e[j].PC[2], ja, jb, jc);
-      const double mv[3] = { cv[3 * j], cv[3 * j + 1], cv[3 * j + 2] };
-      double* nj = n + 3 * j;
-      CofactorTimes(ja, jb, jc, mv, nj);
-      len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
-      w[j] = 1.0;
-    }
-    OffsetScales(len2, w, scale, m);
-    float* no = normals + 3 * b;
-    for (int j = 0; j < m; ++j)
-    {
-      no[3 * j] = static_cast<float>(n[3 * j] * scale[j]);
-      no[3 * j + 1] = static_cast<float>(n[3 * j + 1] * scale[j]);
-      no[3 * j + 2] = static_cast<float>(n[3 * j + 2] * scale[j]);
-    }
+    transfer_detail::EvaluateTransferAvx2(
+      plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+    return;
   }
+  transfer_detail::EvaluateBlocks<ScalarOps>(
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
 }
 
 template <typename T>
@@ -343,6 +276,12 @@ void EvaluateFallbackTransferT(const TransferEntry* plan, int nodesPerCell,
   }
 }
 } // namespace
+
+bool SetTransferKernelSimd(int mode)
+{
+  SimdSetting = mode < 0 ? -1 : (mode > 0 && Avx2Available() ? 1 : 0);
+  return UseAvx2();
+}
 
 void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell,
   const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,

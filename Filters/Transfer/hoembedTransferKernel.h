@@ -125,6 +125,13 @@ HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, i
   std::int64_t end, float* out, float* normals);
 
 /**
+ * Which code EvaluateTransfer runs: 1 its AVX2 copy (where the build has it and the CPU
+ * has AVX2), 0 the plain one, -1 (default) decided from the CPU. Both give the same bits;
+ * this is for the tests that check so and for timings. Returns whether AVX2 is now used.
+ */
+HOEMBEDFILTERSTRANSFER_EXPORT bool SetTransferKernelSimd(int mode);
+
+/**
  * Deformed positions of the fallback vertices (vtkEmbeddingCoordinatesFilter's
  * EmbeddingFallback: no normal offset, v = p + J q at rest): for k in [begin, end),
  * i = vertices[k], out[3 i..3 i+2] = x'(pc) + J'(pc) q_k with x' the cell map of plan

@@ -187,6 +187,24 @@ void TestKernel(int order)
       order == 2 ? 10 : 4, i, len);
   }
   HOEMBED_CHECK(out == plain, "kernel tet%d: positions differ with normals on", order == 2 ? 10 : 4);
+  // the AVX2 copy of the kernel (where the CPU has it) against the plain one: same bits
+  if (hoembed::SetTransferKernelSimd(0) == false)
+  {
+    std::vector<double> out0(3 * n);
+    std::vector<float> normals0(3 * n);
+    hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), 0, n,
+      out0.data(), normals0.data());
+    const bool simd = hoembed::SetTransferKernelSimd(1);
+    std::vector<double> out1(3 * n);
+    std::vector<float> normals1(3 * n);
+    hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), 0, n,
+      out1.data(), normals1.data());
+    hoembed::SetTransferKernelSimd(-1);
+    HOEMBED_CHECK(out0 == out1 && normals0 == normals1,
+      "kernel tet%d: the AVX2 kernel's bits differ from the plain one's", order == 2 ? 10 : 4);
+    std::printf("kernel tet%d: AVX2 copy %s\n", order == 2 ? 10 : 4,
+      simd ? "compared bitwise with the plain one" : "not available here");
+  }
   HOEMBED_CHECK(worst < 1e-4, "kernel tet%d: cof(F) n0 off VTK's by %g degrees",
     order == 2 ? 10 : 4, worst);
   std::printf("kernel tet%d: cof(F) n0 against VTK's derivatives: worst %.3g degrees\n",
@@ -320,8 +338,21 @@ void TestFilter(int order)
   vtkSmartPointer<vtkPolyData> restNormals; // the recomputed normals at rest
   for (const Frame& fr : frames)
   {
+    // both kernels (AVX2 where the CPU has it, and the plain one): the same bits, and
+    // offset vertices (normal fields) among them
+    hoembed::SetTransferKernelSimd(0);
+    auto plainFast = run(fast, fr.Mesh);
+    hoembed::SetTransferKernelSimd(-1);
     auto a = run(fast, fr.Mesh);
     auto b = run(slow, fr.Mesh);
+    {
+      auto* n0 = vtkFloatArray::SafeDownCast(plainFast->GetPointData()->GetNormals());
+      auto* n1 = vtkFloatArray::SafeDownCast(a->GetPointData()->GetNormals());
+      HOEMBED_CHECK(SamePoints(plainFast, a) && n0 && n1 &&
+          std::memcmp(n0->GetPointer(0), n1->GetPointer(0),
+            sizeof(float) * 3 * n0->GetNumberOfTuples()) == 0,
+        "tet%d %s: the AVX2 and the plain kernel differ", tet, fr.Name);
+    }
     HOEMBED_CHECK(SamePoints(a, b), "tet%d %s: positions differ between the point normal modes",
       tet, fr.Name);
     const AngleStats s = Angles(a, b);
