@@ -172,7 +172,8 @@ void TestKernel(int order)
     for (int r = 0; r < 3; ++r)
       expect[3 * i + r] = Finv[0][r] * nf[0] + Finv[1][r] * nf[1] + Finv[2][r] * nf[2];
   }
-  hoembed::ComputeNormalCovectors(plan.data(), npc, restCoeffs.data(), n0.data(), 0, n, cov.data());
+  hoembed::ComputeNormalCovectors(
+    plan.data(), npc, restCoeffs.data(), nullptr, n0.data(), 0, n, cov.data());
   std::vector<double> out(3 * n), plain(3 * n);
   hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), 0, n, out.data(),
     normals.data());
