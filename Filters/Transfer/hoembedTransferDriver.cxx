@@ -8,7 +8,9 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <sstream>
+#include <utility>
 
 namespace hoembed
 {
@@ -413,6 +415,8 @@ std::string TransferDriver::EvaluatePoints(
   const std::int64_t numVerts = this->GetNumberOfVertices();
   float* normals = frame.PointNormals;
   bool transform = normals && frame.PointNormalsMode == TransferPointNormals::Transform;
+  std::vector<std::pair<std::int64_t, std::int64_t>> foldedVertices; // ranges holding some
+  this->FoldedNormals = 0;
   if (transform && !(this->RestSurfaceValid && frame.Displacements))
   {
     warnings.push_back(std::string("PointNormalsMode is TRANSFORM but ") +
@@ -466,9 +470,16 @@ std::string TransferDriver::EvaluatePoints(
       this->CovSurface = this->RestSurfaceStamp;
     }
     const float* cov = this->Covectors.data();
+    std::mutex mutex;
+    std::vector<std::pair<std::int64_t, std::int64_t>> foldedRanges;
     this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
-      EvaluateTransfer(plan, npc, cc, fc, cov, b, e, out, normals);
+      if (EvaluateTransfer(plan, npc, cc, fc, cov, b, e, out, normals) > 0)
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        foldedRanges.emplace_back(b, e);
+      }
     });
+    foldedVertices = std::move(foldedRanges);
   }
   else
   {
@@ -481,6 +492,31 @@ std::string TransferDriver::EvaluatePoints(
   if (normals && !transform)
   {
     this->VertexNormals(static_cast<const T*>(out), normals);
+  }
+  // Transformed normals the kernel left (NaN: the map folds there) are recomputed from the
+  // polygons around the vertex, as RECOMPUTE does (same terms, same order, same bits).
+  const std::int64_t* po = this->PolyOffsets.data();
+  const std::int64_t* pc = this->PolyConn.data();
+  const std::int64_t* io = this->IncOffsets.data();
+  const bool narrow = this->IncPolys.empty();
+  for (const auto& range : foldedVertices)
+  {
+    for (std::int64_t i = range.first; i < range.second; ++i)
+    {
+      if (!std::isnan(normals[3 * i]))
+      {
+        continue;
+      }
+      ++this->FoldedNormals;
+      if (narrow)
+      {
+        ComputeVertexNormal(po, pc, static_cast<const T*>(out), io, this->IncPolys32.data(), i, normals);
+      }
+      else
+      {
+        ComputeVertexNormal(po, pc, static_cast<const T*>(out), io, this->IncPolys.data(), i, normals);
+      }
+    }
   }
   return std::string();
 }

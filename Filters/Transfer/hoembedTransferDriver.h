@@ -191,6 +191,9 @@ public:
   void SetRestSurfacePoints(const double* points);
   void SetRestSurfacePoints(const float* points);
   bool HasRestSurfaceNormals() const { return this->RestSurfaceValid; }
+  /// Transform mode: the vertices of the last frame whose normal was recomputed from the
+  /// polygons because the map folds there (det of the map's gradient <= 0).
+  std::int64_t GetNumberOfFoldedNormals() const { return this->FoldedNormals; }
 
 private:
   void For(std::int64_t n, std::int64_t grain, const std::function<void(std::int64_t, std::int64_t)>& body) const;
@@ -231,6 +234,7 @@ private:
   bool RestSurfaceValid = false;
   std::int64_t PlanStamp = 0, RestSurfaceStamp = 0;
   std::int64_t CovRest = -1, CovPlan = -1, CovSurface = -1;
+  std::int64_t FoldedNormals = 0;
   std::int64_t InvertedCells = 0;
   // step 4
   std::vector<std::int64_t> PolyOffsets, PolyConn, IncOffsets, IncPolys;

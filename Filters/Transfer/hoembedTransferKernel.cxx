@@ -180,12 +180,12 @@ struct ScalarOps
       }
     }
   }
-  static void Cofactor(const double* k, bool quadratic, double r, double s, double t,
+  static double Cofactor(const double* k, bool quadratic, double r, double s, double t,
     const double m[3], double n[3])
   {
     double ja[3], jb[3], jc[3];
     MapJacobian(k, quadratic, r, s, t, ja, jb, jc);
-    CofactorTimes(ja, jb, jc, m, n);
+    return transfer_detail::CofactorDet(ja, jb, jc, m, n);
   }
 };
 } // namespace
@@ -194,10 +194,10 @@ namespace transfer_detail
 {
 // hoembedTransferKernelAvx2.cxx: the same block kernel with AVX2 per-vertex arithmetic
 // (the same operations in the same order: the same bits).
-void EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
   double* out, float* normals);
-void EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
   float* out, float* normals);
 } // namespace transfer_detail
@@ -231,17 +231,16 @@ bool Avx2Available()
 }
 
 template <typename T>
-void EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end, T* out,
   float* normals)
 {
   if (UseAvx2())
   {
-    transfer_detail::EvaluateTransferAvx2(
+    return transfer_detail::EvaluateTransferAvx2(
       plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
-    return;
   }
-  transfer_detail::EvaluateBlocks<ScalarOps>(
+  return transfer_detail::EvaluateBlocks<ScalarOps>(
     plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
 }
 
@@ -311,18 +310,18 @@ void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double*
     static_cast<float*>(nullptr));
 }
 
-void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
   double* out, float* normals)
 {
-  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+  return EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
 }
 
-void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
   float* out, float* normals)
 {
-  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+  return EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
 }
 
 void ComputeNormalCovectors(const TransferEntry* plan, int nodesPerCell,

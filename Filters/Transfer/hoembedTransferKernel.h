@@ -121,13 +121,15 @@ HOEMBEDFILTERSTRANSFER_EXPORT void ComputeNormalCovectors(const TransferEntry* p
  * [begin, end) into `normals` (3 floats per vertex; (0, 0, 0) where the covector is zero
  * or the deformed cofactor maps it to zero). The positions are those of EvaluateTransfer,
  * bit for bit. `faceCoeffs` must be the frame's normal fields when the covectors were
- * made with rest normal fields (offset vertices), else null.
+ * made with rest normal fields (offset vertices), else null. Where det D' <= 0 (the map
+ * folds there: an inverted cell; cof(D') would turn the normal inside out) the normal is
+ * left NaN for the caller to recompute from the polygons; returns how many.
  */
-HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
   const double* cellCoeffs, const double* faceCoeffs, const float* covectors, std::int64_t begin,
   std::int64_t end, double* out, float* normals);
 /// The same, writing single precision positions.
-HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
+HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
   const double* cellCoeffs, const double* faceCoeffs, const float* covectors, std::int64_t begin,
   std::int64_t end, float* out, float* normals);
 

@@ -84,7 +84,7 @@ struct Avx2Ops
     }
     _mm256_storeu_pd(n, v);
   }
-  static void Cofactor(const double* k, bool quadratic, double r, double s, double t,
+  static double Cofactor(const double* k, bool quadratic, double r, double s, double t,
     const double m[3], double n[3])
   {
     __m256d ja = _mm256_loadu_pd(k + 3), jb = _mm256_loadu_pd(k + 6), jc;
@@ -103,26 +103,30 @@ struct Avx2Ops
     {
       jc = Load3(k + 9);
     }
-    const __m256d v = Add(Add(Mul(Cross(jb, jc), m[0]), Mul(Cross(jc, ja), m[1])),
-      Mul(Cross(ja, jb), m[2]));
+    const __m256d bc = Cross(jb, jc);
+    const __m256d v = Add(Add(Mul(bc, m[0]), Mul(Cross(jc, ja), m[1])), Mul(Cross(ja, jb), m[2]));
     _mm256_storeu_pd(n, v);
+    double a4[4], bc4[4];
+    _mm256_storeu_pd(a4, ja);
+    _mm256_storeu_pd(bc4, bc);
+    return Det(a4, bc4);
   }
 };
 } // namespace
 
-void EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
   double* out, float* normals)
 {
-  EvaluateBlocks<Avx2Ops>(
+  return EvaluateBlocks<Avx2Ops>(
     plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
 }
 
-void EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
   float* out, float* normals)
 {
-  EvaluateBlocks<Avx2Ops>(
+  return EvaluateBlocks<Avx2Ops>(
     plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
 }
 } // namespace transfer_detail

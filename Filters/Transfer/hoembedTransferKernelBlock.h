@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -137,8 +138,24 @@ inline bool OffsetMapGradient(const double* k, const double* a, bool quadratic, 
   return true;
 }
 
+// det [a b c] = a . (b x c), bc = b x c given (the sign decides; one order for all Ops).
+inline double Det(const double a[3], const double bc[3])
+{
+  return (a[0] * bc[0] + a[1] * bc[1]) + a[2] * bc[2];
+}
+
+// cof([a b c]) m into n; returns det [a b c].
+inline double CofactorDet(const double a[3], const double b[3], const double c[3],
+  const double m[3], double n[3])
+{
+  CofactorTimes(a, b, c, m, n);
+  const double bc[3] = { b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
+    b[0] * c[1] - b[1] * c[0] };
+  return Det(a, bc);
+}
+
 template <typename Ops, typename T>
-void EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end, T* out,
   float* normals)
 {
@@ -158,6 +175,7 @@ void EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const double* c
   const int csize = quadratic ? 30 : 12;
   const int fsize = quadratic ? 18 : 9;
   double x[3 * kBlock + 1], n[3 * kBlock + 1], w[kBlock], len2[kBlock], scale[kBlock];
+  std::int64_t folded = 0;
   for (std::int64_t b = begin; b < end; b += kBlock)
   {
     const int m = static_cast<int>(end - b < kBlock ? end - b : kBlock);
@@ -212,6 +230,7 @@ void EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const double* c
     // Shading normals: cof(J'(p)) m, normalised (the cell's coefficients are still in
     // cache from the position pass). The n and len2 buffers are free again.
     const float* cv = covectors + 3 * b;
+    double det[kBlock];
     for (int j = 0; j < m; ++j)
     {
       const double mv[3] = { cv[3 * j], cv[3 * j + 1], cv[3 * j + 2] };
@@ -224,16 +243,17 @@ void EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const double* c
         const double* a = faceCoeffs + fsize * static_cast<std::int64_t>(e[j].Face >> 2);
         if (OffsetMapGradient(k, a, quadratic, e[j].PC, e[j].Face & 3, e[j].Distance, cu, cvv, cn))
         {
-          CofactorTimes(cu, cvv, cn, mv, nj);
+          det[j] = CofactorDet(cu, cvv, cn, mv, nj);
         }
         else
         {
           nj[0] = nj[1] = nj[2] = 0.0;
+          det[j] = 1.0;
         }
       }
       else
       {
-        Ops::Cofactor(k, quadratic, e[j].PC[0], e[j].PC[1], e[j].PC[2], mv, nj);
+        det[j] = Ops::Cofactor(k, quadratic, e[j].PC[0], e[j].PC[1], e[j].PC[2], mv, nj);
       }
       len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
       w[j] = 1.0;
@@ -245,8 +265,16 @@ void EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const double* c
       no[3 * j] = static_cast<float>(n[3 * j] * scale[j]);
       no[3 * j + 1] = static_cast<float>(n[3 * j + 1] * scale[j]);
       no[3 * j + 2] = static_cast<float>(n[3 * j + 2] * scale[j]);
+      // det D' <= 0: the map folds at p (an inverted cell), and cof(D') turns the normal
+      // inside out; left to the caller (NaN), which recomputes it from the polygons
+      if (!(det[j] > 0.0))
+      {
+        no[3 * j] = no[3 * j + 1] = no[3 * j + 2] = std::numeric_limits<float>::quiet_NaN();
+        ++folded;
+      }
     }
   }
+  return folded;
 }
 } // namespace
 } // namespace transfer_detail

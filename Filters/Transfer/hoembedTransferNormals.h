@@ -50,6 +50,20 @@ HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormals(const std::int64_t* incO
 HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormals(const std::int64_t* incOffsets,
   const std::int32_t* incPolys, const double* polyNormals, std::int64_t begin, std::int64_t end,
   float* normals);
+/// The normal of one vertex (normals[3 vertex ..]) from its incident polygons' Newell
+/// normals computed on the spot: the bits ComputePolygonNormals + ComputeVertexNormals give.
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormal(const std::int64_t* offsets,
+  const std::int64_t* conn, const double* points, const std::int64_t* incOffsets,
+  const std::int32_t* incPolys, std::int64_t vertex, float* normals);
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormal(const std::int64_t* offsets,
+  const std::int64_t* conn, const float* points, const std::int64_t* incOffsets,
+  const std::int32_t* incPolys, std::int64_t vertex, float* normals);
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormal(const std::int64_t* offsets,
+  const std::int64_t* conn, const double* points, const std::int64_t* incOffsets,
+  const std::int64_t* incPolys, std::int64_t vertex, float* normals);
+HOEMBEDFILTERSTRANSFER_EXPORT void ComputeVertexNormal(const std::int64_t* offsets,
+  const std::int64_t* conn, const float* points, const std::int64_t* incOffsets,
+  const std::int64_t* incPolys, std::int64_t vertex, float* normals);
 } // namespace hoembed
 
 #endif

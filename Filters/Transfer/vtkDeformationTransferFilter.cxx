@@ -406,6 +406,7 @@ bool vtkDeformationTransferFilter::TransferPoints(
     precision == VTK_DOUBLE ? static_cast<double*>(out) : nullptr,
     precision == VTK_FLOAT ? static_cast<float*>(out) : nullptr, warnings);
   this->NumberOfInvertedElements = static_cast<vtkIdType>(I.Driver.GetNumberOfInvertedCells());
+  this->NumberOfFoldedPointNormals = static_cast<vtkIdType>(I.Driver.GetNumberOfFoldedNormals());
   for (const std::string& w : warnings)
   {
     vtkWarningMacro(<< w);

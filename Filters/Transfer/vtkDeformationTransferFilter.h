@@ -63,11 +63,13 @@
  *     F the deformation gradient of the cell map at p (Nanson's formula for a material
  *     surface element), computed in the same per-vertex pass as the positions, with no
  *     pass over the polygons. Equal to the recomputed normals at rest and under a rigid
- *     motion to float round-off; under a deformation they differ by what the map does
- *     between p and v (the offset d n' is not differentiated) and by the discretisation
- *     of the recomputed ones (Benchmarks/RESULTS.md, live loop). Needs `Displacement`
- *     on port 1 (the rest mesh is x - Displacement); without it the filter warns and
- *     recomputes.
+ *     motion to float round-off; under a deformation they differ by the discretisation
+ *     of the recomputed ones (Benchmarks/RESULTS.md, live loop). Vertices with an offset
+ *     use the gradient of the normal-offset map p + d n (their own map), the others the
+ *     cell map's. Where that gradient's determinant is <= 0 (the map folds: inverted
+ *     elements) the vertex's normal is recomputed from its polygons instead
+ *     (NumberOfFoldedPointNormals). Needs `Displacement` on port 1 (the rest mesh is
+ *     x - Displacement); without it the filter warns and recomputes.
  *
  * Time: the mesh's DATA_TIME_STEP is set on the output; TIME_STEPS / TIME_RANGE of port
  * 1 are announced downstream and a requested UPDATE_TIME_STEP is forwarded to port 1, so
@@ -185,6 +187,9 @@ public:
   /** Results of the last run: inverted deformed elements, and how often the topology
    * and the per-vertex plan were (re)built since construction (for cache checks). */
   vtkGetMacro(NumberOfInvertedElements, vtkIdType);
+  /// TRANSFORM_POINT_NORMALS: vertices of the last run whose normal came from the polygons
+  /// because the deformation folds there (inverted elements).
+  vtkGetMacro(NumberOfFoldedPointNormals, vtkIdType);
   vtkGetMacro(TopologyBuildCount, int);
   vtkGetMacro(PlanBuildCount, int);
   ///@}
@@ -210,6 +215,7 @@ protected:
   int OutputPointsPrecision = DEFAULT_PRECISION;
 
   vtkIdType NumberOfInvertedElements = 0;
+  vtkIdType NumberOfFoldedPointNormals = 0;
   int TopologyBuildCount = 0;
   int PlanBuildCount = 0;
 
