@@ -9,12 +9,20 @@ to ~1M vertices and embedded in that mesh.
 
 Stages: `step` (vtkCorotationalFEMStepper.Step(1): the solver's rotations, assembly and
 CG solve, reported by the filter, and the rest: loads in, output arrays out),
-`transfer` (vtkDeformationTransferFilter.Update with point normals) and, from a second
-pass of the same frames without point normals, `normals` (the difference). On 1 and 2
-threads (vtkSMPTools), wall and process CPU time (all threads) per frame; median and
-minimum over the frames (the machine is shared: the load average is recorded). Under an
-X display (Xvfb: Mesa's software renderer, not what a GPU does) a third pass times the
-window's whole frame (LiveApp.tick: step + transfer + render).
+`transfer` (vtkDeformationTransferFilter.Update with point normals) and, from a pass of
+the same frames without point normals, `normals` (the difference). The point normals
+are timed both ways the transfer filter offers (PointNormalsMode): `transform` (the rest
+normals carried by cof(F) in the transfer's own pass; frame_ms) and `recompute`
+(area-weighted normals of the deformed triangles). On 1 and 2 threads (vtkSMPTools),
+wall and process CPU time (all threads) per frame; median and minimum over the frames
+(the machine is shared: the load average is recorded). Under an X display (Xvfb: Mesa's
+software renderer, not what a GPU does) a further pass times the window's whole frame
+(LiveApp.tick: step + transfer + render).
+
+Bytes per frame: what each stage must read and write at the least (the plan and the
+output arrays of the transfer, the polygon and incidence arrays of the recomputed
+normals, the factor and the matrix of the step's CG), against the stream bandwidth of
+this machine measured in the same run (a numpy copy of 256 MB: read + write).
 
 Grab and release (--grab-repeats, default 3 per mode): from rest, a grab of the tip, a
 drag of --drag-frames frames, a release and 30 free frames, on 2 threads, alternately
@@ -24,7 +32,8 @@ the median and maximum wall time and the CG iterations, and after how many frame
 grab's own factor was taken.
 
     .venv/bin/python Benchmarks/bench_live.py [--frames 60] [--vertices 1000000]
-        [--grab-repeats 3] [--drag-frames 60] [--passes 1,2]
+        [--grab-repeats 3] [--drag-frames 60] [--passes 1,2] [--point-normals transform]
+        [--float-points]
 
 Writes Benchmarks/results/bench_live.json; the last line printed is one JSON object
 (frame_ms: median step + transfer + normals per frame on 2 threads, rendering excluded).
@@ -160,6 +169,37 @@ def summarise(rows, skip):
     return out
 
 
+def stream_bandwidth(repeats=7):
+    """Bytes per second of a numpy copy of 256 MB (read + write counted), best of
+    `repeats` (one thread: numpy copies serially)."""
+    a = np.ones(32 * 1024 * 1024)
+    b = np.empty_like(a)
+    best = np.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        np.copyto(b, a)
+        best = min(best, time.perf_counter() - t0)
+    return 2 * a.nbytes / best
+
+
+def frame_bytes(fine, point_bytes):
+    """Least bytes moved per frame by the transfer and the two kinds of point normals
+    (every array read or written once; gathers from cache-resident tables not counted)."""
+    nv, nt = int(fine.n_points), int(fine.n_cells)
+    plan = 48  # TransferEntry: pc 24, d 8, cell 4, face 4
+    return {
+        "transfer": nv * (plan + 3 * point_bytes),
+        # covectors read (3 floats) and normals written (3 floats), in the same pass
+        "normals_transform": nv * (12 + 12),
+        # polygon pass: offsets 8 + 3 ids x 8 read and 3 doubles written per triangle, the
+        # points gathered (each once at best); vertex pass: offsets 8, ids 4 per incident
+        # triangle (3 per triangle in all) and the triangle normals read back (each once
+        # at best), 12 bytes written per vertex
+        "normals_recompute": nt * (8 + 24 + 24) + nv * 3 * point_bytes
+        + nv * (8 + 12) + nt * (3 * 4 + 24),
+    }
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--frames", type=int, default=60)
@@ -170,7 +210,14 @@ def main():
     ap.add_argument("--drag-frames", type=int, default=60)
     ap.add_argument("--passes", default="1,2",
                     help="thread counts of the frame-time passes ('' for none)")
+    ap.add_argument("--point-normals", choices=("transform", "recompute"),
+                    default="transform",
+                    help="the transfer's PointNormalsMode of the frame_ms passes (the other "
+                         "is timed beside it on 2 threads)")
+    ap.add_argument("--float-points", action="store_true",
+                    help="single precision output points (OutputPointsPrecision)")
     args = ap.parse_args()
+    bandwidth = stream_bandwidth()
     load_start = os.getloadavg()
     t0 = time.perf_counter()
     coarse = hoembed.thorny_tail()
@@ -181,11 +228,19 @@ def main():
     embedded = hoembed.embed(fine, fe)
     setup = time.perf_counter() - t0
     session = LiveSession(fe, embedded, fixed=default_clamp(fe, builtin=True))
+    modes = {"recompute": 0, "transform": 1}
+    tr = session.transfer
+    tr.SetPointNormalsMode(modes[args.point_normals])
+    if args.float_points:
+        tr.SetOutputPointsPrecision(0)  # vtkAlgorithm::SINGLE_PRECISION
+    tr.Update()
+    point_bytes = 4 if tr.GetOutput().GetPoints().GetDataType() == 10 else 8  # VTK_FLOAT
     threads0 = vtkSMPTools.GetEstimatedNumberOfThreads()
     result = {"vertices": int(fine.n_points), "triangles": int(fine.n_cells),
               "elements": int(fe.n_cells), "fe_nodes": int(fe.n_points),
               "frames": args.frames, "setup_s": setup, "load_average_start": load_start,
-              "passes": {}}
+              "point_normals": args.point_normals, "output_point_bytes": point_bytes,
+              "stream_bandwidth_GBps": bandwidth / 1e9, "passes": {}}
     skip = min(5, args.frames // 4)
     for threads in [int(t) for t in args.passes.split(",") if t]:
         vtkSMPTools.Initialize(threads)
@@ -197,6 +252,29 @@ def main():
         result["passes"][f"{threads} thread{'s' if threads > 1 else ''}, no point normals"] = (
             summarise(rows, skip))
         result["grabbed_nodes"] = grabbed
+        if threads == 2:  # the other point normals mode, beside it
+            other = next(m for m in modes if m != args.point_normals)
+            tr.SetPointNormalsMode(modes[other])
+            rows, _ = run_pass(session, args.frames)
+            tr.SetPointNormalsMode(modes[args.point_normals])
+            result["passes"][f"2 threads, {other} point normals"] = summarise(rows, skip)
+    if "2 threads" in result["passes"]:
+        # the two point normals on the last frame of the drag (same positions)
+        run_pass(session, args.frames)
+        normals = {}
+        for m, v in modes.items():
+            tr.SetPointNormalsMode(v)
+            tr.Update()
+            normals[m] = np.array(pv.wrap(tr.GetOutput()).point_data["Normals"], float)
+        tr.SetPointNormalsMode(modes[args.point_normals])
+        cos = np.clip(np.einsum("ij,ij->i", normals["recompute"], normals["transform"]), -1, 1)
+        ang = np.degrees(np.arccos(cos))
+        result["normals_angle_deg"] = {
+            "median": float(np.median(ang)), "p99": float(np.percentile(ang, 99)),
+            "p999": float(np.percentile(ang, 99.9)), "max": float(ang.max()),
+            "inverted_elements": int(tr.GetNumberOfInvertedElements()),
+            "folded_normals": int(tr.GetNumberOfFoldedPointNormals())}
+        session.release()
     if args.grab_repeats > 0:
         # the grab/release stall: synchronous refactorisation against the background
         # factorisation, alternated in the same run (2 threads)
@@ -220,14 +298,28 @@ def main():
         pl.close()
     vtkSMPTools.Initialize(threads0)
     result["load_average_end"] = os.getloadavg()
-    if "2 threads" in result["passes"] and "1 thread" in result["passes"]:
-        two = result["passes"]["2 threads"]
+    passes = result["passes"]
+    if "2 threads" in passes:
+        two = passes["2 threads"]
+        bare = passes["2 threads, no point normals"]
         result["frame_ms"] = two["wall"]["median_ms"]
         result["frame_cpu_ms"] = two["cpu"]["median_ms"]
-        result["frame_ms_1_thread"] = result["passes"]["1 thread"]["wall"]["median_ms"]
-        result["normals_ms"] = (
-            two["transfer"]["median_ms"]
-            - result["passes"]["2 threads, no point normals"]["transfer"]["median_ms"])
+        if "1 thread" in passes:
+            result["frame_ms_1_thread"] = passes["1 thread"]["wall"]["median_ms"]
+        result["step_ms"] = two["step"]["median_ms"]
+        result["solve_ms"] = two["solve"]["median_ms"]
+        result["assembly_ms"] = two["assembly"]["median_ms"]
+        result["transfer_ms"] = bare["transfer"]["median_ms"]
+        result["normals_ms"] = two["transfer"]["median_ms"] - bare["transfer"]["median_ms"]
+        other = next(m for m in modes if m != args.point_normals)
+        o = passes[f"2 threads, {other} point normals"]
+        result[f"frame_ms_{other}_normals"] = o["wall"]["median_ms"]
+        result[f"normals_ms_{other}"] = o["transfer"]["median_ms"] - bare["transfer"]["median_ms"]
+        moved = frame_bytes(fine, point_bytes)
+        result["bytes_per_frame"] = moved
+        result["stream_ms_per_frame"] = {k: 1e3 * v / bandwidth for k, v in moved.items()}
+    if "grab_release" in result:
+        result["grab_release_worst_ms"] = result["grab_release"]["background"]["worst_frame_ms"]
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "bench_live.json").write_text(json.dumps(result, indent=1))
     for name, p in result["passes"].items():
@@ -248,7 +340,19 @@ def main():
               f"free {g['free_frame_ms']['median']:.1f} ms ({g['free_iterations_mean']:.1f} it), "
               f"worst frame {g['worst_frame_ms']:.1f} ms, factor taken after "
               f"{g['grab_factor_taken_after_frames']} frames")
-    print(json.dumps(result))
+    if "bytes_per_frame" in result:
+        for k, v in result["bytes_per_frame"].items():
+            print(f"bytes per frame, {k:<18} {v / 1e6:7.1f} MB = "
+                  f"{result['stream_ms_per_frame'][k]:.2f} ms at the stream bandwidth "
+                  f"{bandwidth / 1e9:.1f} GB/s (numpy copy, read + write)")
+    # the last line: the figures of the issue, in one object (bench_live.json has all)
+    keys = ("frame_ms", "vertices", "elements", "point_normals", "step_ms", "solve_ms",
+            "assembly_ms", "transfer_ms", "normals_ms", "frame_ms_recompute_normals",
+            "normals_ms_recompute", "frame_ms_transform_normals", "normals_ms_transform",
+            "frame_ms_1_thread", "grab_release_worst_ms", "normals_angle_deg", "bytes_per_frame",
+            "stream_bandwidth_GBps", "stream_ms_per_frame", "load_average_start",
+            "load_average_end")
+    print(json.dumps({k: result[k] for k in keys if k in result}))
 
 
 if __name__ == "__main__":
