@@ -445,25 +445,11 @@ std::string TransferDriver::EvaluatePoints(
       this->For(this->NumberOfCells, 1024, [&](std::int64_t b, std::int64_t e) {
         ComputeCellMapCoefficients(conn, npc, rp, b, e, rc);
       });
-      // the rest normal fields of the boundary faces (offset vertices)
-      const double* rf = nullptr;
-      if (offsets)
-      {
-        this->RestNodalNormals.resize(this->RestPoints.size());
-        ComputeBoundaryNodeNormals(this->Topology, rp, this->RestNodalNormals.data());
-        this->RestFaceCoeffs.resize(this->FaceCoeffs.size());
-        double* rfc = this->RestFaceCoeffs.data();
-        const double* rnn = this->RestNodalNormals.data();
-        this->For(this->Topology.GetNumberOfBoundaryFaces(), 1024, [&](std::int64_t b, std::int64_t e) {
-          ComputeFaceNormalCoefficients(this->Topology, rnn, b, e, rfc);
-        });
-        rf = rfc;
-      }
       this->Covectors.resize(3 * static_cast<size_t>(numVerts));
       float* cov = this->Covectors.data();
       const float* rn = this->RestSurfaceNormals.data();
       this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
-        ComputeNormalCovectors(plan, npc, rc, rf, rn, b, e, cov);
+        ComputeNormalCovectors(plan, npc, rc, rn, b, e, cov);
       });
       this->CovRest = this->RestVersion;
       this->CovPlan = this->PlanStamp;

@@ -230,7 +230,7 @@ private:
   // step 4b: rest surface normals and the per-vertex covectors (rebuilt when the rest
   // mesh, the plan or the rest surface changed: the versions they were built from)
   std::vector<float> RestSurfaceNormals, Covectors;
-  std::vector<double> RestCellCoeffs, RestNodalNormals, RestFaceCoeffs;
+  std::vector<double> RestCellCoeffs;
   bool RestSurfaceValid = false;
   std::int64_t PlanStamp = 0, RestSurfaceStamp = 0;
   std::int64_t CovRest = -1, CovPlan = -1, CovSurface = -1;

@@ -325,36 +325,26 @@ std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const
 }
 
 void ComputeNormalCovectors(const TransferEntry* plan, int nodesPerCell,
-  const double* restCellCoeffs, const double* restFaceCoeffs, const float* restNormals,
-  std::int64_t begin, std::int64_t end, float* covectors)
+  const double* restCellCoeffs, const float* restNormals, std::int64_t begin, std::int64_t end,
+  float* covectors)
 {
   const bool quadratic = nodesPerCell == 10;
   const int csize = CellCoefficientSize(nodesPerCell);
-  const int fsize = FaceCoefficientSize(nodesPerCell);
   for (std::int64_t i = begin; i < end; ++i)
   {
     const TransferEntry& e = plan[i];
     const double* k = restCellCoeffs + csize * static_cast<std::int64_t>(e.Cell);
-    double a[3] = { 0, 0, 0 }, b[3] = { 0, 0, 0 }, c[3] = { 0, 0, 0 };
-    bool ok = true;
-    if (restFaceCoeffs && e.Face >= 0 && e.Distance != 0.0)
-    {
-      const double* f = restFaceCoeffs + fsize * static_cast<std::int64_t>(e.Face >> 2);
-      ok = transfer_detail::OffsetMapGradient(k, f, quadratic, e.PC, e.Face & 3, e.Distance, a, b, c);
-    }
-    else
-    {
-      MapJacobian(k, quadratic, e.PC[0], e.PC[1], e.PC[2], a, b, c);
-    }
+    double a[3], b[3], c[3];
+    MapJacobian(k, quadratic, e.PC[0], e.PC[1], e.PC[2], a, b, c);
     const double n0[3] = { restNormals[3 * i], restNormals[3 * i + 1], restNormals[3 * i + 2] };
-    // D0^T n0 / det D0 = (a.n0, b.n0, c.n0) / det D0 for the rest gradient D0 = [a b c];
-    // only its direction is kept (the frame normalises), with the sign of det D0.
+    // J0^T n0 / det J0 = (a.n0, b.n0, c.n0) / det J0; only its direction is kept (the
+    // frame normalises), with the sign of det J0.
     const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
       a[2] * (b[0] * c[1] - b[1] * c[0]);
     double m[3] = { a[0] * n0[0] + a[1] * n0[1] + a[2] * n0[2],
       b[0] * n0[0] + b[1] * n0[1] + b[2] * n0[2], c[0] * n0[0] + c[1] * n0[1] + c[2] * n0[2] };
     const double len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-    const double scale = ok && det != 0.0 && len > 0.0 && std::isfinite(len) && std::isfinite(det)
+    const double scale = det != 0.0 && len > 0.0 && std::isfinite(len) && std::isfinite(det)
       ? (det > 0.0 ? 1.0 : -1.0) / len
       : 0.0;
     for (int d = 0; d < 3; ++d)

@@ -97,33 +97,27 @@ HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateTransfer(const TransferEntry* plan, i
 
 /**
  * Shading normals transformed from the rest surface (fused with the position transfer):
- * the deformed normal of a material surface element is cof(G) n0 (Nanson), G the
- * gradient of the map that moves the vertex: G = D' D0^-1 with D0, D' the rest and
- * deformed derivatives of that map in its own coordinates, so cof(G) n0 = cof(D')
- * (D0^T n0) / det D0. A vertex without offset moves with its cell's map x(r, s, t):
- * D = J = dx/d(r, s, t). A vertex with an offset moves with the normal-offset map
- * Phi(u, v, d) = x(p(u, v)) + d n(u, v) of its boundary face ((u, v) face coordinates, n
- * the normalised normal field): D = [dx/du + d dn/du, dx/dv + d dn/dv, n]. The rest
- * factor is constant per vertex: ComputeNormalCovectors stores m = D0^T n0 / det D0,
- * normalised, 3 floats per vertex (zero where n0, det D0 or the normal field is zero),
- * once per rest state; a frame then needs only D' at p (from the cell map and face
- * tables it already reads) and m: n' = normalise(m_1 (D'_2 x D'_3) + m_2 (D'_3 x D'_1)
- * + m_3 (D'_1 x D'_2)). At rest this gives n0 and under a rigid motion R n0, to
- * round-off. `restFaceCoeffs` (the rest normal fields) may be null when no entry has an
- * offset.
+ * the deformed normal of a material surface element is cof(F) n0 (Nanson), F = J' J0^-1
+ * the deformation gradient at p, and cof(F) n0 = cof(J') (J0^T n0) / det J0 with J0, J'
+ * = d x / d(r, s, t) of the rest and the deformed cell at p. The rest factor is constant
+ * per vertex: ComputeNormalCovectors stores m = J0^T n0 / det J0, normalised, 3 floats
+ * per vertex (zero where n0 or det J0 is zero), once per rest state; a frame then needs
+ * only J' at p (from the cell map coefficients it already reads) and m:
+ * n' = normalise(m_r (J'_s x J'_t) + m_s (J'_t x J'_r) + m_t (J'_r x J'_s)).
+ * At rest this gives n0 and under a rigid motion R n0, to round-off. Vertices with a
+ * normal offset take F at p too (the offset's own gradient, d dn'/du, is left out).
  */
 HOEMBEDFILTERSTRANSFER_EXPORT void ComputeNormalCovectors(const TransferEntry* plan,
-  int nodesPerCell, const double* restCellCoeffs, const double* restFaceCoeffs,
-  const float* restNormals, std::int64_t begin, std::int64_t end, float* covectors);
+  int nodesPerCell, const double* restCellCoeffs, const float* restNormals, std::int64_t begin,
+  std::int64_t end, float* covectors);
 
 /**
  * EvaluateTransfer that also writes the transformed shading normals of entries
  * [begin, end) into `normals` (3 floats per vertex; (0, 0, 0) where the covector is zero
  * or the deformed cofactor maps it to zero). The positions are those of EvaluateTransfer,
- * bit for bit. `faceCoeffs` must be the frame's normal fields when the covectors were
- * made with rest normal fields (offset vertices), else null. Where det D' <= 0 (the map
- * folds there: an inverted cell; cof(D') would turn the normal inside out) the normal is
- * left NaN for the caller to recompute from the polygons; returns how many.
+ * bit for bit. Where det J' <= 0 (the map folds there: an inverted cell; cof(J') would
+ * turn the normal inside out) the normal is left NaN for the caller to recompute from
+ * the polygons; returns how many.
  */
 HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
   const double* cellCoeffs, const double* faceCoeffs, const float* covectors, std::int64_t begin,

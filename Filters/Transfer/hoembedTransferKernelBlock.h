@@ -89,55 +89,6 @@ inline void CofactorTimes(const double a[3], const double b[3], const double c[3
   }
 }
 
-// The columns of D Phi, Phi(u, v, d) = x(p(u, v)) + d n(u, v) the normal-offset map of a
-// vertex with an offset (p on boundary face `face` of its cell, (u, v) its face
-// coordinates, n the normalised normal field): t_u + d dn/du, t_v + d dn/dv, n, with
-// t_u, t_v = dx/du, dx/dv along the face (from the cell map's Jacobian) and
-// dn/du = (dN/du - n (n . dN/du)) / |N| for the unnormalised field N. False where N = 0.
-inline bool OffsetMapGradient(const double* k, const double* a, bool quadratic, const double pc[3],
-  int face, double d, double cu[3], double cv[3], double cn[3])
-{
-  const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
-  const FaceCorners& fc = kFaceCorners[face];
-  double S = L[fc.A] + L[fc.B] + L[fc.C];
-  S = S > 0.0 ? S : 1.0;
-  const double u = L[fc.B] / S, v = L[fc.C] / S;
-  double col[4][3];
-  MapJacobian(k, quadratic, pc[0], pc[1], pc[2], col[1], col[2], col[3]);
-  col[0][0] = col[0][1] = col[0][2] = 0.0; // L0 is not a coordinate: moving along it is 0
-  double N[3], Nu[3], Nv[3];
-  for (int i = 0; i < 3; ++i)
-  {
-    N[i] = a[i] + a[3 + i] * u + a[6 + i] * v;
-    Nu[i] = a[3 + i];
-    Nv[i] = a[6 + i];
-    if (quadratic)
-    {
-      N[i] += a[9 + i] * u * u + a[12 + i] * v * v + a[15 + i] * u * v;
-      Nu[i] += 2.0 * a[9 + i] * u + a[15 + i] * v;
-      Nv[i] += 2.0 * a[12 + i] * v + a[15 + i] * u;
-    }
-  }
-  const double len = std::sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
-  if (!(len > 0.0) || !std::isfinite(len))
-  {
-    return false;
-  }
-  for (int i = 0; i < 3; ++i)
-  {
-    cn[i] = N[i] / len;
-  }
-  const double pu = cn[0] * Nu[0] + cn[1] * Nu[1] + cn[2] * Nu[2];
-  const double pv = cn[0] * Nv[0] + cn[1] * Nv[1] + cn[2] * Nv[2];
-  const double dl = d / len;
-  for (int i = 0; i < 3; ++i)
-  {
-    cu[i] = (col[fc.B][i] - col[fc.A][i]) + dl * (Nu[i] - cn[i] * pu);
-    cv[i] = (col[fc.C][i] - col[fc.A][i]) + dl * (Nv[i] - cn[i] * pv);
-  }
-  return true;
-}
-
 // det [a b c] = a . (b x c), bc = b x c given (the sign decides; one order for all Ops).
 inline double Det(const double a[3], const double bc[3])
 {
@@ -235,26 +186,11 @@ std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const d
     {
       const double mv[3] = { cv[3 * j], cv[3 * j + 1], cv[3 * j + 2] };
       double* nj = n + 3 * j;
-      const double* k = cellCoeffs + csize * static_cast<std::int64_t>(e[j].Cell);
-      if (faceCoeffs && e[j].Face >= 0 && e[j].Distance != 0.0)
-      {
-        // an offset vertex moves with the normal-offset map, not with the cell's
-        double cu[3], cvv[3], cn[3];
-        const double* a = faceCoeffs + fsize * static_cast<std::int64_t>(e[j].Face >> 2);
-        if (OffsetMapGradient(k, a, quadratic, e[j].PC, e[j].Face & 3, e[j].Distance, cu, cvv, cn))
-        {
-          det[j] = CofactorDet(cu, cvv, cn, mv, nj);
-        }
-        else
-        {
-          nj[0] = nj[1] = nj[2] = 0.0;
-          det[j] = 1.0;
-        }
-      }
-      else
-      {
-        det[j] = Ops::Cofactor(k, quadratic, e[j].PC[0], e[j].PC[1], e[j].PC[2], mv, nj);
-      }
+      // every vertex with its cell's map, offset vertices included: the gradient of the
+      // normal-offset map itself (d dn/du terms) was tried, closer to the recomputed
+      // normals but costlier than recomputing them (Benchmarks/RESULTS.md, live loop)
+      det[j] = Ops::Cofactor(cellCoeffs + csize * static_cast<std::int64_t>(e[j].Cell), quadratic,
+        e[j].PC[0], e[j].PC[1], e[j].PC[2], mv, nj);
       len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
       w[j] = 1.0;
     }

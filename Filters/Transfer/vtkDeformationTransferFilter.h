@@ -63,11 +63,10 @@
  *     F the deformation gradient of the cell map at p (Nanson's formula for a material
  *     surface element), computed in the same per-vertex pass as the positions, with no
  *     pass over the polygons. Equal to the recomputed normals at rest and under a rigid
- *     motion to float round-off; under a deformation they differ by the discretisation
- *     of the recomputed ones (Benchmarks/RESULTS.md, live loop). Vertices with an offset
- *     use the gradient of the normal-offset map p + d n (their own map), the others the
- *     cell map's. Where that gradient's determinant is <= 0 (the map folds: inverted
- *     elements) the vertex's normal is recomputed from its polygons instead
+ *     motion to float round-off; under a deformation they differ by what the map does
+ *     between p and v (the offset d n' is not differentiated) and by the discretisation
+ *     of the recomputed ones (Benchmarks/RESULTS.md, live loop). Where det F <= 0 (the
+ *     map folds: inverted elements) the vertex's normal is recomputed from its polygons
  *     (NumberOfFoldedPointNormals). Needs `Displacement` on port 1 (the rest mesh is
  *     x - Displacement); without it the filter warns and recomputes.
  *
