@@ -235,11 +235,13 @@ std::int64_t EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, cons
   const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end, T* out,
   float* normals)
 {
+#if defined(HOEMBED_TRANSFER_AVX2)
   if (UseAvx2())
   {
     return transfer_detail::EvaluateTransferAvx2(
       plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
   }
+#endif
   return transfer_detail::EvaluateBlocks<ScalarOps>(
     plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
 }
