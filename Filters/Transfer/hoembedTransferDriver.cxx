@@ -355,15 +355,20 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
     return "the deformed FE mesh has non-finite (NaN or infinite) point coordinates";
   }
 
-  // Inverted elements: a warning, still mapped.
-  if (frame.CountInverted)
+  // Inverted elements: a warning, still mapped. The transformed point normals need them
+  // cell by cell (recomputed from the polygons in those cells).
+  const bool flagCells =
+    frame.PointNormals && frame.PointNormalsMode == TransferPointNormals::Transform;
+  if (frame.CountInverted || flagCells)
   {
     std::atomic<std::int64_t> inverted(0);
     const std::int64_t* conn = this->Conn.data();
+    this->FoldedCells.resize(flagCells ? static_cast<size_t>(numCells) : 0);
+    unsigned char* flags = flagCells ? this->FoldedCells.data() : nullptr;
     this->For(numCells, 256, [&](std::int64_t b, std::int64_t e) {
-      inverted += CountInvertedCells(conn, npc, pts, b, e);
+      inverted += MarkInvertedCells(conn, npc, pts, b, e, flags);
     });
-    this->InvertedCells = inverted.load();
+    this->InvertedCells = frame.CountInverted ? inverted.load() : 0;
     if (this->InvertedCells > 0)
     {
       std::ostringstream msg;
@@ -458,8 +463,10 @@ std::string TransferDriver::EvaluatePoints(
     const float* cov = this->Covectors.data();
     std::mutex mutex;
     std::vector<std::pair<std::int64_t, std::int64_t>> foldedRanges;
+    const unsigned char* foldedCells =
+      this->FoldedCells.empty() ? nullptr : this->FoldedCells.data();
     this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
-      if (EvaluateTransfer(plan, npc, cc, fc, cov, b, e, out, normals) > 0)
+      if (EvaluateTransfer(plan, npc, cc, fc, cov, foldedCells, b, e, out, normals) > 0)
       {
         std::lock_guard<std::mutex> lock(mutex);
         foldedRanges.emplace_back(b, e);

@@ -192,7 +192,7 @@ public:
   void SetRestSurfacePoints(const float* points);
   bool HasRestSurfaceNormals() const { return this->RestSurfaceValid; }
   /// Transform mode: the vertices of the last frame whose normal was recomputed from the
-  /// polygons because the map folds there (det of the map's gradient <= 0).
+  /// polygons because the map folds there (det F <= 0 at p, or p in an inverted cell).
   std::int64_t GetNumberOfFoldedNormals() const { return this->FoldedNormals; }
 
 private:
@@ -235,6 +235,7 @@ private:
   std::int64_t PlanStamp = 0, RestSurfaceStamp = 0;
   std::int64_t CovRest = -1, CovPlan = -1, CovSurface = -1;
   std::int64_t FoldedNormals = 0;
+  std::vector<unsigned char> FoldedCells; // per cell: inverted this frame (transform mode)
   std::int64_t InvertedCells = 0;
   // step 4
   std::vector<std::int64_t> PolyOffsets, PolyConn, IncOffsets, IncPolys;

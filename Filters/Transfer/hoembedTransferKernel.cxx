@@ -194,12 +194,12 @@ namespace transfer_detail
 {
 // hoembedTransferKernelAvx2.cxx: the same block kernel with AVX2 per-vertex arithmetic
 // (the same operations in the same order: the same bits).
-std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
-  double* out, float* normals);
-std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
-  float* out, float* normals);
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, double* out, float* normals);
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, float* out, float* normals);
 } // namespace transfer_detail
 
 namespace
@@ -232,18 +232,18 @@ bool Avx2Available()
 
 template <typename T>
 std::int64_t EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end, T* out,
-  float* normals)
+  const double* faceCoeffs, const float* covectors, const unsigned char* folded,
+  std::int64_t begin, std::int64_t end, T* out, float* normals)
 {
 #if defined(HOEMBED_TRANSFER_AVX2)
   if (UseAvx2())
   {
     return transfer_detail::EvaluateTransferAvx2(
-      plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+      plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
   }
 #endif
   return transfer_detail::EvaluateBlocks<ScalarOps>(
-    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 
 template <typename T>
@@ -301,29 +301,31 @@ void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell,
 void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, std::int64_t begin, std::int64_t end, double* out)
 {
-  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, nullptr, begin, end, out,
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, nullptr, nullptr, begin, end, out,
     static_cast<float*>(nullptr));
 }
 
 void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
   const double* faceCoeffs, std::int64_t begin, std::int64_t end, float* out)
 {
-  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, nullptr, begin, end, out,
+  EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, nullptr, nullptr, begin, end, out,
     static_cast<float*>(nullptr));
 }
 
 std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
-  double* out, float* normals)
+  const double* faceCoeffs, const float* covectors, const unsigned char* folded,
+  std::int64_t begin, std::int64_t end, double* out, float* normals)
 {
-  return EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+  return EvaluateTransferT(
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 
 std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
-  float* out, float* normals)
+  const double* faceCoeffs, const float* covectors, const unsigned char* folded,
+  std::int64_t begin, std::int64_t end, float* out, float* normals)
 {
-  return EvaluateTransferT(plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+  return EvaluateTransferT(
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 
 void ComputeNormalCovectors(const TransferEntry* plan, int nodesPerCell,
@@ -489,8 +491,8 @@ void DeformNodalNormals(const TetMeshTopology& topo, const std::int64_t* conn, i
   }
 }
 
-std::int64_t CountInvertedCells(const std::int64_t* conn, int nodesPerCell, const double* points,
-  std::int64_t begin, std::int64_t end)
+std::int64_t MarkInvertedCells(const std::int64_t* conn, int nodesPerCell, const double* points,
+  std::int64_t begin, std::int64_t end, unsigned char* flags)
 {
   static const double kSamples[5][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
     { 0.25, 0.25, 0.25 } };
@@ -519,7 +521,17 @@ std::int64_t CountInvertedCells(const std::int64_t* conn, int nodesPerCell, cons
       }
     }
     count += inverted ? 1 : 0;
+    if (flags)
+    {
+      flags[c] = inverted ? 1 : 0;
+    }
   }
   return count;
+}
+
+std::int64_t CountInvertedCells(const std::int64_t* conn, int nodesPerCell, const double* points,
+  std::int64_t begin, std::int64_t end)
+{
+  return MarkInvertedCells(conn, nodesPerCell, points, begin, end, nullptr);
 }
 } // namespace hoembed

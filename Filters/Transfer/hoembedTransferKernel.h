@@ -115,17 +115,18 @@ HOEMBEDFILTERSTRANSFER_EXPORT void ComputeNormalCovectors(const TransferEntry* p
  * EvaluateTransfer that also writes the transformed shading normals of entries
  * [begin, end) into `normals` (3 floats per vertex; (0, 0, 0) where the covector is zero
  * or the deformed cofactor maps it to zero). The positions are those of EvaluateTransfer,
- * bit for bit. Where det J' <= 0 (the map folds there: an inverted cell; cof(J') would
- * turn the normal inside out) the normal is left NaN for the caller to recompute from
- * the polygons; returns how many.
+ * bit for bit. Where det J' <= 0 (the map folds there; cof(J') would turn the normal
+ * inside out) or the entry's cell is flagged in `folded` (one byte per cell, may be null:
+ * MarkInvertedCells) the normal is left NaN for the caller to recompute from the
+ * polygons; returns how many.
  */
 HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const double* faceCoeffs, const float* covectors, std::int64_t begin,
-  std::int64_t end, double* out, float* normals);
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, double* out, float* normals);
 /// The same, writing single precision positions.
 HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const double* faceCoeffs, const float* covectors, std::int64_t begin,
-  std::int64_t end, float* out, float* normals);
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, float* out, float* normals);
 
 /**
  * Which code EvaluateTransfer runs: 1 its AVX2 copy (where the build has it and the CPU
@@ -179,6 +180,11 @@ HOEMBEDFILTERSTRANSFER_EXPORT void DeformNodalNormals(const TetMeshTopology& top
  */
 HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t CountInvertedCells(const std::int64_t* conn,
   int nodesPerCell, const double* points, std::int64_t begin, std::int64_t end);
+/// The same, also setting flags[c] to 1 for those cells and 0 for the others (flags may be
+/// null).
+HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t MarkInvertedCells(const std::int64_t* conn,
+  int nodesPerCell, const double* points, std::int64_t begin, std::int64_t end,
+  unsigned char* flags);
 } // namespace hoembed
 
 #endif

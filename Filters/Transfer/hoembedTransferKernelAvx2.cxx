@@ -114,20 +114,20 @@ struct Avx2Ops
 };
 } // namespace
 
-std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
-  double* out, float* normals)
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, double* out, float* normals)
 {
   return EvaluateBlocks<Avx2Ops>(
-    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 
-std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end,
-  float* out, float* normals)
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, float* out, float* normals)
 {
   return EvaluateBlocks<Avx2Ops>(
-    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, begin, end, out, normals);
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 } // namespace transfer_detail
 } // namespace hoembed

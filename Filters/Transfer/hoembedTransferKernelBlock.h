@@ -107,8 +107,8 @@ inline double CofactorDet(const double a[3], const double b[3], const double c[3
 
 template <typename Ops, typename T>
 std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, std::int64_t begin, std::int64_t end, T* out,
-  float* normals)
+  const double* faceCoeffs, const float* covectors, const unsigned char* foldedCells,
+  std::int64_t begin, std::int64_t end, T* out, float* normals)
 {
   // Blocks of vertices in short passes (positions; normals; scales; sums) rather than one
   // long dependency chain per vertex: the out-of-order core overlaps many vertices, and
@@ -126,7 +126,7 @@ std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const d
   const int csize = quadratic ? 30 : 12;
   const int fsize = quadratic ? 18 : 9;
   double x[3 * kBlock + 1], n[3 * kBlock + 1], w[kBlock], len2[kBlock], scale[kBlock];
-  std::int64_t folded = 0;
+  std::int64_t left = 0;
   for (std::int64_t b = begin; b < end; b += kBlock)
   {
     const int m = static_cast<int>(end - b < kBlock ? end - b : kBlock);
@@ -201,16 +201,17 @@ std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const d
       no[3 * j] = static_cast<float>(n[3 * j] * scale[j]);
       no[3 * j + 1] = static_cast<float>(n[3 * j + 1] * scale[j]);
       no[3 * j + 2] = static_cast<float>(n[3 * j + 2] * scale[j]);
-      // det D' <= 0: the map folds at p (an inverted cell), and cof(D') turns the normal
-      // inside out; left to the caller (NaN), which recomputes it from the polygons
-      if (!(det[j] > 0.0))
+      // det J' <= 0: the map folds at p, and cof(J') turns the normal inside out; or the
+      // cell is inverted somewhere (`foldedCells`), where F varies too fast for a normal taken
+      // at p alone: left to the caller (NaN), which recomputes it from the polygons
+      if (!(det[j] > 0.0) || (foldedCells && foldedCells[e[j].Cell]))
       {
         no[3 * j] = no[3 * j + 1] = no[3 * j + 2] = std::numeric_limits<float>::quiet_NaN();
-        ++folded;
+        ++left;
       }
     }
   }
-  return folded;
+  return left;
 }
 } // namespace
 } // namespace transfer_detail

@@ -65,8 +65,9 @@
  *     pass over the polygons. Equal to the recomputed normals at rest and under a rigid
  *     motion to float round-off; under a deformation they differ by what the map does
  *     between p and v (the offset d n' is not differentiated) and by the discretisation
- *     of the recomputed ones (Benchmarks/RESULTS.md, live loop). Where det F <= 0 (the
- *     map folds: inverted elements) the vertex's normal is recomputed from its polygons
+ *     of the recomputed ones (Benchmarks/RESULTS.md, live loop). Where det F <= 0 or p
+ *     lies in an inverted element (the map folds) the vertex's normal is recomputed from
+ *     its polygons
  *     (NumberOfFoldedPointNormals). Needs `Displacement` on port 1 (the rest mesh is
  *     x - Displacement); without it the filter warns and recomputes.
  *

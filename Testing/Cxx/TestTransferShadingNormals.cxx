@@ -174,8 +174,8 @@ void TestKernel(int order)
   }
   hoembed::ComputeNormalCovectors(plan.data(), npc, restCoeffs.data(), n0.data(), 0, n, cov.data());
   std::vector<double> out(3 * n), plain(3 * n);
-  hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), 0, n, out.data(),
-    normals.data());
+  hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), nullptr, 0, n,
+    out.data(), normals.data());
   hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, 0, n, plain.data());
   double worst = 0.0;
   for (int i = 0; i < n; ++i)
@@ -192,12 +192,12 @@ void TestKernel(int order)
   {
     std::vector<double> out0(3 * n);
     std::vector<float> normals0(3 * n);
-    hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), 0, n,
+    hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), nullptr, 0, n,
       out0.data(), normals0.data());
     const bool simd = hoembed::SetTransferKernelSimd(1);
     std::vector<double> out1(3 * n);
     std::vector<float> normals1(3 * n);
-    hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), 0, n,
+    hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), nullptr, cov.data(), nullptr, 0, n,
       out1.data(), normals1.data());
     hoembed::SetTransferKernelSimd(-1);
     HOEMBED_CHECK(out0 == out1 && normals0 == normals1,
@@ -428,6 +428,49 @@ void TestFilter(int order)
         std::memcmp(na->GetPointer(0), nb->GetPointer(0),
           sizeof(float) * 3 * na->GetNumberOfTuples()) == 0,
       "tet%d mirrored: the folded normals are not the recomputed ones", tet);
+  }
+  // one inverted cell (a corner pushed through the opposite face): the vertices in it get
+  // the recomputed normals, bit for bit
+  {
+    vtkDataArray* cellIds = surface->GetPointData()->GetArray("EmbeddingCellId");
+    const vtkIdType cell = static_cast<vtkIdType>(cellIds->GetComponent(0, 0));
+    auto bent = Deformed(rest, Bend);
+    vtkNew<vtkIdList> ids;
+    bent->GetCellPoints(cell, ids);
+    double x0[3], x1[3], x2[3], x3[3];
+    bent->GetPoint(ids->GetId(0), x0);
+    bent->GetPoint(ids->GetId(1), x1);
+    bent->GetPoint(ids->GetId(2), x2);
+    bent->GetPoint(ids->GetId(3), x3);
+    const double c[3] = { (x1[0] + x2[0] + x3[0]) / 3, (x1[1] + x2[1] + x3[1]) / 3,
+      (x1[2] + x2[2] + x3[2]) / 3 };
+    double y[3];
+    for (int d = 0; d < 3; ++d)
+      y[d] = c[d] + 1.5 * (c[d] - x0[d]);
+    vtkNew<vtkPoints> moved;
+    moved->DeepCopy(bent->GetPoints());
+    moved->SetPoint(ids->GetId(0), y);
+    bent->SetPoints(moved);
+    auto mesh = WithDisplacement(bent, rest);
+    auto a = run(fast, mesh);
+    auto b = run(slow, mesh);
+    auto* na = vtkFloatArray::SafeDownCast(a->GetPointData()->GetNormals());
+    auto* nb = vtkFloatArray::SafeDownCast(b->GetPointData()->GetNormals());
+    vtkIdType inCell = 0, differ = 0;
+    for (vtkIdType i = 0; na && nb && i < na->GetNumberOfTuples(); ++i)
+    {
+      if (static_cast<vtkIdType>(cellIds->GetComponent(i, 0)) != cell)
+        continue;
+      ++inCell;
+      differ += std::memcmp(na->GetPointer(3 * i), nb->GetPointer(3 * i), 3 * sizeof(float)) != 0;
+    }
+    HOEMBED_CHECK(fast->GetNumberOfInvertedElements() > 0 && inCell > 0 && differ == 0 &&
+        fast->GetNumberOfFoldedPointNormals() >= inCell,
+      "tet%d one inverted cell: %lld inverted, %lld of its %lld vertices differ from the "
+      "recomputed normals, %lld recomputed",
+      tet, static_cast<long long>(fast->GetNumberOfInvertedElements()),
+      static_cast<long long>(differ), static_cast<long long>(inCell),
+      static_cast<long long>(fast->GetNumberOfFoldedPointNormals()));
   }
   // single precision output points: the same normals, the same points as recompute
   fast->SetOutputPointsPrecision(vtkAlgorithm::SINGLE_PRECISION);
