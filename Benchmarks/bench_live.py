@@ -33,7 +33,7 @@ grab's own factor was taken.
 
     .venv/bin/python Benchmarks/bench_live.py [--frames 60] [--vertices 1000000]
         [--grab-repeats 3] [--drag-frames 60] [--passes 1,2] [--point-normals transform]
-        [--float-points]
+        [--float-points] [--save DIR]
 
 Writes Benchmarks/results/bench_live.json; the last line printed is one JSON object
 (frame_ms: median step + transfer + normals per frame on 2 threads, rendering excluded).
@@ -216,6 +216,9 @@ def main():
                          "is timed beside it on 2 threads)")
     ap.add_argument("--float-points", action="store_true",
                     help="single precision output points (OutputPointsPrecision)")
+    ap.add_argument("--save", metavar="DIR",
+                    help="also write the FE mesh and the embedded surface (DIR/fe.vtu, "
+                         "DIR/embedded.vtp: the inputs of build/bin/hoembedTransferBench)")
     args = ap.parse_args()
     bandwidth = stream_bandwidth()
     load_start = os.getloadavg()
@@ -227,6 +230,10 @@ def main():
     fine = hoembed.thorny_tail(rings=rings, sectors=sectors)
     embedded = hoembed.embed(fine, fe)
     setup = time.perf_counter() - t0
+    if args.save:
+        os.makedirs(args.save, exist_ok=True)
+        fe.save(os.path.join(args.save, "fe.vtu"))
+        embedded.save(os.path.join(args.save, "embedded.vtp"))
     session = LiveSession(fe, embedded, fixed=default_clamp(fe, builtin=True))
     modes = {"recompute": 0, "transform": 1}
     tr = session.transfer
