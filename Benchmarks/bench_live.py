@@ -35,8 +35,17 @@ grab's own factor was taken.
         [--grab-repeats 3] [--drag-frames 60] [--passes 1,2] [--point-normals transform]
         [--float-points] [--save DIR]
 
+After the 2-thread passes, the last frame of the drag is transferred with both kinds of
+point normals and the angle between them reported (normals_angle_deg: median, 99th and
+99.9th percentiles, max; the inverted elements and the normals recomputed for them).
+
 Writes Benchmarks/results/bench_live.json; the last line printed is one JSON object
-(frame_ms: median step + transfer + normals per frame on 2 threads, rendering excluded).
+(frame_ms: median step + transfer + normals per frame on 2 threads with the
+--point-normals mode, rendering excluded; step_ms, solve_ms, assembly_ms, transfer_ms,
+normals_ms: the stage medians; frame_ms_recompute_normals / normals_ms_recompute: the
+other mode; grab_release_worst_ms: the worst frame of the grab/release runs with the
+background factorisation, as `hoembed live` runs; bytes_per_frame and
+stream_ms_per_frame against stream_bandwidth_GBps).
 """
 import argparse
 import json
