@@ -8,7 +8,9 @@ the loops write per-vertex results, so the thread count does not matter either).
 stepper's frames too, when its kernels are compiled with the VTK build's flags
 (HOEMBED_SIMULATION_NATIVE=ON: `make test-pip` builds the wheel so; these meshes of a few
 hundred cells stay below the solver's thresholds for parallel loops, so the thread count
-is not exercised for the stepper here).
+is not exercised for the stepper here). scripts/test_pip.sh sets HOEMBED_PIP_NATIVE=1 for
+that test build; the portable wheel's frames (no -march=native: no FMA contraction) must
+agree to round-off instead (ROUND_OFF).
 """
 import json
 import os
@@ -43,6 +45,27 @@ def bitwise(a, b):
     a, b = np.asarray(a), np.asarray(b)
     return a.shape == b.shape and a.dtype == b.dtype and \
         np.array_equal(a.view(np.uint8), b.view(np.uint8))
+
+
+# the stepper's kernels compiled as the VTK build's (HOEMBED_SIMULATION_NATIVE=ON)?
+NATIVE = os.environ.get("HOEMBED_PIP_NATIVE") == "1"
+# the portable wheel against the VTK build's -march=native frames: FMA contraction moves
+# the last bits only (seen: <= 1.0e-13 of the bounding-box diagonal on these frames;
+# Benchmarks/RESULTS.md, pip section); relative to each array's largest magnitude
+ROUND_OFF = 1e-10
+
+
+def same_frame_values(a, b):
+    """Bitwise for the test build, else equal integers and floats within ROUND_OFF."""
+    if NATIVE:
+        return bitwise(a, b)
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape or a.dtype != b.dtype:
+        return False
+    if not np.issubdtype(b.dtype, np.floating):
+        return np.array_equal(a, b)
+    scale = float(np.abs(b).max()) if b.size else 0.0
+    return bool(np.all(np.abs(a - b) <= ROUND_OFF * scale))
 
 
 def test_not_the_vtk_build():
@@ -189,14 +212,14 @@ def test_stepper_frames_bitwise(case, run):
     assert seen == [(i + 1, len(frames)) for i in range(len(frames))]
     for i, got in enumerate(frames):
         ref = read(case, f"stepper_{run}_{i}.vtu")
-        assert bitwise(got.points, ref.points), i
+        assert same_frame_values(got.points, ref.points), i
         assert sorted(got.point_data.keys()) == sorted(ref.point_data.keys())
         assert sorted(got.cell_data.keys()) == sorted(ref.cell_data.keys())
         assert sorted(got.field_data.keys()) == sorted(ref.field_data.keys())
         for data, want in ((got.point_data, ref.point_data), (got.cell_data, ref.cell_data),
                            (got.field_data, ref.field_data)):
             for name in want.keys():
-                assert bitwise(data[name], want[name]), (i, name)
+                assert same_frame_values(data[name], want[name]), (i, name)
         assert bitwise(got.cells, ref.cells)
     # not trivially equal: the mesh moved (the first dynamic frame is the initial state),
     # and a meaningful run: it bent without blowing up
