@@ -50,13 +50,16 @@ def bitwise(a, b):
 # the stepper's kernels compiled as the VTK build's (HOEMBED_SIMULATION_NATIVE=ON)?
 NATIVE = os.environ.get("HOEMBED_PIP_NATIVE") == "1"
 # the portable wheel against the VTK build's -march=native frames: FMA contraction moves
-# the last bits only (seen: <= 1.0e-13 of the bounding-box diagonal on these frames;
-# Benchmarks/RESULTS.md, pip section); relative to each array's largest magnitude
-ROUND_OFF = 1e-10
+# the last bits; relative to the run's largest magnitude of that array (the bounding-box
+# diagonal for the points), since quantities near zero (the rest frame's stress) are all
+# round-off. Seen on 9.4.2 and 9.7.2: points 1.9e-13, Displacement 1.2e-11, VonMisesStress
+# 2.9e-11; integer arrays equal.
+ROUND_OFF = 1e-9
 
 
-def same_frame_values(a, b):
-    """Bitwise for the test build, else equal integers and floats within ROUND_OFF."""
+def same_frame_values(a, b, scale):
+    """Bitwise for the test build, else equal integers and floats within ROUND_OFF of
+    scale."""
     if NATIVE:
         return bitwise(a, b)
     a, b = np.asarray(a), np.asarray(b)
@@ -64,7 +67,6 @@ def same_frame_values(a, b):
         return False
     if not np.issubdtype(b.dtype, np.floating):
         return np.array_equal(a, b)
-    scale = float(np.abs(b).max()) if b.size else 0.0
     return bool(np.all(np.abs(a - b) <= ROUND_OFF * scale))
 
 
@@ -210,21 +212,23 @@ def test_stepper_frames_bitwise(case, run):
                               **resolve(info["kwargs"], mesh))
     assert len(frames) == info["frames"]
     assert seen == [(i + 1, len(frames)) for i in range(len(frames))]
-    for i, got in enumerate(frames):
-        ref = read(case, f"stepper_{run}_{i}.vtu")
-        assert same_frame_values(got.points, ref.points), i
-        assert sorted(got.point_data.keys()) == sorted(ref.point_data.keys())
-        assert sorted(got.cell_data.keys()) == sorted(ref.cell_data.keys())
-        assert sorted(got.field_data.keys()) == sorted(ref.field_data.keys())
-        for data, want in ((got.point_data, ref.point_data), (got.cell_data, ref.cell_data),
-                           (got.field_data, ref.field_data)):
+    refs = [read(case, f"stepper_{run}_{i}.vtu") for i in range(len(frames))]
+    diag = np.linalg.norm(np.ptp(np.asarray(mesh.points, float), axis=0))
+    attrs = ("point_data", "cell_data", "field_data")
+    scale = {(attr, name): max(float(np.abs(np.asarray(getattr(r, attr)[name], float)).max())
+                               for r in refs)
+             for attr in attrs for name in getattr(refs[0], attr).keys()}
+    for i, (got, ref) in enumerate(zip(frames, refs)):
+        assert same_frame_values(got.points, ref.points, diag), i
+        for attr in attrs:
+            data, want = getattr(got, attr), getattr(ref, attr)
+            assert sorted(data.keys()) == sorted(want.keys()), attr
             for name in want.keys():
-                assert same_frame_values(data[name], want[name]), (i, name)
+                assert same_frame_values(data[name], want[name], scale[attr, name]), (i, name)
         assert bitwise(got.cells, ref.cells)
     # not trivially equal: the mesh moved (the first dynamic frame is the initial state),
     # and a meaningful run: it bent without blowing up
     last = frames[-1]
-    diag = np.linalg.norm(np.ptp(np.asarray(mesh.points, float), axis=0))
     assert 0 < np.abs(last.point_data["Displacement"]).max() < 0.5 * diag
 
 
