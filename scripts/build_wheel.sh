@@ -10,9 +10,11 @@
 # then `auditwheel repair`: libgmp and libmpfr (CGAL's) copied into the wheel
 # (hoembed.libs/) and the wheel tagged with the manylinux policy its symbols allow; then
 # `auditwheel show`, which must name a manylinux policy and no library beyond it.
-# --native: the stepper kernels with -march=native (HOEMBED_SIMULATION_NATIVE=ON), as
-# `make build` compiles them, for frames bitwise equal to the VTK build's; a test build
-# for this machine only, written to build-pip/native/ unless -o says otherwise.
+# --native: the stepper kernels with -march=native (HOEMBED_SIMULATION_NATIVE=ON) and
+# CHOLMOD when found, as `make build` compiles them, for frames bitwise equal to the VTK
+# build's; a test build for this machine only (not repaired: it uses this machine's
+# libraries), written to build-pip/native/ unless -o says otherwise. It shares the build
+# folder of the portable wheel of its tag: switching recompiles the kernels only.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -62,7 +64,9 @@ for src in build/_deps/tetgen/tetgen-*/src; do
   [ -f "$src/tetgen.cxx" ] && settings+=(--config-settings=cmake.define.HOEMBED_TETGEN_SOURCE_DIR="$root/$src")
 done
 if ((native)); then
-  settings+=(--config-settings=cmake.define.HOEMBED_SIMULATION_NATIVE=ON)
+  # and CHOLMOD when found, as the VTK build (Benchmarks/bench_pip.py compares the two)
+  settings+=(--config-settings=cmake.define.HOEMBED_SIMULATION_NATIVE=ON
+    --config-settings=cmake.define.HOEMBED_USE_CHOLMOD=ON)
 else
   # explicit, so that a build folder last configured for the native test build is not
   # reused with -march=native (the CMake cache keeps options)
@@ -82,10 +86,18 @@ for want in "${pythons[@]}"; do
   # an earlier wheel of the same tag goes (a rebuilt one may be tagged anew)
   tag="$(basename "$built" .whl | cut -d- -f3-4)"
   rm -f "$out"/hoembed-*-"$tag"-*.whl
+  if ((native)); then
+    # a test build for this machine: its libraries are this machine's, nothing to vendor
+    cp "$built" "$out"/
+    echo "[wheel] $out/$(basename "$built") (test build, not repaired)"
+    continue
+  fi
   auditwheel repair -w "$out" "$built" 2>&1 | grep -v "^INFO:" || true
   repaired="$(ls -t "$out"/hoembed-*-"$tag"-*.whl | head -1)"
   show="$(auditwheel show "$repaired" | tr -s ' \n' '  ')"  # one line: it wraps its text
-  echo "[wheel] auditwheel show: $show"
+  echo "[wheel] auditwheel show: $(grep -o 'platform tag: "manylinux[^"]*"' <<<"$show" | head -1);" \
+    "vendored: $(/usr/bin/python3 -c 'import sys, zipfile; print(*(n.split("/")[-1]
+for n in zipfile.ZipFile(sys.argv[1]).namelist() if n.startswith("hoembed.libs/")))' "$repaired")"
   # a manylinux policy, and nothing outside it left to vendor
   if ! grep -q 'consistent with the following platform tag: "manylinux_' <<<"$show" \
       || grep -q "need to be eliminated" <<<"$show"; then
