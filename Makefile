@@ -21,7 +21,9 @@ JOBS ?= $(shell nproc)
 PY := .venv/bin/python
 # pyenv's CPythons (scripts/build_wheel.sh finds them; else python3.X on PATH)
 WHEEL_PYTHONS ?= 3.11 3.12
-PIP_MATRIX ?= 3.11:9.4.2:0.46.5 3.13:newest:newest
+# the issue's two cells, and the oldest VTK and pyvista the wheel accepts (numpy 1.x, as
+# they were built for)
+PIP_MATRIX ?= 3.11:9.4.2:0.46.5 3.13:newest:newest 3.12:9.3.1:0.42.3:numpy<2
 SITE = $(shell $(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 
 ASAN_DIR ?= build-asan
@@ -107,7 +109,7 @@ wheel: setup
 	bash scripts/build_wheel.sh $(WHEEL_PYTHONS)
 
 test-pip: build wheel
-	bash scripts/test_pip.sh $(PIP_MATRIX)
+	bash scripts/test_pip.sh $(foreach c,$(PIP_MATRIX),'$(c)')
 
 test-pip-vtk95: build wheel
 	bash scripts/test_pip.sh 3.11:9.5.2:newest

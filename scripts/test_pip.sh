@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # make test-pip: the binary wheels of `make wheel` (dist/) in fresh venvs, against the VTK
 # build, on a matrix of CPython x pip VTK x pyvista.
-#   scripts/test_pip.sh CELL...      CELL = PYTHON:VTK:PYVISTA, e.g. 3.11:9.4.2:0.46.5;
-#                                     VTK or PYVISTA "newest": what the index serves
+#   scripts/test_pip.sh CELL...      CELL = PYTHON:VTK:PYVISTA[:REQUIREMENT], e.g.
+#                                     3.11:9.4.2:0.46.5; VTK or PYVISTA "newest": what the
+#                                     index serves; REQUIREMENT: one more for the user's
+#                                     side (numpy<2 for the oldest VTK and pyvista)
 # Per cell:
 # 1. a fresh venv WITHOUT system site packages (no Debian VTK) from that CPython (pyenv's,
 #    as scripts/build_wheel.sh finds it), with the user's side first: vtk, pyvista and
@@ -46,10 +48,10 @@ print("cp312-abi3" if v >= (3, 12) else "cp%d%d-cp%d%d" % (v[:2] * 2))')"
 
 first_venv=""
 for cell in "$@"; do
-  IFS=: read -r pyver vtk pv <<<"$cell"
+  IFS=: read -r pyver vtk pv extra <<<"$cell"
   py="$(find_python "$pyver")"
   wheel="$(wheel_for "$py")"
-  venv="build-pip/venv-py${pyver//./}-vtk${vtk//./}-pv${pv//./}"
+  venv="build-pip/venv-py${pyver//./}-vtk${vtk//./}-pv${pv//./}"  # (REQUIREMENT not in the name)
   [ -n "$first_venv" ] || first_venv="$venv"
   want_vtk="vtk"; [ "$vtk" = newest ] || want_vtk="vtk==$vtk"
   want_pv="pyvista"; [ "$pv" = newest ] || want_pv="pyvista==$pv"
@@ -57,7 +59,7 @@ for cell in "$@"; do
   rm -rf "$venv"
   "$py" -m venv "$venv"
   vpy="$venv/bin/python"
-  "$vpy" -m pip install -q --only-binary=:all: "$want_vtk" "$want_pv" pytest
+  "$vpy" -m pip install -q --only-binary=:all: "$want_vtk" "$want_pv" pytest ${extra:+"$extra"}
   before="$("$vpy" -m pip list --format=freeze | grep -i '^vtk==')"
   "$vpy" -m pip install -q --only-binary=:all: "$wheel"
   after="$("$vpy" -m pip list --format=freeze | grep -i '^vtk==')"
