@@ -92,7 +92,11 @@ for want in "${pythons[@]}"; do
     echo "[wheel] $out/$(basename "$built") (test build, not repaired)"
     continue
   fi
-  auditwheel repair -w "$out" "$built" 2>&1 | grep -v "^INFO:" || true
+  if ! auditwheel repair -w "$out" "$built" > "$raw/repair.log" 2>&1; then
+    cat "$raw/repair.log" >&2
+    echo "[wheel] auditwheel repair failed on $built" >&2
+    exit 1
+  fi
   repaired="$(ls -t "$out"/hoembed-*-"$tag"-*.whl | head -1)"
   show="$(auditwheel show "$repaired" | tr -s ' \n' '  ')"  # one line: it wraps its text
   echo "[wheel] auditwheel show: $(grep -o 'platform tag: "manylinux[^"]*"' <<<"$show" | head -1);" \
