@@ -9,12 +9,21 @@
 #   make bench   the benchmark scripts (JSON in Benchmarks/results/)
 #   make paraview       the ParaView 5.11 plugin (Plugin/, a separate build in build-paraview/)
 #   make test-paraview  its tests (pvbatch pipeline against the VTK 9.1 build, GUI, MPI)
-#   make test-pip       the pip wheel (pyproject.toml) in a fresh venv with pip VTK 9.4.2 and
-#                pyvista, against the VTK build's outputs (scripts/test_pip.sh); part of
-#                `make test`. make test-pip-vtk95: the same on VTK 9.5.2
+#   make wheel   the self-contained binary wheels for pyvista users in dist/ (pyproject.toml,
+#                scripts/build_wheel.sh: pip wheel + auditwheel repair, a manylinux tag):
+#                one per CPython of WHEEL_PYTHONS (3.12: the abi3 wheel for every 3.12+)
+#   make test-pip       those wheels installed with --only-binary=:all: in fresh venvs of
+#                the cells of PIP_MATRIX (CPython:VTK:pyvista), against the VTK build's
+#                outputs, and the bitwise stepper test build (scripts/test_pip.sh); part
+#                of `make test`. make test-pip-vtk95: one cell on VTK 9.5.2
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PY := .venv/bin/python
+# pyenv's CPythons (scripts/build_wheel.sh finds them; else python3.X on PATH)
+WHEEL_PYTHONS ?= 3.11 3.12
+# the issue's two cells, and the oldest VTK and pyvista the wheel accepts (numpy 1.x, as
+# they were built for)
+PIP_MATRIX ?= 3.11:9.4.2:0.46.5 3.13:newest:newest 3.12:9.3.1:0.42.3:numpy<2
 SITE = $(shell $(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 
 ASAN_DIR ?= build-asan
@@ -26,7 +35,7 @@ SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer
 # mesh cases take minutes under ASan; the C++ tests cover those filters sanitized).
 SAN_PY_TESTS ?= py\.(test_bad_input|test_fuzz_surfaces|test_series|test_cli|test_simulation|test_transfer|test_package)$$
 
-.PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install paraview test-paraview test-pip test-pip-vtk95
+.PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install paraview test-paraview wheel test-pip test-pip-vtk95
 
 all: build
 
@@ -94,11 +103,16 @@ paraview: setup
 test-paraview: build paraview
 	xvfb-run -a -s "-screen 0 1280x1024x24" $(PY) -m pytest -v Plugin/Testing
 
-test-pip: build
-	bash scripts/test_pip.sh 9.4.2
+# setup: the Debian packages (compiler, CMake, Eigen, CGAL, GMP, MPFR); the TetGen sources
+# of `make build`, when there, serve the wheel too (else the wheel's build fetches them)
+wheel: setup
+	bash scripts/build_wheel.sh $(WHEEL_PYTHONS)
 
-test-pip-vtk95: build
-	bash scripts/test_pip.sh 9.5.2
+test-pip: build wheel
+	bash scripts/test_pip.sh $(foreach c,$(PIP_MATRIX),'$(c)')
+
+test-pip-vtk95: build wheel
+	bash scripts/test_pip.sh 3.11:9.5.2:newest
 
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR) install build-paraview build-pip
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) install build-paraview build-pip dist

@@ -17,7 +17,8 @@ Each is timed in its own Python (the two VTKs cannot share
 a process): children alternate, round after round, each timing `reps` calls; inputs
 are written once by the VTK build. Wall-clock and process CPU time (all threads) per
 call, median and minimum over all calls; the ratios pip / VTK are what to read (this
-machine is shared). Needs the pip venv of `make test-pip` (build-pip/venv-vtk942).
+machine is shared). Needs the pip venv of `make test-pip` (build-pip/venv-py311-vtk942-pv0465, which holds
+the bitwise test build: -march=native and CHOLMOD, as the VTK build).
 Inputs: the thorny tail (46k vertices, and 102k) with ~1000 tet10, and armadillo.obj from
 ../shared/data/meshes when present. Writes Benchmarks/results/bench_pip.json; the JSON
 is also the last line printed.
@@ -174,7 +175,7 @@ def summary(values):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--pip-python", default=str(ROOT / "build-pip" / "venv-vtk942" / "bin" / "python"))
+    ap.add_argument("--pip-python", default=str(ROOT / "build-pip" / "venv-py311-vtk942-pv0465" / "bin" / "python"))
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--mesh-reps", type=int, default=1,

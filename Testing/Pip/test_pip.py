@@ -8,7 +8,9 @@ the loops write per-vertex results, so the thread count does not matter either).
 stepper's frames too, when its kernels are compiled with the VTK build's flags
 (HOEMBED_SIMULATION_NATIVE=ON: `make test-pip` builds the wheel so; these meshes of a few
 hundred cells stay below the solver's thresholds for parallel loops, so the thread count
-is not exercised for the stepper here).
+is not exercised for the stepper here). scripts/test_pip.sh sets HOEMBED_PIP_NATIVE=1 for
+that test build; the portable wheel's frames (no -march=native: no FMA contraction) must
+agree to round-off instead (ROUND_OFF).
 """
 import json
 import os
@@ -43,6 +45,29 @@ def bitwise(a, b):
     a, b = np.asarray(a), np.asarray(b)
     return a.shape == b.shape and a.dtype == b.dtype and \
         np.array_equal(a.view(np.uint8), b.view(np.uint8))
+
+
+# the stepper's kernels compiled as the VTK build's (HOEMBED_SIMULATION_NATIVE=ON)?
+NATIVE = os.environ.get("HOEMBED_PIP_NATIVE") == "1"
+# the portable wheel against the VTK build's -march=native frames: FMA contraction moves
+# the last bits; relative to the run's largest magnitude of that array (the bounding-box
+# diagonal for the points), since quantities near zero (the rest frame's stress) are all
+# round-off. Seen on 9.4.2 and 9.7.2: points 1.9e-13, Displacement 1.2e-11, VonMisesStress
+# 2.9e-11; integer arrays equal.
+ROUND_OFF = 1e-9
+
+
+def same_frame_values(a, b, scale):
+    """Bitwise for the test build, else equal integers and floats within ROUND_OFF of
+    scale."""
+    if NATIVE:
+        return bitwise(a, b)
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape or a.dtype != b.dtype:
+        return False
+    if not np.issubdtype(b.dtype, np.floating):
+        return np.array_equal(a, b)
+    return bool(np.all(np.abs(a - b) <= ROUND_OFF * scale))
 
 
 def test_not_the_vtk_build():
@@ -187,21 +212,23 @@ def test_stepper_frames_bitwise(case, run):
                               **resolve(info["kwargs"], mesh))
     assert len(frames) == info["frames"]
     assert seen == [(i + 1, len(frames)) for i in range(len(frames))]
-    for i, got in enumerate(frames):
-        ref = read(case, f"stepper_{run}_{i}.vtu")
-        assert bitwise(got.points, ref.points), i
-        assert sorted(got.point_data.keys()) == sorted(ref.point_data.keys())
-        assert sorted(got.cell_data.keys()) == sorted(ref.cell_data.keys())
-        assert sorted(got.field_data.keys()) == sorted(ref.field_data.keys())
-        for data, want in ((got.point_data, ref.point_data), (got.cell_data, ref.cell_data),
-                           (got.field_data, ref.field_data)):
+    refs = [read(case, f"stepper_{run}_{i}.vtu") for i in range(len(frames))]
+    diag = np.linalg.norm(np.ptp(np.asarray(mesh.points, float), axis=0))
+    attrs = ("point_data", "cell_data", "field_data")
+    scale = {(attr, name): max(float(np.abs(np.asarray(getattr(r, attr)[name], float)).max())
+                               for r in refs)
+             for attr in attrs for name in getattr(refs[0], attr).keys()}
+    for i, (got, ref) in enumerate(zip(frames, refs)):
+        assert same_frame_values(got.points, ref.points, diag), i
+        for attr in attrs:
+            data, want = getattr(got, attr), getattr(ref, attr)
+            assert sorted(data.keys()) == sorted(want.keys()), attr
             for name in want.keys():
-                assert bitwise(data[name], want[name]), (i, name)
+                assert same_frame_values(data[name], want[name], scale[attr, name]), (i, name)
         assert bitwise(got.cells, ref.cells)
     # not trivially equal: the mesh moved (the first dynamic frame is the initial state),
     # and a meaningful run: it bent without blowing up
     last = frames[-1]
-    diag = np.linalg.norm(np.ptp(np.asarray(mesh.points, float), axis=0))
     assert 0 < np.abs(last.point_data["Displacement"]).max() < 0.5 * diag
 
 

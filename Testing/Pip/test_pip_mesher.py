@@ -98,8 +98,11 @@ def assert_valid(mesh):
     v.SetInputData(mesh)
     v.Update()
     states = np.asarray(v.GetOutput().GetCellData().GetArray("ValidityState"))
-    bad = int(vtkCellValidator.IntersectingEdges) | int(vtkCellValidator.IntersectingFaces) | \
-        int(vtkCellValidator.FacesAreOrientedIncorrectly) | int(vtkCellValidator.WrongNumberOfPoints)
+    # the verdicts' enum: vtkCellStatus on VTK 9.7, on the class itself up to 9.5
+    import vtkmodules.vtkCommonDataModel as dm
+    status = getattr(dm, "vtkCellStatus", vtkCellValidator)
+    bad = int(status.IntersectingEdges) | int(status.IntersectingFaces) | \
+        int(status.FacesAreOrientedIncorrectly) | int(status.WrongNumberOfPoints)
     assert np.all((states & bad) == 0), np.flatnonzero(states & bad)[:10]
 
 

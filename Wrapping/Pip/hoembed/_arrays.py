@@ -22,6 +22,16 @@ def cells(cell_array):
     return np.ascontiguousarray(off), np.ascontiguousarray(conn)
 
 
+def cell_types(grid):
+    """An unstructured grid's per-cell type codes (a vtkUnsignedCharArray): VTK 9.6
+    deprecated GetCellTypesArray() for GetCellTypes(), which before 9.6 only fills a
+    vtkCellTypes with the distinct types."""
+    from vtkmodules.vtkCommonCore import vtkVersion
+    if (vtkVersion.GetVTKMajorVersion(), vtkVersion.GetVTKMinorVersion()) >= (9, 6):
+        return grid.GetCellTypes()
+    return grid.GetCellTypesArray()
+
+
 def doubles(vtk_array):
     """The values of a VTK data array as contiguous float64 (the VTK filters' copy)."""
     return np.ascontiguousarray(vtk_to_numpy(vtk_array), dtype=np.float64)

@@ -39,7 +39,7 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
         driver.set_surface(_arrays.points(surface.GetPoints()), *_arrays.cells(surface.GetPolys()),
                            *_arrays.cells(surface.GetStrips()))
         offsets, conn = _arrays.cells(fe_mesh.GetCells())
-        types = np.ascontiguousarray(_arrays.vtk_to_numpy(fe_mesh.GetCellTypesArray()),
+        types = np.ascontiguousarray(_arrays.vtk_to_numpy(_arrays.cell_types(fe_mesh)),
                                      dtype=np.uint8)
         driver.prepare_and_order(fe_mesh.GetNumberOfPoints(), _arrays.points(fe_mesh.GetPoints()),
                                  types, offsets, conn, True, n_partitions)

@@ -36,11 +36,24 @@ __all__ = ["tet10_mesh"]
 # vtkTet10Mesher's properties that tet10_mesh does not set (their defaults)
 MERGE_TOLERANCE = 1e-6
 MAXIMUM_NUMBER_OF_ELEMENTS = 1_000_000
+
+
+def _cell_status(name):
+    """The bit of vtkCellValidator's verdict `name` on any VTK 9.3+: VTK 9.6 moved the
+    enum out of the class (vtkCellValidator::State became the enum vtkCellStatus; 9.7's
+    Python has only vtkCellStatus), older ones have it on the class."""
+    import vtkmodules.vtkCommonDataModel as dm
+    for owner in (getattr(dm, "vtkCellStatus", None), getattr(vtkCellValidator, "State", None),
+                  vtkCellValidator):
+        if owner is not None and hasattr(owner, name):
+            return int(getattr(owner, name))
+    raise ImportError(f"hoembed: this VTK's vtkCellValidator has no verdict {name!r}")
+
+
 # the validator's verdicts that refuse a curved cell (curved faces are legitimately not
 # convex: only intersections and flips count)
-_BAD_CELL = (int(vtkCellValidator.IntersectingEdges) | int(vtkCellValidator.IntersectingFaces)
-             | int(vtkCellValidator.FacesAreOrientedIncorrectly)
-             | int(vtkCellValidator.WrongNumberOfPoints))
+_BAD_CELL = (_cell_status("IntersectingEdges") | _cell_status("IntersectingFaces")
+             | _cell_status("FacesAreOrientedIncorrectly") | _cell_status("WrongNumberOfPoints"))
 
 
 def _triangles(tris):

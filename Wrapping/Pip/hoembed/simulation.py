@@ -74,7 +74,7 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
         tuple(clamps["plane"][1])
     box = () if clamps["box"] is None else tuple(clamps["box"])
     offsets, conn = _arrays.cells(mesh.GetCells())
-    types = np.ascontiguousarray(_arrays.vtk_to_numpy(mesh.GetCellTypesArray()),
+    types = np.ascontiguousarray(_arrays.vtk_to_numpy(_arrays.cell_types(mesh)),
                                  dtype=np.uint8)
     driver = StepperDriver()
     try:

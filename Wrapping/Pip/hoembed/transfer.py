@@ -49,7 +49,7 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     try:
         TransferDriver.check_mesh_size(nmp, ncells, mesh.GetCells() is not None)
         offsets, conn = _arrays.cells(mesh.GetCells())
-        types = np.ascontiguousarray(_arrays.vtk_to_numpy(mesh.GetCellTypesArray()),
+        types = np.ascontiguousarray(_arrays.vtk_to_numpy(_arrays.cell_types(mesh)),
                                      dtype=np.uint8)
         driver.set_mesh_topology(nmp, types, offsets, conn)
     except RuntimeError as e:
