@@ -33,12 +33,20 @@ constexpr const char* Displacement = "Displacement";
 constexpr const char* Velocity = "Velocity";
 constexpr const char* NodalRotation = "NodalRotation";
 constexpr const char* VonMisesStress = "VonMisesStress";
+// stepper output, field data
+constexpr const char* KineticEnergy = "KineticEnergy";
+constexpr const char* StrainEnergy = "StrainEnergy";
+constexpr const char* SolverIterations = "SolverIterations";
 // embedded surface, point data
 constexpr const char* EmbeddingCellId = "EmbeddingCellId";
 constexpr const char* EmbeddingParametricCoords = "EmbeddingParametricCoords";
 constexpr const char* EmbeddingDistance = "EmbeddingDistance";
 constexpr const char* EmbeddingResidual = "EmbeddingResidual";
 constexpr const char* EmbeddingFace = "EmbeddingFace";
+/// diagnostics: the closest distance to the boundary, Newton iterations, elements visited
+constexpr const char* EmbeddingClosestDistance = "EmbeddingClosestDistance";
+constexpr const char* EmbeddingIterations = "EmbeddingIterations";
+constexpr const char* EmbeddingElementsVisited = "EmbeddingElementsVisited";
 /// 1 where v = p + d n has no solution and v = p + J(p) q is used instead
 constexpr const char* EmbeddingFallback = "EmbeddingFallback";
 /// q of those vertices (3 doubles; written only when some vertex falls back)

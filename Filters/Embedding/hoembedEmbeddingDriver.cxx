@@ -198,4 +198,26 @@ void EmbeddingDriver::ReleaseLargeSurfaceMemory()
   std::vector<Id>().swap(this->Order);
   std::vector<VertexEmbedding>().swap(this->Results);
 }
+//------------------------------------------------------------------------------
+std::vector<std::string> EmbeddingWarnings(const EmbeddingSummary& summary)
+{
+  std::vector<std::string> out;
+  if (summary.Uncertified > 0)
+  {
+    std::ostringstream o;
+    o << summary.Uncertified << " surface point(s) (e.g. point " << summary.FirstUncertified
+      << "): the closest-point search on a curved boundary face ran out of its budget; "
+         "their distance may be a local minimum only.";
+    out.push_back(o.str());
+  }
+  if (summary.Fallbacks > 0)
+  {
+    std::ostringstream o;
+    o << summary.Fallbacks << " surface point(s) (e.g. point " << summary.FirstFallback
+      << ") have no normal offset v = p + d n: they use their closest point p and the "
+         "offset v - p instead (EmbeddingFallback = 1).";
+    out.push_back(o.str());
+  }
+  return out;
+}
 } // namespace hoembed

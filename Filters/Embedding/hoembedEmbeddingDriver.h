@@ -54,6 +54,11 @@ struct EmbeddingSummary
   std::int64_t Fallbacks = 0, FirstFallback = -1;
 };
 
+/// The warnings of a summary, one sentence each (none when every point is certified and
+/// has its normal offset): what the filter and the package's embed() report.
+HOEMBEDFILTERSEMBEDDING_EXPORT std::vector<std::string> EmbeddingWarnings(
+  const EmbeddingSummary& summary);
+
 class HOEMBEDFILTERSEMBEDDING_EXPORT EmbeddingDriver
 {
 public:

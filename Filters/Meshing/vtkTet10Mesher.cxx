@@ -207,6 +207,14 @@ private:
   }
 };
 static_assert(sizeof(vtkIdType) == sizeof(Id), "64-bit vtkIdType expected");
+// the refused verdicts are spelled as bits in the driver's settings (the package reads
+// them there): they must be this VTK's
+static_assert(hoembed::MesherServiceSettings::RefusedCellStates ==
+    (static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
+      static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
+      static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
+      static_cast<short>(vtkCellValidator::State::WrongNumberOfPoints)),
+  "the cell validator's State bits");
 
 // Distributed pipelines: every process's piece of the surface, gathered in rank order (so
 // every process appends the same surface) before any check, so that all processes take
@@ -387,13 +395,10 @@ public:
           (x[3 * i + 2] - x[2]) * scale };
         this->CheckCell->GetPoints()->SetPoint(i, p);
       }
-      // Curved faces are legitimately not convex: only intersections and flips count.
-      const auto state = static_cast<short>(vtkCellValidator::Check(this->CheckCell, 1e-6));
-      const short bad = static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
-        static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
-        static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
-        static_cast<short>(vtkCellValidator::State::WrongNumberOfPoints);
-      return (state & bad) == 0;
+      using Settings = hoembed::MesherServiceSettings;
+      const auto state = static_cast<short>(
+        vtkCellValidator::Check(this->CheckCell, Settings::CellCheckTolerance));
+      return (state & Settings::RefusedCellStates) == 0;
     };
     return s;
   }
@@ -406,8 +411,8 @@ private:
     {
       vtkNew<vtkWindowedSincPolyDataFilter> smooth;
       smooth->SetInputData(this->Fine);
-      smooth->SetNumberOfIterations(30);
-      smooth->SetPassBand(0.01);
+      smooth->SetNumberOfIterations(hoembed::MesherServiceSettings::SmoothingIterations);
+      smooth->SetPassBand(hoembed::MesherServiceSettings::SmoothingPassBand);
       smooth->NormalizeCoordinatesOn();
       smooth->BoundarySmoothingOff();
       smooth->FeatureEdgeSmoothingOff();

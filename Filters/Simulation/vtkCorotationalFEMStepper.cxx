@@ -53,8 +53,6 @@ struct vtkCorotationalFEMStepper::Internals
   std::vector<double>& Targets = Driver.Targets;
   std::vector<unsigned char>& Mask = Driver.Mask;
   std::string Signature; // BuildSignature() of the build (LiveMode)
-  long long PendingSteps = 0;
-  bool ResetRequested = false;
   bool LastOK = false;
 };
 
@@ -193,7 +191,6 @@ int vtkCorotationalFEMStepper::RequestData(
     {
       return 0;
     }
-    I.ResetRequested = false;
   }
 
   // Requested step.
@@ -206,21 +203,13 @@ int vtkCorotationalFEMStepper::RequestData(
   long long k = std::llround(t / this->TimeStep);
   if (this->LiveMode)
   {
-    if (I.ResetRequested)
+    const std::string error = I.Driver.PrepareLiveStep(
+      this->Gravity, this->PrescribedSpeedLimit, input->GetNumberOfPoints(), timed, k, k);
+    if (!error.empty())
     {
-      I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
-      I.CurrentStep = 0;
-      I.ResetRequested = false;
-    }
-    if (!this->ApplyLoads(input->GetNumberOfPoints()))
-    {
-      I.PendingSteps = 0;
+      vtkErrorMacro(<< error);
       return 0;
     }
-    I.StaticDone = false; // the loads may have changed
-    // never backwards: an earlier (or no) time is the current state
-    k = std::max<long long>(timed ? k : 0, I.CurrentStep + I.PendingSteps);
-    I.PendingSteps = 0;
   }
   else
   {
@@ -376,7 +365,7 @@ bool vtkCorotationalFEMStepper::Step(int n)
     vtkErrorMacro("Step(" << n << "): the number of steps must be >= 0.");
     return false;
   }
-  this->Internal->PendingSteps += n;
+  this->Internal->Driver.RequestSteps(n);
   this->Modified();
   this->Update();
   return this->Internal->LastOK;
@@ -395,9 +384,7 @@ bool vtkCorotationalFEMStepper::AdvanceTo(double t)
     return false;
   }
   Internals& I = *this->Internal;
-  const long long k = std::llround(t / this->TimeStep);
-  const long long now = (I.Built && !I.ResetRequested) ? I.CurrentStep : 0;
-  I.PendingSteps = std::max(0LL, k - now);
+  I.Driver.RequestStep(std::llround(t / this->TimeStep), I.Built);
   this->Modified();
   this->Update();
   return I.LastOK;
@@ -405,15 +392,14 @@ bool vtkCorotationalFEMStepper::AdvanceTo(double t)
 
 void vtkCorotationalFEMStepper::ResetState()
 {
-  this->Internal->ResetRequested = true;
-  this->Internal->PendingSteps = 0;
+  this->Internal->Driver.RequestReset();
   this->Modified();
 }
 
 double vtkCorotationalFEMStepper::GetSimulationTime()
 {
   const Internals& I = *this->Internal;
-  return (I.Built && !I.ResetRequested) ? I.CurrentStep * this->TimeStep : 0.0;
+  return I.Built ? I.Driver.ClockStep() * this->TimeStep : 0.0;
 }
 
 //------------------------------------------------------------------------------
@@ -462,39 +448,25 @@ bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const st
   const vtkIdType np = input->GetNumberOfPoints();
   const bool named = this->FixedArrayName && *this->FixedArrayName;
   vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
+  using Kind = hoembed::StepperDriver::FixedArrayKind;
+  Kind kind = fixedArray ? Kind::Numeric : Kind::Absent;
   if (!fixedArray && named)
   {
-    // An array of that name that is not numeric point data would clamp nothing
-    // silently: refuse it, whether named by the user or the default "Fixed".
-    const bool asString = input->GetPointData()->GetAbstractArray(this->FixedArrayName);
-    const bool asCells = input->GetCellData()->GetAbstractArray(this->FixedArrayName) ||
-      input->GetFieldData()->GetAbstractArray(this->FixedArrayName);
-    if (asString)
+    if (input->GetPointData()->GetAbstractArray(this->FixedArrayName))
     {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                       << "' is a point-data array that is not numeric (e.g. "
-                                          "strings): the clamps need numbers (nonzero = clamped).");
-      return false;
+      kind = Kind::NotNumeric;
     }
-    if (asCells)
+    else if (input->GetCellData()->GetAbstractArray(this->FixedArrayName) ||
+      input->GetFieldData()->GetAbstractArray(this->FixedArrayName))
     {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                       << "' is cell or field data, not point data: the clamps "
-                                          "are per node (nonzero = clamped).");
-      return false;
-    }
-    if (std::string(this->FixedArrayName) != hoembed::ArrayNames::Fixed)
-    {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                       << "' is not a point-data array of the input.");
-      return false;
+      kind = Kind::CellOrField;
     }
   }
-  if (fixedArray && fixedArray->GetNumberOfTuples() != np)
+  const std::string arrayError = hoembed::StepperDriver::CheckFixedArray(this->FixedArrayName,
+    kind, fixedArray ? fixedArray->GetNumberOfTuples() : 0, np);
+  if (!arrayError.empty())
   {
-    vtkErrorMacro("FixedArrayName '" << this->FixedArrayName << "' has "
-                                     << fixedArray->GetNumberOfTuples() << " tuples, expected "
-                                     << np << " (one per point).");
+    vtkErrorMacro(<< arrayError);
     return false;
   }
   std::vector<double> values;
@@ -639,9 +611,6 @@ void vtkCorotationalFEMStepper::WriteOutput(
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(np);
-  const double* x = I.Solver.GetPositions();
-  const double* v = I.Solver.GetVelocities();
-  const double* X = I.Solver.GetRestPositions();
   vtkNew<vtkDoubleArray> disp, vel, rot, vm;
   disp->SetName(hoembed::ArrayNames::Displacement);
   disp->SetNumberOfComponents(3);
@@ -654,20 +623,9 @@ void vtkCorotationalFEMStepper::WriteOutput(
   rot->SetNumberOfTuples(np);
   vm->SetName(hoembed::ArrayNames::VonMisesStress);
   vm->SetNumberOfTuples(this->ComputeDiagnostics ? nc : 0);
-  for (vtkIdType p = 0; p < np; ++p)
-  {
-    points->SetPoint(p, x + 3 * p);
-    for (int i = 0; i < 3; ++i)
-    {
-      disp->SetValue(3 * p + i, x[3 * p + i] - X[3 * p + i]);
-      vel->SetValue(3 * p + i, v[3 * p + i]);
-    }
-  }
-  I.Solver.ComputeNodalRotations(rot->GetPointer(0));
-  if (this->ComputeDiagnostics)
-  {
-    I.Solver.ComputeVonMises(vm->GetPointer(0));
-  }
+  I.Driver.WriteFrame(static_cast<double*>(points->GetVoidPointer(0)), disp->GetPointer(0),
+    vel->GetPointer(0), rot->GetPointer(0),
+    this->ComputeDiagnostics ? vm->GetPointer(0) : nullptr);
   output->SetPoints(points);
   output->GetPointData()->AddArray(disp);
   output->GetPointData()->AddArray(vel);
@@ -690,10 +648,10 @@ void vtkCorotationalFEMStepper::WriteOutput(
   };
   if (this->ComputeDiagnostics)
   {
-    addField("KineticEnergy", I.Solver.KineticEnergy());
-    addField("StrainEnergy", I.Solver.StrainEnergy());
+    addField(hoembed::ArrayNames::KineticEnergy, I.Solver.KineticEnergy());
+    addField(hoembed::ArrayNames::StrainEnergy, I.Solver.StrainEnergy());
   }
-  addField("SolverIterations", I.Solver.GetLastIterations());
+  addField(hoembed::ArrayNames::SolverIterations, I.Solver.GetLastIterations());
   output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), tk);
   this->UpdateProgress(1.0);
 }

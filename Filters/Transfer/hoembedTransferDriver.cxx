@@ -31,13 +31,14 @@ bool AllFinite(const double* x, std::int64_t n)
 // (extrapolated), but hand-made embeddings (a face plane's projection with a distance)
 // extrapolate too, and that maps nothing wrong: parametric coordinates are refused only
 // beyond MaxExtrapolation cell sizes, which no surface the mesh approximates comes near.
-// A surface may lie far from a small mesh (the embedding gives such vertices large
+// A surface may lie outside a small mesh (the embedding gives such vertices large
 // distances, or its flagged fallback), so |d| is refused only beyond MaxDistance mesh
-// diagonals: there the whole mesh is smaller than a few units in the last place of the
-// vertex's coordinates, so no deformation of it can be carried (and 1e300 would overflow
-// the output).
+// diagonals, the same bound as the parametric one: there a turn of the mesh by a
+// thousandth of a radian already swings the vertex by a whole diagonal, so no surface the
+// mesh is meant to carry lies that far (1e12 passed the former bound of 1e13 and put
+// points 5.8e11 diagonals away; 1e300 would overflow the output).
 constexpr double MaxExtrapolation = 1e3;
-constexpr double MaxDistance = 1e13;
+constexpr double MaxDistance = 1e3;
 } // namespace
 
 TransferDriver::TransferDriver(ParallelFor parallelFor)

@@ -113,8 +113,13 @@ def test_success_returns_output():
 
 
 def test_front_end_raises_on_bad_input():
-    # An empty surface is refused by the mesher (whatever stage of development it is at),
-    # as HOEmbedError naming the filter.
+    # An empty surface is refused by the mesher's driver, as HOEmbedError naming the
+    # function; the wrapped filter names itself.
     with pytest.raises(hoembed.HOEmbedError) as info:
         hoembed.tet10_mesh(pv.PolyData())
+    assert str(info.value).startswith("tet10_mesh: ")
+    with pytest.raises(hoembed.HOEmbedError) as info:
+        alg = hoembed.vtkTet10Mesher()
+        alg.SetInputData(pv.PolyData())
+        run_filter(alg)
     assert "vtkTet10Mesher" in str(info.value)

@@ -1,7 +1,7 @@
 // hoembed._hoembed.mesh_surface: the mesher (hoembed::ReadSurface + hoembed::RunMesher, the
 // functions vtkTet10Mesher calls) for the pip wheel.
 //
-// The VTK-dependent steps come from a Python object (Wrapping/Pip/hoembed/meshing.py's
+// The VTK-dependent steps come from a Python object (Wrapping/Python/hoembed/meshing.py's
 // services over the user's pip VTK) with the methods
 //   ear_cut(ids, xyz) -> local ids or None        merge(tris) -> (points, tris) or None
 //   decimate(reduction, smoothed) -> (points, tris) or None
@@ -236,4 +236,13 @@ void BindMesher(nb::module_& m)
     "vtkTet10Mesher's read step and hoembed::RunMesher on numpy arrays, with the VTK "
     "services given by a Python object; returns a dict of the result's arrays and counts "
     "('error' non-empty when the driver failed; read-step errors raise RuntimeError)");
+  using S = hoembed::MesherServiceSettings;
+  nb::dict settings;
+  settings["smoothing_iterations"] = S::SmoothingIterations;
+  settings["smoothing_pass_band"] = S::SmoothingPassBand;
+  settings["cell_check_tolerance"] = S::CellCheckTolerance;
+  settings["refused_cell_states"] = S::RefusedCellStates;
+  settings["merge_tolerance"] = S::MergeTolerance;
+  settings["maximum_number_of_elements"] = S::MaximumNumberOfElements;
+  m.attr("MESHER_SERVICE_SETTINGS") = settings;
 }

@@ -1,6 +1,14 @@
 """numpy views of the VTK arrays the drivers read (adapting only: no algorithm here)."""
+import types
+
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+from ._hoembed import ARRAY_NAMES
+
+# The array names of hoembedArrayNames.h, by their C++ names (N.EmbeddingCellId, ...):
+# spelled once, in C++
+N = types.SimpleNamespace(**ARRAY_NAMES)
 
 EMPTY_IDS = np.zeros(0, dtype=np.int64)
 
@@ -23,8 +31,10 @@ def cells(cell_array):
 
 
 def doubles(vtk_array):
-    """The values of a VTK data array as contiguous float64 (the VTK filters' copy)."""
-    return np.ascontiguousarray(vtk_to_numpy(vtk_array), dtype=np.float64)
+    """The values of a VTK data array (or a numpy array) as contiguous float64 (the VTK
+    filters' copy)."""
+    a = vtk_array if isinstance(vtk_array, np.ndarray) else vtk_to_numpy(vtk_array)
+    return np.ascontiguousarray(a, dtype=np.float64)
 
 
 def to_vtk(array, name, vtk_type=None):
