@@ -59,7 +59,9 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
     -----
     RuntimeWarning
         Uncertified closest points (a curved boundary face's search ran out of its
-        budget) and points that use the fallback offset, through Python's ``warnings``.
+        budget), points that use the fallback offset, and points their embedding does
+        not reproduce (``EmbeddingResidual`` over 1e-6 of the mesh's diagonal: the
+        barycentric method outside a curved mesh), through Python's ``warnings``.
     """
     method_value, n_partitions = embed_arguments(surface, fe_mesh, method, n_partitions,
                                                  progress)

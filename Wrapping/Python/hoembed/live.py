@@ -125,12 +125,16 @@ class LiveSession:
         self.transfer = TransferPlan(embedded, self.fe_rest, self.mode)
         # the frame's outputs, updated in place (the window's actors draw these objects)
         self._surface = self.transfer.output(self.point_normals)
+        # the FE mesh as the stepper's output has it (vtkCorotationalFEMStepper with
+        # ComputeDiagnostics off): the state written into its arrays in place
         self._fe = self.fe_rest.copy()
         n = self.fe_rest.n_points
         self._x = np.empty((n, 3))
-        rotating = self.mode != NORMAL_MODES["recompute"]
-        self._disp = np.empty((n, 3)) if rotating else None
-        self._rot = np.empty((n, 9)) if rotating else None
+        pd = self._fe.point_data
+        for name, width in ((N.Displacement, 3), (N.Velocity, 3), (N.NodalRotation, 9)):
+            pd[name] = np.zeros((n, width))
+        self._disp, self._vel, self._rot = (pd[N.Displacement], pd[N.Velocity],
+                                            pd[N.NodalRotation])
         self.grabbed = None  # FE node ids
         self.grab_start = None  # their positions when grabbed
         self.grab_point = None
@@ -140,9 +144,11 @@ class LiveSession:
 
     def _frame(self):
         """The current state into the outputs: the FE mesh's points, the transfer."""
-        self.stepper.write_frame(self._x, self._disp, None, self._rot)
+        self.stepper.write_frame(self._x, self._disp, self._vel, self._rot)
         self._fe.points[:] = self._x
         self._fe.GetPoints().Modified()
+        for name in (N.Displacement, N.Velocity, N.NodalRotation):
+            self._fe.GetPointData().GetArray(name).Modified()
         self.transfer.evaluate(self._x, self._disp, self._rot)
         points = self._surface.points
         points[:] = self.transfer.points
