@@ -12,6 +12,29 @@
 namespace hoembed
 {
 //------------------------------------------------------------------------------
+std::string StepperDriver::Build(
+  const TetMeshInput& mesh, const StepperParameters& p, const StepperInputs& in)
+{
+  std::string error = this->Initialize(mesh, p);
+  if (error.empty())
+  {
+    error = this->SetClamps(mesh.Points, in.FixedValues, p);
+  }
+  if (error.empty())
+  {
+    const size_t n3 = 3 * static_cast<size_t>(mesh.NumberOfPoints);
+    this->ArrayForces.assign(in.Forces ? in.Forces : nullptr, in.Forces ? in.Forces + n3 : nullptr);
+    error = this->ApplyLoads(in.Gravity, in.PrescribedSpeedLimit, mesh.NumberOfPoints);
+  }
+  if (error.empty())
+  {
+    this->SetInitialState(mesh.Points, in.InitialDisplacement, in.InitialVelocity);
+    this->Start(p);
+  }
+  return error;
+}
+
+//------------------------------------------------------------------------------
 std::string StepperDriver::Initialize(const TetMeshInput& mesh, const StepperParameters& p)
 {
   this->StaticDone = false;

@@ -44,9 +44,27 @@ struct StepperParameters
   double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
 };
 
+/// The per-point inputs of a set-up (each nullptr: none), 1 or 3 values per point.
+struct StepperInputs
+{
+  const double* FixedValues = nullptr;         ///< nonzero = clamped
+  const double* Forces = nullptr;              ///< nodal forces (3 per point)
+  const double* InitialDisplacement = nullptr; ///< 3 per point
+  const double* InitialVelocity = nullptr;     ///< 3 per point
+  double Gravity[3] = { 0.0, 0.0, 0.0 };
+  double PrescribedSpeedLimit = 0.0;
+};
+
 class HOEMBEDFILTERSSIMULATION_EXPORT StepperDriver
 {
 public:
+  /// The whole set-up on a mesh read with TetMeshInput::KeepPoints, in the one order both
+  /// bindings use: Initialize, SetClamps, the forces, ApplyLoads (with the prescribed
+  /// motion set before by SetPrescribedMotion, and the nodal forces), SetInitialState,
+  /// Start. Returns the first error.
+  std::string Build(const TetMeshInput& mesh, const StepperParameters& p,
+    const StepperInputs& inputs);
+
   /// Rest validity of every cell of `mesh` (read with TetMeshInput::KeepPoints), then the
   /// solver's mesh, material and mass.
   std::string Initialize(const TetMeshInput& mesh, const StepperParameters& p);

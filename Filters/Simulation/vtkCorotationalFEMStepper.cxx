@@ -59,7 +59,29 @@ struct vtkCorotationalFEMStepper::Internals
 vtkCorotationalFEMStepper::vtkCorotationalFEMStepper()
   : Internal(new Internals)
 {
-  this->SetFixedArrayName("Fixed");
+  this->SetFixedArrayName(hoembed::ArrayNames::Fixed);
+  // the defaults are the driver's
+  const hoembed::StepperParameters p;
+  this->YoungModulus = p.YoungModulus;
+  this->PoissonRatio = p.PoissonRatio;
+  this->Density = p.Density;
+  this->LumpedMass = p.LumpedMass;
+  this->TimeStep = p.TimeStep;
+  this->RayleighMass = p.RayleighMass;
+  this->RayleighStiffness = p.RayleighStiffness;
+  this->SolverTolerance = p.SolverTolerance;
+  this->MaxSolverIterations = p.MaxSolverIterations;
+  this->UseClampPlane = p.UseClampPlane;
+  this->UseClampBox = p.UseClampBox;
+  for (int i = 0; i < 3; ++i)
+  {
+    this->ClampPlaneOrigin[i] = p.ClampPlaneOrigin[i];
+    this->ClampPlaneNormal[i] = p.ClampPlaneNormal[i];
+  }
+  for (int i = 0; i < 6; ++i)
+  {
+    this->ClampBox[i] = p.ClampBox[i];
+  }
 }
 
 vtkCorotationalFEMStepper::~vtkCorotationalFEMStepper()
@@ -403,8 +425,8 @@ double vtkCorotationalFEMStepper::GetSimulationTime()
 }
 
 //------------------------------------------------------------------------------
-// Read the mesh (the one reader, then the rest validity of every cell), set up the
-// solver, its clamps, loads and initial state.
+// Read the mesh (the one reader) and the point arrays; the driver sets up the solver
+// (rest validity of every cell, clamps, loads, initial state).
 bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
 {
   Internals& I = *this->Internal;
@@ -419,20 +441,30 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
     vtkErrorMacro(<< readError << ".");
     return false;
   }
-  const std::vector<double>& rest = mesh.Points;
+  std::vector<double> fixed, forces, u0, v0;
+  if (!this->ReadClamps(input, fixed) || !this->ReadPointInputs(input, forces, u0, v0))
+  {
+    return false;
+  }
   hoembed::StepperParameters p;
   this->GetParameters(p);
-  const std::string error = I.Driver.Initialize(mesh, p);
+  hoembed::StepperInputs in;
+  auto data = [](const std::vector<double>& v) { return v.empty() ? nullptr : v.data(); };
+  in.FixedValues = data(fixed);
+  in.Forces = data(forces);
+  in.InitialDisplacement = data(u0);
+  in.InitialVelocity = data(v0);
+  for (int i = 0; i < 3; ++i)
+  {
+    in.Gravity[i] = this->Gravity[i];
+  }
+  in.PrescribedSpeedLimit = this->PrescribedSpeedLimit;
+  const std::string error = I.Driver.Build(mesh, p, in);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
     return false;
   }
-  if (!this->SetupClamps(input, rest) || !this->SetupLoadsAndState(input, rest))
-  {
-    return false;
-  }
-  I.Driver.Start(p);
   I.Signature = this->BuildSignature();
   I.Built = true;
   I.BuildTime.Modified();
@@ -441,10 +473,9 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
 }
 
 //------------------------------------------------------------------------------
-// Clamped nodes: the Fixed array (numeric point data), the clamp plane and the clamp box.
-bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const std::vector<double>& rest)
+// The clamps' array (FixedArrayName): where it is, the driver's rule, its values.
+bool vtkCorotationalFEMStepper::ReadClamps(vtkUnstructuredGrid* input, std::vector<double>& values)
 {
-  Internals& I = *this->Internal;
   const vtkIdType np = input->GetNumberOfPoints();
   const bool named = this->FixedArrayName && *this->FixedArrayName;
   vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
@@ -462,14 +493,14 @@ bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const st
       kind = Kind::CellOrField;
     }
   }
-  const std::string arrayError = hoembed::StepperDriver::CheckFixedArray(this->FixedArrayName,
+  const std::string error = hoembed::StepperDriver::CheckFixedArray(this->FixedArrayName,
     kind, fixedArray ? fixedArray->GetNumberOfTuples() : 0, np);
-  if (!arrayError.empty())
+  if (!error.empty())
   {
-    vtkErrorMacro(<< arrayError);
+    vtkErrorMacro(<< error);
     return false;
   }
-  std::vector<double> values;
+  values.clear();
   if (fixedArray)
   {
     values.resize(np);
@@ -478,81 +509,43 @@ bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const st
       values[p] = fixedArray->GetComponent(p, 0);
     }
   }
-  hoembed::StepperParameters params;
-  this->GetParameters(params);
-  const std::string error =
-    I.Driver.SetClamps(rest, fixedArray ? values.data() : nullptr, params);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return false;
-  }
   return true;
 }
 
 //------------------------------------------------------------------------------
-// Loads (gravity, nodal forces) and the initial state (displacement, velocity).
-bool vtkCorotationalFEMStepper::SetupLoadsAndState(
-  vtkUnstructuredGrid* input, const std::vector<double>& rest)
+// The forces and the initial state (displacement, velocity): 3-component point arrays.
+bool vtkCorotationalFEMStepper::ReadPointInputs(vtkUnstructuredGrid* input,
+  std::vector<double>& forces, std::vector<double>& u0, std::vector<double>& v0)
 {
-  Internals& I = *this->Internal;
   const vtkIdType np = input->GetNumberOfPoints();
-  // Loads.
-  bool bad3 = false;
-  vtkDataArray* forceArray = GetVectorArray(input, this->ExternalForceArrayName, bad3);
-  if (bad3)
+  const char* names[3] = { this->ExternalForceArrayName, this->InitialDisplacementArrayName,
+    this->InitialVelocityArrayName };
+  const char* properties[3] = { "ExternalForceArrayName", "InitialDisplacementArrayName",
+    "InitialVelocityArrayName" };
+  std::vector<double>* out[3] = { &forces, &u0, &v0 };
+  for (int k = 0; k < 3; ++k)
   {
-    vtkErrorMacro("ExternalForceArrayName '" << this->ExternalForceArrayName
-                                             << "' is not a 3-component point-data array.");
-    return false;
-  }
-  std::vector<double>& forces = I.ArrayForces;
-  forces.clear();
-  if (forceArray)
-  {
-    forces.resize(3 * np);
-    for (vtkIdType p = 0; p < np; ++p)
+    bool bad3 = false;
+    vtkDataArray* a = GetVectorArray(input, names[k], bad3);
+    if (bad3)
     {
-      forceArray->GetTuple(p, &forces[3 * p]);
+      vtkErrorMacro(<< properties[k] << " '" << names[k]
+                    << "' is not a 3-component point-data array.");
+      return false;
     }
-  }
-  // gravity, these forces, SetNodalForces and SetPrescribedMotion
-  if (!this->ApplyLoads(np))
-  {
-    return false;
-  }
-  // Initial state.
-  vtkDataArray* u0 = GetVectorArray(input, this->InitialDisplacementArrayName, bad3);
-  if (bad3)
-  {
-    vtkErrorMacro("InitialDisplacementArrayName '" << this->InitialDisplacementArrayName
-                                                   << "' is not a 3-component point-data array.");
-    return false;
-  }
-  vtkDataArray* v0 = GetVectorArray(input, this->InitialVelocityArrayName, bad3);
-  if (bad3)
-  {
-    vtkErrorMacro("InitialVelocityArrayName '" << this->InitialVelocityArrayName
-                                               << "' is not a 3-component point-data array.");
-    return false;
-  }
-  auto copy = [np](vtkDataArray* a, std::vector<double>& out)
-  {
+    out[k]->clear();
     if (a)
     {
-      out.resize(3 * static_cast<size_t>(np));
+      out[k]->resize(3 * static_cast<size_t>(np));
       for (vtkIdType p = 0; p < np; ++p)
       {
         for (int i = 0; i < 3; ++i)
         {
-          out[3 * p + i] = a->GetComponent(p, i);
+          (*out[k])[3 * p + i] = a->GetComponent(p, i);
         }
       }
     }
-    return a ? out.data() : nullptr;
-  };
-  std::vector<double> u, v;
-  I.Driver.SetInitialState(rest, copy(u0, u), copy(v0, v));
+  }
   return true;
 }
 

@@ -141,10 +141,12 @@ def test_transfer_refuses_what_no_embedding_gives(embedded, method):
     if method == "normal-offset":
         outside = int(np.flatnonzero(surf.point_data["EmbeddingDistance"] != 0)[0])
         refused("EmbeddingDistance", outside, 1e300, "EmbeddingDistance")
-        # 1e12 is finite and fits a double, but no mesh carries a point that far: refused
-        # (over 1000 mesh diagonals), where 100 diagonals still passes
+        # 1e12 is finite and fits a double, but no mesh carries a point that far faithfully:
+        # refused (over 1e9 mesh diagonals), where 100 diagonals still passes
         diag = mesh.length
-        refused("EmbeddingDistance", outside, 1e12, r"EmbeddingDistance\| over 1000 mesh")
+        refused("EmbeddingDistance", outside, 1e12 * diag,
+                r"1 with EmbeddingParametricCoords over 1000 .* \|EmbeddingDistance\| over 1e\+09 mesh")
+        refused("EmbeddingDistance", outside, 1e12, r"EmbeddingDistance\| over 1e\+09 mesh")
         s = surf.copy()
         d = np.array(s.point_data["EmbeddingDistance"])
         d[outside] = 100.0 * diag

@@ -430,28 +430,29 @@ NB_MODULE(_hoembed, m)
         std::string error;
         {
           nb::gil_scoped_release release;
-          // the filter's BuildSolver: read, initialise, clamps, loads, initial state
+          // the filter's BuildSolver: read, then the driver's set-up (the prescribed
+          // motion first, as the filter has it from SetPrescribedMotion)
           hoembed::TetMeshInput mesh;
           error = mesh.Read(arrays, hoembed::TetMeshInput::KeepPoints);
           if (!error.empty())
             error += ".";
           if (error.empty())
-            error = st.Driver.Initialize(mesh, p);
-          if (error.empty())
-            error = st.Driver.SetClamps(mesh.Points, fixedValues, p);
+            error = Error("SetPrescribedMotion: ",
+              st.Driver.SetPrescribedMotion(numberOfPoints, pm, pt));
           if (error.empty())
           {
-            st.Driver.ArrayForces.assign(f ? f : nullptr, f ? f + 3 * n : nullptr);
-            error = st.Driver.SetPrescribedMotion(numberOfPoints, pm, pt);
-            if (!error.empty())
-              error = "SetPrescribedMotion: " + error;
+            hoembed::StepperInputs in;
+            in.FixedValues = fixedValues;
+            in.Forces = f;
+            in.InitialDisplacement = u;
+            in.InitialVelocity = v;
+            for (int i = 0; i < 3; ++i)
+              in.Gravity[i] = g[i];
+            in.PrescribedSpeedLimit = prescribedSpeedLimit;
+            error = st.Driver.Build(mesh, p, in);
           }
           if (error.empty())
-            error = st.Driver.ApplyLoads(g, prescribedSpeedLimit, numberOfPoints);
-          if (error.empty())
           {
-            st.Driver.SetInitialState(mesh.Points, u, v);
-            st.Driver.Start(p);
             st.NumberOfPoints = mesh.NumberOfPoints;
             st.NumberOfCells = mesh.NumberOfCells;
             st.Built = true;
@@ -503,6 +504,24 @@ NB_MODULE(_hoembed, m)
       nb::arg("points"), nb::arg("displacement").none() = nb::none(),
       nb::arg("velocity").none() = nb::none(), nb::arg("rotation").none() = nb::none(),
       nb::arg("von_mises").none() = nb::none())
+    .def_static(
+      "defaults",
+      [] {
+        // the set-up's defaults (hoembed::StepperParameters), which vtkCorotationalFEMStepper
+        // takes too; simulate()'s keyword defaults are checked against them
+        const hoembed::StepperParameters p;
+        nb::dict d;
+        d["young"] = p.YoungModulus;
+        d["poisson"] = p.PoissonRatio;
+        d["density"] = p.Density;
+        d["dt"] = p.TimeStep;
+        d["rayleigh_mass"] = p.RayleighMass;
+        d["rayleigh_stiffness"] = p.RayleighStiffness;
+        d["solver_tolerance"] = p.SolverTolerance;
+        d["lumped_mass"] = p.LumpedMass;
+        return d;
+      },
+      "The set-up's defaults by simulate()'s names (hoembed::StepperParameters).")
     .def_static(
       "check_fixed_array",
       [](const std::string& name, const std::string& kind, long long tuples,
