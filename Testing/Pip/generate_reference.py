@@ -23,6 +23,7 @@ import numpy as np
 import pyvista
 
 import hoembed
+import live_reference
 import series_reference
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 import filter_routes  # noqa: E402  (the filters' route: the references are the filters')
@@ -243,6 +244,7 @@ def main(outdir):
                        doc=hoembed.simulate.__doc__), f, indent=1)
     series_reference.write(outdir)  # write_series of these cases' frames (series/)
     transfer_checks_reference.write(outdir)  # transfer()'s checks (transfer_checks/)
+    live_reference.write(outdir)  # the live loop's scripted run (live.npz)
     write_mesher_references(outdir, data)
 
 

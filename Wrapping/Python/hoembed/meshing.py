@@ -303,11 +303,11 @@ def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundar
 
 
 tet10_mesh.__doc__ = MESH_DOC + """
-In this (pip) package, the errors read "tet10_mesh: " and vtkTet10Mesher's sentence, and
-the mesher's warnings go through Python's ``warnings`` (RuntimeWarning). The same C++
-algorithm runs as in the VTK build; its decimation, smoothing, locators and cell
-validator come from the installed pip VTK, so the mesh can differ from the VTK build's
-(VTK 9.1) in its details (Benchmarks/RESULTS.md, pip section).
+The errors read "tet10_mesh: " and vtkTet10Mesher's sentence, and the mesher's warnings go
+through Python's ``warnings`` (RuntimeWarning). The C++ algorithm is vtkTet10Mesher's; its
+decimation, smoothing, locators and cell validator come from the VTK Python in use: in
+the VTK build the mesh equals vtkTet10Mesher's bit for bit, with a pip VTK it can differ
+from it in its details (Benchmarks/RESULTS.md, pip section).
 """
 
 
