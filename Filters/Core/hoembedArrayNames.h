@@ -28,6 +28,16 @@ namespace ArrayNames
 // FE mesh
 constexpr const char* MinScaledJacobian = "MinScaledJacobian";
 constexpr const char* BoundaryNode = "BoundaryNode";
+// mesher output, field data (the run's statistics)
+constexpr const char* RelaxedNodeCount = "RelaxedNodeCount";
+constexpr const char* CurvedNodeCount = "CurvedNodeCount";
+constexpr const char* EnvelopeNodeCount = "EnvelopeNodeCount";
+constexpr const char* BoundaryCrossingsFound = "BoundaryCrossingsFound";
+constexpr const char* BoundaryCrossingsLeft = "BoundaryCrossingsLeft";
+constexpr const char* PoorElementCount = "PoorElementCount";
+constexpr const char* MinScaledJacobianQuantiles = "MinScaledJacobianQuantiles";
+constexpr const char* MaxSurfaceDeviation = "MaxSurfaceDeviation";
+constexpr const char* EnvelopeOffset = "EnvelopeOffset";
 constexpr const char* Fixed = "Fixed";
 constexpr const char* Displacement = "Displacement";
 constexpr const char* Velocity = "Velocity";
@@ -43,6 +53,8 @@ constexpr const char* EmbeddingParametricCoords = "EmbeddingParametricCoords";
 constexpr const char* EmbeddingDistance = "EmbeddingDistance";
 constexpr const char* EmbeddingResidual = "EmbeddingResidual";
 constexpr const char* EmbeddingFace = "EmbeddingFace";
+/// transfer output: area-weighted point normals for shading (VTK's usual name)
+constexpr const char* Normals = "Normals";
 /// diagnostics: the closest distance to the boundary, Newton iterations, elements visited
 constexpr const char* EmbeddingClosestDistance = "EmbeddingClosestDistance";
 constexpr const char* EmbeddingIterations = "EmbeddingIterations";

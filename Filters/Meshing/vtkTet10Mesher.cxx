@@ -1,5 +1,6 @@
 #include "vtkTet10Mesher.h"
 
+#include "hoembedArrayNames.h"
 #include "hoembedMesherDriver.h"
 #include "hoembedSurfaceCheck.h"
 #include "hoembedSurfaceRead.h"
@@ -446,7 +447,7 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
   vtkNew<vtkCellArray> cells;
   cells->AllocateExact(nTets, npc * nTets);
   vtkNew<vtkDoubleArray> quality;
-  quality->SetName("MinScaledJacobian");
+  quality->SetName(hoembed::ArrayNames::MinScaledJacobian);
   quality->SetNumberOfTuples(nTets);
   for (vtkIdType t = 0; t < nTets; ++t)
   {
@@ -457,7 +458,7 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
     quality->SetValue(t, r.MinScaledJacobian[t]);
   }
   vtkNew<vtkUnsignedCharArray> bnd;
-  bnd->SetName("BoundaryNode");
+  bnd->SetName(hoembed::ArrayNames::BoundaryNode);
   bnd->SetNumberOfTuples(nPts);
   for (vtkIdType i = 0; i < nPts; ++i)
     bnd->SetValue(i, r.BoundaryNode[i]);
@@ -471,23 +472,24 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
     a->InsertNextValue(v);
     output->GetFieldData()->AddArray(a);
   };
-  addId("RelaxedNodeCount", r.RelaxedNodeCount);
-  addId("CurvedNodeCount", r.CurvedNodeCount);
-  addId("EnvelopeNodeCount", r.EnvelopeNodeCount);
-  addId("BoundaryCrossingsFound", r.BoundaryCrossingsFound);
-  addId("BoundaryCrossingsLeft", r.BoundaryCrossingsLeft);
-  addId("PoorElementCount", r.PoorElementCount);
+  namespace N = hoembed::ArrayNames;
+  addId(N::RelaxedNodeCount, r.RelaxedNodeCount);
+  addId(N::CurvedNodeCount, r.CurvedNodeCount);
+  addId(N::EnvelopeNodeCount, r.EnvelopeNodeCount);
+  addId(N::BoundaryCrossingsFound, r.BoundaryCrossingsFound);
+  addId(N::BoundaryCrossingsLeft, r.BoundaryCrossingsLeft);
+  addId(N::PoorElementCount, r.PoorElementCount);
   vtkNew<vtkDoubleArray> quantiles;
-  quantiles->SetName("MinScaledJacobianQuantiles");
+  quantiles->SetName(hoembed::ArrayNames::MinScaledJacobianQuantiles);
   quantiles->SetNumberOfComponents(3);
   quantiles->InsertNextTuple(r.QualityQuantiles);
   output->GetFieldData()->AddArray(quantiles);
   vtkNew<vtkDoubleArray> dev;
-  dev->SetName("MaxSurfaceDeviation");
+  dev->SetName(hoembed::ArrayNames::MaxSurfaceDeviation);
   dev->InsertNextValue(r.MaxSurfaceDeviation);
   output->GetFieldData()->AddArray(dev);
   vtkNew<vtkDoubleArray> offset;
-  offset->SetName("EnvelopeOffset");
+  offset->SetName(hoembed::ArrayNames::EnvelopeOffset);
   offset->InsertNextValue(r.Wrapped ? r.EnvelopeOffset : 0.0);
   output->GetFieldData()->AddArray(offset);
 }

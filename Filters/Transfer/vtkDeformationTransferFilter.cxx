@@ -441,7 +441,7 @@ void vtkDeformationTransferFilter::WriteOutput(
     I.PolysMTime = polys ? polys->GetMTime() : 0;
   }
   vtkNew<vtkFloatArray> normals;
-  normals->SetName("Normals");
+  normals->SetName(hoembed::ArrayNames::Normals);
   normals->SetNumberOfComponents(3);
   normals->SetNumberOfTuples(numVerts);
   if (newPoints->GetDataType() == VTK_DOUBLE)

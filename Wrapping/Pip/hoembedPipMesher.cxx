@@ -12,6 +12,7 @@
 // with the GIL held throughout: no locking per call. Arrays handed to Python are copies
 // (Python may keep them); results are read into the driver's vectors. A Python exception
 // in a service propagates out of mesh_surface as that exception.
+#include "hoembedArrayNames.h"
 #include "hoembedMesherDriver.h"
 #include "hoembedSurfaceRead.h"
 
@@ -210,18 +211,20 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
   out["points"] = Take(std::move(r.Points), 3);
   out["connectivity"] = Take(std::move(r.Conn), npc);
   out["nodes_per_cell"] = r.NodesPerCell;
-  out["MinScaledJacobian"] = Take(std::move(r.MinScaledJacobian), 1);
-  out["BoundaryNode"] = Take(std::move(r.BoundaryNode), 1);
-  out["RelaxedNodeCount"] = r.RelaxedNodeCount;
-  out["CurvedNodeCount"] = r.CurvedNodeCount;
-  out["EnvelopeNodeCount"] = r.EnvelopeNodeCount;
-  out["BoundaryCrossingsFound"] = r.BoundaryCrossingsFound;
-  out["BoundaryCrossingsLeft"] = r.BoundaryCrossingsLeft;
-  out["PoorElementCount"] = r.PoorElementCount;
-  out["MinScaledJacobianQuantiles"] =
+  // the output arrays by their names (hoembedArrayNames.h)
+  namespace N = hoembed::ArrayNames;
+  out[N::MinScaledJacobian] = Take(std::move(r.MinScaledJacobian), 1);
+  out[N::BoundaryNode] = Take(std::move(r.BoundaryNode), 1);
+  out[N::RelaxedNodeCount] = r.RelaxedNodeCount;
+  out[N::CurvedNodeCount] = r.CurvedNodeCount;
+  out[N::EnvelopeNodeCount] = r.EnvelopeNodeCount;
+  out[N::BoundaryCrossingsFound] = r.BoundaryCrossingsFound;
+  out[N::BoundaryCrossingsLeft] = r.BoundaryCrossingsLeft;
+  out[N::PoorElementCount] = r.PoorElementCount;
+  out[N::MinScaledJacobianQuantiles] =
     nb::make_tuple(r.QualityQuantiles[0], r.QualityQuantiles[1], r.QualityQuantiles[2]);
-  out["MaxSurfaceDeviation"] = r.MaxSurfaceDeviation;
-  out["EnvelopeOffset"] = r.Wrapped ? r.EnvelopeOffset : 0.0;
+  out[N::MaxSurfaceDeviation] = r.MaxSurfaceDeviation;
+  out[N::EnvelopeOffset] = r.Wrapped ? r.EnvelopeOffset : 0.0;
   return out;
 }
 } // namespace

@@ -618,6 +618,15 @@ NB_MODULE(_hoembed, m)
 #define HOEMBED_NAME(x) names[#x] = N::x
   HOEMBED_NAME(MinScaledJacobian);
   HOEMBED_NAME(BoundaryNode);
+  HOEMBED_NAME(RelaxedNodeCount);
+  HOEMBED_NAME(CurvedNodeCount);
+  HOEMBED_NAME(EnvelopeNodeCount);
+  HOEMBED_NAME(BoundaryCrossingsFound);
+  HOEMBED_NAME(BoundaryCrossingsLeft);
+  HOEMBED_NAME(PoorElementCount);
+  HOEMBED_NAME(MinScaledJacobianQuantiles);
+  HOEMBED_NAME(MaxSurfaceDeviation);
+  HOEMBED_NAME(EnvelopeOffset);
   HOEMBED_NAME(Fixed);
   HOEMBED_NAME(Displacement);
   HOEMBED_NAME(Velocity);
@@ -631,6 +640,7 @@ NB_MODULE(_hoembed, m)
   HOEMBED_NAME(EmbeddingDistance);
   HOEMBED_NAME(EmbeddingResidual);
   HOEMBED_NAME(EmbeddingFace);
+  HOEMBED_NAME(Normals);
   HOEMBED_NAME(EmbeddingClosestDistance);
   HOEMBED_NAME(EmbeddingIterations);
   HOEMBED_NAME(EmbeddingElementsVisited);

@@ -154,7 +154,7 @@ class LiveSession:
         points[:] = self.transfer.points
         if self.point_normals:
             self.transfer.point_normals(self.transfer.points,
-                                        self._surface.point_data["Normals"])
+                                        self._surface.point_data[N.Normals])
             self._surface.GetPointData().GetNormals().Modified()
         self._surface.GetPoints().Modified()
 

@@ -268,23 +268,23 @@ def _grid(r):
                                array_type=VTK_ID_TYPE),
                   numpy_to_vtk(conn.reshape(-1), deep=True, array_type=VTK_ID_TYPE))
     grid.SetCells(VTK_QUADRATIC_TETRA if npc == 10 else VTK_TETRA, cells)
-    grid.GetCellData().AddArray(_arrays.to_vtk(np.asarray(r["MinScaledJacobian"]).reshape(-1),
+    grid.GetCellData().AddArray(_arrays.to_vtk(np.asarray(r[N.MinScaledJacobian]).reshape(-1),
                                                N.MinScaledJacobian, VTK_DOUBLE))
-    grid.GetPointData().AddArray(_arrays.to_vtk(np.asarray(r["BoundaryNode"]).reshape(-1),
+    grid.GetPointData().AddArray(_arrays.to_vtk(np.asarray(r[N.BoundaryNode]).reshape(-1),
                                                 N.BoundaryNode, VTK_UNSIGNED_CHAR))
     fd = grid.GetFieldData()
-    for name in ("RelaxedNodeCount", "CurvedNodeCount", "EnvelopeNodeCount",
-                 "BoundaryCrossingsFound", "BoundaryCrossingsLeft", "PoorElementCount"):
+    for name in (N.RelaxedNodeCount, N.CurvedNodeCount, N.EnvelopeNodeCount,
+                 N.BoundaryCrossingsFound, N.BoundaryCrossingsLeft, N.PoorElementCount):
         a = vtkIdTypeArray()
         a.SetName(name)
         a.InsertNextValue(int(r[name]))
         fd.AddArray(a)
     q = vtkDoubleArray()
-    q.SetName("MinScaledJacobianQuantiles")
+    q.SetName(N.MinScaledJacobianQuantiles)
     q.SetNumberOfComponents(3)
-    q.InsertNextTuple(tuple(r["MinScaledJacobianQuantiles"]))
+    q.InsertNextTuple(tuple(r[N.MinScaledJacobianQuantiles]))
     fd.AddArray(q)
-    for name in ("MaxSurfaceDeviation", "EnvelopeOffset"):
+    for name in (N.MaxSurfaceDeviation, N.EnvelopeOffset):
         a = vtkDoubleArray()
         a.SetName(name)
         a.InsertNextValue(float(r[name]))

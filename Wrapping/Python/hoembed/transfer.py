@@ -169,7 +169,7 @@ class TransferPlan:
                 data.RemoveArray(stale.GetName())
                 data.SetNormals(None)
         if compute_point_normals:
-            opd.SetNormals(_arrays.to_vtk(self.point_normals(self.points), "Normals"))
+            opd.SetNormals(_arrays.to_vtk(self.point_normals(self.points), N.Normals))
         return out
 
     def point_normals(self, points, out=None):
