@@ -111,6 +111,7 @@ struct vtkDeformationTransferFilter::Internals
 vtkDeformationTransferFilter::vtkDeformationTransferFilter()
   : Internal(new Internals)
 {
+  this->FaceTolerance = hoembed::TransferDriver::DefaultFaceTolerance;
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(1);
 }

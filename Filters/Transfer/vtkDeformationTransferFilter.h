@@ -175,7 +175,7 @@ protected:
   int NormalMode = RECOMPUTE_NORMALS;
   bool ComputePointNormals = false;
   bool CheckInvertedElements = true;
-  double FaceTolerance = 1e-6;
+  double FaceTolerance; // hoembed::TransferDriver::DefaultFaceTolerance
   int OutputPointsPrecision = DEFAULT_PRECISION;
 
   vtkIdType NumberOfInvertedElements = 0;

@@ -21,6 +21,9 @@ def test_exports():
     assert isinstance(hoembed.__version__, str)
     assert issubclass(hoembed.HOEmbedError, RuntimeError)
     assert callable(hoembed.tet10_mesh)
+    from hoembed._hoembed import TransferDriver
+    assert (hoembed.vtkDeformationTransferFilter().GetFaceTolerance()
+            == TransferDriver.DEFAULT_FACE_TOLERANCE == 1e-6)
     mesher = hoembed.vtkTet10Mesher()
     assert isinstance(mesher, vtkAlgorithm)
     assert mesher.GetClassName() == "vtkTet10Mesher"

@@ -245,6 +245,7 @@ NB_MODULE(_hoembed, m)
 
   nb::class_<Transfer>(m, "TransferDriver")
     .def(nb::init<>())
+    .def_ro_static("DEFAULT_FACE_TOLERANCE", &hoembed::TransferDriver::DefaultFaceTolerance)
     .def(
       "set_mesh_topology",
       [](Transfer& t, std::int64_t numberOfPoints, const In& types, const In& offsets,

@@ -13,8 +13,8 @@ from ._errors import HOEmbedError
 from ._hoembed import TransferDriver
 
 __all__ = ["transfer", "TransferPlan"]
-# vtkDeformationTransferFilter's defaults
-_FACE_TOLERANCE = 1e-6
+# vtkDeformationTransferFilter's default (the driver's)
+_FACE_TOLERANCE = TransferDriver.DEFAULT_FACE_TOLERANCE
 
 
 def _field_string(fd, name):
