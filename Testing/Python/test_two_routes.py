@@ -110,7 +110,8 @@ def test_simulate():
     mesh = box_tet_mesh(n=(4, 2, 2), size=(4.0, 1.0, 1.0), order=2)
     n = mesh.n_points
     rng = np.random.default_rng(3)
-    runs = [dict(steps=6, every=2, young=2e4, fixed={"plane": ((0.4, 0, 0), (1, 0, 0))}),
+    plane = {"plane": ((0.4, 0, 0), (1, 0, 0))}
+    runs = [dict(steps=6, every=2, young=2e4, fixed=plane),
             dict(steps=4, young=3e4, fixed=np.asarray(mesh.points)[:, 0] < 0.1,
                  external_force=rng.normal(size=(n, 3)), initial_velocity=np.tile((0, 0.1, 0), (n, 1)),
                  lumped_mass=True),

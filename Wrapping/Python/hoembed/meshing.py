@@ -251,7 +251,8 @@ class _VTKServices:
         pts = self.check.GetPoints()
         for i in range(10):
             pts.SetPoint(i, p[i])
-        return (int(vtkCellValidator.Check(self.check, _SETTINGS["cell_check_tolerance"])) & _BAD_CELL) == 0
+        state = vtkCellValidator.Check(self.check, _SETTINGS["cell_check_tolerance"])
+        return (int(state) & _BAD_CELL) == 0
 
 
 def _grid(r):

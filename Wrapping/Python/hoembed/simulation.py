@@ -3,7 +3,6 @@ vtkCorotationalFEMStepper runs: the same frames bit for bit, the same error sent
 The frame's arrays are the driver's WriteFrame, as in the filter's output."""
 import numpy as np
 import pyvista
-from vtkmodules.vtkCommonCore import VTK_DOUBLE
 
 from . import _arrays
 from ._arrays import N

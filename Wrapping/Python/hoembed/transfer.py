@@ -1,7 +1,7 @@
 """pyvista-level transfer(): hoembed::TransferDriver through _hoembed (the driver
-vtkDeformationTransferFilter runs; the same points bit for bit). This only reads the surface's and the
-mesh's VTK objects: the driver checks them (CheckMeshSize, CheckSurface: the filter's
-messages) and says which arrays it reads (FrameArraysUsed)."""
+vtkDeformationTransferFilter runs; the same points bit for bit). This only reads the
+surface's and the mesh's VTK objects: the driver checks them (CheckMeshSize,
+CheckSurface: the filter's messages) and says which arrays it reads (FrameArraysUsed)."""
 import numpy as np
 import pyvista
 from vtkmodules.vtkCommonCore import VTK_FLOAT
