@@ -284,6 +284,31 @@ std::string StepperDriver::CheckFixedArray(
 }
 
 //------------------------------------------------------------------------------
+std::string StepperDriver::BuildSignature(
+  const StepperParameters& p, bool staticSolve, const std::vector<const char*>& arrayNames)
+{
+  std::ostringstream o;
+  o.precision(17);
+  o << p.YoungModulus << ' ' << p.PoissonRatio << ' ' << p.Density << ' ' << p.RayleighMass
+    << ' ' << p.RayleighStiffness << ' ' << p.TimeStep << ' ' << staticSolve << p.LumpedMass
+    << p.UseClampPlane << p.UseClampBox;
+  for (int i = 0; i < 3; ++i)
+  {
+    o << ' ' << p.ClampPlaneOrigin[i] << ' ' << p.ClampPlaneNormal[i];
+  }
+  for (int i = 0; i < 6; ++i)
+  {
+    o << ' ' << p.ClampBox[i];
+  }
+  o << ' ' << p.SolverTolerance << ' ' << p.MaxSolverIterations;
+  for (const char* name : arrayNames)
+  {
+    o << '\n' << (name ? std::string(name) : std::string("\x01"));
+  }
+  return o.str();
+}
+
+//------------------------------------------------------------------------------
 void StepperDriver::RequestStep(long long k, bool built)
 {
   const long long now = built ? this->ClockStep() : 0;

@@ -117,6 +117,12 @@ public:
   static std::string CheckFixedArray(const char* name, FixedArrayKind kind,
     long long tuples, long long numberOfPoints);
 
+  /// What a live rebuild is decided on: the set-up's parameters, the static solve and the
+  /// names of the point arrays read (nullptr: none), as one string; any change of it
+  /// rebuilds (the loads, set between steps, are not in it).
+  static std::string BuildSignature(const StepperParameters& p, bool staticSolve,
+    const std::vector<const char*>& arrayNames);
+
   /// The live clock (vtkCorotationalFEMStepper's LiveMode and the package's LiveSession):
   /// steps asked for since the last live advance, a reset asked for, and the target of the
   /// next live advance (never backwards).

@@ -263,26 +263,11 @@ int vtkCorotationalFEMStepper::RequestData(
 //------------------------------------------------------------------------------
 std::string vtkCorotationalFEMStepper::BuildSignature() const
 {
-  std::ostringstream o;
-  o.precision(17);
-  auto str = [](const char* s) { return s ? std::string(s) : std::string("\x01"); };
-  o << this->YoungModulus << ' ' << this->PoissonRatio << ' ' << this->Density << ' '
-    << this->RayleighMass << ' ' << this->RayleighStiffness << ' ' << this->TimeStep << ' '
-    << this->StaticSolve << this->LumpedMass << this->UseClampPlane << this->UseClampBox;
-  for (int i = 0; i < 3; ++i)
-  {
-    o << ' ' << this->ClampPlaneOrigin[i] << ' ' << this->ClampPlaneNormal[i];
-  }
-  for (int i = 0; i < 6; ++i)
-  {
-    o << ' ' << this->ClampBox[i];
-  }
-  o << ' ' << this->SolverTolerance << ' ' << this->MaxSolverIterations << '\n'
-    << str(this->ExternalForceArrayName) << '\n'
-    << str(this->InitialDisplacementArrayName) << '\n'
-    << str(this->InitialVelocityArrayName) << '\n'
-    << str(this->FixedArrayName);
-  return o.str();
+  hoembed::StepperParameters p;
+  this->GetParameters(p);
+  return hoembed::StepperDriver::BuildSignature(p, this->StaticSolve,
+    { this->ExternalForceArrayName, this->InitialDisplacementArrayName,
+      this->InitialVelocityArrayName, this->FixedArrayName });
 }
 
 //------------------------------------------------------------------------------
