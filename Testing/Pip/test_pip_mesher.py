@@ -98,8 +98,16 @@ def assert_valid(mesh):
     v.SetInputData(mesh)
     v.Update()
     states = np.asarray(v.GetOutput().GetCellData().GetArray("ValidityState"))
-    bad = int(vtkCellValidator.IntersectingEdges) | int(vtkCellValidator.IntersectingFaces) | \
-        int(vtkCellValidator.FacesAreOrientedIncorrectly) | int(vtkCellValidator.WrongNumberOfPoints)
+    # the verdicts by VTK's own names: vtkCellValidator's State enum, or vtkCellStatus
+    # (vtkCommonDataModel) where a later VTK moved them (9.7 has only that one)
+    if hasattr(vtkCellValidator, "IntersectingEdges"):
+        states_enum = vtkCellValidator
+    else:
+        from vtkmodules.vtkCommonDataModel import vtkCellStatus as states_enum
+    bad = 0
+    for name in ("IntersectingEdges", "IntersectingFaces", "FacesAreOrientedIncorrectly",
+                 "WrongNumberOfPoints"):
+        bad |= int(getattr(states_enum, name))
     assert np.all((states & bad) == 0), np.flatnonzero(states & bad)[:10]
 
 
