@@ -3,6 +3,7 @@ import types
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkVersion
 
 from ._hoembed import ARRAY_NAMES
 
@@ -28,6 +29,17 @@ def cells(cell_array):
     off = vtk_to_numpy(cell_array.GetOffsetsArray()).astype(np.int64, copy=False)
     conn = vtk_to_numpy(cell_array.GetConnectivityArray()).astype(np.int64, copy=False)
     return np.ascontiguousarray(off), np.ascontiguousarray(conn)
+
+
+def cell_types(grid):
+    """The cell types of an unstructured grid as contiguous uint8: VTK 9.6 made
+    GetCellTypes() return that array and deprecated GetCellTypesArray(), which earlier
+    VTK (the VTK build's 9.1) has instead."""
+    if (vtkVersion.GetVTKMajorVersion(), vtkVersion.GetVTKMinorVersion()) >= (9, 6):
+        a = grid.GetCellTypes()
+    else:
+        a = grid.GetCellTypesArray()
+    return np.ascontiguousarray(vtk_to_numpy(a), dtype=np.uint8)
 
 
 def doubles(vtk_array):

@@ -74,8 +74,7 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
         driver.set_surface(_arrays.points(surface.GetPoints()), *_arrays.cells(surface.GetPolys()),
                            *_arrays.cells(surface.GetStrips()))
         offsets, conn = _arrays.cells(fe_mesh.GetCells())
-        types = np.ascontiguousarray(_arrays.vtk_to_numpy(fe_mesh.GetCellTypesArray()),
-                                     dtype=np.uint8)
+        types = _arrays.cell_types(fe_mesh)
         driver.prepare_and_order(fe_mesh.GetNumberOfPoints(), _arrays.points(fe_mesh.GetPoints()),
                                  types, offsets, conn, True, n_partitions)
         if progress is not None:

@@ -55,8 +55,7 @@ def build_stepper(mesh, a, clamps, fixed_values, lumped_mass, static, external_f
         tuple(clamps["plane"][1])
     box = () if clamps.get("box") is None else tuple(clamps["box"])
     offsets, conn = _arrays.cells(mesh.GetCells())
-    types = np.ascontiguousarray(_arrays.vtk_to_numpy(mesh.GetCellTypesArray()),
-                                 dtype=np.uint8)
+    types = _arrays.cell_types(mesh)
     vectors = (external_force, initial_displacement, initial_velocity)
     driver = StepperDriver()
     try:

@@ -107,8 +107,7 @@ class TransferPlan:
         try:
             TransferDriver.check_mesh_size(self.nmp, ncells, mesh.GetCells() is not None)
             offsets, conn = _arrays.cells(mesh.GetCells())
-            types = np.ascontiguousarray(_arrays.vtk_to_numpy(mesh.GetCellTypesArray()),
-                                         dtype=np.uint8)
+            types = _arrays.cell_types(mesh)
             driver.set_mesh_topology(self.nmp, types, offsets, conn)
         except RuntimeError as e:
             _fail(e)
