@@ -94,12 +94,12 @@ def run_pass(session, frames, app=None):
             app.tick()
             stages = dict(app.stages)
         t1, c1 = time.perf_counter(), time.process_time()
+        t = st.timings
         rows.append(dict(
             wall=t1 - t0, cpu=c1 - c0, step=stages["step"], transfer=stages["transfer"],
-            rotation=st.GetLastRotationTime(), assembly=st.GetLastAssemblyTime(),
-            solve=st.GetLastSolveTime(), factorization=st.GetLastFactorizationTime(),
-            factorizations=st.GetLastNumberOfFactorizations(),
-            iterations=st.GetLastSolverIterations()))
+            rotation=t["rotation"], assembly=t["assembly"], solve=t["solve"],
+            factorization=t["factorization"], factorizations=t["factorizations"],
+            iterations=t["iterations"]))
     session.release()
     return rows, len(ids)
 
@@ -109,7 +109,7 @@ def grab_release(session, mode, drag_frames, free_frames):
     stepper's BackgroundFactorization on or off (mode "background" / "synchronous"): wall
     time, CG iterations and factorisations (synchronous, background) of every frame."""
     st = session.stepper
-    st.SetBackgroundFactorization(mode == "background")
+    st.set_background_factorization(mode == "background")
     session.reset()
     for _ in range(5):  # swinging freely under the clamp (the rest factor is in use)
         session.step()
@@ -122,10 +122,10 @@ def grab_release(session, mode, drag_frames, free_frames):
     def frame(kind):
         t0 = time.perf_counter()
         session.step()
+        t = st.timings
         rows.append(dict(kind=kind, wall=time.perf_counter() - t0,
-                         iterations=st.GetLastSolverIterations(),
-                         factorizations=st.GetLastNumberOfFactorizations(),
-                         background=st.GetLastNumberOfBackgroundFactorizations()))
+                         iterations=t["iterations"], factorizations=t["factorizations"],
+                         background=t["background_factorizations"]))
     for k, a in enumerate(ang):
         session.drag(tip + np.array([0.0, np.sin(a), 1.0 - np.cos(a)]))
         frame("grab" if k == 0 else "drag")
@@ -262,9 +262,9 @@ def main():
         vtkSMPTools.Initialize(threads)
         rows, grabbed = run_pass(session, args.frames)
         result["passes"][f"{threads} thread{'s' if threads > 1 else ''}"] = summarise(rows, skip)
-        session.transfer.SetComputePointNormals(False)
+        session.point_normals = False
         rows, _ = run_pass(session, args.frames)
-        session.transfer.SetComputePointNormals(True)
+        session.point_normals = True
         result["passes"][f"{threads} thread{'s' if threads > 1 else ''}, no point normals"] = (
             summarise(rows, skip))
         result["grabbed_nodes"] = grabbed
@@ -299,7 +299,7 @@ def main():
         for _ in range(args.grab_repeats):
             for mode in runs:
                 runs[mode].append(grab_release(session, mode, args.drag_frames, 30))
-        session.stepper.SetBackgroundFactorization(True)
+        session.stepper.set_background_factorization(True)
         result["grab_release"] = {m: grab_release_summary(r) for m, r in runs.items()}
         result["grab_release"]["drag_frames"] = args.drag_frames
     if os.environ.get("DISPLAY"):

@@ -40,3 +40,9 @@ if [ ! -f "$STAMP" ]; then
   "${PIP[@]}" "scooby>=0.5.1" "pooch>=1.8" "typing-extensions>=4.10" "pytest>=7.2" "tqdm"
   touch "$STAMP"
 fi
+# nanobind (headers and CMake files only) for the package's compiled module, hoembed._hoembed
+# (Wrapping/Python/CMakeLists.txt); the same version the wheel's build resolves.
+if ! "$PY" -c "import nanobind" 2>/dev/null; then
+  echo "[setup] installing nanobind into .venv"
+  "$PY" -m pip install -q --disable-pip-version-check --no-deps "nanobind==3.1.0"
+fi

@@ -28,17 +28,37 @@ namespace ArrayNames
 // FE mesh
 constexpr const char* MinScaledJacobian = "MinScaledJacobian";
 constexpr const char* BoundaryNode = "BoundaryNode";
+// mesher output, field data (the run's statistics)
+constexpr const char* RelaxedNodeCount = "RelaxedNodeCount";
+constexpr const char* CurvedNodeCount = "CurvedNodeCount";
+constexpr const char* EnvelopeNodeCount = "EnvelopeNodeCount";
+constexpr const char* BoundaryCrossingsFound = "BoundaryCrossingsFound";
+constexpr const char* BoundaryCrossingsLeft = "BoundaryCrossingsLeft";
+constexpr const char* PoorElementCount = "PoorElementCount";
+constexpr const char* MinScaledJacobianQuantiles = "MinScaledJacobianQuantiles";
+constexpr const char* MaxSurfaceDeviation = "MaxSurfaceDeviation";
+constexpr const char* EnvelopeOffset = "EnvelopeOffset";
 constexpr const char* Fixed = "Fixed";
 constexpr const char* Displacement = "Displacement";
 constexpr const char* Velocity = "Velocity";
 constexpr const char* NodalRotation = "NodalRotation";
 constexpr const char* VonMisesStress = "VonMisesStress";
+// stepper output, field data
+constexpr const char* KineticEnergy = "KineticEnergy";
+constexpr const char* StrainEnergy = "StrainEnergy";
+constexpr const char* SolverIterations = "SolverIterations";
 // embedded surface, point data
 constexpr const char* EmbeddingCellId = "EmbeddingCellId";
 constexpr const char* EmbeddingParametricCoords = "EmbeddingParametricCoords";
 constexpr const char* EmbeddingDistance = "EmbeddingDistance";
 constexpr const char* EmbeddingResidual = "EmbeddingResidual";
 constexpr const char* EmbeddingFace = "EmbeddingFace";
+/// transfer output: area-weighted point normals for shading (VTK's usual name)
+constexpr const char* Normals = "Normals";
+/// diagnostics: the closest distance to the boundary, Newton iterations, elements visited
+constexpr const char* EmbeddingClosestDistance = "EmbeddingClosestDistance";
+constexpr const char* EmbeddingIterations = "EmbeddingIterations";
+constexpr const char* EmbeddingElementsVisited = "EmbeddingElementsVisited";
 /// 1 where v = p + d n has no solution and v = p + J(p) q is used instead
 constexpr const char* EmbeddingFallback = "EmbeddingFallback";
 /// q of those vertices (3 doubles; written only when some vertex falls back)

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <mutex>
 #include <sstream>
 
 namespace hoembed
@@ -111,6 +112,10 @@ std::string EmbeddingDriver::WriteArrays(const EmbeddingOutputArrays& out, Embed
   std::atomic<Id> firstFailed(ns);
   std::atomic<Id> uncertified(0), firstUncertified(ns);
   std::atomic<Id> fallbacks(0), firstFallback(ns);
+  std::atomic<Id> inexact(0), firstInexact(ns);
+  const double residualBound = ResidualTolerance * this->Mesh.Diagonal;
+  std::mutex worstLock;
+  double worst = 0.0;
   auto lowest = [](std::atomic<Id>& first, Id i) {
     Id cur = first.load();
     while (i < cur && !first.compare_exchange_weak(cur, i))
@@ -118,7 +123,8 @@ std::string EmbeddingDriver::WriteArrays(const EmbeddingOutputArrays& out, Embed
     }
   };
   ParallelLoop(Id(0), ns, [&](Id b, Id e) {
-    Id localUncertified = 0, localFallbacks = 0;
+    Id localUncertified = 0, localFallbacks = 0, localInexact = 0;
+    double localWorst = 0.0;
     for (Id k = b; k < e; ++k)
     {
       const VertexEmbedding& r = res[k];
@@ -139,6 +145,12 @@ std::string EmbeddingDriver::WriteArrays(const EmbeddingOutputArrays& out, Embed
         out.ParametricCoords[3 * i + d] = r.PC[d];
       out.Distance[i] = r.Distance;
       out.Residual[i] = r.Residual;
+      if (r.Residual > residualBound)
+      {
+        ++localInexact;
+        lowest(firstInexact, i);
+        localWorst = std::max(localWorst, r.Residual);
+      }
       out.ClosestDistance[i] = r.ClosestDistance;
       out.Face[i] = barycentric ? -1 : r.Face;
       out.Iterations[i] = r.Iterations;
@@ -152,6 +164,12 @@ std::string EmbeddingDriver::WriteArrays(const EmbeddingOutputArrays& out, Embed
     }
     uncertified += localUncertified;
     fallbacks += localFallbacks;
+    if (localInexact > 0)
+    {
+      inexact += localInexact;
+      std::lock_guard<std::mutex> guard(worstLock);
+      worst = std::max(worst, localWorst);
+    }
   });
   if (firstFailed.load() < ns)
   {
@@ -163,6 +181,10 @@ std::string EmbeddingDriver::WriteArrays(const EmbeddingOutputArrays& out, Embed
   summary.FirstUncertified = summary.Uncertified > 0 ? firstUncertified.load() : -1;
   summary.Fallbacks = fallbacks.load();
   summary.FirstFallback = summary.Fallbacks > 0 ? firstFallback.load() : -1;
+  summary.Inexact = inexact.load();
+  summary.FirstInexact = summary.Inexact > 0 ? firstInexact.load() : -1;
+  summary.MaxResidual = this->Mesh.Diagonal > 0.0 ? worst / this->Mesh.Diagonal : worst;
+  summary.Method = this->Method;
   return std::string();
 }
 
@@ -197,5 +219,46 @@ void EmbeddingDriver::ReleaseLargeSurfaceMemory()
   std::vector<Id>().swap(this->Triangles);
   std::vector<Id>().swap(this->Order);
   std::vector<VertexEmbedding>().swap(this->Results);
+}
+//------------------------------------------------------------------------------
+std::vector<std::string> EmbeddingWarnings(const EmbeddingSummary& summary)
+{
+  std::vector<std::string> out;
+  if (summary.Uncertified > 0)
+  {
+    std::ostringstream o;
+    o << summary.Uncertified << " surface point(s) (e.g. point " << summary.FirstUncertified
+      << "): the closest-point search on a curved boundary face ran out of its budget; "
+         "their distance may be a local minimum only.";
+    out.push_back(o.str());
+  }
+  if (summary.Fallbacks > 0)
+  {
+    std::ostringstream o;
+    o << summary.Fallbacks << " surface point(s) (e.g. point " << summary.FirstFallback
+      << ") have no normal offset v = p + d n: they use their closest point p and the "
+         "offset v - p instead (EmbeddingFallback = 1).";
+    out.push_back(o.str());
+  }
+  if (summary.Inexact > 0)
+  {
+    std::ostringstream o;
+    o << summary.Inexact << " surface point(s) (e.g. point " << summary.FirstInexact
+      << ") are not reproduced by their embedding: EmbeddingResidual up to "
+      << summary.MaxResidual << " of the mesh's diagonal (tolerance " << ResidualTolerance
+      << ")";
+    if (summary.Method == EMBED_BARYCENTRIC)
+    {
+      o << "; they lie outside the mesh, where the barycentric method extrapolates the "
+           "map of their closest cell, which a curved cell does not invert far out (the "
+           "normal-offset method embeds them).";
+    }
+    else
+    {
+      o << ".";
+    }
+    out.push_back(o.str());
+  }
+  return out;
 }
 } // namespace hoembed

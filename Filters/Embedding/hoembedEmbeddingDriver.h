@@ -52,7 +52,22 @@ struct EmbeddingSummary
 {
   std::int64_t Uncertified = 0, FirstUncertified = -1;
   std::int64_t Fallbacks = 0, FirstFallback = -1;
+  /// points whose embedding does not reproduce them: EmbeddingResidual over
+  /// ResidualTolerance of the mesh's diagonal (the barycentric method outside a curved
+  /// mesh, where it extrapolates its closest cell's map); the largest residual, relative
+  std::int64_t Inexact = 0, FirstInexact = -1;
+  double MaxResidual = 0.0;
+  int Method = 0;
 };
+
+/// Relative to the mesh's bounding-box diagonal: a residual above it is reported (an exact
+/// embedding's is round-off, under 1e-12 of the diagonal).
+constexpr double ResidualTolerance = 1e-6;
+
+/// The warnings of a summary, one sentence each (none when every point is certified and
+/// has its normal offset): what the filter and the package's embed() report.
+HOEMBEDFILTERSEMBEDDING_EXPORT std::vector<std::string> EmbeddingWarnings(
+  const EmbeddingSummary& summary);
 
 class HOEMBEDFILTERSEMBEDDING_EXPORT EmbeddingDriver
 {

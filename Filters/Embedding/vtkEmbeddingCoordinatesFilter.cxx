@@ -246,16 +246,16 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, vtkPolyDat
   residual->SetName(hoembed::ArrayNames::EmbeddingResidual);
   residual->SetNumberOfTuples(ns);
   vtkNew<vtkDoubleArray> closest;
-  closest->SetName("EmbeddingClosestDistance");
+  closest->SetName(hoembed::ArrayNames::EmbeddingClosestDistance);
   closest->SetNumberOfTuples(ns);
   vtkNew<vtkSignedCharArray> face;
   face->SetName(hoembed::ArrayNames::EmbeddingFace);
   face->SetNumberOfTuples(ns);
   vtkNew<vtkIntArray> iters;
-  iters->SetName("EmbeddingIterations");
+  iters->SetName(hoembed::ArrayNames::EmbeddingIterations);
   iters->SetNumberOfTuples(ns);
   vtkNew<vtkIntArray> visited;
-  visited->SetName("EmbeddingElementsVisited");
+  visited->SetName(hoembed::ArrayNames::EmbeddingElementsVisited);
   visited->SetNumberOfTuples(ns);
   vtkNew<vtkUnsignedCharArray> fallback;
   fallback->SetName(hoembed::ArrayNames::EmbeddingFallback);
@@ -279,22 +279,14 @@ bool vtkEmbeddingCoordinatesFilter::WriteOutput(vtkPolyData* surface, vtkPolyDat
     return false;
   }
   this->NumberOfUncertifiedPoints = summary.Uncertified;
-  if (this->NumberOfUncertifiedPoints > 0)
-  {
-    vtkWarningMacro(<< this->NumberOfUncertifiedPoints
-                    << " surface point(s) (e.g. point " << summary.FirstUncertified
-                    << "): the closest-point search on a curved boundary face ran out of its "
-                       "budget; their distance may be a local minimum only.");
-  }
-
   this->NumberOfFallbackPoints = summary.Fallbacks;
+  for (const std::string& warning : hoembed::EmbeddingWarnings(summary))
+  {
+    vtkWarningMacro(<< warning);
+  }
   vtkNew<vtkDoubleArray> fallbackOffset;
   if (this->NumberOfFallbackPoints > 0)
   {
-    vtkWarningMacro(<< this->NumberOfFallbackPoints << " surface point(s) (e.g. point "
-                    << summary.FirstFallback
-                    << ") have no normal offset v = p + d n: they use their closest point p "
-                       "and the offset v - p instead (EmbeddingFallback = 1).");
     // the offsets in parametric units, only where some point needs them
     fallbackOffset->SetName(hoembed::ArrayNames::EmbeddingFallbackOffset);
     fallbackOffset->SetNumberOfComponents(3);

@@ -50,6 +50,26 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
   int Wrap = 0;
 };
 
+/// The settings of the geometry services, the same in every binding (vtkTet10Mesher's
+/// VTKServices, the package's services over the VTK Python in use).
+struct MesherServiceSettings
+{
+  /// the windowed-sinc low-pass of the fine surface that a smoothed decimation starts from
+  static constexpr int SmoothingIterations = 30;
+  static constexpr double SmoothingPassBand = 0.01;
+  /// VTK's cell validator on a curved cell of the surface scaled to a unit diagonal (its
+  /// tolerances are absolute)
+  static constexpr double CellCheckTolerance = 1e-6;
+  /// the validator's verdicts (the bits of vtkCellValidator::State, vtkCellStatus in VTK
+  /// 9.4 and later) that refuse a curved cell: WrongNumberOfPoints, IntersectingEdges,
+  /// IntersectingFaces, FacesAreOrientedIncorrectly. Curved faces are legitimately not
+  /// convex: only intersections and flips count.
+  static constexpr short RefusedCellStates = 0x01 | 0x02 | 0x04 | 0x20;
+  /// the filter's MergeTolerance and MaximumNumberOfElements defaults
+  static constexpr double MergeTolerance = 1e-6;
+  static constexpr std::int64_t MaximumNumberOfElements = 1000000;
+};
+
 /// Geometry services on the fine surface that the binding provides.
 struct HOEMBEDFILTERSMESHING_EXPORT MesherServices
 {

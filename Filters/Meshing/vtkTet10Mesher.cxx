@@ -1,5 +1,6 @@
 #include "vtkTet10Mesher.h"
 
+#include "hoembedArrayNames.h"
 #include "hoembedMesherDriver.h"
 #include "hoembedSurfaceCheck.h"
 #include "hoembedSurfaceRead.h"
@@ -207,6 +208,14 @@ private:
   }
 };
 static_assert(sizeof(vtkIdType) == sizeof(Id), "64-bit vtkIdType expected");
+// the refused verdicts are spelled as bits in the driver's settings (the package reads
+// them there): they must be this VTK's
+static_assert(hoembed::MesherServiceSettings::RefusedCellStates ==
+    (static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
+      static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
+      static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
+      static_cast<short>(vtkCellValidator::State::WrongNumberOfPoints)),
+  "the cell validator's State bits");
 
 // Distributed pipelines: every process's piece of the surface, gathered in rank order (so
 // every process appends the same surface) before any check, so that all processes take
@@ -387,13 +396,10 @@ public:
           (x[3 * i + 2] - x[2]) * scale };
         this->CheckCell->GetPoints()->SetPoint(i, p);
       }
-      // Curved faces are legitimately not convex: only intersections and flips count.
-      const auto state = static_cast<short>(vtkCellValidator::Check(this->CheckCell, 1e-6));
-      const short bad = static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
-        static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
-        static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly) |
-        static_cast<short>(vtkCellValidator::State::WrongNumberOfPoints);
-      return (state & bad) == 0;
+      using Settings = hoembed::MesherServiceSettings;
+      const auto state = static_cast<short>(
+        vtkCellValidator::Check(this->CheckCell, Settings::CellCheckTolerance));
+      return (state & Settings::RefusedCellStates) == 0;
     };
     return s;
   }
@@ -406,8 +412,8 @@ private:
     {
       vtkNew<vtkWindowedSincPolyDataFilter> smooth;
       smooth->SetInputData(this->Fine);
-      smooth->SetNumberOfIterations(30);
-      smooth->SetPassBand(0.01);
+      smooth->SetNumberOfIterations(hoembed::MesherServiceSettings::SmoothingIterations);
+      smooth->SetPassBand(hoembed::MesherServiceSettings::SmoothingPassBand);
       smooth->NormalizeCoordinatesOn();
       smooth->BoundarySmoothingOff();
       smooth->FeatureEdgeSmoothingOff();
@@ -441,7 +447,7 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
   vtkNew<vtkCellArray> cells;
   cells->AllocateExact(nTets, npc * nTets);
   vtkNew<vtkDoubleArray> quality;
-  quality->SetName("MinScaledJacobian");
+  quality->SetName(hoembed::ArrayNames::MinScaledJacobian);
   quality->SetNumberOfTuples(nTets);
   for (vtkIdType t = 0; t < nTets; ++t)
   {
@@ -452,7 +458,7 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
     quality->SetValue(t, r.MinScaledJacobian[t]);
   }
   vtkNew<vtkUnsignedCharArray> bnd;
-  bnd->SetName("BoundaryNode");
+  bnd->SetName(hoembed::ArrayNames::BoundaryNode);
   bnd->SetNumberOfTuples(nPts);
   for (vtkIdType i = 0; i < nPts; ++i)
     bnd->SetValue(i, r.BoundaryNode[i]);
@@ -466,23 +472,24 @@ void WriteOutput(const hoembed::MesherResult& r, vtkUnstructuredGrid* output)
     a->InsertNextValue(v);
     output->GetFieldData()->AddArray(a);
   };
-  addId("RelaxedNodeCount", r.RelaxedNodeCount);
-  addId("CurvedNodeCount", r.CurvedNodeCount);
-  addId("EnvelopeNodeCount", r.EnvelopeNodeCount);
-  addId("BoundaryCrossingsFound", r.BoundaryCrossingsFound);
-  addId("BoundaryCrossingsLeft", r.BoundaryCrossingsLeft);
-  addId("PoorElementCount", r.PoorElementCount);
+  namespace N = hoembed::ArrayNames;
+  addId(N::RelaxedNodeCount, r.RelaxedNodeCount);
+  addId(N::CurvedNodeCount, r.CurvedNodeCount);
+  addId(N::EnvelopeNodeCount, r.EnvelopeNodeCount);
+  addId(N::BoundaryCrossingsFound, r.BoundaryCrossingsFound);
+  addId(N::BoundaryCrossingsLeft, r.BoundaryCrossingsLeft);
+  addId(N::PoorElementCount, r.PoorElementCount);
   vtkNew<vtkDoubleArray> quantiles;
-  quantiles->SetName("MinScaledJacobianQuantiles");
+  quantiles->SetName(hoembed::ArrayNames::MinScaledJacobianQuantiles);
   quantiles->SetNumberOfComponents(3);
   quantiles->InsertNextTuple(r.QualityQuantiles);
   output->GetFieldData()->AddArray(quantiles);
   vtkNew<vtkDoubleArray> dev;
-  dev->SetName("MaxSurfaceDeviation");
+  dev->SetName(hoembed::ArrayNames::MaxSurfaceDeviation);
   dev->InsertNextValue(r.MaxSurfaceDeviation);
   output->GetFieldData()->AddArray(dev);
   vtkNew<vtkDoubleArray> offset;
-  offset->SetName("EnvelopeOffset");
+  offset->SetName(hoembed::ArrayNames::EnvelopeOffset);
   offset->InsertNextValue(r.Wrapped ? r.EnvelopeOffset : 0.0);
   output->GetFieldData()->AddArray(offset);
 }

@@ -1,14 +1,39 @@
 #include "hoembedStepperDriver.h"
+#include "hoembedArrayNames.h"
 
 #include "hoembedElementGeometry.h"
 #include "hoembedQuadraticMap.h"
 #include "hoembedTetMeshInput.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace hoembed
 {
+//------------------------------------------------------------------------------
+std::string StepperDriver::Build(
+  const TetMeshInput& mesh, const StepperParameters& p, const StepperInputs& in)
+{
+  std::string error = this->Initialize(mesh, p);
+  if (error.empty())
+  {
+    error = this->SetClamps(mesh.Points, in.FixedValues, p);
+  }
+  if (error.empty())
+  {
+    const size_t n3 = 3 * static_cast<size_t>(mesh.NumberOfPoints);
+    this->ArrayForces.assign(in.Forces ? in.Forces : nullptr, in.Forces ? in.Forces + n3 : nullptr);
+    error = this->ApplyLoads(in.Gravity, in.PrescribedSpeedLimit, mesh.NumberOfPoints);
+  }
+  if (error.empty())
+  {
+    this->SetInitialState(mesh.Points, in.InitialDisplacement, in.InitialVelocity);
+    this->Start(p);
+  }
+  return error;
+}
+
 //------------------------------------------------------------------------------
 std::string StepperDriver::Initialize(const TetMeshInput& mesh, const StepperParameters& p)
 {
@@ -215,6 +240,135 @@ void StepperDriver::Start(const StepperParameters& p)
   this->Solver.SetSolverControls(p.SolverTolerance, p.MaxSolverIterations);
   this->Solver.SetState(this->InitialX.data(), this->InitialV.data());
   this->CurrentStep = 0;
+  this->ResetRequested = false;
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::CheckFixedArray(
+  const char* name, FixedArrayKind kind, long long tuples, long long numberOfPoints)
+{
+  if (!name || !*name)
+  {
+    return std::string();
+  }
+  std::ostringstream o;
+  o << "FixedArrayName '" << name << "' ";
+  switch (kind)
+  {
+    case FixedArrayKind::NotNumeric:
+      // an array of that name that is not numeric point data would clamp nothing
+      // silently: refused, whether named by the user or the default "Fixed"
+      o << "is a point-data array that is not numeric (e.g. strings): the clamps need "
+           "numbers (nonzero = clamped).";
+      return o.str();
+    case FixedArrayKind::CellOrField:
+      o << "is cell or field data, not point data: the clamps are per node (nonzero = "
+           "clamped).";
+      return o.str();
+    case FixedArrayKind::Absent:
+      if (std::string(name) == ArrayNames::Fixed)
+      {
+        return std::string(); // the default: no clamps from an array
+      }
+      o << "is not a point-data array of the input.";
+      return o.str();
+    case FixedArrayKind::Numeric:
+      break;
+  }
+  if (tuples != numberOfPoints)
+  {
+    o << "has " << tuples << " tuples, expected " << numberOfPoints << " (one per point).";
+    return o.str();
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::BuildSignature(
+  const StepperParameters& p, bool staticSolve, const std::vector<const char*>& arrayNames)
+{
+  std::ostringstream o;
+  o.precision(17);
+  o << p.YoungModulus << ' ' << p.PoissonRatio << ' ' << p.Density << ' ' << p.RayleighMass
+    << ' ' << p.RayleighStiffness << ' ' << p.TimeStep << ' ' << staticSolve << p.LumpedMass
+    << p.UseClampPlane << p.UseClampBox;
+  for (int i = 0; i < 3; ++i)
+  {
+    o << ' ' << p.ClampPlaneOrigin[i] << ' ' << p.ClampPlaneNormal[i];
+  }
+  for (int i = 0; i < 6; ++i)
+  {
+    o << ' ' << p.ClampBox[i];
+  }
+  o << ' ' << p.SolverTolerance << ' ' << p.MaxSolverIterations;
+  for (const char* name : arrayNames)
+  {
+    o << '\n' << (name ? std::string(name) : std::string("\x01"));
+  }
+  return o.str();
+}
+
+//------------------------------------------------------------------------------
+void StepperDriver::RequestStep(long long k, bool built)
+{
+  const long long now = built ? this->ClockStep() : 0;
+  this->PendingSteps = std::max(0LL, k - now);
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::PrepareLiveStep(const double gravity[3], double prescribedSpeedLimit,
+  long long numberOfPoints, bool timed, long long requested, long long& target)
+{
+  if (this->ResetRequested)
+  {
+    this->Solver.SetState(this->InitialX.data(), this->InitialV.data());
+    this->CurrentStep = 0;
+    this->ResetRequested = false;
+  }
+  const std::string error = this->ApplyLoads(gravity, prescribedSpeedLimit, numberOfPoints);
+  if (!error.empty())
+  {
+    this->PendingSteps = 0;
+    return error;
+  }
+  this->StaticDone = false; // the loads may have changed
+  // never backwards: an earlier (or no) time is the current state
+  target = std::max<long long>(timed ? requested : 0, this->CurrentStep + this->PendingSteps);
+  this->PendingSteps = 0;
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+void StepperDriver::WriteFrame(double* points, double* displacements, double* velocities,
+  double* rotations, double* vonMises) const
+{
+  const size_t n3 = 3 * static_cast<size_t>(this->Solver.GetNumberOfPoints());
+  const double* x = this->Solver.GetPositions();
+  const double* v = this->Solver.GetVelocities();
+  const double* X = this->Solver.GetRestPositions();
+  for (size_t k = 0; k < n3; ++k)
+  {
+    if (points)
+    {
+      points[k] = x[k];
+    }
+    if (displacements)
+    {
+      displacements[k] = x[k] - X[k];
+    }
+    if (velocities)
+    {
+      velocities[k] = v[k];
+    }
+  }
+  if (rotations)
+  {
+    this->Solver.ComputeNodalRotations(rotations);
+  }
+  if (vonMises)
+  {
+    this->Solver.ComputeVonMises(vonMises);
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -5,7 +5,7 @@
  * the initial state, stepping to a step index and the static solve.
  *
  * vtkCorotationalFEMStepper reads its vtkUnstructuredGrid and arrays, calls these steps
- * and writes the output frame from `Solver`; the pip wheel's binding
+ * and writes the output frame (WriteFrame); the package's binding
  * (Wrapping/Pip/hoembedPipModule.cxx) calls the same steps on numpy arrays, so both give
  * the same frames bit for bit. Errors are returned as one sentence ending in '.' (the
  * empty string on success); the caller prefixes its own name.
@@ -44,9 +44,27 @@ struct StepperParameters
   double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
 };
 
+/// The per-point inputs of a set-up (each nullptr: none), 1 or 3 values per point.
+struct StepperInputs
+{
+  const double* FixedValues = nullptr;         ///< nonzero = clamped
+  const double* Forces = nullptr;              ///< nodal forces (3 per point)
+  const double* InitialDisplacement = nullptr; ///< 3 per point
+  const double* InitialVelocity = nullptr;     ///< 3 per point
+  double Gravity[3] = { 0.0, 0.0, 0.0 };
+  double PrescribedSpeedLimit = 0.0;
+};
+
 class HOEMBEDFILTERSSIMULATION_EXPORT StepperDriver
 {
 public:
+  /// The whole set-up on a mesh read with TetMeshInput::KeepPoints, in the one order both
+  /// bindings use: Initialize, SetClamps, the forces, ApplyLoads (with the prescribed
+  /// motion set before by SetPrescribedMotion, and the nodal forces), SetInitialState,
+  /// Start. Returns the first error.
+  std::string Build(const TetMeshInput& mesh, const StepperParameters& p,
+    const StepperInputs& inputs);
+
   /// Rest validity of every cell of `mesh` (read with TetMeshInput::KeepPoints), then the
   /// solver's mesh, material and mass.
   std::string Initialize(const TetMeshInput& mesh, const StepperParameters& p);
@@ -74,7 +92,8 @@ public:
   /// Initial positions rest + u0 and velocities v0 (3 per point each; nullptr = zero).
   void SetInitialState(const std::vector<double>& rest, const double* u0, const double* v0);
 
-  /// Time step, damping and solver controls; the solver at the initial state, step 0.
+  /// Time step, damping and solver controls; the solver at the initial state, step 0 (a
+  /// pending reset is done by that).
   void Start(const StepperParameters& p);
 
   /// Bring the solver to step k (from the initial state again when k is behind), or with
@@ -82,6 +101,52 @@ public:
   /// `progress` (may be empty) gets the fraction of the steps done.
   std::string Advance(long long k, bool staticSolve, double timeStep,
     const std::function<void(double)>& progress);
+
+  /// Where the clamps' point array (FixedArrayName) was found, as the binding sees it.
+  enum class FixedArrayKind
+  {
+    Absent,         ///< no array of that name anywhere
+    Numeric,        ///< a numeric point-data array (its component 0 is read)
+    NotNumeric,     ///< a point-data array that is not numeric (e.g. strings)
+    CellOrField     ///< cell or field data of that name
+  };
+  /// The rule for the clamps' array `name` (empty: none asked for): an array of that name
+  /// that is not numeric point data, or a named array that is absent (but the default
+  /// "Fixed"), or one with another number of tuples than `numberOfPoints`, is refused
+  /// with its sentence; "" when the array is to be read (Numeric) or there is none.
+  static std::string CheckFixedArray(const char* name, FixedArrayKind kind,
+    long long tuples, long long numberOfPoints);
+
+  /// What a live rebuild is decided on: the set-up's parameters, the static solve and the
+  /// names of the point arrays read (nullptr: none), as one string; any change of it
+  /// rebuilds (the loads, set between steps, are not in it).
+  static std::string BuildSignature(const StepperParameters& p, bool staticSolve,
+    const std::vector<const char*>& arrayNames);
+
+  /// The live clock (vtkCorotationalFEMStepper's LiveMode and the package's LiveSession):
+  /// steps asked for since the last live advance, a reset asked for, and the target of the
+  /// next live advance (never backwards).
+  void RequestSteps(long long n) { this->PendingSteps += n; }
+  /// Steps to reach step k from now (none when k is behind); `built`: the solver exists.
+  void RequestStep(long long k, bool built);
+  void RequestReset()
+  {
+    this->ResetRequested = true;
+    this->PendingSteps = 0;
+  }
+  /// The current step as the clock shows it (0 while a reset is pending).
+  long long ClockStep() const { return this->ResetRequested ? 0 : this->CurrentStep; }
+  /// Before a live advance: the pending reset (back to the initial state), the loads as
+  /// they are now, and the step to advance to: `requested` (when `timed`) or the current
+  /// step plus the pending ones, whichever is later. The pending steps are consumed.
+  std::string PrepareLiveStep(const double gravity[3], double prescribedSpeedLimit,
+    long long numberOfPoints, bool timed, long long requested, long long& target);
+
+  /// A frame's arrays from the solver's state (each nullptr: not written): positions x,
+  /// displacements x - X, velocities (3 per point), nodal rotations (9 per point),
+  /// von Mises stress (1 per cell).
+  void WriteFrame(double* points, double* displacements, double* velocities,
+    double* rotations, double* vonMises) const;
 
   CorotationalSolver Solver;
   std::vector<double> InitialX, InitialV;
@@ -91,6 +156,8 @@ public:
   std::vector<unsigned char> Mask;
   int CurrentStep = 0;
   bool StaticDone = false;
+  long long PendingSteps = 0;
+  bool ResetRequested = false;
 };
 } // namespace hoembed
 

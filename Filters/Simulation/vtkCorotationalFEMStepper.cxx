@@ -53,15 +53,35 @@ struct vtkCorotationalFEMStepper::Internals
   std::vector<double>& Targets = Driver.Targets;
   std::vector<unsigned char>& Mask = Driver.Mask;
   std::string Signature; // BuildSignature() of the build (LiveMode)
-  long long PendingSteps = 0;
-  bool ResetRequested = false;
   bool LastOK = false;
 };
 
 vtkCorotationalFEMStepper::vtkCorotationalFEMStepper()
   : Internal(new Internals)
 {
-  this->SetFixedArrayName("Fixed");
+  this->SetFixedArrayName(hoembed::ArrayNames::Fixed);
+  // the defaults are the driver's
+  const hoembed::StepperParameters p;
+  this->YoungModulus = p.YoungModulus;
+  this->PoissonRatio = p.PoissonRatio;
+  this->Density = p.Density;
+  this->LumpedMass = p.LumpedMass;
+  this->TimeStep = p.TimeStep;
+  this->RayleighMass = p.RayleighMass;
+  this->RayleighStiffness = p.RayleighStiffness;
+  this->SolverTolerance = p.SolverTolerance;
+  this->MaxSolverIterations = p.MaxSolverIterations;
+  this->UseClampPlane = p.UseClampPlane;
+  this->UseClampBox = p.UseClampBox;
+  for (int i = 0; i < 3; ++i)
+  {
+    this->ClampPlaneOrigin[i] = p.ClampPlaneOrigin[i];
+    this->ClampPlaneNormal[i] = p.ClampPlaneNormal[i];
+  }
+  for (int i = 0; i < 6; ++i)
+  {
+    this->ClampBox[i] = p.ClampBox[i];
+  }
 }
 
 vtkCorotationalFEMStepper::~vtkCorotationalFEMStepper()
@@ -193,7 +213,6 @@ int vtkCorotationalFEMStepper::RequestData(
     {
       return 0;
     }
-    I.ResetRequested = false;
   }
 
   // Requested step.
@@ -206,21 +225,13 @@ int vtkCorotationalFEMStepper::RequestData(
   long long k = std::llround(t / this->TimeStep);
   if (this->LiveMode)
   {
-    if (I.ResetRequested)
+    const std::string error = I.Driver.PrepareLiveStep(
+      this->Gravity, this->PrescribedSpeedLimit, input->GetNumberOfPoints(), timed, k, k);
+    if (!error.empty())
     {
-      I.Solver.SetState(I.InitialX.data(), I.InitialV.data());
-      I.CurrentStep = 0;
-      I.ResetRequested = false;
-    }
-    if (!this->ApplyLoads(input->GetNumberOfPoints()))
-    {
-      I.PendingSteps = 0;
+      vtkErrorMacro(<< error);
       return 0;
     }
-    I.StaticDone = false; // the loads may have changed
-    // never backwards: an earlier (or no) time is the current state
-    k = std::max<long long>(timed ? k : 0, I.CurrentStep + I.PendingSteps);
-    I.PendingSteps = 0;
   }
   else
   {
@@ -252,26 +263,11 @@ int vtkCorotationalFEMStepper::RequestData(
 //------------------------------------------------------------------------------
 std::string vtkCorotationalFEMStepper::BuildSignature() const
 {
-  std::ostringstream o;
-  o.precision(17);
-  auto str = [](const char* s) { return s ? std::string(s) : std::string("\x01"); };
-  o << this->YoungModulus << ' ' << this->PoissonRatio << ' ' << this->Density << ' '
-    << this->RayleighMass << ' ' << this->RayleighStiffness << ' ' << this->TimeStep << ' '
-    << this->StaticSolve << this->LumpedMass << this->UseClampPlane << this->UseClampBox;
-  for (int i = 0; i < 3; ++i)
-  {
-    o << ' ' << this->ClampPlaneOrigin[i] << ' ' << this->ClampPlaneNormal[i];
-  }
-  for (int i = 0; i < 6; ++i)
-  {
-    o << ' ' << this->ClampBox[i];
-  }
-  o << ' ' << this->SolverTolerance << ' ' << this->MaxSolverIterations << '\n'
-    << str(this->ExternalForceArrayName) << '\n'
-    << str(this->InitialDisplacementArrayName) << '\n'
-    << str(this->InitialVelocityArrayName) << '\n'
-    << str(this->FixedArrayName);
-  return o.str();
+  hoembed::StepperParameters p;
+  this->GetParameters(p);
+  return hoembed::StepperDriver::BuildSignature(p, this->StaticSolve,
+    { this->ExternalForceArrayName, this->InitialDisplacementArrayName,
+      this->InitialVelocityArrayName, this->FixedArrayName });
 }
 
 //------------------------------------------------------------------------------
@@ -376,7 +372,7 @@ bool vtkCorotationalFEMStepper::Step(int n)
     vtkErrorMacro("Step(" << n << "): the number of steps must be >= 0.");
     return false;
   }
-  this->Internal->PendingSteps += n;
+  this->Internal->Driver.RequestSteps(n);
   this->Modified();
   this->Update();
   return this->Internal->LastOK;
@@ -395,9 +391,7 @@ bool vtkCorotationalFEMStepper::AdvanceTo(double t)
     return false;
   }
   Internals& I = *this->Internal;
-  const long long k = std::llround(t / this->TimeStep);
-  const long long now = (I.Built && !I.ResetRequested) ? I.CurrentStep : 0;
-  I.PendingSteps = std::max(0LL, k - now);
+  I.Driver.RequestStep(std::llround(t / this->TimeStep), I.Built);
   this->Modified();
   this->Update();
   return I.LastOK;
@@ -405,20 +399,19 @@ bool vtkCorotationalFEMStepper::AdvanceTo(double t)
 
 void vtkCorotationalFEMStepper::ResetState()
 {
-  this->Internal->ResetRequested = true;
-  this->Internal->PendingSteps = 0;
+  this->Internal->Driver.RequestReset();
   this->Modified();
 }
 
 double vtkCorotationalFEMStepper::GetSimulationTime()
 {
   const Internals& I = *this->Internal;
-  return (I.Built && !I.ResetRequested) ? I.CurrentStep * this->TimeStep : 0.0;
+  return I.Built ? I.Driver.ClockStep() * this->TimeStep : 0.0;
 }
 
 //------------------------------------------------------------------------------
-// Read the mesh (the one reader, then the rest validity of every cell), set up the
-// solver, its clamps, loads and initial state.
+// Read the mesh (the one reader) and the point arrays; the driver sets up the solver
+// (rest validity of every cell, clamps, loads, initial state).
 bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
 {
   Internals& I = *this->Internal;
@@ -433,20 +426,30 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
     vtkErrorMacro(<< readError << ".");
     return false;
   }
-  const std::vector<double>& rest = mesh.Points;
+  std::vector<double> fixed, forces, u0, v0;
+  if (!this->ReadClamps(input, fixed) || !this->ReadPointInputs(input, forces, u0, v0))
+  {
+    return false;
+  }
   hoembed::StepperParameters p;
   this->GetParameters(p);
-  const std::string error = I.Driver.Initialize(mesh, p);
+  hoembed::StepperInputs in;
+  auto data = [](const std::vector<double>& v) { return v.empty() ? nullptr : v.data(); };
+  in.FixedValues = data(fixed);
+  in.Forces = data(forces);
+  in.InitialDisplacement = data(u0);
+  in.InitialVelocity = data(v0);
+  for (int i = 0; i < 3; ++i)
+  {
+    in.Gravity[i] = this->Gravity[i];
+  }
+  in.PrescribedSpeedLimit = this->PrescribedSpeedLimit;
+  const std::string error = I.Driver.Build(mesh, p, in);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
     return false;
   }
-  if (!this->SetupClamps(input, rest) || !this->SetupLoadsAndState(input, rest))
-  {
-    return false;
-  }
-  I.Driver.Start(p);
   I.Signature = this->BuildSignature();
   I.Built = true;
   I.BuildTime.Modified();
@@ -455,49 +458,34 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
 }
 
 //------------------------------------------------------------------------------
-// Clamped nodes: the Fixed array (numeric point data), the clamp plane and the clamp box.
-bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const std::vector<double>& rest)
+// The clamps' array (FixedArrayName): where it is, the driver's rule, its values.
+bool vtkCorotationalFEMStepper::ReadClamps(vtkUnstructuredGrid* input, std::vector<double>& values)
 {
-  Internals& I = *this->Internal;
   const vtkIdType np = input->GetNumberOfPoints();
   const bool named = this->FixedArrayName && *this->FixedArrayName;
   vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
+  using Kind = hoembed::StepperDriver::FixedArrayKind;
+  Kind kind = fixedArray ? Kind::Numeric : Kind::Absent;
   if (!fixedArray && named)
   {
-    // An array of that name that is not numeric point data would clamp nothing
-    // silently: refuse it, whether named by the user or the default "Fixed".
-    const bool asString = input->GetPointData()->GetAbstractArray(this->FixedArrayName);
-    const bool asCells = input->GetCellData()->GetAbstractArray(this->FixedArrayName) ||
-      input->GetFieldData()->GetAbstractArray(this->FixedArrayName);
-    if (asString)
+    if (input->GetPointData()->GetAbstractArray(this->FixedArrayName))
     {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                       << "' is a point-data array that is not numeric (e.g. "
-                                          "strings): the clamps need numbers (nonzero = clamped).");
-      return false;
+      kind = Kind::NotNumeric;
     }
-    if (asCells)
+    else if (input->GetCellData()->GetAbstractArray(this->FixedArrayName) ||
+      input->GetFieldData()->GetAbstractArray(this->FixedArrayName))
     {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                       << "' is cell or field data, not point data: the clamps "
-                                          "are per node (nonzero = clamped).");
-      return false;
-    }
-    if (std::string(this->FixedArrayName) != hoembed::ArrayNames::Fixed)
-    {
-      vtkErrorMacro("FixedArrayName '" << this->FixedArrayName
-                                       << "' is not a point-data array of the input.");
-      return false;
+      kind = Kind::CellOrField;
     }
   }
-  if (fixedArray && fixedArray->GetNumberOfTuples() != np)
+  const std::string error = hoembed::StepperDriver::CheckFixedArray(this->FixedArrayName,
+    kind, fixedArray ? fixedArray->GetNumberOfTuples() : 0, np);
+  if (!error.empty())
   {
-    vtkErrorMacro("FixedArrayName '" << this->FixedArrayName << "' has "
-                                     << fixedArray->GetNumberOfTuples() << " tuples, expected "
-                                     << np << " (one per point).");
+    vtkErrorMacro(<< error);
     return false;
   }
-  std::vector<double> values;
+  values.clear();
   if (fixedArray)
   {
     values.resize(np);
@@ -506,81 +494,43 @@ bool vtkCorotationalFEMStepper::SetupClamps(vtkUnstructuredGrid* input, const st
       values[p] = fixedArray->GetComponent(p, 0);
     }
   }
-  hoembed::StepperParameters params;
-  this->GetParameters(params);
-  const std::string error =
-    I.Driver.SetClamps(rest, fixedArray ? values.data() : nullptr, params);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return false;
-  }
   return true;
 }
 
 //------------------------------------------------------------------------------
-// Loads (gravity, nodal forces) and the initial state (displacement, velocity).
-bool vtkCorotationalFEMStepper::SetupLoadsAndState(
-  vtkUnstructuredGrid* input, const std::vector<double>& rest)
+// The forces and the initial state (displacement, velocity): 3-component point arrays.
+bool vtkCorotationalFEMStepper::ReadPointInputs(vtkUnstructuredGrid* input,
+  std::vector<double>& forces, std::vector<double>& u0, std::vector<double>& v0)
 {
-  Internals& I = *this->Internal;
   const vtkIdType np = input->GetNumberOfPoints();
-  // Loads.
-  bool bad3 = false;
-  vtkDataArray* forceArray = GetVectorArray(input, this->ExternalForceArrayName, bad3);
-  if (bad3)
+  const char* names[3] = { this->ExternalForceArrayName, this->InitialDisplacementArrayName,
+    this->InitialVelocityArrayName };
+  const char* properties[3] = { "ExternalForceArrayName", "InitialDisplacementArrayName",
+    "InitialVelocityArrayName" };
+  std::vector<double>* out[3] = { &forces, &u0, &v0 };
+  for (int k = 0; k < 3; ++k)
   {
-    vtkErrorMacro("ExternalForceArrayName '" << this->ExternalForceArrayName
-                                             << "' is not a 3-component point-data array.");
-    return false;
-  }
-  std::vector<double>& forces = I.ArrayForces;
-  forces.clear();
-  if (forceArray)
-  {
-    forces.resize(3 * np);
-    for (vtkIdType p = 0; p < np; ++p)
+    bool bad3 = false;
+    vtkDataArray* a = GetVectorArray(input, names[k], bad3);
+    if (bad3)
     {
-      forceArray->GetTuple(p, &forces[3 * p]);
+      vtkErrorMacro(<< properties[k] << " '" << names[k]
+                    << "' is not a 3-component point-data array.");
+      return false;
     }
-  }
-  // gravity, these forces, SetNodalForces and SetPrescribedMotion
-  if (!this->ApplyLoads(np))
-  {
-    return false;
-  }
-  // Initial state.
-  vtkDataArray* u0 = GetVectorArray(input, this->InitialDisplacementArrayName, bad3);
-  if (bad3)
-  {
-    vtkErrorMacro("InitialDisplacementArrayName '" << this->InitialDisplacementArrayName
-                                                   << "' is not a 3-component point-data array.");
-    return false;
-  }
-  vtkDataArray* v0 = GetVectorArray(input, this->InitialVelocityArrayName, bad3);
-  if (bad3)
-  {
-    vtkErrorMacro("InitialVelocityArrayName '" << this->InitialVelocityArrayName
-                                               << "' is not a 3-component point-data array.");
-    return false;
-  }
-  auto copy = [np](vtkDataArray* a, std::vector<double>& out)
-  {
+    out[k]->clear();
     if (a)
     {
-      out.resize(3 * static_cast<size_t>(np));
+      out[k]->resize(3 * static_cast<size_t>(np));
       for (vtkIdType p = 0; p < np; ++p)
       {
         for (int i = 0; i < 3; ++i)
         {
-          out[3 * p + i] = a->GetComponent(p, i);
+          (*out[k])[3 * p + i] = a->GetComponent(p, i);
         }
       }
     }
-    return a ? out.data() : nullptr;
-  };
-  std::vector<double> u, v;
-  I.Driver.SetInitialState(rest, copy(u0, u), copy(v0, v));
+  }
   return true;
 }
 
@@ -639,9 +589,6 @@ void vtkCorotationalFEMStepper::WriteOutput(
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(np);
-  const double* x = I.Solver.GetPositions();
-  const double* v = I.Solver.GetVelocities();
-  const double* X = I.Solver.GetRestPositions();
   vtkNew<vtkDoubleArray> disp, vel, rot, vm;
   disp->SetName(hoembed::ArrayNames::Displacement);
   disp->SetNumberOfComponents(3);
@@ -654,20 +601,9 @@ void vtkCorotationalFEMStepper::WriteOutput(
   rot->SetNumberOfTuples(np);
   vm->SetName(hoembed::ArrayNames::VonMisesStress);
   vm->SetNumberOfTuples(this->ComputeDiagnostics ? nc : 0);
-  for (vtkIdType p = 0; p < np; ++p)
-  {
-    points->SetPoint(p, x + 3 * p);
-    for (int i = 0; i < 3; ++i)
-    {
-      disp->SetValue(3 * p + i, x[3 * p + i] - X[3 * p + i]);
-      vel->SetValue(3 * p + i, v[3 * p + i]);
-    }
-  }
-  I.Solver.ComputeNodalRotations(rot->GetPointer(0));
-  if (this->ComputeDiagnostics)
-  {
-    I.Solver.ComputeVonMises(vm->GetPointer(0));
-  }
+  I.Driver.WriteFrame(static_cast<double*>(points->GetVoidPointer(0)), disp->GetPointer(0),
+    vel->GetPointer(0), rot->GetPointer(0),
+    this->ComputeDiagnostics ? vm->GetPointer(0) : nullptr);
   output->SetPoints(points);
   output->GetPointData()->AddArray(disp);
   output->GetPointData()->AddArray(vel);
@@ -690,10 +626,10 @@ void vtkCorotationalFEMStepper::WriteOutput(
   };
   if (this->ComputeDiagnostics)
   {
-    addField("KineticEnergy", I.Solver.KineticEnergy());
-    addField("StrainEnergy", I.Solver.StrainEnergy());
+    addField(hoembed::ArrayNames::KineticEnergy, I.Solver.KineticEnergy());
+    addField(hoembed::ArrayNames::StrainEnergy, I.Solver.StrainEnergy());
   }
-  addField("SolverIterations", I.Solver.GetLastIterations());
+  addField(hoembed::ArrayNames::SolverIterations, I.Solver.GetLastIterations());
   output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), tk);
   this->UpdateProgress(1.0);
 }

@@ -291,27 +291,29 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double YoungModulus = 1.0e5;
-  double PoissonRatio = 0.49;
-  double Density = 1000.0;
+  // the set-up's properties: their defaults are hoembed::StepperParameters' (the
+  // constructor copies them)
+  double YoungModulus;
+  double PoissonRatio;
+  double Density;
   double Gravity[3] = { 0.0, 0.0, -9.81 };
   char* ExternalForceArrayName = nullptr;
   char* InitialDisplacementArrayName = nullptr;
   char* InitialVelocityArrayName = nullptr;
   char* FixedArrayName = nullptr;
-  double RayleighMass = 0.1;
-  double RayleighStiffness = 0.01;
-  double TimeStep = 0.01;
+  double RayleighMass;
+  double RayleighStiffness;
+  double TimeStep;
   int NumberOfTimeSteps = 100;
   bool StaticSolve = false;
-  bool LumpedMass = false;
-  bool UseClampPlane = false;
-  double ClampPlaneOrigin[3] = { 0.0, 0.0, 0.0 };
-  double ClampPlaneNormal[3] = { 1.0, 0.0, 0.0 };
-  bool UseClampBox = false;
-  double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
-  double SolverTolerance = 1e-4;
-  int MaxSolverIterations = 200;
+  bool LumpedMass;
+  bool UseClampPlane;
+  double ClampPlaneOrigin[3];
+  double ClampPlaneNormal[3];
+  bool UseClampBox;
+  double ClampBox[6];
+  double SolverTolerance;
+  int MaxSolverIterations;
   bool LiveMode = false;
   bool ComputeDiagnostics = true;
   double PrescribedSpeedLimit = 0.0;
@@ -335,8 +337,11 @@ private:
   // The steps of RequestData: read the mesh and set up the solver (clamps, loads, initial
   // state), advance it to step k, write the output at time tk.
   bool BuildSolver(vtkUnstructuredGrid* input);
-  bool SetupClamps(vtkUnstructuredGrid* input, const std::vector<double>& rest);
-  bool SetupLoadsAndState(vtkUnstructuredGrid* input, const std::vector<double>& rest);
+  // The input's point arrays the set-up reads: the clamps' (FixedArrayName; `values`
+  // left empty when none), the forces and the initial state (each empty when not named).
+  bool ReadClamps(vtkUnstructuredGrid* input, std::vector<double>& values);
+  bool ReadPointInputs(vtkUnstructuredGrid* input, std::vector<double>& forces,
+    std::vector<double>& u0, std::vector<double>& v0);
   bool Advance(long long k, vtkUnstructuredGrid* output);
   void WriteOutput(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, double tk);
   // Live loads to the solver (gravity, forces, prescribed motion); false for arrays whose

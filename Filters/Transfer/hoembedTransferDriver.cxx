@@ -33,13 +33,15 @@ bool AllFinite(const double* x, std::int64_t n)
 // (extrapolated), but hand-made embeddings (a face plane's projection with a distance)
 // extrapolate too, and that maps nothing wrong: parametric coordinates are refused only
 // beyond MaxExtrapolation cell sizes, which no surface the mesh approximates comes near.
-// A surface may lie far from a small mesh (the embedding gives such vertices large
-// distances, or its flagged fallback), so |d| is refused only beyond MaxDistance mesh
-// diagonals: there the whole mesh is smaller than a few units in the last place of the
-// vertex's coordinates, so no deformation of it can be carried (and 1e300 would overflow
-// the output).
+// A surface may lie far outside a small mesh (the embedding gives such vertices large
+// distances, or its flagged fallback; a sphere a million diagonals around a beam is
+// carried exactly, Testing/Python/test_embedding_numerics.py), so |d| is refused only
+// beyond MaxDistance mesh diagonals: the unit normal n' is known to a few units in the
+// last place, so beyond that the round-off of d n' alone exceeds 1e-7 of the diagonal and
+// the mesh's deformation no longer reaches the vertex faithfully (a hand-edited 1e12 put
+// points 5.8e11 diagonals away under the former bound of 1e13; 1e300 would overflow).
 constexpr double MaxExtrapolation = 1e3;
-constexpr double MaxDistance = 1e13;
+constexpr double MaxDistance = 1e9;
 } // namespace
 
 TransferDriver::TransferDriver(ParallelFor parallelFor)

@@ -126,6 +126,10 @@ struct TransferFrame
 class HOEMBEDFILTERSTRANSFER_EXPORT TransferDriver
 {
 public:
+  /// BuildPlan's default face tolerance (vtkDeformationTransferFilter's FaceTolerance):
+  /// how close to 0 a parametric coordinate of a point on a boundary face may be.
+  static constexpr double DefaultFaceTolerance = 1e-6;
+
   explicit TransferDriver(ParallelFor parallelFor = ParallelFor());
 
   /// Before step 1: the deformed mesh is not empty (at least 4 points and a cell, a

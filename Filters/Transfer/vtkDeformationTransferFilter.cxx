@@ -115,6 +115,7 @@ struct vtkDeformationTransferFilter::Internals
 vtkDeformationTransferFilter::vtkDeformationTransferFilter()
   : Internal(new Internals)
 {
+  this->FaceTolerance = hoembed::TransferDriver::DefaultFaceTolerance;
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(1);
 }
@@ -229,7 +230,7 @@ int vtkDeformationTransferFilter::RequestData(
   {
     this->PreparePolygons(surface);
     normals = vtkSmartPointer<vtkFloatArray>::New();
-    normals->SetName("Normals");
+    normals->SetName(hoembed::ArrayNames::Normals);
     normals->SetNumberOfComponents(3);
     normals->SetNumberOfTuples(surface->GetNumberOfPoints());
   }

@@ -211,7 +211,7 @@ protected:
   bool ComputePointNormals = false;
   int PointNormalsMode = RECOMPUTE_POINT_NORMALS;
   bool CheckInvertedElements = true;
-  double FaceTolerance = 1e-6;
+  double FaceTolerance; // hoembed::TransferDriver::DefaultFaceTolerance
   int OutputPointsPrecision = DEFAULT_PRECISION;
 
   vtkIdType NumberOfInvertedElements = 0;

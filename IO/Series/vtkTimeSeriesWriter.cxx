@@ -94,7 +94,7 @@ int vtkTimeSeriesWriter::AddFrame(vtkDataObject* data, double time)
   std::string error = files.StartFrame(time, ext, data ? data->GetClassName() : "", staged);
   if (error.empty())
   {
-    // the pip wheel's write_series (Wrapping/Pip/hoembed/series.py) writes with the
+    // the package's write_series (Wrapping/Python/hoembed/series.py) writes with the
     // same settings
     writer->SetInputData(copy);
     writer->SetFileName(staged.c_str());

@@ -10,6 +10,7 @@
 #include "vtkCellArray.h"
 #include "vtkCorotationalFEMStepper.h"
 #include "vtkDataArray.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -81,15 +82,10 @@ std::string Build(hoembed::StepperDriver& d, const PlainMesh& m, const hoembed::
   hoembed::TetMeshInput mesh;
   std::string error = mesh.Read(m.View(), hoembed::TetMeshInput::KeepPoints);
   if (error.empty())
-    error = d.Initialize(mesh, p);
-  if (error.empty())
-    error = d.SetClamps(mesh.Points, nullptr, p);
-  if (error.empty())
-    error = d.ApplyLoads(gravity, 0.0, mesh.NumberOfPoints);
-  if (error.empty())
   {
-    d.SetInitialState(mesh.Points, nullptr, nullptr);
-    d.Start(p);
+    hoembed::StepperInputs in;
+    std::copy(gravity, gravity + 3, in.Gravity);
+    error = d.Build(mesh, p, in);
   }
   return error;
 }
@@ -244,6 +240,99 @@ void TestPrescribedMotion()
       d.Targets.empty(),
     "clearing the motion failed");
 }
+// The clamps' array rule (CheckFixedArray): every kind of array and its sentence.
+void TestFixedArrayRule()
+{
+  using K = hoembed::StepperDriver::FixedArrayKind;
+  auto check = [](const char* name, K kind, long long tuples, const char* expected) {
+    const std::string e = hoembed::StepperDriver::CheckFixedArray(name, kind, tuples, 10);
+    HOEMBED_CHECK(e == expected, "'%s': got '%s', expected '%s'", name ? name : "(null)",
+      e.c_str(), expected);
+  };
+  check(nullptr, K::Absent, 0, "");
+  check("", K::Absent, 0, "");
+  check("Fixed", K::Absent, 0, ""); // the default, absent: no clamps from an array
+  check("Fixed", K::Numeric, 10, "");
+  check("Clamp", K::Numeric, 10, "");
+  check("Clamp", K::Absent, 0, "FixedArrayName 'Clamp' is not a point-data array of the input.");
+  check("Fixed", K::NotNumeric, 10,
+    "FixedArrayName 'Fixed' is a point-data array that is not numeric (e.g. strings): the "
+    "clamps need numbers (nonzero = clamped).");
+  check("Fixed", K::CellOrField, 3,
+    "FixedArrayName 'Fixed' is cell or field data, not point data: the clamps are per node "
+    "(nonzero = clamped).");
+  check("Clamp", K::Numeric, 9, "FixedArrayName 'Clamp' has 9 tuples, expected 10 (one per point).");
+}
+
+// The live clock against vtkCorotationalFEMStepper in LiveMode (which runs it): steps
+// asked for, a time behind the current one (never backwards), a reset; the frames'
+// arrays (WriteFrame) equal the filter's output bit for bit.
+void TestLiveClock()
+{
+  auto grid = MakeBoxTetMesh(4, 1, 1, 2.0, 0.5, 0.5, 2);
+  const PlainMesh m = Plain(grid);
+  const long long n = static_cast<long long>(m.Points.size() / 3);
+  const double g[3] = { 0.0, 0.0, -9.81 };
+  hoembed::StepperParameters p;
+  p.UseClampPlane = true;
+  p.YoungModulus = 3e4;
+  vtkNew<vtkCorotationalFEMStepper> filter;
+  filter->SetInputData(grid);
+  filter->SetYoungModulus(p.YoungModulus);
+  filter->SetUseClampPlane(true);
+  filter->SetGravity(g[0], g[1], g[2]);
+  filter->LiveModeOn();
+  hoembed::StepperDriver d;
+  HOEMBED_CHECK(Build(d, m, p, g).empty(), "driver set-up failed");
+  auto advance = [&](const char* what) {
+    long long target = -1;
+    std::string e = d.PrepareLiveStep(g, 0.0, n, false, 0, target);
+    HOEMBED_CHECK(e.empty(), "%s: %s", what, e.c_str());
+    e = d.Advance(target, false, p.TimeStep, {});
+    HOEMBED_CHECK(e.empty(), "%s: %s", what, e.c_str());
+    return target;
+  };
+  auto same = [&](const char* what) {
+    vtkUnstructuredGrid* out = filter->GetOutput();
+    HOEMBED_CHECK(SamePositions(d, out), "%s: positions differ from the filter's", what);
+    std::vector<double> x(3 * n), u(3 * n), v(3 * n), r(9 * n);
+    d.WriteFrame(x.data(), u.data(), v.data(), r.data(), nullptr);
+    const char* names[3] = { "Displacement", "Velocity", "NodalRotation" };
+    const std::vector<double>* ours[3] = { &u, &v, &r };
+    for (int k = 0; k < 3; ++k)
+    {
+      vtkDataArray* a = out->GetPointData()->GetArray(names[k]);
+      HOEMBED_CHECK(a && std::memcmp(a->GetVoidPointer(0), ours[k]->data(),
+                           ours[k]->size() * sizeof(double)) == 0,
+        "%s: %s differs from the filter's", what, names[k]);
+    }
+    HOEMBED_CHECK(filter->GetSimulationTime() == d.ClockStep() * p.TimeStep,
+      "%s: time %g, the driver's clock at step %lld", what, filter->GetSimulationTime(),
+      d.ClockStep());
+  };
+  HOEMBED_CHECK(filter->Step(0), "filter Step(0) failed");
+  same("start");
+  d.RequestSteps(3);
+  HOEMBED_CHECK(advance("three steps") == 3 && d.ClockStep() == 3, "not at step 3");
+  HOEMBED_CHECK(filter->Step(3), "filter Step(3) failed");
+  same("three steps");
+  d.RequestStep(1, true); // behind: stays
+  HOEMBED_CHECK(advance("behind") == 3, "went backwards");
+  HOEMBED_CHECK(filter->AdvanceTo(1 * p.TimeStep), "filter AdvanceTo failed");
+  same("behind");
+  d.RequestStep(5, true);
+  HOEMBED_CHECK(advance("to 5") == 5, "not at step 5");
+  HOEMBED_CHECK(filter->AdvanceTo(5 * p.TimeStep), "filter AdvanceTo failed");
+  same("to 5");
+  d.RequestReset();
+  HOEMBED_CHECK(d.ClockStep() == 0, "a pending reset shows step %lld", d.ClockStep());
+  HOEMBED_CHECK(advance("reset") == 0, "reset not at step 0");
+  filter->ResetState();
+  HOEMBED_CHECK(filter->Step(0), "filter Step(0) failed");
+  same("reset");
+  for (long long q = 0; q < 3 * n; ++q)
+    HOEMBED_CHECK(d.Solver.GetPositions()[q] == m.Points[q], "reset: not at rest");
+}
 } // namespace
 
 int main(int, char*[])
@@ -252,5 +341,7 @@ int main(int, char*[])
   TestFramesEqualTheFilter(1);
   TestErrors();
   TestPrescribedMotion();
+  TestFixedArrayRule();
+  TestLiveClock();
   return hoembed_test::Report("TestStepperDriver");
 }

@@ -23,7 +23,10 @@ import numpy as np
 import pyvista
 
 import hoembed
+import live_reference
 import series_reference
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+import filter_routes  # noqa: E402  (the filters' route: the references are the filters')
 import transfer_checks_reference
 
 
@@ -170,7 +173,7 @@ def write_mesher_references(outdir, data_dir):
         os.makedirs(d, exist_ok=True)
         surface.save(os.path.join(d, "surface.vtp"))
         surface = pyvista.read(os.path.join(d, "surface.vtp"))
-        mesh = hoembed.tet10_mesh(surface, **kwargs)
+        mesh = filter_routes.tet10_mesh(surface, **kwargs)
         mesh.save(os.path.join(d, "mesh.vtu"))
         info["cases"][name] = dict(kwargs=kwargs, **mesher_stats(mesh))
         print(f"[reference] mesher {name}: {surface.n_points} points, {mesh.n_cells} cells")
@@ -180,7 +183,7 @@ def write_mesher_references(outdir, data_dir):
             surface.save(path)
             surface = pyvista.read(path)
         try:
-            hoembed.tet10_mesh(surface, n_elements=300)
+            filter_routes.tet10_mesh(surface, n_elements=300)
             info["errors"][name] = None
         except hoembed.HOEmbedError as e:  # "vtkTet10Mesher (0x...): sentence"
             info["errors"][name] = str(e).split("): ", 1)[-1]
@@ -201,12 +204,12 @@ def main(outdir):
     for name, surface, opts in inputs:
         d = os.path.join(outdir, name)
         os.makedirs(d, exist_ok=True)
-        mesh = hoembed.tet10_mesh(surface, **opts)
+        mesh = filter_routes.tet10_mesh(surface, **opts)
         surface.save(os.path.join(d, "surface.vtp"))
         mesh.save(os.path.join(d, "mesh.vtu"))
         info = {"methods": [], "frames": 0, "modes": ["recompute", "rotate", "deform"]}
         for method in ("normal-offset", "barycentric"):
-            emb = hoembed.embed(surface, mesh, method=method)
+            emb = filter_routes.embed(surface, mesh, method=method)
             emb.save(os.path.join(d, f"embedded_{method}.vtp"))
             info["methods"].append(method)
         emb = pyvista.read(os.path.join(d, "embedded_normal-offset.vtp"))
@@ -218,8 +221,8 @@ def main(outdir):
             deformed.save(os.path.join(d, f"deformed_{k}.vtu"))
             deformed = pyvista.read(os.path.join(d, f"deformed_{k}.vtu"))
             for mode in info["modes"]:
-                out = hoembed.transfer(emb, deformed, normals=mode,
-                                       compute_point_normals=(mode == "recompute"))
+                out = filter_routes.transfer(emb, deformed, normals=mode,
+                                             compute_point_normals=(mode == "recompute"))
                 out.save(os.path.join(d, f"transferred_{mode}_{k}.vtp"))
             info["frames"] = k + 1
         stepper, runs = stepper_runs(mesh)
@@ -227,7 +230,7 @@ def main(outdir):
         stepper = pyvista.read(os.path.join(d, "stepper_mesh.vtu"))
         info["stepper"] = {}
         for run, kwargs in runs.items():
-            out = hoembed.simulate(stepper, **resolve(kwargs, stepper))
+            out = filter_routes.simulate(stepper, **resolve(kwargs, stepper))
             for i, frame in enumerate(out):
                 frame.save(os.path.join(d, f"stepper_{run}_{i}.vtu"))
             info["stepper"][run] = dict(kwargs=kwargs, frames=len(out))
@@ -241,6 +244,7 @@ def main(outdir):
                        doc=hoembed.simulate.__doc__), f, indent=1)
     series_reference.write(outdir)  # write_series of these cases' frames (series/)
     transfer_checks_reference.write(outdir)  # transfer()'s checks (transfer_checks/)
+    live_reference.write(outdir)  # the live loop's scripted run (live.npz)
     write_mesher_references(outdir, data)
 
 

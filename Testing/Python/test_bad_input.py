@@ -62,7 +62,7 @@ def case_mesher_point_ids(kind):
     faces = s.faces.reshape(-1, 4).copy()
     if kind == "too_large":
         faces[5, 2] = s.n_points
-        _expect(["vtkTet10Mesher", "names point id", str(s.n_points)], hoembed.tet10_mesh, pv.PolyData(s.points, faces.ravel()))
+        _expect(["tet10_mesh", "names point id", str(s.n_points)], hoembed.tet10_mesh, pv.PolyData(s.points, faces.ravel()))
     elif kind == "negative":
         faces[5, 2] = -3
         _expect(["names point id -3"], hoembed.tet10_mesh, pv.PolyData(s.points, faces.ravel()))

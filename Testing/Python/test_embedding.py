@@ -280,3 +280,49 @@ def test_voxel_mesh_bunny(data_dir):
     out10 = hoembed.embed(s, g10)
     assert out10["EmbeddingResidual"].max() <= 1e-10 * g10.length
     assert np.all(np.isfinite(out10["EmbeddingParametricCoords"]))
+
+
+def _vtk_reconstruction(mesh, embedded):
+    """x(cell, pcoords) of every embedded point by VTK's own cell interpolation
+    (vtkCell.EvaluateLocation), and its distance to the point."""
+    cell = None
+    out = np.empty(embedded.n_points)
+    ids = embedded.point_data["EmbeddingCellId"]
+    pcs = embedded.point_data["EmbeddingParametricCoords"]
+    for i in range(embedded.n_points):
+        cell = mesh.GetCell(int(ids[i]))
+        x, w, sub = [0.0] * 3, [0.0] * cell.GetNumberOfPoints(), reference(0)
+        cell.EvaluateLocation(sub, list(pcs[i]), x, w)
+        out[i] = np.linalg.norm(np.asarray(x) - embedded.points[i])
+    return out
+
+
+def test_inexact_embedding_is_reported():
+    """The barycentric method extrapolates the closest cell's map for points outside the
+    mesh: exact for tet4 (affine), not for curved tet10 cells far out. Points whose
+    reconstruction (by VTK's interpolation, not ours) misses them by more than 1e-6 of the
+    mesh's diagonal are counted in a warning; exact embeddings warn nothing."""
+    import warnings
+    tail = hoembed.thorny_tail(rings=60, sectors=24)
+    tet10 = hoembed.tet10_mesh(tail, n_elements=150)
+    tet4 = hoembed.tet10_mesh(tail, n_elements=150, order=1)
+    shifted = tail.copy()
+    shifted.points = shifted.points + np.array([0.3 * tet10.length, 0.0, 0.0])
+    for mesh, method, surface, expect in ((tet10, "barycentric", shifted, True),
+                                          (tet10, "normal-offset", shifted, False),
+                                          (tet4, "barycentric", shifted, False)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            emb = hoembed.embed(surface, mesh, method=method)
+        msgs = [str(w.message) for w in caught if "not reproduced" in str(w.message)]
+        if method == "normal-offset":
+            assert not msgs, msgs
+            continue
+        miss = _vtk_reconstruction(mesh, emb)
+        n = int(np.sum(miss > 1e-6 * mesh.length))
+        if expect:
+            assert n > 0 and len(msgs) == 1, (n, msgs)
+            assert msgs[0].startswith(f"embed: {n} surface point(s)"), msgs[0]
+            assert "barycentric method extrapolates" in msgs[0]
+        else:
+            assert n == 0 and not msgs, (n, msgs)

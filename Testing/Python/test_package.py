@@ -21,6 +21,9 @@ def test_exports():
     assert isinstance(hoembed.__version__, str)
     assert issubclass(hoembed.HOEmbedError, RuntimeError)
     assert callable(hoembed.tet10_mesh)
+    from hoembed._hoembed import TransferDriver
+    assert (hoembed.vtkDeformationTransferFilter().GetFaceTolerance()
+            == TransferDriver.DEFAULT_FACE_TOLERANCE == 1e-6)
     mesher = hoembed.vtkTet10Mesher()
     assert isinstance(mesher, vtkAlgorithm)
     assert mesher.GetClassName() == "vtkTet10Mesher"
@@ -113,8 +116,52 @@ def test_success_returns_output():
 
 
 def test_front_end_raises_on_bad_input():
-    # An empty surface is refused by the mesher (whatever stage of development it is at),
-    # as HOEmbedError naming the filter.
+    # An empty surface is refused by the mesher's driver, as HOEmbedError naming the
+    # function; the wrapped filter names itself.
     with pytest.raises(hoembed.HOEmbedError) as info:
         hoembed.tet10_mesh(pv.PolyData())
+    assert str(info.value).startswith("tet10_mesh: ")
+    with pytest.raises(hoembed.HOEmbedError) as info:
+        alg = hoembed.vtkTet10Mesher()
+        alg.SetInputData(pv.PolyData())
+        run_filter(alg)
     assert "vtkTet10Mesher" in str(info.value)
+
+
+def test_defaults_are_the_drivers():
+    """simulate()'s keyword defaults and vtkCorotationalFEMStepper's property defaults are
+    the driver's (hoembed::StepperParameters); the mesher's services' defaults are
+    vtkTet10Mesher's."""
+    import inspect
+    from hoembed._hoembed import MESHER_SERVICE_SETTINGS, StepperDriver
+    defaults = StepperDriver.defaults()
+    params = inspect.signature(hoembed.simulate).parameters
+    for name, value in defaults.items():
+        assert params[name].default == value, name
+    stepper = hoembed.vtkCorotationalFEMStepper()
+    for name, getter in (("young", "YoungModulus"), ("poisson", "PoissonRatio"),
+                         ("density", "Density"), ("dt", "TimeStep"),
+                         ("rayleigh_mass", "RayleighMass"),
+                         ("rayleigh_stiffness", "RayleighStiffness"),
+                         ("solver_tolerance", "SolverTolerance"),
+                         ("lumped_mass", "LumpedMass")):
+        assert getattr(stepper, "Get" + getter)() == defaults[name], getter
+    mesher = hoembed.vtkTet10Mesher()
+    assert mesher.GetMergeTolerance() == MESHER_SERVICE_SETTINGS["merge_tolerance"]
+    assert (mesher.GetMaximumNumberOfElements()
+            == MESHER_SERVICE_SETTINGS["maximum_number_of_elements"])
+
+
+def test_one_source_tree():
+    """The package's Python files are one tree: the build tree's copies are those of
+    Wrapping/Python/hoembed, and no other package source is left (Wrapping/Pip has only
+    the binding's C++ and its CMake project)."""
+    import pathlib
+    root = pathlib.Path(__file__).resolve().parents[2]
+    source = root / "Wrapping" / "Python" / "hoembed"
+    package = pathlib.Path(hoembed.__file__).parent
+    for f in source.glob("*.py"):
+        assert (package / f.name).read_bytes() == f.read_bytes(), f.name
+    assert not list((root / "Wrapping" / "Pip").rglob("*.py"))
+    assert hoembed.BACKEND == "vtk" and hasattr(hoembed, "vtkTet10Mesher")
+    assert "_hoembed" in hoembed._hoembed.__name__

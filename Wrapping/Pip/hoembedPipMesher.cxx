@@ -1,7 +1,7 @@
 // hoembed._hoembed.mesh_surface: the mesher (hoembed::ReadSurface + hoembed::RunMesher, the
 // functions vtkTet10Mesher calls) for the pip wheel.
 //
-// The VTK-dependent steps come from a Python object (Wrapping/Pip/hoembed/meshing.py's
+// The VTK-dependent steps come from a Python object (Wrapping/Python/hoembed/meshing.py's
 // services over the user's pip VTK) with the methods
 //   ear_cut(ids, xyz) -> local ids or None        merge(tris) -> (points, tris) or None
 //   decimate(reduction, smoothed) -> (points, tris) or None
@@ -12,6 +12,7 @@
 // with the GIL held throughout: no locking per call. Arrays handed to Python are copies
 // (Python may keep them); results are read into the driver's vectors. A Python exception
 // in a service propagates out of mesh_surface as that exception.
+#include "hoembedArrayNames.h"
 #include "hoembedMesherDriver.h"
 #include "hoembedSurfaceRead.h"
 
@@ -210,18 +211,20 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
   out["points"] = Take(std::move(r.Points), 3);
   out["connectivity"] = Take(std::move(r.Conn), npc);
   out["nodes_per_cell"] = r.NodesPerCell;
-  out["MinScaledJacobian"] = Take(std::move(r.MinScaledJacobian), 1);
-  out["BoundaryNode"] = Take(std::move(r.BoundaryNode), 1);
-  out["RelaxedNodeCount"] = r.RelaxedNodeCount;
-  out["CurvedNodeCount"] = r.CurvedNodeCount;
-  out["EnvelopeNodeCount"] = r.EnvelopeNodeCount;
-  out["BoundaryCrossingsFound"] = r.BoundaryCrossingsFound;
-  out["BoundaryCrossingsLeft"] = r.BoundaryCrossingsLeft;
-  out["PoorElementCount"] = r.PoorElementCount;
-  out["MinScaledJacobianQuantiles"] =
+  // the output arrays by their names (hoembedArrayNames.h)
+  namespace N = hoembed::ArrayNames;
+  out[N::MinScaledJacobian] = Take(std::move(r.MinScaledJacobian), 1);
+  out[N::BoundaryNode] = Take(std::move(r.BoundaryNode), 1);
+  out[N::RelaxedNodeCount] = r.RelaxedNodeCount;
+  out[N::CurvedNodeCount] = r.CurvedNodeCount;
+  out[N::EnvelopeNodeCount] = r.EnvelopeNodeCount;
+  out[N::BoundaryCrossingsFound] = r.BoundaryCrossingsFound;
+  out[N::BoundaryCrossingsLeft] = r.BoundaryCrossingsLeft;
+  out[N::PoorElementCount] = r.PoorElementCount;
+  out[N::MinScaledJacobianQuantiles] =
     nb::make_tuple(r.QualityQuantiles[0], r.QualityQuantiles[1], r.QualityQuantiles[2]);
-  out["MaxSurfaceDeviation"] = r.MaxSurfaceDeviation;
-  out["EnvelopeOffset"] = r.Wrapped ? r.EnvelopeOffset : 0.0;
+  out[N::MaxSurfaceDeviation] = r.MaxSurfaceDeviation;
+  out[N::EnvelopeOffset] = r.Wrapped ? r.EnvelopeOffset : 0.0;
   return out;
 }
 } // namespace
@@ -236,4 +239,13 @@ void BindMesher(nb::module_& m)
     "vtkTet10Mesher's read step and hoembed::RunMesher on numpy arrays, with the VTK "
     "services given by a Python object; returns a dict of the result's arrays and counts "
     "('error' non-empty when the driver failed; read-step errors raise RuntimeError)");
+  using S = hoembed::MesherServiceSettings;
+  nb::dict settings;
+  settings["smoothing_iterations"] = S::SmoothingIterations;
+  settings["smoothing_pass_band"] = S::SmoothingPassBand;
+  settings["cell_check_tolerance"] = S::CellCheckTolerance;
+  settings["refused_cell_states"] = S::RefusedCellStates;
+  settings["merge_tolerance"] = S::MergeTolerance;
+  settings["maximum_number_of_elements"] = S::MaximumNumberOfElements;
+  m.attr("MESHER_SERVICE_SETTINGS") = settings;
 }

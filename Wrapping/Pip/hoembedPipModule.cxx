@@ -1,11 +1,14 @@
-// hoembed._hoembed: the nanobind binding of the VTK-free drivers for the pip wheel.
+// hoembed._hoembed: the nanobind binding of the drivers, the compiled module of the hoembed
+// package in both builds (the pip wheel: linked with the VTK-free kernels, Wrapping/Pip;
+// the VTK build: linked with its HOEmbed modules, Wrapping/Python/CMakeLists.txt).
 //
 // The drivers are the ones vtkEmbeddingCoordinatesFilter, vtkDeformationTransferFilter
 // and vtkCorotationalFEMStepper call (hoembedEmbeddingDriver.h, hoembedTransferDriver.h,
 // hoembedStepperDriver.h); this file only turns numpy
 // arrays into the drivers' plain views and back. Output arrays are allocated by the
-// Python side (Wrapping/Pip/hoembed) and written in place. Errors: the drivers' sentences
+// Python side (Wrapping/Python/hoembed) and written in place. Errors: the drivers' sentences
 // are raised as RuntimeError; the Python side turns them into hoembed.HOEmbedError.
+#include "hoembedArrayNames.h"
 #include "hoembedEmbeddingDriver.h"
 #include "hoembedParallel.h"
 #include "hoembedStepperDriver.h"
@@ -152,7 +155,16 @@ struct Stepper
   long long NumberOfPoints = 0;
   long long NumberOfCells = 0;
   bool Static = false;
+  bool Built = false;
+  // the loads a live advance applies (the filter's Gravity and PrescribedSpeedLimit)
+  double Gravity[3] = { 0.0, 0.0, 0.0 };
+  double SpeedLimit = 0.0;
 };
+
+std::string Error(const std::string& where, const std::string& error)
+{
+  return error.empty() ? error : where + error;
+}
 } // namespace
 
 NB_MODULE(_hoembed, m)
@@ -221,7 +233,8 @@ NB_MODULE(_hoembed, m)
         out.Fallback = Out<std::uint8_t>(fallback, "fallback", n);
         hoembed::EmbeddingSummary s;
         Check(d.WriteArrays(out, s));
-        return nb::make_tuple(s.Uncertified, s.FirstUncertified, s.Fallbacks, s.FirstFallback);
+        // the counts and the driver's warning sentences
+        return nb::make_tuple(s.Uncertified, s.Fallbacks, hoembed::EmbeddingWarnings(s));
       })
     .def("write_fallback_offsets",
       [](const hoembed::EmbeddingDriver& d, Array out) {
@@ -232,6 +245,7 @@ NB_MODULE(_hoembed, m)
 
   nb::class_<Transfer>(m, "TransferDriver")
     .def(nb::init<>())
+    .def_ro_static("DEFAULT_FACE_TOLERANCE", &hoembed::TransferDriver::DefaultFaceTolerance)
     .def(
       "set_mesh_topology",
       [](Transfer& t, std::int64_t numberOfPoints, const In& types, const In& offsets,
@@ -409,34 +423,40 @@ NB_MODULE(_hoembed, m)
         const double* pt = Optional(prescribedTargets, keepPT, "prescribed displacement", 3 * n);
         if (pm && !pt)
           throw std::invalid_argument("StepperDriver.build: prescribed mask without targets");
-        const double g[3] = { gravity[0], gravity[1], gravity[2] };
+        for (int i = 0; i < 3; ++i)
+          st.Gravity[i] = gravity[i];
+        st.SpeedLimit = prescribedSpeedLimit;
+        const double* g = st.Gravity;
+        st.Built = false;
         std::string error;
         {
           nb::gil_scoped_release release;
-          // the filter's BuildSolver: read, initialise, clamps, loads, initial state
+          // the filter's BuildSolver: read, then the driver's set-up (the prescribed
+          // motion first, as the filter has it from SetPrescribedMotion)
           hoembed::TetMeshInput mesh;
           error = mesh.Read(arrays, hoembed::TetMeshInput::KeepPoints);
           if (!error.empty())
             error += ".";
           if (error.empty())
-            error = st.Driver.Initialize(mesh, p);
-          if (error.empty())
-            error = st.Driver.SetClamps(mesh.Points, fixedValues, p);
+            error = Error("SetPrescribedMotion: ",
+              st.Driver.SetPrescribedMotion(numberOfPoints, pm, pt));
           if (error.empty())
           {
-            st.Driver.ArrayForces.assign(f ? f : nullptr, f ? f + 3 * n : nullptr);
-            error = st.Driver.SetPrescribedMotion(numberOfPoints, pm, pt);
-            if (!error.empty())
-              error = "SetPrescribedMotion: " + error;
+            hoembed::StepperInputs in;
+            in.FixedValues = fixedValues;
+            in.Forces = f;
+            in.InitialDisplacement = u;
+            in.InitialVelocity = v;
+            for (int i = 0; i < 3; ++i)
+              in.Gravity[i] = g[i];
+            in.PrescribedSpeedLimit = prescribedSpeedLimit;
+            error = st.Driver.Build(mesh, p, in);
           }
           if (error.empty())
-            error = st.Driver.ApplyLoads(g, prescribedSpeedLimit, numberOfPoints);
-          if (error.empty())
           {
-            st.Driver.SetInitialState(mesh.Points, u, v);
-            st.Driver.Start(p);
             st.NumberOfPoints = mesh.NumberOfPoints;
             st.NumberOfCells = mesh.NumberOfCells;
+            st.Built = true;
           }
         }
         Check(error);
@@ -462,33 +482,179 @@ NB_MODULE(_hoembed, m)
       nb::arg("step"))
     .def(
       "write_frame",
-      [](const Stepper& st, Array points, Array displacement, Array velocity, Array rotation,
-        Array vonMises) {
+      [](const Stepper& st, Array points, nb::object displacement, nb::object velocity,
+        nb::object rotation, nb::object vonMises) {
+        // the arrays the caller wants (None: not computed; the live loop needs the points
+        // only, or with rotate/deform normals the displacements and rotations too)
         const std::size_t np = static_cast<std::size_t>(st.NumberOfPoints);
-        double* xo = Out<double>(points, "points", 3 * np);
-        double* d = Out<double>(displacement, "Displacement", 3 * np);
-        double* vo = Out<double>(velocity, "Velocity", 3 * np);
-        double* r = Out<double>(rotation, "NodalRotation", 9 * np);
-        double* vm = Out<double>(vonMises, "VonMisesStress", static_cast<std::size_t>(st.NumberOfCells));
+        auto out = [](nb::object o, const char* what, std::size_t count) -> double* {
+          if (o.is_none())
+            return nullptr;
+          Array a = nb::cast<Array>(o);
+          return Out<double>(a, what, count);
+        };
         const hoembed::CorotationalSolver& s = st.Driver.Solver;
-        const double* x = s.GetPositions();
-        const double* v = s.GetVelocities();
-        const double* X = s.GetRestPositions();
-        for (std::size_t k = 0; k < 3 * np; ++k)
-        {
-          xo[k] = x[k];
-          d[k] = x[k] - X[k];
-          vo[k] = v[k];
-        }
-        s.ComputeNodalRotations(r);
-        s.ComputeVonMises(vm);
+        st.Driver.WriteFrame(Out<double>(points, "points", 3 * np),
+          out(displacement, "Displacement", 3 * np), out(velocity, "Velocity", 3 * np),
+          out(rotation, "NodalRotation", 9 * np),
+          out(vonMises, "VonMisesStress", static_cast<std::size_t>(st.NumberOfCells)));
+        if (vonMises.is_none())
+          return nb::make_tuple(nb::none(), nb::none(), s.GetLastIterations());
         return nb::make_tuple(s.KineticEnergy(), s.StrainEnergy(), s.GetLastIterations());
       },
-      nb::arg("points"), nb::arg("displacement"), nb::arg("velocity"), nb::arg("rotation"),
-      nb::arg("von_mises"));
+      nb::arg("points"), nb::arg("displacement").none() = nb::none(),
+      nb::arg("velocity").none() = nb::none(), nb::arg("rotation").none() = nb::none(),
+      nb::arg("von_mises").none() = nb::none())
+    .def_static(
+      "defaults",
+      [] {
+        // the set-up's defaults (hoembed::StepperParameters), which vtkCorotationalFEMStepper
+        // takes too; simulate()'s keyword defaults are checked against them
+        const hoembed::StepperParameters p;
+        nb::dict d;
+        d["young"] = p.YoungModulus;
+        d["poisson"] = p.PoissonRatio;
+        d["density"] = p.Density;
+        d["dt"] = p.TimeStep;
+        d["rayleigh_mass"] = p.RayleighMass;
+        d["rayleigh_stiffness"] = p.RayleighStiffness;
+        d["solver_tolerance"] = p.SolverTolerance;
+        d["lumped_mass"] = p.LumpedMass;
+        return d;
+      },
+      "The set-up's defaults by simulate()'s names (hoembed::StepperParameters).")
+    .def_static(
+      "check_fixed_array",
+      [](const std::string& name, const std::string& kind, long long tuples,
+        long long numberOfPoints) {
+        using Kind = hoembed::StepperDriver::FixedArrayKind;
+        Kind k = Kind::Absent;
+        if (kind == "numeric")
+          k = Kind::Numeric;
+        else if (kind == "not numeric")
+          k = Kind::NotNumeric;
+        else if (kind == "cell or field")
+          k = Kind::CellOrField;
+        else if (kind != "absent")
+          throw std::invalid_argument("check_fixed_array: kind '" + kind + "'");
+        Check(hoembed::StepperDriver::CheckFixedArray(name.c_str(), k, tuples, numberOfPoints));
+      },
+      nb::arg("name"), nb::arg("kind"), nb::arg("tuples"), nb::arg("number_of_points"),
+      "The clamps' array rule (the filter's FixedArrayName): kind is 'absent', 'numeric', "
+      "'not numeric' or 'cell or field'; raises the refusal's sentence.")
+    // live mode: the driver's clock, loads set between steps, background factorisation
+    .def(
+      "set_prescribed_motion",
+      [](Stepper& st, nb::object mask, nb::object targets) {
+        const std::size_t n = static_cast<std::size_t>(st.NumberOfPoints);
+        In keepM, keepT;
+        const double* m = Optional(mask, keepM, "prescribed mask", n);
+        const double* t = Optional(targets, keepT, "prescribed displacement", 3 * n);
+        if (m && !t)
+          throw std::invalid_argument("set_prescribed_motion: a mask without targets");
+        Check(Error("SetPrescribedMotion: ",
+          st.Driver.SetPrescribedMotion(st.NumberOfPoints, m, t)));
+      },
+      nb::arg("mask").none(), nb::arg("targets").none())
+    .def_prop_rw(
+      "prescribed_speed_limit", [](const Stepper& st) { return st.SpeedLimit; },
+      [](Stepper& st, double v) {
+        if (!(v >= 0.0) || !std::isfinite(v))
+          throw std::invalid_argument("prescribed_speed_limit must be finite and >= 0");
+        st.SpeedLimit = v;
+      })
+    .def(
+      "set_background_factorization",
+      [](Stepper& st, bool on, int lag) { st.Driver.Solver.SetBackgroundFactorization(on, lag); },
+      nb::arg("on"), nb::arg("lag") = 0)
+    .def("request_steps", [](Stepper& st, long long n) {
+      if (n < 0)
+        throw std::invalid_argument("request_steps: the number of steps must be >= 0");
+      st.Driver.RequestSteps(n);
+    })
+    .def("request_reset", [](Stepper& st) { st.Driver.RequestReset(); })
+    .def_prop_ro("clock_step", [](const Stepper& st) { return st.Driver.ClockStep(); })
+    .def_prop_ro(
+      "timings",
+      [](const Stepper& st) {
+        // the last advance's (the filter's Last* properties)
+        const auto& t = st.Driver.Solver.GetTimings();
+        nb::dict d;
+        d["steps"] = t.Steps;
+        d["rotation"] = t.Rotation;
+        d["assembly"] = t.Assembly;
+        d["solve"] = t.Solve;
+        d["iterations"] = t.Iterations;
+        d["factorizations"] = t.Factorizations;
+        d["factorization"] = t.Factorization;
+        d["background_factorizations"] = t.BackgroundFactorizations;
+        return d;
+      },
+      "Seconds and counts of the last advance: steps, rotation, assembly, solve, "
+      "iterations, factorizations, factorization, background_factorizations.")
+    .def(
+      "advance_live",
+      [](Stepper& st) {
+        // the filter's LiveMode update: pending reset, loads, then the pending steps
+        std::string error;
+        {
+          nb::gil_scoped_release release;
+          long long target = 0;
+          error = st.Driver.PrepareLiveStep(
+            st.Gravity, st.SpeedLimit, st.NumberOfPoints, false, 0, target);
+          if (error.empty())
+            error = st.Driver.Advance(target, st.Static, st.Parameters.TimeStep, {});
+        }
+        Check(error);
+      },
+      "Apply the loads as they are now and advance by the steps requested since the last "
+      "call (after a requested reset, from the initial state).");
 
   BindSeries(m);
 
-  m.def("number_of_threads", [] { return hoembed::parallel_detail::NumberOfThreads(); },
-    "Threads the kernels' loops use (HOEMBED_NUM_THREADS, else the hardware's).");
+  // the array names of hoembedArrayNames.h (the contract between the stages), by their
+  // C++ names
+  namespace N = hoembed::ArrayNames;
+  nb::dict names;
+#define HOEMBED_NAME(x) names[#x] = N::x
+  HOEMBED_NAME(MinScaledJacobian);
+  HOEMBED_NAME(BoundaryNode);
+  HOEMBED_NAME(RelaxedNodeCount);
+  HOEMBED_NAME(CurvedNodeCount);
+  HOEMBED_NAME(EnvelopeNodeCount);
+  HOEMBED_NAME(BoundaryCrossingsFound);
+  HOEMBED_NAME(BoundaryCrossingsLeft);
+  HOEMBED_NAME(PoorElementCount);
+  HOEMBED_NAME(MinScaledJacobianQuantiles);
+  HOEMBED_NAME(MaxSurfaceDeviation);
+  HOEMBED_NAME(EnvelopeOffset);
+  HOEMBED_NAME(Fixed);
+  HOEMBED_NAME(Displacement);
+  HOEMBED_NAME(Velocity);
+  HOEMBED_NAME(NodalRotation);
+  HOEMBED_NAME(VonMisesStress);
+  HOEMBED_NAME(KineticEnergy);
+  HOEMBED_NAME(StrainEnergy);
+  HOEMBED_NAME(SolverIterations);
+  HOEMBED_NAME(EmbeddingCellId);
+  HOEMBED_NAME(EmbeddingParametricCoords);
+  HOEMBED_NAME(EmbeddingDistance);
+  HOEMBED_NAME(EmbeddingResidual);
+  HOEMBED_NAME(EmbeddingFace);
+  HOEMBED_NAME(Normals);
+  HOEMBED_NAME(EmbeddingClosestDistance);
+  HOEMBED_NAME(EmbeddingIterations);
+  HOEMBED_NAME(EmbeddingElementsVisited);
+  HOEMBED_NAME(EmbeddingFallback);
+  HOEMBED_NAME(EmbeddingFallbackOffset);
+  HOEMBED_NAME(EmbeddingPrefix);
+  HOEMBED_NAME(EmbeddingMethod);
+  HOEMBED_NAME(EmbeddingMeshFingerprint);
+  HOEMBED_NAME(NumberOfFallbackPoints);
+#undef HOEMBED_NAME
+  m.attr("ARRAY_NAMES") = names;
+
+  m.def("number_of_threads", [] { return hoembed::ParallelThreadCount(); },
+    "Threads the kernels' loops use (the wheel: HOEMBED_NUM_THREADS, else the hardware's; "
+    "the VTK build: vtkSMPTools' estimate).");
 }

@@ -1,7 +1,6 @@
 """Argument checks of the pyvista-level tet10_mesh(), embed(), transfer(), simulate()
-and write_series(), shared by both bindings: the VTK build's package (meshing.py,
-embedding.py, transfer.py, simulation.py, series.py over the VTK filters) and the pip
-wheel's (Wrapping/Pip/hoembed, over the nanobind module). Pure Python."""
+and write_series() (meshing.py, embedding.py, transfer.py, simulation.py, series.py),
+before any driver runs. Pure Python."""
 
 import numpy as np
 

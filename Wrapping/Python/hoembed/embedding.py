@@ -1,12 +1,20 @@
-"""pyvista-level front end of vtkEmbeddingCoordinatesFilter."""
+"""pyvista-level embed(): hoembed::EmbeddingDriver through _hoembed (the driver
+vtkEmbeddingCoordinatesFilter runs; the same outputs bit for bit, Testing/Python/
+test_two_routes.py)."""
+import warnings as _warnings
 
+import numpy as np
 import pyvista
+from vtkmodules.vtkCommonCore import (VTK_DOUBLE, VTK_ID_TYPE, VTK_INT, VTK_SIGNED_CHAR,
+                                      VTK_UNSIGNED_CHAR, vtkIdTypeArray, vtkStringArray)
+
+from . import _arrays
+from ._arrays import N
+from ._checks import embed_arguments
+from ._errors import HOEmbedError
+from ._hoembed import EmbeddingDriver
 
 __all__ = ["embed"]
-
-from ._checks import embed_arguments
-from ._errors import run_filter
-from .hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter
 
 
 def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=None):
@@ -24,7 +32,7 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
     n_partitions : int
         Surface patches flooded in parallel (0: automatic).
     progress : callable, optional
-        Called with a float in [0, 1] on the filter's progress events.
+        Called with a float in [0, 1] as the embedding progresses.
 
     Returns
     -------
@@ -46,15 +54,71 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
     hoembed.HOEmbedError
         On bad input (empty surface or mesh, NaN coordinates, cells other than tet4/tet10,
         inverted or degenerate elements).
+
+    Warns
+    -----
+    RuntimeWarning
+        Uncertified closest points (a curved boundary face's search ran out of its
+        budget), points that use the fallback offset, and points their embedding does
+        not reproduce (``EmbeddingResidual`` over 1e-6 of the mesh's diagonal: the
+        barycentric method outside a curved mesh), through Python's ``warnings``.
     """
     method_value, n_partitions = embed_arguments(surface, fe_mesh, method, n_partitions,
                                                  progress)
-    alg = vtkEmbeddingCoordinatesFilter()
-    alg.SetInputData(0, surface)
-    alg.SetMeshData(fe_mesh)
-    alg.SetMethod(method_value)
-    alg.SetNumberOfPartitions(n_partitions)
+    if surface.GetNumberOfPoints() == 0:
+        raise HOEmbedError("embed: the surface is empty: it has no points.")
+    if fe_mesh.GetNumberOfPoints() == 0 or fe_mesh.GetNumberOfCells() == 0:
+        raise HOEmbedError("embed: the FE mesh is empty: it needs points and tet4 or tet10 cells.")
+    driver = EmbeddingDriver()
+    try:
+        driver.set_surface(_arrays.points(surface.GetPoints()), *_arrays.cells(surface.GetPolys()),
+                           *_arrays.cells(surface.GetStrips()))
+        offsets, conn = _arrays.cells(fe_mesh.GetCells())
+        types = _arrays.cell_types(fe_mesh)
+        driver.prepare_and_order(fe_mesh.GetNumberOfPoints(), _arrays.points(fe_mesh.GetPoints()),
+                                 types, offsets, conn, True, n_partitions)
+        if progress is not None:
+            progress(0.1)
+        driver.embed(method_value,
+                     None if progress is None else (lambda x: progress(0.1 + 0.9 * x)))
+        n = surface.GetNumberOfPoints()
+        out = {N.EmbeddingCellId: (np.empty(n, np.int64), VTK_ID_TYPE),
+               N.EmbeddingParametricCoords: (np.empty((n, 3)), VTK_DOUBLE),
+               N.EmbeddingDistance: (np.empty(n), VTK_DOUBLE),
+               N.EmbeddingResidual: (np.empty(n), VTK_DOUBLE),
+               N.EmbeddingFace: (np.empty(n, np.int8), VTK_SIGNED_CHAR),
+               N.EmbeddingIterations: (np.empty(n, np.int32), VTK_INT),
+               N.EmbeddingElementsVisited: (np.empty(n, np.int32), VTK_INT),
+               N.EmbeddingClosestDistance: (np.empty(n), VTK_DOUBLE),
+               N.EmbeddingFallback: (np.empty(n, np.uint8), VTK_UNSIGNED_CHAR)}
+        a = {k: v[0] for k, v in out.items()}
+        uncertified, fallbacks, warnings = driver.write_arrays(
+            a[N.EmbeddingCellId], a[N.EmbeddingParametricCoords], a[N.EmbeddingDistance],
+            a[N.EmbeddingResidual], a[N.EmbeddingClosestDistance], a[N.EmbeddingFace],
+            a[N.EmbeddingIterations], a[N.EmbeddingElementsVisited], a[N.EmbeddingFallback])
+        if fallbacks > 0:
+            q = np.empty((n, 3))
+            driver.write_fallback_offsets(q)
+            out[N.EmbeddingFallbackOffset] = (q, VTK_DOUBLE)
+    except RuntimeError as e:
+        raise HOEmbedError(f"embed: {e}") from None
+    for w in warnings:
+        _warnings.warn(f"embed: {w}", RuntimeWarning)
+    result = pyvista.wrap(surface).copy()
+    pd = result.GetPointData()
+    for name, (values, vtk_type) in out.items():
+        pd.AddArray(_arrays.to_vtk(values, name, vtk_type))
+    fd = result.GetFieldData()
+    for name, value in ((N.EmbeddingMethod, method),
+                        (N.EmbeddingMeshFingerprint, driver.fingerprint)):
+        s = vtkStringArray()
+        s.SetName(name)
+        s.InsertNextValue(value)
+        fd.AddArray(s)
+    count = vtkIdTypeArray()
+    count.SetName(N.NumberOfFallbackPoints)
+    count.InsertNextValue(fallbacks)
+    fd.AddArray(count)
     if progress is not None:
-        alg.AddObserver("ProgressEvent", lambda o, e: progress(o.GetProgress()))
-    out = run_filter(alg)
-    return pyvista.wrap(out).copy()
+        progress(1.0)
+    return result

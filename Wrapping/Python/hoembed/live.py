@@ -2,12 +2,14 @@
 
 Two layers, so that tests and benchmarks drive exactly what the window runs:
 
-- :class:`LiveSession` (no window): vtkCorotationalFEMStepper in LiveMode with its
-  output connected to vtkDeformationTransferFilter (normal-offset, recomputed normals,
-  area-weighted point normals for shading). ``grab(point)`` prescribes the FE nodes near
-  a surface point, ``drag(point)`` moves their targets with it, ``release()`` lets go,
-  ``step()`` advances one frame (one time step + the transfer) and returns the seconds
-  of each stage.
+- :class:`LiveSession` (no window): the stepper's driver in live mode (its clock, loads
+  set between steps, background factorisation: what vtkCorotationalFEMStepper's LiveMode
+  runs) and the transfer's driver with its plan made once (normal-offset, recomputed
+  normals, area-weighted point normals for shading), through hoembed._hoembed, so the
+  loop is the same in the VTK build and the pip wheel. ``grab(point)`` prescribes the FE
+  nodes near a surface point, ``drag(point)`` moves their targets with it, ``release()``
+  lets go, ``step()`` advances one frame (one time step + the transfer) and returns the
+  seconds of each stage.
 - :class:`LiveApp` (a pyvista window over one or two sessions): mouse and key handlers
   as plain methods (``press``, ``move``, ``release``, ``key``, ``tick``) that the VTK
   observers call, so the loop can be stepped without an event loop.
@@ -21,12 +23,13 @@ import time
 
 import numpy as np
 import pyvista
-from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkRenderingCore import vtkCellPicker
 
-from ._errors import HOEmbedArgumentError, HOEmbedError, run_filter
-from .hoembedFiltersSimulation import vtkCorotationalFEMStepper
-from .hoembedFiltersTransfer import vtkDeformationTransferFilter
+from ._arrays import N
+from ._checks import NORMAL_MODES, simulate_arguments
+from ._errors import HOEmbedArgumentError, HOEmbedError
+from .simulation import build_stepper
+from .transfer import TransferPlan
 
 __all__ = ["LiveSession", "LiveApp", "live"]
 
@@ -96,7 +99,7 @@ class LiveSession:
         self.fixed = np.zeros(n, bool) if fixed is None else np.asarray(fixed, bool)
         if self.fixed.shape != (n,):
             raise HOEmbedArgumentError(f"live: fixed must have {n} entries (one per FE node)")
-        self.fe_rest.point_data["Fixed"] = self.fixed.astype(np.uint8)
+        self.fe_rest.point_data[N.Fixed] = self.fixed.astype(np.uint8)
         self.rest = np.asarray(self.fe_rest.points, dtype=float).copy()
         self.h = _element_size(self.fe_rest)
         quadratic = pyvista.CellType.QUADRATIC_TETRA in self.fe_rest.cells_dict
@@ -105,45 +108,66 @@ class LiveSession:
         self.grab_radius = self.h if grab_radius is None else float(grab_radius)
         self.auto_speed = speed_limit is None
         self._cells = self.fe_rest.cell_connectivity.reshape(self.fe_rest.n_cells, -1)
-        st = vtkCorotationalFEMStepper()
-        st.SetInputData(self.fe_rest)
-        st.SetYoungModulus(young)
-        st.SetPoissonRatio(poisson)
-        st.SetDensity(density)
-        st.SetGravity(*gravity)
-        st.SetRayleighMass(rayleigh_mass)
-        st.SetRayleighStiffness(rayleigh_stiffness)
-        st.SetTimeStep(self.dt)
-        st.SetPrescribedSpeedLimit(0.5 * self.h / self.dt if speed_limit is None
-                                   else float(speed_limit))  # (per grab when automatic)
-        st.LiveModeOn()
-        st.SetBackgroundFactorization(bool(background_factorization))
-        # the window draws the surface only: no stress or energies every frame
-        st.ComputeDiagnosticsOff()
+        if normals not in NORMAL_MODES:
+            raise HOEmbedArgumentError(f"live: normals must be one of {sorted(NORMAL_MODES)}")
+        a = simulate_arguments(self.fe_rest, 1, self.dt, young, poisson, density, gravity,
+                               rayleigh_mass, rayleigh_stiffness, 1, 1e-4, None)
+        speed = 0.5 * self.h / self.dt if speed_limit is None else float(speed_limit)
+        try:
+            st = build_stepper(self.fe_rest, a, {}, self.fixed.astype(np.float64), False,
+                               False, speed_limit=speed)  # (per grab when automatic)
+            st.set_background_factorization(bool(background_factorization))
+        except HOEmbedError as e:
+            raise HOEmbedError(f"live: {e}") from None
         self.stepper = st
-        tr = vtkDeformationTransferFilter()
-        tr.SetInputData(0, embedded)
-        tr.SetInputConnection(1, st.GetOutputPort())
-        tr.SetNormalMode({"recompute": 0, "rotate": 1, "deform": 2}[normals])
-        tr.SetComputePointNormals(bool(point_normals))
-        self.transfer = tr
+        self.mode = NORMAL_MODES[normals]
+        self.point_normals = bool(point_normals)
+        self.transfer = TransferPlan(embedded, self.fe_rest, self.mode)
+        # the frame's outputs, updated in place (the window's actors draw these objects)
+        self._surface = self.transfer.output(self.point_normals)
+        # the FE mesh as the stepper's output has it (vtkCorotationalFEMStepper with
+        # ComputeDiagnostics off): the state written into its arrays in place
+        self._fe = self.fe_rest.copy()
+        n = self.fe_rest.n_points
+        self._x = np.empty((n, 3))
+        pd = self._fe.point_data
+        for name, width in ((N.Displacement, 3), (N.Velocity, 3), (N.NodalRotation, 9)):
+            pd[name] = np.zeros((n, width))
+        self._disp, self._vel, self._rot = (pd[N.Displacement], pd[N.Velocity],
+                                            pd[N.NodalRotation])
         self.grabbed = None  # FE node ids
         self.grab_start = None  # their positions when grabbed
         self.grab_point = None
         self.target_point = None
         self.frames = 0
-        run_filter(tr)  # builds the stepper (time 0) and the transfer plan
+        self._frame()  # time 0
+
+    def _frame(self):
+        """The current state into the outputs: the FE mesh's points, the transfer."""
+        self.stepper.write_frame(self._x, self._disp, self._vel, self._rot)
+        self._fe.points[:] = self._x
+        self._fe.GetPoints().Modified()
+        for name in (N.Displacement, N.Velocity, N.NodalRotation):
+            self._fe.GetPointData().GetArray(name).Modified()
+        self.transfer.evaluate(self._x, self._disp, self._rot)
+        points = self._surface.points
+        points[:] = self.transfer.points
+        if self.point_normals:
+            self.transfer.point_normals(self.transfer.points,
+                                        self._surface.point_data[N.Normals])
+            self._surface.GetPointData().GetNormals().Modified()
+        self._surface.GetPoints().Modified()
 
     @property
     def surface(self):
-        """The deformed fine surface of the current frame (a pyvista view of the transfer's
-        output; the actor of the window reads the output itself)."""
-        return pyvista.wrap(self.transfer.GetOutput())
+        """The deformed fine surface of the current frame (one object, updated in place
+        every frame; the window's actor draws it)."""
+        return self._surface
 
     @property
     def fe(self):
-        """The deformed FE mesh of the current frame (stepper output)."""
-        return pyvista.wrap(self.stepper.GetOutput())
+        """The deformed FE mesh of the current frame (one object, updated in place)."""
+        return self._fe
 
     # -- drag -------------------------------------------------------------------------
     def positions(self):
@@ -168,8 +192,7 @@ class LiveSession:
             # much smaller than the mean, and a move of one of their sizes per step
             # inverts them
             around = self._cells[np.isin(self._cells, ids).any(axis=1)]
-            self.stepper.SetPrescribedSpeedLimit(0.5 * _edge_lengths(self.rest, around)
-                                                 / self.dt)
+            self.stepper.prescribed_speed_limit = 0.5 * _edge_lengths(self.rest, around) / self.dt
         self.grabbed = ids
         self.grab_start = pos[ids].copy()
         self.grab_point = point
@@ -182,38 +205,46 @@ class LiveSession:
             return
         self.target_point = np.asarray(point, float)
         n = self.fe_rest.n_points
-        mask = np.zeros(n, np.uint8)
-        mask[self.grabbed] = 1
+        mask = np.zeros(n)
+        mask[self.grabbed] = 1.0
         target = np.zeros((n, 3))
         target[self.grabbed] = (self.grab_start + (self.target_point - self.grab_point)
                                 - self.rest[self.grabbed])
-        if not self.stepper.SetPrescribedMotion(numpy_to_vtk(mask, deep=True),
-                                                numpy_to_vtk(target, deep=True)):
-            raise HOEmbedError("live: vtkCorotationalFEMStepper refused the drag")
+        try:
+            self.stepper.set_prescribed_motion(mask, target.reshape(-1))
+        except RuntimeError as e:
+            raise HOEmbedError(f"live: {e}") from None
 
     def release(self):
         self.grabbed = self.grab_start = self.grab_point = self.target_point = None
-        self.stepper.SetPrescribedMotion(None, None)
+        self.stepper.set_prescribed_motion(None, None)
 
     def reset(self):
         self.release()
-        self.stepper.ResetState()
+        self.stepper.request_reset()
         self.frames = 0
-        run_filter(self.transfer)
+        self._advance()
+        self._frame()
+
+    def _advance(self):
+        try:
+            self.stepper.advance_live()
+        except RuntimeError as e:
+            raise HOEmbedError(f"live: {e}") from None
 
     @property
     def time(self):
-        return self.stepper.GetSimulationTime()
+        return self.stepper.clock_step * self.dt
 
     # -- frame ------------------------------------------------------------------------
     def step(self):
         """One frame: a time step, then the transfer (with point normals). Returns the
         wall seconds of each stage."""
         t0 = time.perf_counter()
-        if not self.stepper.Step(1):
-            raise HOEmbedError("live: vtkCorotationalFEMStepper failed (see the VTK error)")
+        self.stepper.request_steps(1)
+        self._advance()
         t1 = time.perf_counter()
-        run_filter(self.transfer)
+        self._frame()
         t2 = time.perf_counter()
         self.frames += 1
         return {"step": t1 - t0, "transfer": t2 - t1}
@@ -240,10 +271,10 @@ class LiveApp:
                                               smooth_shading=True, name="surface")
         self.mesh_actor = self.pl.add_mesh(session.fe, style="wireframe", color="#2a4d69",
                                            opacity=0.5, name="fe")
-        # the actors read the filters' outputs (updated in place every frame), not the
+        # the actors draw the session's outputs (updated in place every frame), not the
         # copies pyvista made when adding them
-        self.surface_actor.mapper.SetInputConnection(session.transfer.GetOutputPort())
-        self.mesh_actor.mapper.SetInputConnection(session.stepper.GetOutputPort())
+        self.surface_actor.mapper.SetInputData(session.surface)
+        self.mesh_actor.mapper.SetInputData(session.fe)
         self.mesh_actor.SetVisibility(False)
         self.base_actor = None
         self.marker = self.pl.add_mesh(pyvista.Sphere(radius=0.3 * session.h), color="red",
@@ -298,8 +329,8 @@ class LiveApp:
         self._drag_depth = ren.GetDisplayPoint()[2]
         if self.baseline is not None:
             self.baseline.grab(p)  # same rest geometry (shown shifted)
-            self.baseline.stepper.SetPrescribedSpeedLimit(
-                self.session.stepper.GetPrescribedSpeedLimit())
+            self.baseline.stepper.prescribed_speed_limit = \
+                self.session.stepper.prescribed_speed_limit
         self.dragging = True
         self.marker.SetPosition(*p)
         self.marker.SetVisibility(True)
@@ -345,7 +376,7 @@ class LiveApp:
             self.baseline = self.baseline_factory()
             self.base_actor = self.pl.add_mesh(self.baseline.surface, color="#9fb8c8",
                                                smooth_shading=True, name="baseline")
-            self.base_actor.mapper.SetInputConnection(self.baseline.transfer.GetOutputPort())
+            self.base_actor.mapper.SetInputData(self.baseline.surface)
             self.base_actor.SetPosition(self.offset, 0.0, 0.0)
             self.base_label = self.pl.add_text("left: tet10 + normal-offset | right: tet4 + "
                                                "barycentric", position="upper_right",
@@ -472,7 +503,7 @@ def live(surface=None, n_elements=1000, plotter=None, run=True, **session_option
         options = dict(session_options)
         # the same grab (radius, speed) as the tet10 model, whose cells are larger
         options.setdefault("grab_radius", session.grab_radius)
-        options.setdefault("speed_limit", session.stepper.GetPrescribedSpeedLimit())
+        options.setdefault("speed_limit", session.stepper.prescribed_speed_limit)
         return LiveSession(fe4, emb4, fixed=clamp4, **options)
 
     app = LiveApp(session, plotter=plotter, baseline=baseline)

@@ -1,16 +1,80 @@
-"""pyvista-level front end of vtkCorotationalFEMStepper."""
-
+"""pyvista-level simulate(): hoembed::StepperDriver through _hoembed (the driver
+vtkCorotationalFEMStepper runs: the same frames bit for bit, the same error sentences).
+The frame's arrays are the driver's WriteFrame, as in the filter's output."""
 import numpy as np
 import pyvista
-from vtkmodules.util.numpy_support import numpy_to_vtk
-from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+
+from . import _arrays
+from ._arrays import N
+from ._checks import (SIMULATE_DOC, simulate_arguments, simulate_clamps, simulate_frames,
+                      simulate_prescribed, simulate_vector)
+from ._errors import HOEmbedError
+from ._hoembed import StepperDriver
 
 __all__ = ["simulate"]
 
-from ._checks import (SIMULATE_DOC, simulate_arguments, simulate_clamps, simulate_frames,
-                      simulate_prescribed, simulate_vector)
-from ._errors import HOEmbedError, run_filter
-from .hoembedFiltersSimulation import vtkCorotationalFEMStepper
+
+def _fail(message):
+    raise HOEmbedError(f"simulate: {message}")
+
+
+def _fixed_values(mesh, name):
+    """The clamps' point array FixedArrayName, component 0 as float64 (None: none).
+    Where the array is (numeric point data, other point data, cell or field data,
+    nowhere) is read here; whether that is allowed is the driver's rule
+    (StepperDriver::CheckFixedArray, as vtkCorotationalFEMStepper)."""
+    pd = mesh.GetPointData()
+    a = pd.GetArray(name)
+    if a is not None:
+        kind = "numeric"
+    elif pd.GetAbstractArray(name) is not None:
+        kind = "not numeric"
+    elif mesh.GetCellData().GetAbstractArray(name) is not None or \
+            mesh.GetFieldData().GetAbstractArray(name) is not None:
+        kind = "cell or field"
+    else:
+        kind = "absent"
+    try:
+        StepperDriver.check_fixed_array(name, kind, a.GetNumberOfTuples() if a else 0,
+                                        mesh.GetNumberOfPoints())
+    except RuntimeError as e:
+        _fail(e)
+    if a is None:
+        return None
+    values = _arrays.vtk_to_numpy(a).reshape(a.GetNumberOfTuples(), -1)[:, 0]
+    return np.ascontiguousarray(values, dtype=np.float64)
+
+
+def build_stepper(mesh, a, clamps, fixed_values, lumped_mass, static, external_force=None,
+                  initial_displacement=None, initial_velocity=None, prescribed_mask=None,
+                  prescribed_u=None, speed_limit=0.0):
+    """A StepperDriver set up on `mesh` (the filter's BuildSolver): `a` the checked
+    material (simulate_arguments), `clamps` simulate_clamps' plane and box, `fixed_values`
+    one float per node or None. simulate() and the live loop (hoembed.live) use it."""
+    plane = () if clamps.get("plane") is None else tuple(clamps["plane"][0]) + \
+        tuple(clamps["plane"][1])
+    box = () if clamps.get("box") is None else tuple(clamps["box"])
+    offsets, conn = _arrays.cells(mesh.GetCells())
+    types = _arrays.cell_types(mesh)
+    vectors = (external_force, initial_displacement, initial_velocity)
+    driver = StepperDriver()
+    try:
+        driver.build(mesh.GetNumberOfPoints(), _arrays.points(mesh.GetPoints()), types,
+                     offsets, conn,
+                     [a["young"], a["poisson"], a["density"], a["dt"], a["rayleigh_mass"],
+                      a["rayleigh_stiffness"], a["solver_tolerance"]],
+                     bool(lumped_mass), bool(static), list(a["gravity"]), list(plane),
+                     list(box), fixed_values,
+                     *(None if v is None else np.ascontiguousarray(v, dtype=np.float64)
+                       .reshape(-1) for v in vectors),
+                     prescribed_mask=None if prescribed_mask is None else
+                     np.ascontiguousarray(prescribed_mask, dtype=np.float64),
+                     prescribed_displacement=None if prescribed_u is None else
+                     np.ascontiguousarray(prescribed_u, dtype=np.float64).reshape(-1),
+                     prescribed_speed_limit=speed_limit)
+    except RuntimeError as e:
+        _fail(e)
+    return driver
 
 
 def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=1000.0,
@@ -23,64 +87,51 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
                            rayleigh_mass, rayleigh_stiffness, every, solver_tolerance,
                            progress)
     steps, dt, every = a["steps"], a["dt"], a["every"]
-    mesh = pyvista.wrap(fe_mesh).copy(deep=False)
-    alg = vtkCorotationalFEMStepper()
+    mesh = pyvista.wrap(fe_mesh)
     prescribed_mask, prescribed_u, speed = simulate_prescribed(
         prescribed, prescribed_speed_limit, mesh.n_points)
-    if prescribed_mask is not None:
-        if not alg.SetPrescribedMotion(numpy_to_vtk(prescribed_mask, deep=True),
-                                       numpy_to_vtk(prescribed_u, deep=True)):
-            raise HOEmbedError("simulate: vtkCorotationalFEMStepper refused the prescribed "
-                               "motion")
-    alg.SetPrescribedSpeedLimit(speed)
     clamps = simulate_clamps(fixed, mesh.n_points)
-    if clamps["name"] is not None:
-        alg.SetFixedArrayName(clamps["name"])
-    if clamps["plane"] is not None:
-        alg.SetUseClampPlane(True)
-        alg.SetClampPlaneOrigin(*clamps["plane"][0])
-        alg.SetClampPlaneNormal(*clamps["plane"][1])
-    if clamps["box"] is not None:
-        alg.SetUseClampBox(True)
-        alg.SetClampBox(*clamps["box"])
+    vectors = {}
+    for key, value in (("external_force", external_force),
+                       ("initial_displacement", initial_displacement),
+                       ("initial_velocity", initial_velocity)):
+        vectors[key] = None if value is None else simulate_vector(mesh.n_points, value, key)
+    if mesh.GetNumberOfCells() == 0 or mesh.GetPoints() is None:
+        _fail("The input mesh is empty (no cells).")
     if clamps["mask"] is not None:
-        mesh.point_data["Fixed"] = clamps["mask"]
-        alg.SetFixedArrayName("Fixed")
-    if external_force is not None:
-        mesh.point_data["ExternalForce"] = simulate_vector(mesh.n_points, external_force,
-                                                           "external_force")
-        alg.SetExternalForceArrayName("ExternalForce")
-    if initial_displacement is not None:
-        mesh.point_data["InitialDisplacement"] = simulate_vector(
-            mesh.n_points, initial_displacement, "initial_displacement")
-        alg.SetInitialDisplacementArrayName("InitialDisplacement")
-    if initial_velocity is not None:
-        mesh.point_data["InitialVelocity"] = simulate_vector(mesh.n_points, initial_velocity,
-                                                             "initial_velocity")
-        alg.SetInitialVelocityArrayName("InitialVelocity")
-    alg.SetInputData(mesh)
-    alg.SetYoungModulus(a["young"])
-    alg.SetPoissonRatio(a["poisson"])
-    alg.SetDensity(a["density"])
-    alg.SetGravity(*a["gravity"])
-    alg.SetRayleighMass(a["rayleigh_mass"])
-    alg.SetRayleighStiffness(a["rayleigh_stiffness"])
-    alg.SetTimeStep(dt)
-    alg.SetNumberOfTimeSteps(steps)
-    alg.SetLumpedMass(bool(lumped_mass))
-    alg.SetStaticSolve(bool(static))
-    alg.SetSolverTolerance(a["solver_tolerance"])
+        fixed_values = clamps["mask"].astype(np.float64)
+    else:
+        fixed_values = _fixed_values(mesh, clamps["name"] or N.Fixed)
+    driver = build_stepper(mesh, a, clamps, fixed_values, lumped_mass, static, *vectors.values(),
+                           prescribed_mask=prescribed_mask, prescribed_u=prescribed_u,
+                           speed_limit=speed)
+    n, nc = mesh.n_points, mesh.n_cells
+    # the input's structure, point and cell data (as the filter's CopyStructure and
+    # PassData); no field data but the stepper's
+    rest = mesh.copy()
+    rest.field_data.clear()
+    if clamps["mask"] is not None:
+        rest.point_data[N.Fixed] = clamps["mask"]
     ks = simulate_frames(steps, every, static)
     frames = []
     for i, k in enumerate(ks):
-        alg.UpdateInformation()
-        alg.GetOutputInformation(0).Set(vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(),
-                                        k * dt)
-        out = pyvista.wrap(run_filter(alg)).copy()
+        try:
+            driver.advance(k)
+        except RuntimeError as e:
+            _fail(e)
+        x, disp, vel = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+        rot, vm = np.empty((n, 9)), np.empty(nc)
+        kinetic, strain, iterations = driver.write_frame(x, disp, vel, rot, vm)
+        out = rest.copy()
+        out.points = x
+        out.point_data[N.Displacement] = disp
+        out.point_data[N.Velocity] = vel
+        out.point_data[N.NodalRotation] = rot
+        out.cell_data[N.VonMisesStress] = vm
+        out.field_data[N.KineticEnergy] = np.array([kinetic])
+        out.field_data[N.StrainEnergy] = np.array([strain])
+        out.field_data[N.SolverIterations] = np.array([float(iterations)])
         out.field_data["TimeValue"] = np.array([0.0 if static else k * dt])
-        for name in ("ExternalForce", "InitialDisplacement", "InitialVelocity"):
-            if name in out.point_data and name not in fe_mesh.point_data:
-                del out.point_data[name]
         frames.append(out)
         if progress is not None:
             progress(i + 1, len(ks))

@@ -1,12 +1,41 @@
-"""pyvista-level front end of vtkDeformationTransferFilter."""
-
+"""pyvista-level transfer(): hoembed::TransferDriver through _hoembed (the driver
+vtkDeformationTransferFilter runs; the same points bit for bit). This only reads the
+surface's and the mesh's VTK objects: the driver checks them (CheckMeshSize,
+CheckSurface: the filter's messages) and says which arrays it reads (FrameArraysUsed)."""
+import numpy as np
 import pyvista
+from vtkmodules.vtkCommonCore import VTK_FLOAT
 
-__all__ = ["transfer"]
-
+from . import _arrays
+from ._arrays import N
 from ._checks import transfer_arguments
-from ._errors import run_filter
-from .hoembedFiltersTransfer import vtkDeformationTransferFilter
+from ._errors import HOEmbedError
+from ._hoembed import TransferDriver
+
+__all__ = ["transfer", "TransferPlan"]
+# vtkDeformationTransferFilter's default (the driver's)
+_FACE_TOLERANCE = TransferDriver.DEFAULT_FACE_TOLERANCE
+
+
+def _field_string(fd, name):
+    a = fd.GetAbstractArray(name) if fd is not None else None
+    if a is None or not a.IsA("vtkStringArray") or a.GetNumberOfValues() == 0:
+        return None
+    return a.GetValue(0)
+
+
+def _shape(a):
+    """(components, tuples) of a VTK data array (or a numpy array) for the driver's
+    checks; None: absent."""
+    if a is None:
+        return None
+    if isinstance(a, np.ndarray):
+        return (1 if a.ndim == 1 else int(np.prod(a.shape[1:])), a.shape[0])
+    return (a.GetNumberOfComponents(), a.GetNumberOfTuples())
+
+
+def _fail(message):
+    raise HOEmbedError(f"transfer: {message}")
 
 
 def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False,
@@ -33,7 +62,7 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     compute_point_normals : bool
         Add area-weighted point normals ``Normals`` for rendering (default False).
     warnings : list, optional
-        Receives the filter's warnings (e.g. inverted deformed elements).
+        Receives the driver's warnings (e.g. inverted deformed elements).
 
     Returns
     -------
@@ -54,10 +83,99 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
     mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
-    alg = vtkDeformationTransferFilter()
-    alg.SetInputData(0, embedded_surface)
-    alg.SetInputData(1, deformed_mesh)
-    alg.SetNormalMode(mode)
-    alg.SetComputePointNormals(bool(compute_point_normals))
-    out = run_filter(alg, warnings=warnings)
-    return pyvista.wrap(out).copy()
+    plan = TransferPlan(embedded_surface, deformed_mesh, mode)
+    mesh = deformed_mesh
+    mpd = mesh.GetPointData()
+    frame_warnings = plan.evaluate(mesh.GetPoints().GetData(), mpd.GetArray(N.Displacement),
+                                   mpd.GetArray(N.NodalRotation))
+    if warnings is not None:
+        warnings.extend(f"transfer: {w}" for w in frame_warnings)
+    out = plan.output(compute_point_normals)
+    return out
+
+
+class TransferPlan:
+    """The transfer set up once for an embedded surface and a mesh's topology (the
+    driver's checks and plan), then evaluated on deformed states of that mesh: transfer()
+    makes one per call, the live loop (hoembed.live) one per session."""
+
+    def __init__(self, embedded_surface, mesh, mode):
+        surface = embedded_surface
+        self.surface, self.mode = surface, mode
+        self.nmp, ncells = mesh.GetNumberOfPoints(), mesh.GetNumberOfCells()
+        driver = self.driver = TransferDriver()
+        try:
+            TransferDriver.check_mesh_size(self.nmp, ncells, mesh.GetCells() is not None)
+            offsets, conn = _arrays.cells(mesh.GetCells())
+            types = _arrays.cell_types(mesh)
+            driver.set_mesh_topology(self.nmp, types, offsets, conn)
+        except RuntimeError as e:
+            _fail(e)
+        # reading only: the driver judges the field data and the arrays (check_surface)
+        fd, pd = surface.GetFieldData(), surface.GetPointData()
+        method = _field_string(fd, N.EmbeddingMethod)
+        nv = surface.GetNumberOfPoints()
+        cell_ids, pcoords, dist, faces, fallback = (pd.GetArray(name) for name in (
+            N.EmbeddingCellId, N.EmbeddingParametricCoords, N.EmbeddingDistance,
+            N.EmbeddingFace, N.EmbeddingFallbackOffset))
+        try:
+            use_dist, use_faces, use_fallback = driver.check_surface(
+                nv, method, _field_string(fd, N.EmbeddingMeshFingerprint), _shape(cell_ids),
+                _shape(pcoords), _shape(dist), _shape(faces), _shape(fallback))
+        except RuntimeError as e:
+            _fail(e)
+        d = _arrays.doubles
+        float_out = surface.GetPoints() is not None and \
+            surface.GetPoints().GetDataType() == VTK_FLOAT
+        self.points = np.empty((nv, 3), dtype=np.float32 if float_out else np.float64)
+        try:
+            driver.build_plan(method, d(cell_ids), d(pcoords), d(dist) if use_dist else None,
+                              d(faces) if use_faces else None,
+                              d(fallback) if use_fallback else None,
+                              _FACE_TOLERANCE, mesh.GetLength())
+        except RuntimeError as e:
+            _fail(e)
+
+    def evaluate(self, points, displacements=None, rotations=None):
+        """The deformed surface points into self.points for the mesh's deformed `points`
+        (a VTK data array or an (n, 3) array) and, when the normal mode reads them, its
+        Displacement and NodalRotation (VTK arrays, arrays or None). Returns the
+        driver's warnings."""
+        d = _arrays.doubles
+        use_disp, use_rot = TransferDriver.frame_arrays_used(
+            self.mode, self.nmp, _shape(displacements), _shape(rotations))
+        try:
+            return self.driver.evaluate_frame(
+                d(points), self.mode, d(displacements) if use_disp else None,
+                d(rotations) if use_rot else None, True, self.points)
+        except RuntimeError as e:
+            _fail(e)
+
+    def output(self, compute_point_normals=False):
+        """A new surface: the input's topology and data with the deformed points, the
+        embedding arrays and stale normals dropped, point normals when asked for."""
+        surface = self.surface
+        out = pyvista.wrap(surface).copy()
+        out.points = self.points.copy()
+        opd = out.GetPointData()
+        for i in reversed(range(opd.GetNumberOfArrays())):
+            name = opd.GetArrayName(i)
+            if name and name.startswith(N.EmbeddingPrefix):
+                opd.RemoveArray(i)
+        for data in (opd, out.GetCellData()):
+            stale = data.GetNormals()
+            if stale is not None:
+                data.RemoveArray(stale.GetName())
+                data.SetNormals(None)
+        if compute_point_normals:
+            opd.SetNormals(_arrays.to_vtk(self.point_normals(self.points), N.Normals))
+        return out
+
+    def point_normals(self, points, out=None):
+        """Area-weighted point normals (float32) of the surface's polygons at `points`."""
+        if not hasattr(self, "_polys"):
+            self._polys = _arrays.cells(self.surface.GetPolys())
+        nv = self.surface.GetNumberOfPoints()
+        nrm = np.empty((nv, 3), dtype=np.float32) if out is None else out
+        self.driver.vertex_normals(*self._polys, points, nrm)
+        return nrm

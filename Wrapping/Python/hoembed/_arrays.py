@@ -1,6 +1,15 @@
 """numpy views of the VTK arrays the drivers read (adapting only: no algorithm here)."""
+import types
+
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkVersion
+
+from ._hoembed import ARRAY_NAMES
+
+# The array names of hoembedArrayNames.h, by their C++ names (N.EmbeddingCellId, ...):
+# spelled once, in C++
+N = types.SimpleNamespace(**ARRAY_NAMES)
 
 EMPTY_IDS = np.zeros(0, dtype=np.int64)
 
@@ -23,18 +32,21 @@ def cells(cell_array):
 
 
 def cell_types(grid):
-    """An unstructured grid's per-cell type codes (a vtkUnsignedCharArray): VTK 9.6
-    deprecated GetCellTypesArray() for GetCellTypes(), which before 9.6 only fills a
-    vtkCellTypes with the distinct types."""
-    from vtkmodules.vtkCommonCore import vtkVersion
+    """The cell types of an unstructured grid as contiguous uint8: VTK 9.6 made
+    GetCellTypes() return that array and deprecated GetCellTypesArray(), which earlier
+    VTK (the VTK build's 9.1) has instead."""
     if (vtkVersion.GetVTKMajorVersion(), vtkVersion.GetVTKMinorVersion()) >= (9, 6):
-        return grid.GetCellTypes()
-    return grid.GetCellTypesArray()
+        a = grid.GetCellTypes()
+    else:
+        a = grid.GetCellTypesArray()
+    return np.ascontiguousarray(vtk_to_numpy(a), dtype=np.uint8)
 
 
 def doubles(vtk_array):
-    """The values of a VTK data array as contiguous float64 (the VTK filters' copy)."""
-    return np.ascontiguousarray(vtk_to_numpy(vtk_array), dtype=np.float64)
+    """The values of a VTK data array (or a numpy array) as contiguous float64 (the VTK
+    filters' copy)."""
+    a = vtk_array if isinstance(vtk_array, np.ndarray) else vtk_to_numpy(vtk_array)
+    return np.ascontiguousarray(a, dtype=np.float64)
 
 
 def to_vtk(array, name, vtk_type=None):

@@ -1,0 +1,39 @@
+"""The live loop and the `hoembed` command in the wheel: the scripted LiveSession run of
+live_reference.py equals the VTK build's bit for bit (the same drivers, the stepper's
+kernels compiled with the same flags: `make test-pip` builds the wheel so), and the
+console script answers."""
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import live_reference
+
+REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
+if not REF or not os.path.exists(os.path.join(REF, "live.npz")):
+    pytest.skip("HOEMBED_PIP_REFERENCE (with live.npz) not given", allow_module_level=True)
+
+
+def test_live_session_equals_the_vtk_build():
+    ref = np.load(os.path.join(REF, "live.npz"))
+    got = live_reference.run(REF)
+    for key in ("positions", "surface", "time"):
+        assert got[key].shape == ref[key].shape, key
+        assert np.array_equal(got[key], ref[key]), key
+    # and it did move: the drag pulled the tip, the reset put it back
+    moved = np.linalg.norm(got["positions"][-2] - got["positions"][0], axis=1).max()
+    assert moved > 0.05
+    assert np.array_equal(got["positions"][-1], got["positions"][0])
+    assert got["time"][-1] == 0.0
+
+
+@pytest.mark.parametrize("args", [["--help"], ["run", "--help"], ["live", "--help"]])
+def test_console_script(args):
+    exe = shutil.which("hoembed", path=os.path.dirname(sys.executable))
+    assert exe, "the wheel's console script 'hoembed' is not installed"
+    r = subprocess.run([exe] + args, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert "usage: hoembed" in r.stdout
