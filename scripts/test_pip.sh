@@ -18,7 +18,7 @@
 #    and series bitwise; the stepper's frames within round-off (the portable wheel's
 #    kernels are not compiled with -march=native as the VTK build's); the mesher valid
 #    and close to the VTK build's (pip VTK's decimation and locators differ);
-# 5. the console script, when the wheel has one: `hoembed --help`, `hoembed live --help`.
+# 5. the console script: `hoembed --help`, `hoembed live --help`, `hoembed run` on a sphere.
 # Then the bitwise test build: the first cell's CPython builds the wheel with the stepper
 # kernels compiled as `make build` compiles them (build_wheel.sh --native; only those
 # sources recompile), installed over the first cell's venv, where the stepper's frames
@@ -88,13 +88,16 @@ print("[test-pip] CPython", platform.python_version(), "vtk", vtkmodules.__versi
       "pyvista", pyvista.__version__, "hoembed from", os.path.dirname(hoembed.__file__),
       "with its own GMP/MPFR")
 EOF
-  if [ -x "$venv/bin/hoembed" ]; then
-    "$venv/bin/hoembed" --help > /dev/null
-    "$venv/bin/hoembed" live --help > /dev/null
-    echo "[test-pip] console script: hoembed --help, hoembed live --help"
-  else
-    echo "[test-pip] (this wheel has no console script hoembed)"
-  fi
+  # the console script: its help, and `hoembed run` end to end on a small surface
+  "$venv/bin/hoembed" --help > /dev/null
+  "$venv/bin/hoembed" live --help > /dev/null
+  run_dir="$(mktemp -d)"
+  "$vpy" -c "import pyvista, sys; pyvista.Sphere(theta_resolution=24, phi_resolution=24).save(sys.argv[1])" "$run_dir/sphere.stl"
+  "$venv/bin/hoembed" run "$run_dir/sphere.stl" --elements 300 --steps 2 --no-picture \
+    --output "$run_dir/out" > "$run_dir/log" 2>&1 || { cat "$run_dir/log" >&2; exit 1; }
+  test -s "$run_dir/out/surface.pvd" && test -s "$run_dir/out/fe_mesh.pvd"
+  rm -rf "$run_dir"
+  echo "[test-pip] console script: hoembed --help, hoembed live --help, hoembed run (sphere, 300 tet10)"
   HOEMBED_PIP_REFERENCE="$root/$ref" HOEMBED_DATA_DIR="$data" \
     "$vpy" -m pytest -q -p no:cacheprovider Testing/Pip
 done
