@@ -279,12 +279,11 @@ def main():
     if "2 threads" in result["passes"]:
         # the two point normals on the last frame of the drag (same positions)
         run_pass(session, args.frames)
-        # the same frame again with each mode (LiveSession._frame: the transfer alone,
-        # no step)
+        # the same frame again with each mode (refresh: the transfer alone, no step)
         normals, folded = {}, 0
         for m in modes:
             session.point_normals = m
-            session._frame()
+            session.refresh()
             normals[m] = np.array(session.surface.point_data["Normals"], float)
             folded = max(folded, session.folded_normals)
         session.point_normals = args.point_normals

@@ -169,11 +169,16 @@ class LiveSession:
             self._surface.GetPointData().GetNormals().Modified()
         self._surface.GetPoints().Modified()
 
+    def refresh(self):
+        """The outputs again for the current state, without a step (after a change of
+        point_normals: both modes on the same frame)."""
+        self._frame()
+
     @property
     def point_normals(self):
         """The point normals mode ("transform", "recompute") or False (the surface's
         Normals are then left as they were); settable, as the keyword, from the next
-        frame on."""
+        frame (or refresh()) on."""
         return next((k for k, v in POINT_NORMALS_MODES.items() if v == self._pn_mode), False)
 
     @point_normals.setter
