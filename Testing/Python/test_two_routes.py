@@ -279,3 +279,5 @@ def test_live_transformed_normals_against_recomputed(tail, meshes):
         LiveSession(fe, emb, point_normals="flat")
     with pytest.raises(ValueError, match="point_normals must be"):
         r.point_normals = 1
+    with pytest.raises(hoembed.HOEmbedError, match="transfer: point_normals must be"):
+        hoembed.transfer(emb, t.fe, compute_point_normals="flat")
