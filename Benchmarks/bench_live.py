@@ -3,9 +3,9 @@
 Per frame, what the `hoembed live` window does between two renders: one stepper step
 with moving prescribed nodes (a scripted drag of the tail's tip on a circle, the nodes'
 targets changed every frame), then the transfer of the fine surface (normal-offset,
-recomputed normals) with point normals for shading (the session's point_normals). The FE mesh is meshed
-from the built-in thorny tail (~3000 tet10); the fine surface is the same tail sampled
-to ~1M vertices and embedded in that mesh.
+recomputed normals) with point normals for shading (the session's point_normals). The
+FE mesh is meshed from the built-in thorny tail (~3000 tet10); the fine surface is the
+same tail sampled to ~1M vertices and embedded in that mesh.
 
 Stages: `step` (vtkCorotationalFEMStepper.Step(1): the solver's rotations, assembly and
 CG solve, reported by the filter, and the rest: loads in, output arrays out),

@@ -137,6 +137,18 @@ struct Transfer
   hoembed::TransferDriver Driver{ PoolFor };
 };
 
+// The surface's polygons (int64 VTK offsets/connectivity) into the transfer driver.
+void SetPolygons(Transfer& t, const In& offsets, const In& conn)
+{
+  const std::int64_t nv = t.Driver.GetNumberOfVertices();
+  const std::int64_t npoly =
+    offsets.size() > 0 ? static_cast<std::int64_t>(offsets.size()) - 1 : 0;
+  const std::int64_t zero = 0;
+  t.Driver.SetPolygons(
+    npoly > 0 ? Data<std::int64_t>(offsets, "offsets", offsets.size()) : &zero,
+    Data<std::int64_t>(conn, "connectivity", conn.size()), npoly, nv);
+}
+
 // An optional float64 array of `count` values (None: nullptr); `keep` holds the view.
 const double* Optional(const nb::object& o, In& keep, const char* what, std::size_t count)
 {
@@ -386,13 +398,7 @@ NB_MODULE(_hoembed, m)
       "Transform point normals: the vertices of the last frame recomputed where the map folds.")
     .def(
       "set_polygons",
-      [](Transfer& t, const In& offsets, const In& conn) {
-        const std::int64_t nv = t.Driver.GetNumberOfVertices();
-        const std::int64_t npoly = offsets.size() > 0 ? static_cast<std::int64_t>(offsets.size()) - 1 : 0;
-        const std::int64_t zero = 0;
-        t.Driver.SetPolygons(npoly > 0 ? Data<std::int64_t>(offsets, "offsets", offsets.size()) : &zero,
-          Data<std::int64_t>(conn, "connectivity", conn.size()), npoly, nv);
-      },
+      [](Transfer& t, const In& offsets, const In& conn) { SetPolygons(t, offsets, conn); },
       nb::arg("offsets"), nb::arg("connectivity"),
       "The surface's polygons (VTK offsets/connectivity, int64) for point normals (after "
       "build_plan; forgets the rest surface normals).")
@@ -423,11 +429,8 @@ NB_MODULE(_hoembed, m)
       "Area-weighted unit vertex normals of the polygons given to set_polygons at `points`.")
     .def("vertex_normals",
       [](Transfer& t, const In& offsets, const In& conn, const In& points, Array out) {
+        SetPolygons(t, offsets, conn);
         const std::int64_t nv = t.Driver.GetNumberOfVertices();
-        const std::int64_t npoly = offsets.size() > 0 ? static_cast<std::int64_t>(offsets.size()) - 1 : 0;
-        const std::int64_t zero = 0;
-        t.Driver.SetPolygons(npoly > 0 ? Data<std::int64_t>(offsets, "offsets", offsets.size()) : &zero,
-          Data<std::int64_t>(conn, "connectivity", conn.size()), npoly, nv);
         float* n = Out<float>(out, "normals", 3 * static_cast<std::size_t>(nv));
         if (Is<double>(points))
           t.Driver.ComputeVertexNormals(Data<double>(points, "points", 3 * nv), n);
