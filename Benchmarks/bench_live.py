@@ -3,15 +3,16 @@
 Per frame, what the `hoembed live` window does between two renders: one stepper step
 with moving prescribed nodes (a scripted drag of the tail's tip on a circle, the nodes'
 targets changed every frame), then the transfer of the fine surface (normal-offset,
-recomputed normals) with area-weighted point normals for shading. The FE mesh is meshed
-from the built-in thorny tail (~3000 tet10); the fine surface is the same tail sampled
-to ~1M vertices and embedded in that mesh.
+recomputed normals) with point normals for shading (the session's point_normals). The
+FE mesh is meshed from the built-in thorny tail (~3000 tet10); the fine surface is the
+same tail sampled to ~1M vertices and embedded in that mesh.
 
 Stages: `step` (vtkCorotationalFEMStepper.Step(1): the solver's rotations, assembly and
 CG solve, reported by the filter, and the rest: loads in, output arrays out),
-`transfer` (vtkDeformationTransferFilter.Update with point normals) and, from a pass of
-the same frames without point normals, `normals` (the difference). The point normals
-are timed both ways the transfer filter offers (PointNormalsMode): `transform` (the rest
+`transfer` (the session's transfer: the transfer driver with point normals) and, from a
+pass of the same frames without point normals, `normals` (the difference). The point
+normals are timed both ways the session offers (point_normals, the transfer filter's
+PointNormalsMode): `transform` (the session's default: the rest
 normals carried by cof(F) in the transfer's own pass; frame_ms) and `recompute`
 (area-weighted normals of the deformed triangles). On 1 and 2 threads (vtkSMPTools),
 wall and process CPU time (all threads) per frame; median and minimum over the frames
@@ -221,10 +222,11 @@ def main():
                     help="thread counts of the frame-time passes ('' for none)")
     ap.add_argument("--point-normals", choices=("transform", "recompute"),
                     default="transform",
-                    help="the transfer's PointNormalsMode of the frame_ms passes (the other "
-                         "is timed beside it on 2 threads)")
+                    help="the session's point_normals of the frame_ms passes (its default; "
+                         "the other is timed beside it on 2 threads)")
     ap.add_argument("--float-points", action="store_true",
-                    help="single precision output points (OutputPointsPrecision)")
+                    help="single precision surface points (the session's transfer writes "
+                         "the embedded surface's point type)")
     ap.add_argument("--save", metavar="DIR",
                     help="also write the FE mesh and the embedded surface (DIR/fe.vtu, "
                          "DIR/embedded.vtp: the inputs of build/bin/hoembedTransferBench)")
@@ -243,14 +245,14 @@ def main():
         os.makedirs(args.save, exist_ok=True)
         fe.save(os.path.join(args.save, "fe.vtu"))
         embedded.save(os.path.join(args.save, "embedded.vtp"))
-    session = LiveSession(fe, embedded, fixed=default_clamp(fe, builtin=True))
-    modes = {"recompute": 0, "transform": 1}
-    tr = session.transfer
-    tr.SetPointNormalsMode(modes[args.point_normals])
     if args.float_points:
-        tr.SetOutputPointsPrecision(0)  # vtkAlgorithm::SINGLE_PRECISION
-    tr.Update()
-    point_bytes = 4 if tr.GetOutput().GetPoints().GetDataType() == 10 else 8  # VTK_FLOAT
+        # the plan keeps the surface's point type for its output (the rest normals of
+        # transform mode are then those of the rounded points, as the filter's)
+        embedded.points = np.asarray(embedded.points, dtype=np.float32)
+    session = LiveSession(fe, embedded, fixed=default_clamp(fe, builtin=True),
+                          point_normals=args.point_normals)
+    modes = ("recompute", "transform")
+    point_bytes = session.transfer.points.dtype.itemsize
     threads0 = vtkSMPTools.GetEstimatedNumberOfThreads()
     result = {"vertices": int(fine.n_points), "triangles": int(fine.n_cells),
               "elements": int(fe.n_cells), "fe_nodes": int(fe.n_points),
@@ -264,32 +266,34 @@ def main():
         result["passes"][f"{threads} thread{'s' if threads > 1 else ''}"] = summarise(rows, skip)
         session.point_normals = False
         rows, _ = run_pass(session, args.frames)
-        session.point_normals = True
+        session.point_normals = args.point_normals
         result["passes"][f"{threads} thread{'s' if threads > 1 else ''}, no point normals"] = (
             summarise(rows, skip))
         result["grabbed_nodes"] = grabbed
         if threads == 2:  # the other point normals mode, beside it
             other = next(m for m in modes if m != args.point_normals)
-            tr.SetPointNormalsMode(modes[other])
+            session.point_normals = other
             rows, _ = run_pass(session, args.frames)
-            tr.SetPointNormalsMode(modes[args.point_normals])
+            session.point_normals = args.point_normals
             result["passes"][f"2 threads, {other} point normals"] = summarise(rows, skip)
     if "2 threads" in result["passes"]:
         # the two point normals on the last frame of the drag (same positions)
         run_pass(session, args.frames)
-        normals = {}
-        for m, v in modes.items():
-            tr.SetPointNormalsMode(v)
-            tr.Update()
-            normals[m] = np.array(pv.wrap(tr.GetOutput()).point_data["Normals"], float)
-        tr.SetPointNormalsMode(modes[args.point_normals])
+        # the same frame again with each mode (refresh: the transfer alone, no step)
+        normals, folded = {}, 0
+        for m in modes:
+            session.point_normals = m
+            session.refresh()
+            normals[m] = np.array(session.surface.point_data["Normals"], float)
+            folded = max(folded, session.folded_normals)
+        session.point_normals = args.point_normals
         cos = np.clip(np.einsum("ij,ij->i", normals["recompute"], normals["transform"]), -1, 1)
         ang = np.degrees(np.arccos(cos))
         result["normals_angle_deg"] = {
             "median": float(np.median(ang)), "p99": float(np.percentile(ang, 99)),
             "p999": float(np.percentile(ang, 99.9)), "max": float(ang.max()),
-            "inverted_elements": int(tr.GetNumberOfInvertedElements()),
-            "folded_normals": int(tr.GetNumberOfFoldedPointNormals())}
+            "inverted_elements": int(session.transfer.driver.number_of_inverted_cells),
+            "folded_normals": int(folded)}
         session.release()
     if args.grab_repeats > 0:
         # the grab/release stall: synchronous refactorisation against the background

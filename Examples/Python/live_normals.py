@@ -1,7 +1,8 @@
 """The live window's shading normals two ways, side by side on the same frame: recomputed
-from the deformed triangles (left, vtkDeformationTransferFilter's RECOMPUTE_POINT_NORMALS)
-and the rest normals carried by the deformation gradient in the transfer's own pass
-(right, TRANSFORM_POINT_NORMALS). The built-in tail as `hoembed live` shows it (1000
+from the deformed triangles (left, LiveSession(point_normals="recompute"), the transfer
+filter's RECOMPUTE_POINT_NORMALS) and the rest normals carried by the deformation
+gradient in the transfer's own pass (right, "transform", the session's default;
+TRANSFORM_POINT_NORMALS). The built-in tail as `hoembed live` shows it (1000
 tet10), its tip dragged on bench_live.py's circle; the positions are the same bits in both.
 Prints the angle between the two normals (median, 99th percentile, max) and the
 difference of the two pictures (per pixel and channel, 0-255), drawn times 4 as a third
@@ -34,7 +35,6 @@ fe = hoembed.tet10_mesh(coarse, n_elements=1000)
 fine = coarse if args.vertices <= 0 else hoembed.thorny_tail(
     rings=max(8, round(args.vertices / 512)), sectors=512)
 session = LiveSession(fe, hoembed.embed(fine, fe), fixed=default_clamp(fe, builtin=True))
-tr = session.transfer
 pos = session.positions()
 tip = pos[np.argmax(pos[:, 0])]
 session.grab(tip)
@@ -45,14 +45,14 @@ for k in range(1, 61):  # half a turn of bench_live.py's circle, scaled
 
 
 def frame(mode):
-    tr.SetPointNormalsMode(mode)
-    tr.Update()
+    session.point_normals = mode
+    session.refresh()  # the same frame's transfer, no step
     out = pv.PolyData()
-    out.deep_copy(tr.GetOutput())
+    out.deep_copy(session.surface)
     return out
 
 
-recomputed, transformed = frame(0), frame(1)
+recomputed, transformed = frame("recompute"), frame("transform")
 assert np.array_equal(recomputed.points, transformed.points)
 a = np.asarray(recomputed.point_data["Normals"], float)
 b = np.asarray(transformed.point_data["Normals"], float)

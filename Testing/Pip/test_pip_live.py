@@ -1,7 +1,7 @@
 """The live loop and the `hoembed` command in the wheel: the scripted LiveSession run of
-live_reference.py equals the VTK build's bit for bit (the same drivers, the stepper's
-kernels compiled with the same flags: `make test-pip` builds the wheel so), and the
-console script answers."""
+live_reference.py (points and the default, transformed, point normals) equals the VTK
+build's bit for bit (the same drivers, the stepper's kernels compiled with the same
+flags: `make test-pip` builds the wheel so), and the console script answers."""
 import os
 import shutil
 import subprocess
@@ -20,7 +20,7 @@ if not REF or not os.path.exists(os.path.join(REF, "live.npz")):
 def test_live_session_equals_the_vtk_build():
     ref = np.load(os.path.join(REF, "live.npz"))
     got = live_reference.run(REF)
-    for key in ("positions", "surface", "time"):
+    for key in ("positions", "surface", "normals", "time"):
         assert got[key].shape == ref[key].shape, key
         assert np.array_equal(got[key], ref[key]), key
     # and it did move: the drag pulled the tip, the reset put it back

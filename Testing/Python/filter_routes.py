@@ -13,7 +13,8 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 import hoembed
-from hoembed._checks import (embed_arguments, mesh_arguments, simulate_arguments,
+from hoembed._checks import (embed_arguments, mesh_arguments, point_normals_argument,
+                             simulate_arguments,
                              simulate_clamps, simulate_frames, simulate_prescribed,
                              simulate_vector, transfer_arguments)
 from hoembed._errors import HOEmbedError, run_filter
@@ -47,7 +48,10 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     alg.SetInputData(0, embedded_surface)
     alg.SetInputData(1, deformed_mesh)
     alg.SetNormalMode(mode)
-    alg.SetComputePointNormals(bool(compute_point_normals))
+    pn_mode = point_normals_argument("transfer", compute_point_normals, "recompute")
+    alg.SetComputePointNormals(pn_mode is not None)
+    if pn_mode is not None:
+        alg.SetPointNormalsMode(pn_mode)
     return pyvista.wrap(run_filter(alg, warnings=warnings)).copy()
 
 

@@ -137,6 +137,18 @@ struct Transfer
   hoembed::TransferDriver Driver{ PoolFor };
 };
 
+// The surface's polygons (int64 VTK offsets/connectivity) into the transfer driver.
+void SetPolygons(Transfer& t, const In& offsets, const In& conn)
+{
+  const std::int64_t nv = t.Driver.GetNumberOfVertices();
+  const std::int64_t npoly =
+    offsets.size() > 0 ? static_cast<std::int64_t>(offsets.size()) - 1 : 0;
+  const std::int64_t zero = 0;
+  t.Driver.SetPolygons(
+    npoly > 0 ? Data<std::int64_t>(offsets, "offsets", offsets.size()) : &zero,
+    Data<std::int64_t>(conn, "connectivity", conn.size()), npoly, nv);
+}
+
 // An optional float64 array of `count` values (None: nullptr); `keep` holds the view.
 const double* Optional(const nb::object& o, In& keep, const char* what, std::size_t count)
 {
@@ -291,14 +303,17 @@ NB_MODULE(_hoembed, m)
     .def_static(
       "frame_arrays_used",
       [](int normals, std::int64_t numberOfPoints, nb::object displacements,
-        nb::object rotations) {
+        nb::object rotations, int pointNormals) {
         bool d = false, r = false;
         hoembed::TransferDriver::FrameArraysUsed(static_cast<hoembed::TransferNormals>(normals),
-          numberOfPoints, Shape(displacements), Shape(rotations), d, r);
+          static_cast<hoembed::TransferPointNormals>(pointNormals), numberOfPoints,
+          Shape(displacements), Shape(rotations), d, r);
         return nb::make_tuple(d, r);
       },
       nb::arg("normals"), nb::arg("number_of_points"), nb::arg("displacements").none(),
-      nb::arg("rotations").none())
+      nb::arg("rotations").none(), nb::arg("point_normals_mode") = 0,
+      "Which of Displacement, NodalRotation a frame reads (point_normals_mode: the "
+      "TransferPointNormals of a frame that writes point normals, 0 recompute, 1 transform).")
     .def(
       "build_plan",
       [](Transfer& t, const std::string& method, const In& cellIds, const In& pcoords,
@@ -335,7 +350,8 @@ NB_MODULE(_hoembed, m)
     .def(
       "evaluate_frame",
       [](Transfer& t, const In& points, int normals, nb::object displacements,
-        nb::object rotations, bool countInverted, Array out) {
+        nb::object rotations, bool countInverted, Array out, nb::object pointNormals,
+        int pointNormalsMode) {
         const std::size_t np = static_cast<std::size_t>(t.Driver.GetNumberOfPoints());
         hoembed::TransferFrame frame;
         frame.Points = Data<double>(points, "deformed mesh points", 3 * np);
@@ -349,6 +365,17 @@ NB_MODULE(_hoembed, m)
         const std::size_t nv = static_cast<std::size_t>(t.Driver.GetNumberOfVertices());
         double* outDouble = IsT<Array, double>(out) ? Out<double>(out, "output points", 3 * nv) : nullptr;
         float* outFloat = outDouble ? nullptr : Out<float>(out, "output points", 3 * nv);
+        // point normals in the same pass (the driver's TransferFrame.PointNormals): float32,
+        // 3 per vertex; the mode (and its fallback to recompute) is the driver's
+        Array pn;
+        if (pointNormalsMode != 0 && pointNormalsMode != 1)
+          throw std::invalid_argument("evaluate_frame: point_normals_mode must be 0 or 1");
+        if (!pointNormals.is_none())
+        {
+          pn = nb::cast<Array>(pointNormals);
+          frame.PointNormals = Out<float>(pn, "point normals", 3 * nv);
+          frame.PointNormalsMode = static_cast<hoembed::TransferPointNormals>(pointNormalsMode);
+        }
         std::vector<std::string> warnings;
         std::string error;
         {
@@ -359,16 +386,51 @@ NB_MODULE(_hoembed, m)
         return warnings;
       },
       nb::arg("points"), nb::arg("normals"), nb::arg("displacements").none(),
-      nb::arg("rotations").none(), nb::arg("count_inverted"), nb::arg("out"))
+      nb::arg("rotations").none(), nb::arg("count_inverted"), nb::arg("out"),
+      nb::arg("point_normals").none() = nb::none(), nb::arg("point_normals_mode") = 0,
+      "One frame into `out` (and unit point normals into `point_normals`, float32 (n, 3), "
+      "when given: set_polygons first, and for mode 1 (transform) set_rest_surface_points). "
+      "Returns the driver's warnings.")
     .def_prop_ro("number_of_inverted_cells",
       [](const Transfer& t) { return t.Driver.GetNumberOfInvertedCells(); })
+    .def_prop_ro("number_of_folded_normals",
+      [](const Transfer& t) { return t.Driver.GetNumberOfFoldedNormals(); },
+      "Transform point normals: the vertices of the last frame recomputed where the map folds.")
+    .def(
+      "set_polygons",
+      [](Transfer& t, const In& offsets, const In& conn) { SetPolygons(t, offsets, conn); },
+      nb::arg("offsets"), nb::arg("connectivity"),
+      "The surface's polygons (VTK offsets/connectivity, int64) for point normals (after "
+      "build_plan; forgets the rest surface normals).")
+    .def(
+      "set_rest_surface_points",
+      [](Transfer& t, const In& points) {
+        const std::size_t nv = static_cast<std::size_t>(t.Driver.GetNumberOfVertices());
+        if (Is<double>(points))
+          t.Driver.SetRestSurfacePoints(Data<double>(points, "rest surface points", 3 * nv));
+        else
+          t.Driver.SetRestSurfacePoints(Data<float>(points, "rest surface points", 3 * nv));
+      },
+      nb::arg("points"),
+      "The surface's rest points (after set_polygons) for transform point normals.")
+    .def_prop_ro("has_rest_surface_normals",
+      [](const Transfer& t) { return t.Driver.HasRestSurfaceNormals(); })
+    .def(
+      "compute_vertex_normals",
+      [](Transfer& t, const In& points, Array out) {
+        const std::size_t nv = static_cast<std::size_t>(t.Driver.GetNumberOfVertices());
+        float* n = Out<float>(out, "normals", 3 * nv);
+        if (Is<double>(points))
+          t.Driver.ComputeVertexNormals(Data<double>(points, "points", 3 * nv), n);
+        else
+          t.Driver.ComputeVertexNormals(Data<float>(points, "points", 3 * nv), n);
+      },
+      nb::arg("points"), nb::arg("out"),
+      "Area-weighted unit vertex normals of the polygons given to set_polygons at `points`.")
     .def("vertex_normals",
       [](Transfer& t, const In& offsets, const In& conn, const In& points, Array out) {
+        SetPolygons(t, offsets, conn);
         const std::int64_t nv = t.Driver.GetNumberOfVertices();
-        const std::int64_t npoly = offsets.size() > 0 ? static_cast<std::int64_t>(offsets.size()) - 1 : 0;
-        const std::int64_t zero = 0;
-        t.Driver.SetPolygons(npoly > 0 ? Data<std::int64_t>(offsets, "offsets", offsets.size()) : &zero,
-          Data<std::int64_t>(conn, "connectivity", conn.size()), npoly, nv);
         float* n = Out<float>(out, "normals", 3 * static_cast<std::size_t>(nv));
         if (Is<double>(points))
           t.Driver.ComputeVertexNormals(Data<double>(points, "points", 3 * nv), n);

@@ -11,6 +11,22 @@ from ._errors import (HOEmbedArgumentError, HOEmbedError, check_callable, check_
 EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
 # values of hoembed::TransferNormals (= vtkDeformationTransferFilter's NormalMode)
 NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
+# vtkDeformationTransferFilter's PointNormalsMode (the driver's TransferPointNormals)
+POINT_NORMALS_MODES = {"recompute": 0, "transform": 1}
+
+
+def point_normals_argument(who, value, default):
+    """The TransferPointNormals value of a point_normals argument, or None (no normals):
+    "transform", "recompute", False, or True (= `default`, the caller's mode)."""
+    if value is False or value is None:
+        return None
+    if value is True:
+        value = default
+    if not isinstance(value, str) or value not in POINT_NORMALS_MODES:
+        raise HOEmbedArgumentError(
+            f"{who}: point_normals must be 'transform', 'recompute', True or False, "
+            f"not {value!r}")
+    return POINT_NORMALS_MODES[value]
 
 
 # tet10_mesh()'s docstring, the same in both packages (the wheel appends how its VTK

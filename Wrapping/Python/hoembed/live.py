@@ -5,8 +5,8 @@ Two layers, so that tests and benchmarks drive exactly what the window runs:
 - :class:`LiveSession` (no window): the stepper's driver in live mode (its clock, loads
   set between steps, background factorisation: what vtkCorotationalFEMStepper's LiveMode
   runs) and the transfer's driver with its plan made once (normal-offset, recomputed
-  normals, area-weighted point normals for shading), through hoembed._hoembed, so the
-  loop is the same in the VTK build and the pip wheel. ``grab(point)`` prescribes the FE
+  normals, shading point normals carried by the deformation), through hoembed._hoembed,
+  so the loop is the same in the VTK build and the pip wheel. ``grab(point)`` prescribes the FE
   nodes near a surface point, ``drag(point)`` moves their targets with it, ``release()``
   lets go, ``step()`` advances one frame (one time step + the transfer) and returns the
   seconds of each stage.
@@ -26,7 +26,8 @@ import pyvista
 from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 from ._arrays import N
-from ._checks import NORMAL_MODES, simulate_arguments
+from ._checks import (NORMAL_MODES, POINT_NORMALS_MODES, point_normals_argument,
+                      simulate_arguments)
 from ._errors import HOEmbedArgumentError, HOEmbedError
 from .simulation import build_stepper
 from .transfer import TransferPlan
@@ -84,6 +85,12 @@ class LiveSession:
         cells around the grabbed nodes per step).
     normals : str
         Transfer normal mode ("recompute", "rotate" or "deform").
+    point_normals : {"transform", "recompute"} or bool
+        The surface's shading normals, as vtkDeformationTransferFilter's PointNormalsMode:
+        ``"transform"`` (default, also True): the rest surface's normals carried by the
+        deformation (cof(F) n0, in the transfer's pass; recomputed per vertex where the
+        map folds), about 0.6x the cost of ``"recompute"`` (the deformed polygons'
+        area-weighted normals; Benchmarks/RESULTS.md). False: none.
     background_factorization : bool
         The stepper's BackgroundFactorization (default on): a grab or a release is
         stepped at once while the new factorisation runs on a thread, instead of a frame
@@ -93,7 +100,8 @@ class LiveSession:
     def __init__(self, fe_mesh, embedded, fixed=None, dt=1.0 / 60.0, young=2e5,
                  poisson=0.45, density=1000.0, gravity=(0.0, 0.0, 0.0), rayleigh_mass=1.0,
                  rayleigh_stiffness=0.005, grab_radius=None, speed_limit=None,
-                 normals="recompute", point_normals=True, background_factorization=True):
+                 normals="recompute", point_normals="transform",
+                 background_factorization=True):
         self.fe_rest = pyvista.wrap(fe_mesh).copy()
         n = self.fe_rest.n_points
         self.fixed = np.zeros(n, bool) if fixed is None else np.asarray(fixed, bool)
@@ -110,6 +118,8 @@ class LiveSession:
         self._cells = self.fe_rest.cell_connectivity.reshape(self.fe_rest.n_cells, -1)
         if normals not in NORMAL_MODES:
             raise HOEmbedArgumentError(f"live: normals must be one of {sorted(NORMAL_MODES)}")
+        # True: the default mode (the session drew recomputed normals before "transform")
+        self._pn_mode = point_normals_argument("live", point_normals, "transform")
         a = simulate_arguments(self.fe_rest, 1, self.dt, young, poisson, density, gravity,
                                rayleigh_mass, rayleigh_stiffness, 1, 1e-4, None)
         speed = 0.5 * self.h / self.dt if speed_limit is None else float(speed_limit)
@@ -121,10 +131,9 @@ class LiveSession:
             raise HOEmbedError(f"live: {e}") from None
         self.stepper = st
         self.mode = NORMAL_MODES[normals]
-        self.point_normals = bool(point_normals)
         self.transfer = TransferPlan(embedded, self.fe_rest, self.mode)
         # the frame's outputs, updated in place (the window's actors draw these objects)
-        self._surface = self.transfer.output(self.point_normals)
+        self._surface = self.transfer.output(True)
         # the FE mesh as the stepper's output has it (vtkCorotationalFEMStepper with
         # ComputeDiagnostics off): the state written into its arrays in place
         self._fe = self.fe_rest.copy()
@@ -149,14 +158,38 @@ class LiveSession:
         self._fe.GetPoints().Modified()
         for name in (N.Displacement, N.Velocity, N.NodalRotation):
             self._fe.GetPointData().GetArray(name).Modified()
-        self.transfer.evaluate(self._x, self._disp, self._rot)
+        # the point normals in the transfer's pass (the driver's TransferFrame.PointNormals),
+        # straight into the surface's Normals array
+        on = self._pn_mode is not None
+        nrm = self._surface.point_data[N.Normals] if on else None
+        self.transfer.evaluate(self._x, self._disp, self._rot, nrm, self._pn_mode or 0)
         points = self._surface.points
         points[:] = self.transfer.points
-        if self.point_normals:
-            self.transfer.point_normals(self.transfer.points,
-                                        self._surface.point_data[N.Normals])
+        if on:
             self._surface.GetPointData().GetNormals().Modified()
         self._surface.GetPoints().Modified()
+
+    def refresh(self):
+        """The outputs again for the current state, without a step (after a change of
+        point_normals: both modes on the same frame)."""
+        self._frame()
+
+    @property
+    def point_normals(self):
+        """The point normals mode ("transform", "recompute") or False (the surface's
+        Normals are then left as they were); settable, as the keyword, from the next
+        frame (or refresh()) on."""
+        return next((k for k, v in POINT_NORMALS_MODES.items() if v == self._pn_mode), False)
+
+    @point_normals.setter
+    def point_normals(self, value):
+        self._pn_mode = point_normals_argument("live", value, "transform")
+
+    @property
+    def folded_normals(self):
+        """Transform point normals: surface vertices of the last frame whose normal was
+        recomputed because the deformation folds there."""
+        return self.transfer.folded_normals if self._pn_mode == 1 else 0
 
     @property
     def surface(self):

@@ -8,7 +8,7 @@ from vtkmodules.vtkCommonCore import VTK_FLOAT
 
 from . import _arrays
 from ._arrays import N
-from ._checks import transfer_arguments
+from ._checks import POINT_NORMALS_MODES, point_normals_argument, transfer_arguments
 from ._errors import HOEmbedError
 from ._hoembed import TransferDriver
 
@@ -59,8 +59,13 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
         ``"deform"``: rest nodal normals pushed forward by the nodal deformation gradient
         (needs ``Displacement``): offsets follow the material lines that were normal to
         the rest surface, so a shear of the surface (a twist) tilts them too.
-    compute_point_normals : bool
-        Add area-weighted point normals ``Normals`` for rendering (default False).
+    compute_point_normals : bool or {"recompute", "transform"}
+        Add unit point normals ``Normals`` for rendering (default False), as
+        vtkDeformationTransferFilter's PointNormalsMode: ``"recompute"`` (or True):
+        area-weighted normals of the deformed polygons; ``"transform"``: the rest
+        surface's normals carried by the deformation (cof(F) n0, needs the mesh's
+        ``Displacement``; recomputed where the map folds, and everywhere, with a warning,
+        without ``Displacement``).
     warnings : list, optional
         Receives the driver's warnings (e.g. inverted deformed elements).
 
@@ -76,21 +81,26 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
         Missing embedding arrays, a mesh that is not the embedding's (fingerprint), NaN
         coordinates, unsupported cells.
     ValueError
-        An unknown ``normals`` value.
+        An unknown ``normals`` or ``compute_point_normals`` value.
 
     Examples
     --------
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
     mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
+    pn_mode = point_normals_argument("transfer", compute_point_normals, "recompute")
     plan = TransferPlan(embedded_surface, deformed_mesh, mode)
     mesh = deformed_mesh
     mpd = mesh.GetPointData()
+    nrm = None if pn_mode is None else \
+        np.empty((embedded_surface.GetNumberOfPoints(), 3), dtype=np.float32)
     frame_warnings = plan.evaluate(mesh.GetPoints().GetData(), mpd.GetArray(N.Displacement),
-                                   mpd.GetArray(N.NodalRotation))
+                                   mpd.GetArray(N.NodalRotation), nrm, pn_mode or 0)
     if warnings is not None:
         warnings.extend(f"transfer: {w}" for w in frame_warnings)
-    out = plan.output(compute_point_normals)
+    out = plan.output(False)
+    if nrm is not None:
+        out.GetPointData().SetNormals(_arrays.to_vtk(nrm, N.Normals))
     return out
 
 
@@ -136,20 +146,43 @@ class TransferPlan:
         except RuntimeError as e:
             _fail(e)
 
-    def evaluate(self, points, displacements=None, rotations=None):
+    def evaluate(self, points, displacements=None, rotations=None, point_normals=None,
+                 point_normals_mode=0):
         """The deformed surface points into self.points for the mesh's deformed `points`
-        (a VTK data array or an (n, 3) array) and, when the normal mode reads them, its
-        Displacement and NodalRotation (VTK arrays, arrays or None). Returns the
-        driver's warnings."""
+        (a VTK data array or an (n, 3) array) and, when the normal modes read them, its
+        Displacement and NodalRotation (VTK arrays, arrays or None). With
+        `point_normals` (float32 (nv, 3)) the same pass writes the unit point normals, in
+        `point_normals_mode` (the driver's TransferPointNormals;
+        transform sets the rest surface points once). Returns the driver's warnings."""
         d = _arrays.doubles
+        mode = point_normals_mode if point_normals is not None else 0
+        if point_normals is not None:
+            self._prepare_normals(mode)
         use_disp, use_rot = TransferDriver.frame_arrays_used(
-            self.mode, self.nmp, _shape(displacements), _shape(rotations))
+            self.mode, self.nmp, _shape(displacements), _shape(rotations), mode)
         try:
             return self.driver.evaluate_frame(
                 d(points), self.mode, d(displacements) if use_disp else None,
-                d(rotations) if use_rot else None, True, self.points)
+                d(rotations) if use_rot else None, True, self.points, point_normals, mode)
         except RuntimeError as e:
             _fail(e)
+
+    @property
+    def folded_normals(self):
+        """Transform point normals: vertices of the last frame recomputed where the map
+        folds (the driver's count)."""
+        return self.driver.number_of_folded_normals
+
+    def _prepare_normals(self, mode):
+        """The polygons once, and for transform the rest surface's points once (what
+        vtkDeformationTransferFilter gives the driver; set_polygons forgets them)."""
+        if not hasattr(self, "_polys"):
+            self._polys = _arrays.cells(self.surface.GetPolys())
+            self.driver.set_polygons(*self._polys)
+        if mode == POINT_NORMALS_MODES["transform"] and not self.driver.has_rest_surface_normals:
+            rest = self.surface.GetPoints()
+            if rest is not None:  # else the driver falls back to recompute, with a warning
+                self.driver.set_rest_surface_points(_arrays.points(rest))
 
     def output(self, compute_point_normals=False):
         """A new surface: the input's topology and data with the deformed points, the
@@ -173,9 +206,8 @@ class TransferPlan:
 
     def point_normals(self, points, out=None):
         """Area-weighted point normals (float32) of the surface's polygons at `points`."""
-        if not hasattr(self, "_polys"):
-            self._polys = _arrays.cells(self.surface.GetPolys())
+        self._prepare_normals(POINT_NORMALS_MODES["recompute"])
         nv = self.surface.GetNumberOfPoints()
         nrm = np.empty((nv, 3), dtype=np.float32) if out is None else out
-        self.driver.vertex_normals(*self._polys, points, nrm)
+        self.driver.compute_vertex_normals(points, nrm)
         return nrm
