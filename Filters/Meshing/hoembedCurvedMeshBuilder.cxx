@@ -6,6 +6,7 @@
 #include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
+#include "hoembedTetGenBridge.h"
 #include "hoembedTetMeshTopology.h"
 #include "hoembedVector3.h"
 
@@ -986,6 +987,15 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance, options.MinimumQuality);
   ImprovePoorTets(pts, tets, options.MinimumQuality); // tet4 and tet10: the same corners
   report(0.3);
+  // AbortExecute between the steps (hoembed::ScopedTetGenAbort of the calling thread)
+  auto aborted = [&out]() {
+    if (!MeshingAbortRequested())
+      return false;
+    out.Error = "aborted";
+    return true;
+  };
+  if (aborted())
+    return out;
 
   out.LinearPoints = pts;
   out.LinearBoundary.assign(topo.BoundaryFaceNodes.begin(),
@@ -1014,7 +1024,11 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   CurvingResult curving =
     CurveTowardsSurface(out, topo, quad, surface, options, targets, envelope);
   report(0.7);
+  if (aborted())
+    return out;
   SecondChances(out, topo, quad, surface, options, targets, curving);
+  if (aborted())
+    return out;
   if (options.ExtraCheck)
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);

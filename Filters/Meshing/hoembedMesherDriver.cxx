@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -210,8 +211,16 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       break;
     }
     TetGenResult run = TetrahedralizeAtSize(coarsePoints, coarseTris, h, options, params);
-    if (run.Stopped) // aborted, or TetGen's work bound: no retry, no fallback
+    if (run.Aborted)
       return run;
+    // TetGen's work bound on a coarsened surface (a boundary recovery that flips without
+    // end, e.g. between thin ribs): no retry (each costs as much), the caller falls back
+    // to the envelope.
+    if (run.Stopped)
+    {
+      lastError = run.Error;
+      break;
+    }
     if (!run.Error.empty())
     {
       lastError = run.Error;
@@ -255,7 +264,21 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
   };
   // the envelope at ball size `ball` and offset `off`, checked; false with tg.Error set
   auto wrapAt = [&](double ball, double off, SurfaceWrapResult& w, SurfaceCheck& check) {
-    w = WrapSurface(finePoints, fineTris, ball, off);
+    SurfaceWrapLimits limits;
+    limits.MaxGates = static_cast<std::uint64_t>(options.WrapMaxGates > 0.0
+        ? options.WrapMaxGates
+        : std::min(1e12, std::max(3e5, 60.0 * facts.Check.Area / (ball * ball))));
+    w = WrapSurface(finePoints, fineTris, ball, off, limits);
+    if (w.Stopped)
+    {
+      tg.Stopped = true;
+      tg.Error = w.Error;
+      if (!w.Aborted)
+        tg.Error += ": the surface has more detail than the envelope can follow at this "
+                    "element size; ask for fewer elements (or a larger TargetEdgeLength), or "
+                    "a larger EnvelopeTolerance";
+      return false;
+    }
     if (!w.Error.empty())
     {
       tg.Error = "the surface cannot be enclosed in a volume: " + w.Error +
@@ -286,8 +309,8 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
     const double off = offsetFor(h);
     SurfaceWrapResult wrap;
     SurfaceCheck wrapCheck;
+    report(0.2 + 0.1 * attempt); // before the wrap and TetGen, which poll the abort
     const bool wrapped = wrapAt(h, off, wrap, wrapCheck);
-    report(0.2 + 0.1 * attempt);
     if (!wrapped)
       return tg;
     if (!wrapCheck.IsClosedManifold())
@@ -411,6 +434,17 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     if (progress)
       progress(f);
   };
+  // The caller's abort reaches TetGen and the envelope through the thread's abort scope.
+  std::unique_ptr<ScopedTetGenAbort> abortScope;
+  if (services.Abort)
+    abortScope.reset(new ScopedTetGenAbort(services.Abort));
+  auto aborted = [&](const char* step) {
+    if (!MeshingAbortRequested())
+      return false;
+    out = MesherResult();
+    out.Error = std::string("meshing was aborted (AbortExecute) ") + step;
+    return true;
+  };
   // A clean closed manifold takes the coarsening path (its boundary nodes all lie on the
   // surface); anything else, and a clean surface whose coarsening fails (decimation folds
   // that no retry removes, e.g. high genus), an envelope, which TetGen meshes by
@@ -422,12 +456,16 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     out.Error = notClean;
     return out;
   }
+  // (each poll of the abort raises the progress a little: polls come before reports, so
+  // that the progress never goes back)
+  if (aborted("after the surface check"))
+    return out;
   report(0.1);
   TetGenResult tg;
   if (notClean.empty() && options.Wrap <= 0)
   {
     tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
-    if (!tg.Error.empty() && options.Wrap == 0 && !tg.Stopped)
+    if (!tg.Error.empty() && options.Wrap == 0 && !tg.Aborted)
     {
       out.Warnings.push_back(
         tg.Error + " The surface's envelope is meshed instead (EnvelopeTolerance).");
@@ -444,6 +482,8 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     out.Error = tg.Error;
     return out;
   }
+  if (aborted("after TetGen"))
+    return out;
   report(0.5);
 
   CurvedMeshOptions curving;
@@ -474,6 +514,8 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   }
   CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), queries,
     curving, [&](double f) { report(0.5 + 0.4 * f); });
+  if (aborted("while curving"))
+    return out;
   if (!mesh.Error.empty())
   {
     out.Error = "could not build the curved mesh: " + mesh.Error;
