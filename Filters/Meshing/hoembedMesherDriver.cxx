@@ -243,6 +243,26 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
   return tg;
 }
 
+// Straight tets of TetGen's mesh below the quality floor. TetGen leaves a few (slivers
+// whose four corners lie on the boundary: up to 5% on the real closed meshes measured,
+// Benchmarks/RESULTS.md); many (over 10%) mean that the coarsened surface has parts
+// thinner than the element size (ribs, fins, walls), which curving can neither mend nor
+// keep from crossing (a ribbed beam at 4000 elements: a third of the cells below the
+// floor, 76 crossing pairs left, 20 times the time of its envelope).
+Id CountPoorStraightTets(const TetGenResult& tg, double floor)
+{
+  Id poor = 0;
+  for (size_t t = 0; t < tg.Tets.size() / 4; ++t)
+  {
+    double x[12];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = tg.Points[3 * tg.Tets[4 * t + a] + d];
+    poor += Tet4ScaledJacobian(x) < floor ? 1 : 0;
+  }
+  return poor;
+}
+
 // Step 2 for any other surface: an envelope (hoembed::WrapSurface: closed, manifold and
 // free of self-intersections by construction, so TetGen meshes it without the retries of
 // the coarsening) with a ball of the element size, so that its triangles have about that
@@ -465,6 +485,16 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   if (notClean.empty() && options.Wrap <= 0)
   {
     tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
+    const Id nTets = static_cast<Id>(tg.Tets.size() / 4);
+    const Id poor = tg.Error.empty() ? CountPoorStraightTets(tg, options.MinimumQuality) : 0;
+    if (options.Wrap == 0 && poor > std::max<Id>(20, nTets / 10))
+    {
+      std::ostringstream msg;
+      msg << "the coarsened surface has parts thinner than the element size: " << poor
+          << " of " << nTets << " of TetGen's elements are below MinimumQuality = "
+          << options.MinimumQuality << " before curving.";
+      tg.Error = msg.str();
+    }
     if (!tg.Error.empty() && options.Wrap == 0 && !tg.Aborted)
     {
       out.Warnings.push_back(
@@ -486,34 +516,39 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     return out;
   report(0.5);
 
-  CurvedMeshOptions curving;
-  curving.Order = options.ElementOrder;
-  curving.CurveBoundary = options.CurveBoundary;
-  curving.ProjectCorners = options.ProjectCorners;
-  curving.QualityRatio = options.CurvedQualityRatio;
-  curving.MinimumQuality = options.MinimumQuality;
-  curving.ExtraCheck = services.ExtraCheck;
-  // The envelope's corners lie at the offset from the surface, its straight mid-edge
-  // nodes a little farther: surface points beyond twice the offset belong to parts the
-  // envelope bridges (holes) or to its other side (a wrapped sheet).
-  SurfaceQueries queries = services.Fine;
-  if (out.Wrapped)
-  {
-    curving.MaxTargetDistance = 2.0 * out.EnvelopeOffset;
-    // Of a surface's two sides, the one its triangles' normals point to is its outside
-    // (inside out for a closed surface of negative volume). Nodes go only onto a surface
-    // that faces them: the near side of a wrapped sheet, not the far one.
-    const double side =
-      facts.Check.BoundaryEdges == 0 && facts.Check.SignedVolume < 0.0 ? -1.0 : 1.0;
-    if (services.NormalAt)
-      queries.Faces = [&services, side](const double target[3], const double outward[3]) {
-        double n[3];
-        services.NormalAt(target, n);
-        return side * (n[0] * outward[0] + n[1] * outward[1] + n[2] * outward[2]) > 0.0;
-      };
-  }
-  CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), queries,
-    curving, [&](double f) { report(0.5 + 0.4 * f); });
+  // Curving of a TetGen mesh (`wrapped`: of an envelope at `offset`); `straight`: corners
+  // where TetGen put them and straight edges (the last resort below).
+  auto curve = [&](const TetGenResult& t, bool wrapped, double offset, bool straight) {
+    CurvedMeshOptions curving;
+    curving.Order = options.ElementOrder;
+    curving.CurveBoundary = options.CurveBoundary && !straight;
+    curving.ProjectCorners = options.ProjectCorners && !straight;
+    curving.QualityRatio = options.CurvedQualityRatio;
+    curving.MinimumQuality = options.MinimumQuality;
+    curving.ExtraCheck = services.ExtraCheck;
+    // The envelope's corners lie at the offset from the surface, its straight mid-edge
+    // nodes a little farther: surface points beyond twice the offset belong to parts the
+    // envelope bridges (holes) or to its other side (a wrapped sheet).
+    SurfaceQueries queries = services.Fine;
+    if (wrapped)
+    {
+      curving.MaxTargetDistance = 2.0 * offset;
+      // Of a surface's two sides, the one its triangles' normals point to is its outside
+      // (inside out for a closed surface of negative volume). Nodes go only onto a surface
+      // that faces them: the near side of a wrapped sheet, not the far one.
+      const double side =
+        facts.Check.BoundaryEdges == 0 && facts.Check.SignedVolume < 0.0 ? -1.0 : 1.0;
+      if (services.NormalAt)
+        queries.Faces = [&services, side](const double target[3], const double outward[3]) {
+          double n[3];
+          services.NormalAt(target, n);
+          return side * (n[0] * outward[0] + n[1] * outward[1] + n[2] * outward[2]) > 0.0;
+        };
+    }
+    return BuildCurvedMesh(
+      t.Points, t.Tets, queries, curving, [&](double f) { report(0.5 + 0.4 * f); });
+  };
+  CurvedMesh mesh = curve(tg, out.Wrapped, out.EnvelopeOffset, false);
   if (aborted("while curving"))
     return out;
   if (!mesh.Error.empty())
@@ -521,18 +556,63 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     out.Error = "could not build the curved mesh: " + mesh.Error;
     return out;
   }
-  out.CurvedNodeCount = mesh.CurvedNodes;
-  out.RelaxedNodeCount = mesh.RelaxedNodes;
-  out.EnvelopeNodeCount = mesh.EnvelopeNodes;
-  out.BoundaryCrossingsFound = mesh.CrossingPairsFound;
-  out.BoundaryCrossingsLeft = mesh.CrossingPairsLeft;
+  const Id crossingsFound = mesh.CrossingPairsFound;
+  // Curved boundary faces that still cross after the repair (corners moved onto the
+  // surface across each other, where parts of it come closer than the element size)
+  // change the mesh, never the promise: on a coarsened surface the envelope is meshed
+  // instead, and if that too leaves pairs crossing, the boundary stays straight (TetGen's
+  // corners and straight edges: its boundary is the coarsened surface or the envelope,
+  // neither of which intersects itself).
+  if (mesh.CrossingPairsLeft > 0 && !out.Wrapped && options.Wrap == 0)
+  {
+    std::ostringstream msg;
+    msg << mesh.CrossingPairsLeft << " pairs of curved boundary faces still crossed after "
+        << "straightening their mid-edge nodes (parts of the surface closer than the element "
+        << "size); the surface's envelope is meshed instead (EnvelopeTolerance)";
+    out.Warnings.push_back(msg.str());
+    double offset = 0.0;
+    TetGenResult wrapped = WrapAndTetrahedralize(points, tris, facts, options, offset, report);
+    if (wrapped.Aborted || aborted("during the envelope"))
+    {
+      out = MesherResult();
+      out.Error = "meshing was aborted (AbortExecute) during the envelope";
+      return out;
+    }
+    if (wrapped.Error.empty())
+    {
+      CurvedMesh again = curve(wrapped, true, offset, false);
+      if (aborted("while curving"))
+        return out;
+      if (again.Error.empty() && again.CrossingPairsLeft < mesh.CrossingPairsLeft)
+      {
+        mesh = std::move(again);
+        tg = std::move(wrapped);
+        out.Wrapped = true;
+        out.EnvelopeOffset = offset;
+      }
+    }
+  }
   if (mesh.CrossingPairsLeft > 0)
   {
     std::ostringstream msg;
-    msg << mesh.CrossingPairsLeft << " pairs of boundary faces still cross after straightening "
-        << "their mid-edge nodes (corners moved onto the surface cross); ask for more elements";
+    msg << mesh.CrossingPairsLeft << " pairs of curved boundary faces still cross after "
+        << "straightening their mid-edge nodes: the boundary is left straight (TetGen's "
+        << "corners, straight edges); ask for more elements";
     out.Warnings.push_back(msg.str());
+    mesh = curve(tg, out.Wrapped, out.EnvelopeOffset, true);
+    if (aborted("while curving"))
+      return out;
+    if (!mesh.Error.empty())
+    {
+      out.Error = "could not build the curved mesh: " + mesh.Error;
+      return out;
+    }
   }
+  out.CurvedNodeCount = mesh.CurvedNodes;
+  out.RelaxedNodeCount = mesh.RelaxedNodes;
+  out.EnvelopeNodeCount = mesh.EnvelopeNodes;
+  out.BoundaryCrossingsFound = std::max(crossingsFound, mesh.CrossingPairsFound);
+  out.BoundaryCrossingsLeft = mesh.CrossingPairsLeft;
 
   out.MaxSurfaceDeviation = MeasureSurfaceDeviation(points, mesh, facts.Diagonal, services);
   if (out.MaxSurfaceDeviation > options.SurfaceDeviationWarning)
