@@ -102,6 +102,34 @@ Id CountComponents(Id npts, const std::vector<Id>& tris)
   return n;
 }
 
+// Straight tets of TetGen's mesh below the quality floor. TetGen leaves a few (slivers
+// whose four corners lie on the boundary: up to 5% on the real closed meshes measured,
+// Benchmarks/RESULTS.md); many (over 10%) mean that the coarsened surface has parts
+// thinner than the element size (ribs, fins, walls), which curving can neither mend nor
+// keep from crossing (a ribbed beam at 4000 elements: a third of the cells below the
+// floor, 76 crossing pairs left, 20 times the time of its envelope).
+Id CountPoorStraightTets(const TetGenResult& tg, double floor)
+{
+  if (!tg.Error.empty())
+    return 0;
+  Id poor = 0;
+  for (size_t t = 0; t < tg.Tets.size() / 4; ++t)
+  {
+    double x[12];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = tg.Points[3 * tg.Tets[4 * t + a] + d];
+    poor += Tet4ScaledJacobian(x) < floor ? 1 : 0;
+  }
+  return poor;
+}
+
+bool MostlySlivers(const TetGenResult& tg, const MesherOptions& options, Id& poor)
+{
+  poor = CountPoorStraightTets(tg, options.MinimumQuality);
+  return poor > std::max<Id>(20, static_cast<Id>(tg.Tets.size() / 4) / 10);
+}
+
 // TetGen at element size h (volume bound of the regular tet of edge h); without boundary
 // preservation when TetGen needs boundary points to succeed.
 TetGenResult TetrahedralizeAtSize(const std::vector<double>& points, const std::vector<Id>& tris,
@@ -227,6 +255,14 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       triFactor *= 1.15;
       continue;
     }
+    // Mostly slivers: no size correction mends that (the caller falls back to the
+    // envelope), so no more attempts.
+    Id poor = 0;
+    if (options.Wrap == 0 && MostlySlivers(run, options, poor))
+    {
+      tg = std::move(run);
+      break;
+    }
     if (KeepClosestCount(run, options, h, bestMismatch, tg))
       break;
   }
@@ -241,26 +277,6 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
     tg.Error = msg.str();
   }
   return tg;
-}
-
-// Straight tets of TetGen's mesh below the quality floor. TetGen leaves a few (slivers
-// whose four corners lie on the boundary: up to 5% on the real closed meshes measured,
-// Benchmarks/RESULTS.md); many (over 10%) mean that the coarsened surface has parts
-// thinner than the element size (ribs, fins, walls), which curving can neither mend nor
-// keep from crossing (a ribbed beam at 4000 elements: a third of the cells below the
-// floor, 76 crossing pairs left, 20 times the time of its envelope).
-Id CountPoorStraightTets(const TetGenResult& tg, double floor)
-{
-  Id poor = 0;
-  for (size_t t = 0; t < tg.Tets.size() / 4; ++t)
-  {
-    double x[12];
-    for (int a = 0; a < 4; ++a)
-      for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = tg.Points[3 * tg.Tets[4 * t + a] + d];
-    poor += Tet4ScaledJacobian(x) < floor ? 1 : 0;
-  }
-  return poor;
 }
 
 // Step 2 for any other surface: an envelope (hoembed::WrapSurface: closed, manifold and
@@ -486,8 +502,8 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   {
     tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
     const Id nTets = static_cast<Id>(tg.Tets.size() / 4);
-    const Id poor = tg.Error.empty() ? CountPoorStraightTets(tg, options.MinimumQuality) : 0;
-    if (options.Wrap == 0 && poor > std::max<Id>(20, nTets / 10))
+    Id poor = 0;
+    if (options.Wrap == 0 && MostlySlivers(tg, options, poor))
     {
       std::ostringstream msg;
       msg << "the coarsened surface has parts thinner than the element size: " << poor
