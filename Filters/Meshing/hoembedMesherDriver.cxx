@@ -466,9 +466,15 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   const std::function<void(double)>& progress)
 {
   MesherResult out;
+  // Never backwards: a fallback (the envelope after the coarsened surface was curved)
+  // repeats earlier steps; its progress stays where it was until it passes it.
+  double reported = 0.0;
   auto report = [&](double f) {
-    if (progress)
+    if (progress && f > reported)
+    {
+      reported = f;
       progress(f);
+    }
   };
   // The caller's abort reaches TetGen and the envelope through the thread's abort scope.
   std::unique_ptr<ScopedTetGenAbort> abortScope;
