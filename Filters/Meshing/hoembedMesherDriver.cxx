@@ -188,6 +188,7 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
   TetGenParameters params;
   params.RadiusEdgeRatio = options.RadiusEdgeRatio;
   params.MinDihedralAngle = options.MinDihedralAngle;
+  params.MaxCreatedTetrahedra = options.CoarseTetGenMaxCreated;
   double bestMismatch = DBL_MAX;
   std::string lastError;
   double triFactor = 1.0;

@@ -52,6 +52,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
   /// treat; 0 (default): max(3e5, 60 x the input's area over the squared ball size),
   /// 10 to 20 times what it treats on the inputs measured (Benchmarks/RESULTS.md).
   double WrapMaxGates = 0.0;
+  /// Work bound of TetGen on the coarsened surface, in tetrahedra created; 0 (default):
+  /// TetGen's own (hoembed::TetGenParameters::MaxCreatedTetrahedra). Reaching it falls
+  /// back to the envelope.
+  double CoarseTetGenMaxCreated = 0.0;
 };
 
 /// Geometry services on the fine surface that the binding provides.

@@ -4,6 +4,7 @@
 // cylinder and an open tube inside it that pokes through its top: an open,
 // self-intersecting soup of 18 parts), where a small ball makes the wrap follow every
 // wall on both sides.
+#include "hoembedMesherDriver.h"
 #include "hoembedSurfaceCheck.h"
 #include "hoembedSurfaceWrap.h"
 #include "hoembedTestUtilities.h"
@@ -16,7 +17,10 @@
 #include "vtkCellValidator.h"
 #include "vtkDataArray.h"
 #include "vtkCommand.h"
+#include "vtkCellLocator.h"
 #include "vtkCylinderSource.h"
+#include "vtkQuadricDecimation.h"
+#include "vtkSphereSource.h"
 #include "vtkExecutive.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
@@ -196,10 +200,70 @@ void CheckMesherAbort(vtkPolyData* shell)
     "abort error: '%s'", catcher->Text.c_str());
   HOEMBED_CHECK(mesher->GetOutput()->GetNumberOfCells() == 0, "output not empty after an abort");
 }
+// hoembed::RunMesher on a clean closed sphere with services made of VTK's classes here:
+// TetGen's work bound reached on the coarsened surface falls back to the envelope (a
+// warning says so) instead of an error.
+void CheckTetGenBoundFallsBack()
+{
+  vtkNew<vtkSphereSource> src;
+  src->SetThetaResolution(40);
+  src->SetPhiResolution(40);
+  vtkNew<vtkTriangleFilter> tri;
+  tri->SetInputConnection(src->GetOutputPort());
+  tri->Update();
+  vtkPolyData* fine = tri->GetOutput();
+  std::vector<double> pts;
+  std::vector<Id> tris;
+  ToArrays(fine, pts, tris);
+  vtkNew<vtkCellLocator> locator;
+  locator->SetDataSet(fine);
+  locator->BuildLocator();
+  hoembed::MesherServices services;
+  services.Decimate = [fine](double reduction, bool, std::vector<double>& p, std::vector<Id>& t) {
+    vtkNew<vtkQuadricDecimation> decimate;
+    decimate->SetInputData(fine);
+    decimate->SetTargetReduction(reduction);
+    decimate->VolumePreservationOff();
+    decimate->Update();
+    ToArrays(decimate->GetOutput(), p, t);
+    return true;
+  };
+  vtkCellLocator* loc = locator;
+  services.Fine.Closest = [loc](const double x[3], double cp[3]) {
+    vtkIdType cell;
+    int sub;
+    double d2;
+    loc->FindClosestPoint(x, cp, cell, sub, d2);
+  };
+  services.Fine.Ray = [loc](const double a[3], const double b[3], double hit[3]) {
+    double t, pc[3];
+    int sub;
+    return loc->IntersectWithLine(a, b, 0.0, t, hit, pc, sub) != 0;
+  };
+  services.MaxDistanceToTriangles = [](const std::vector<double>&, const std::vector<Id>&,
+                                      const std::vector<double>&, Id) { return 0.0; };
+  hoembed::MesherOptions options;
+  options.TargetNumberOfElements = 500;
+  hoembed::MesherResult plain = hoembed::RunMesher(pts, tris, options, services);
+  HOEMBED_CHECK(plain.Error.empty() && !plain.Wrapped, "sphere: '%s', wrapped %d",
+    plain.Error.c_str(), plain.Wrapped);
+  options.CoarseTetGenMaxCreated = 100; // far below the ~8 per element TetGen creates
+  hoembed::MesherResult bounded = hoembed::RunMesher(pts, tris, options, services);
+  HOEMBED_CHECK(bounded.Error.empty(), "bounded: '%s'", bounded.Error.c_str());
+  HOEMBED_CHECK(bounded.Wrapped && bounded.EnvelopeOffset > 0.0, "not meshed through the envelope");
+  HOEMBED_CHECK(!bounded.Conn.empty() && bounded.BoundaryCrossingsLeft == 0, "no mesh");
+  bool said = false;
+  for (const std::string& w : bounded.Warnings)
+    said = said || (w.find("work bound") != std::string::npos && w.find("envelope") != std::string::npos);
+  HOEMBED_CHECK(said, "no warning naming the work bound and the envelope");
+  std::printf("TetGen bound: %zu cells through the envelope (%zu coarsened)\n",
+    bounded.MinScaledJacobian.size(), plain.MinScaledJacobian.size());
+}
 } // namespace
 
 int main(int, char*[])
 {
+  CheckTetGenBoundFallsBack();
   vtkSmartPointer<vtkPolyData> shell = ThinCups(3, 0.004);
   CheckWrapBounds(shell);
   CheckMesherAbort(shell);
