@@ -6,6 +6,7 @@
 #include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
 #include "hoembedShapeFunctions.h"
+#include "hoembedTetGenBridge.h"
 #include "hoembedTetMeshTopology.h"
 #include "hoembedVector3.h"
 
@@ -707,6 +708,52 @@ void StraightenInvalidCells(
   }
 }
 
+// The quality floor, last: the crossing repair moves nodes without asking the quality
+// (a partial pull-back, a restored corner, straightened interior nodes), which can leave
+// a cell below hoembed::Tet10RequiredQuality of its straight shape (fertility at 3000: one
+// cell at 0.017 whose straight shape is 0.22). Such a cell gets its mid-edge nodes
+// straight, and so on for the cells around them: terminates (each node once) and ends
+// acceptable (a straight cell is). Returns the number of nodes straightened.
+Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  const CurvedMeshOptions& options, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  std::vector<Id> edgeOf(nPts, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  std::vector<char> straightened(nPts, 0);
+  Id count = 0;
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (Id c = 0; c < nTets; ++c)
+    {
+      double x[30];
+      for (int a = 0; a < 10; ++a)
+        for (int d = 0; d < 3; ++d)
+          x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+      if (Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality))
+        continue;
+      for (int a = 4; a < 10; ++a)
+      {
+        const Id m = out.Conn[10 * c + a];
+        if (straightened[m])
+          continue;
+        straightened[m] = 1;
+        changed = true;
+        ++count;
+        const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+        if (edgeOf[m] >= 0)
+          curving.Alpha[edgeOf[m]] = 0.0;
+      }
+    }
+  }
+  return count;
+}
+
 // Moves mid-edge node m to keep * its displacement from the straight position.
 void PullNode(CurvedMesh& out, const QuadraticNodes& quad, Id m, double keep)
 {
@@ -986,6 +1033,15 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance, options.MinimumQuality);
   ImprovePoorTets(pts, tets, options.MinimumQuality); // tet4 and tet10: the same corners
   report(0.3);
+  // AbortExecute between the steps (hoembed::ScopedTetGenAbort of the calling thread)
+  auto aborted = [&out]() {
+    if (!MeshingAbortRequested())
+      return false;
+    out.Error = "aborted";
+    return true;
+  };
+  if (aborted())
+    return out;
 
   out.LinearPoints = pts;
   out.LinearBoundary.assign(topo.BoundaryFaceNodes.begin(),
@@ -1014,11 +1070,27 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   CurvingResult curving =
     CurveTowardsSurface(out, topo, quad, surface, options, targets, envelope);
   report(0.7);
+  if (aborted())
+    return out;
   SecondChances(out, topo, quad, surface, options, targets, curving);
+  if (aborted())
+    return out;
   if (options.ExtraCheck)
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);
   RepairBoundaryCrossings(out, topo, quad, nbe, tetgenCorners, curving);
+  if (StraightenPoorCells(out, quad, nbe, options, curving) > 0)
+  {
+    // straightened boundary nodes change the curved faces: count the crossing pairs again
+    // (the driver changes the mesh when any is left)
+    const Id nbf = topo.GetNumberOfBoundaryFaces();
+    std::vector<Id> faces(6 * nbf);
+    for (Id f = 0; f < nbf; ++f)
+      for (int k = 0; k < 6; ++k)
+        faces[6 * f + k] =
+          out.Conn[10 * topo.BoundaryFaceCell[f] + TetFaceNodes[topo.BoundaryFaceLocal[f]][k]];
+    out.CrossingPairsLeft = static_cast<Id>(FindCurvedFaceCrossings(out.Points, faces).size());
+  }
   CountCurvedNodes(out, topo, targets, envelope, curving);
   report(1.0);
   return out;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -101,6 +102,34 @@ Id CountComponents(Id npts, const std::vector<Id>& tris)
   return n;
 }
 
+// Straight tets of TetGen's mesh below the quality floor. TetGen leaves a few (slivers
+// whose four corners lie on the boundary: up to 5% on the real closed meshes measured,
+// Benchmarks/RESULTS.md); many (over 10%) mean that the coarsened surface has parts
+// thinner than the element size (ribs, fins, walls), which curving can neither mend nor
+// keep from crossing (a ribbed beam at 4000 elements: a third of the cells below the
+// floor, 76 crossing pairs left, 20 times the time of its envelope).
+Id CountPoorStraightTets(const TetGenResult& tg, double floor)
+{
+  if (!tg.Error.empty())
+    return 0;
+  Id poor = 0;
+  for (size_t t = 0; t < tg.Tets.size() / 4; ++t)
+  {
+    double x[12];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = tg.Points[3 * tg.Tets[4 * t + a] + d];
+    poor += Tet4ScaledJacobian(x) < floor ? 1 : 0;
+  }
+  return poor;
+}
+
+bool MostlySlivers(const TetGenResult& tg, const MesherOptions& options, Id& poor)
+{
+  poor = CountPoorStraightTets(tg, options.MinimumQuality);
+  return poor > std::max<Id>(20, static_cast<Id>(tg.Tets.size() / 4) / 10);
+}
+
 // TetGen at element size h (volume bound of the regular tet of edge h); without boundary
 // preservation when TetGen needs boundary points to succeed.
 TetGenResult TetrahedralizeAtSize(const std::vector<double>& points, const std::vector<Id>& tris,
@@ -159,6 +188,7 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
   TetGenParameters params;
   params.RadiusEdgeRatio = options.RadiusEdgeRatio;
   params.MinDihedralAngle = options.MinDihedralAngle;
+  params.MaxCreatedTetrahedra = options.CoarseTetGenMaxCreated;
   double bestMismatch = DBL_MAX;
   std::string lastError;
   double triFactor = 1.0;
@@ -210,13 +240,29 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       break;
     }
     TetGenResult run = TetrahedralizeAtSize(coarsePoints, coarseTris, h, options, params);
-    if (run.Stopped) // aborted, or TetGen's work bound: no retry, no fallback
+    if (run.Aborted)
       return run;
+    // TetGen's work bound on a coarsened surface (a boundary recovery that flips without
+    // end, e.g. between thin ribs): no retry (each costs as much), the caller falls back
+    // to the envelope.
+    if (run.Stopped)
+    {
+      lastError = run.Error;
+      break;
+    }
     if (!run.Error.empty())
     {
       lastError = run.Error;
       triFactor *= 1.15;
       continue;
+    }
+    // Mostly slivers: no size correction mends that (the caller falls back to the
+    // envelope), so no more attempts.
+    Id poor = 0;
+    if (options.Wrap == 0 && MostlySlivers(run, options, poor))
+    {
+      tg = std::move(run);
+      break;
     }
     if (KeepClosestCount(run, options, h, bestMismatch, tg))
       break;
@@ -255,7 +301,21 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
   };
   // the envelope at ball size `ball` and offset `off`, checked; false with tg.Error set
   auto wrapAt = [&](double ball, double off, SurfaceWrapResult& w, SurfaceCheck& check) {
-    w = WrapSurface(finePoints, fineTris, ball, off);
+    SurfaceWrapLimits limits;
+    limits.MaxGates = static_cast<std::uint64_t>(options.WrapMaxGates > 0.0
+        ? options.WrapMaxGates
+        : std::min(1e12, std::max(3e5, 60.0 * facts.Check.Area / (ball * ball))));
+    w = WrapSurface(finePoints, fineTris, ball, off, limits);
+    if (w.Stopped)
+    {
+      tg.Stopped = true;
+      tg.Error = w.Error;
+      if (!w.Aborted)
+        tg.Error += ": the surface has more detail than the envelope can follow at this "
+                    "element size; ask for fewer elements (or a larger TargetEdgeLength), or "
+                    "a larger EnvelopeTolerance";
+      return false;
+    }
     if (!w.Error.empty())
     {
       tg.Error = "the surface cannot be enclosed in a volume: " + w.Error +
@@ -286,8 +346,8 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
     const double off = offsetFor(h);
     SurfaceWrapResult wrap;
     SurfaceCheck wrapCheck;
+    report(0.2 + 0.1 * attempt); // before the wrap and TetGen, which poll the abort
     const bool wrapped = wrapAt(h, off, wrap, wrapCheck);
-    report(0.2 + 0.1 * attempt);
     if (!wrapped)
       return tg;
     if (!wrapCheck.IsClosedManifold())
@@ -407,9 +467,26 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   const std::function<void(double)>& progress)
 {
   MesherResult out;
+  // Never backwards: a fallback (the envelope after the coarsened surface was curved)
+  // repeats earlier steps; its progress stays where it was until it passes it.
+  double reported = 0.0;
   auto report = [&](double f) {
-    if (progress)
+    if (progress && f > reported)
+    {
+      reported = f;
       progress(f);
+    }
+  };
+  // The caller's abort reaches TetGen and the envelope through the thread's abort scope.
+  std::unique_ptr<ScopedTetGenAbort> abortScope;
+  if (services.Abort)
+    abortScope.reset(new ScopedTetGenAbort(services.Abort));
+  auto aborted = [&](const char* step) {
+    if (!MeshingAbortRequested())
+      return false;
+    out = MesherResult();
+    out.Error = std::string("meshing was aborted (AbortExecute) ") + step;
+    return true;
   };
   // A clean closed manifold takes the coarsening path (its boundary nodes all lie on the
   // surface); anything else, and a clean surface whose coarsening fails (decimation folds
@@ -422,12 +499,26 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     out.Error = notClean;
     return out;
   }
+  // (each poll of the abort raises the progress a little: polls come before reports, so
+  // that the progress never goes back)
+  if (aborted("after the surface check"))
+    return out;
   report(0.1);
   TetGenResult tg;
   if (notClean.empty() && options.Wrap <= 0)
   {
     tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
-    if (!tg.Error.empty() && options.Wrap == 0 && !tg.Stopped)
+    const Id nTets = static_cast<Id>(tg.Tets.size() / 4);
+    Id poor = 0;
+    if (options.Wrap == 0 && MostlySlivers(tg, options, poor))
+    {
+      std::ostringstream msg;
+      msg << "the coarsened surface has parts thinner than the element size: " << poor
+          << " of " << nTets << " of TetGen's elements are below MinimumQuality = "
+          << options.MinimumQuality << " before curving.";
+      tg.Error = msg.str();
+    }
+    if (!tg.Error.empty() && options.Wrap == 0 && !tg.Aborted)
     {
       out.Warnings.push_back(
         tg.Error + " The surface's envelope is meshed instead (EnvelopeTolerance).");
@@ -444,53 +535,107 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     out.Error = tg.Error;
     return out;
   }
+  if (aborted("after TetGen"))
+    return out;
   report(0.5);
 
-  CurvedMeshOptions curving;
-  curving.Order = options.ElementOrder;
-  curving.CurveBoundary = options.CurveBoundary;
-  curving.ProjectCorners = options.ProjectCorners;
-  curving.QualityRatio = options.CurvedQualityRatio;
-  curving.MinimumQuality = options.MinimumQuality;
-  curving.ExtraCheck = services.ExtraCheck;
-  // The envelope's corners lie at the offset from the surface, its straight mid-edge
-  // nodes a little farther: surface points beyond twice the offset belong to parts the
-  // envelope bridges (holes) or to its other side (a wrapped sheet).
-  SurfaceQueries queries = services.Fine;
-  if (out.Wrapped)
-  {
-    curving.MaxTargetDistance = 2.0 * out.EnvelopeOffset;
-    // Of a surface's two sides, the one its triangles' normals point to is its outside
-    // (inside out for a closed surface of negative volume). Nodes go only onto a surface
-    // that faces them: the near side of a wrapped sheet, not the far one.
-    const double side =
-      facts.Check.BoundaryEdges == 0 && facts.Check.SignedVolume < 0.0 ? -1.0 : 1.0;
-    if (services.NormalAt)
-      queries.Faces = [&services, side](const double target[3], const double outward[3]) {
-        double n[3];
-        services.NormalAt(target, n);
-        return side * (n[0] * outward[0] + n[1] * outward[1] + n[2] * outward[2]) > 0.0;
-      };
-  }
-  CurvedMesh mesh = BuildCurvedMesh(std::move(tg.Points), std::move(tg.Tets), queries,
-    curving, [&](double f) { report(0.5 + 0.4 * f); });
+  // Curving of a TetGen mesh (`wrapped`: of an envelope at `offset`); `straight`: corners
+  // where TetGen put them and straight edges (the last resort below).
+  auto curve = [&](const TetGenResult& t, bool wrapped, double offset, bool straight) {
+    CurvedMeshOptions curving;
+    curving.Order = options.ElementOrder;
+    curving.CurveBoundary = options.CurveBoundary && !straight;
+    curving.ProjectCorners = options.ProjectCorners && !straight;
+    curving.QualityRatio = options.CurvedQualityRatio;
+    curving.MinimumQuality = options.MinimumQuality;
+    curving.ExtraCheck = services.ExtraCheck;
+    // The envelope's corners lie at the offset from the surface, its straight mid-edge
+    // nodes a little farther: surface points beyond twice the offset belong to parts the
+    // envelope bridges (holes) or to its other side (a wrapped sheet).
+    SurfaceQueries queries = services.Fine;
+    if (wrapped)
+    {
+      curving.MaxTargetDistance = 2.0 * offset;
+      // Of a surface's two sides, the one its triangles' normals point to is its outside
+      // (inside out for a closed surface of negative volume). Nodes go only onto a surface
+      // that faces them: the near side of a wrapped sheet, not the far one.
+      const double side =
+        facts.Check.BoundaryEdges == 0 && facts.Check.SignedVolume < 0.0 ? -1.0 : 1.0;
+      if (services.NormalAt)
+        queries.Faces = [&services, side](const double target[3], const double outward[3]) {
+          double n[3];
+          services.NormalAt(target, n);
+          return side * (n[0] * outward[0] + n[1] * outward[1] + n[2] * outward[2]) > 0.0;
+        };
+    }
+    return BuildCurvedMesh(
+      t.Points, t.Tets, queries, curving, [&](double f) { report(0.5 + 0.4 * f); });
+  };
+  CurvedMesh mesh = curve(tg, out.Wrapped, out.EnvelopeOffset, false);
+  if (aborted("while curving"))
+    return out;
   if (!mesh.Error.empty())
   {
     out.Error = "could not build the curved mesh: " + mesh.Error;
     return out;
   }
-  out.CurvedNodeCount = mesh.CurvedNodes;
-  out.RelaxedNodeCount = mesh.RelaxedNodes;
-  out.EnvelopeNodeCount = mesh.EnvelopeNodes;
-  out.BoundaryCrossingsFound = mesh.CrossingPairsFound;
-  out.BoundaryCrossingsLeft = mesh.CrossingPairsLeft;
+  const Id crossingsFound = mesh.CrossingPairsFound;
+  // Curved boundary faces that still cross after the repair (corners moved onto the
+  // surface across each other, where parts of it come closer than the element size)
+  // change the mesh, never the promise: on a coarsened surface the envelope is meshed
+  // instead, and if that too leaves pairs crossing, the boundary stays straight (TetGen's
+  // corners and straight edges: its boundary is the coarsened surface or the envelope,
+  // neither of which intersects itself).
+  if (mesh.CrossingPairsLeft > 0 && !out.Wrapped && options.Wrap == 0)
+  {
+    std::ostringstream msg;
+    msg << mesh.CrossingPairsLeft << " pairs of curved boundary faces still crossed after "
+        << "straightening their mid-edge nodes (parts of the surface closer than the element "
+        << "size); the surface's envelope is meshed instead (EnvelopeTolerance)";
+    out.Warnings.push_back(msg.str());
+    double offset = 0.0;
+    TetGenResult wrapped = WrapAndTetrahedralize(points, tris, facts, options, offset, report);
+    if (wrapped.Aborted || aborted("during the envelope"))
+    {
+      out = MesherResult();
+      out.Error = "meshing was aborted (AbortExecute) during the envelope";
+      return out;
+    }
+    if (wrapped.Error.empty())
+    {
+      CurvedMesh again = curve(wrapped, true, offset, false);
+      if (aborted("while curving"))
+        return out;
+      if (again.Error.empty() && again.CrossingPairsLeft < mesh.CrossingPairsLeft)
+      {
+        mesh = std::move(again);
+        tg = std::move(wrapped);
+        out.Wrapped = true;
+        out.EnvelopeOffset = offset;
+      }
+    }
+  }
   if (mesh.CrossingPairsLeft > 0)
   {
     std::ostringstream msg;
-    msg << mesh.CrossingPairsLeft << " pairs of boundary faces still cross after straightening "
-        << "their mid-edge nodes (corners moved onto the surface cross); ask for more elements";
+    msg << mesh.CrossingPairsLeft << " pairs of curved boundary faces still cross after "
+        << "straightening their mid-edge nodes: the boundary is left straight (TetGen's "
+        << "corners, straight edges); ask for more elements";
     out.Warnings.push_back(msg.str());
+    mesh = curve(tg, out.Wrapped, out.EnvelopeOffset, true);
+    if (aborted("while curving"))
+      return out;
+    if (!mesh.Error.empty())
+    {
+      out.Error = "could not build the curved mesh: " + mesh.Error;
+      return out;
+    }
   }
+  out.CurvedNodeCount = mesh.CurvedNodes;
+  out.RelaxedNodeCount = mesh.RelaxedNodes;
+  out.EnvelopeNodeCount = mesh.EnvelopeNodes;
+  out.BoundaryCrossingsFound = std::max(crossingsFound, mesh.CrossingPairsFound);
+  out.BoundaryCrossingsLeft = mesh.CrossingPairsLeft;
 
   out.MaxSurfaceDeviation = MeasureSurfaceDeviation(points, mesh, facts.Diagonal, services);
   if (out.MaxSurfaceDeviation > options.SurfaceDeviationWarning)

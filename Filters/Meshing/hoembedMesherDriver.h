@@ -48,6 +48,14 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
   /// a clean closed manifold is an error, as before the envelope existed), 0 (default):
   /// when the surface is not a clean closed manifold, or its coarsening fails.
   int Wrap = 0;
+  /// Work bound of each envelope (hoembed::WrapSurface), in facets its flood fill may
+  /// treat; 0 (default): max(3e5, 60 x the input's area over the squared ball size),
+  /// 10 to 20 times what it treats on the inputs measured (Benchmarks/RESULTS.md).
+  double WrapMaxGates = 0.0;
+  /// Work bound of TetGen on the coarsened surface, in tetrahedra created; 0 (default):
+  /// TetGen's own (hoembed::TetGenParameters::MaxCreatedTetrahedra). Reaching it falls
+  /// back to the envelope.
+  double CoarseTetGenMaxCreated = 0.0;
 };
 
 /// The settings of the geometry services, the same in every binding (vtkTet10Mesher's
@@ -92,6 +100,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherServices
     MaxDistanceToTriangles;
   /// Extra acceptance test of curved elements (e.g. VTK's cell validator), optional.
   std::function<bool(const double* x10)> ExtraCheck;
+  /// Polled during the long steps (the envelope, TetGen, between the curving's steps);
+  /// the run stops with an error when it returns true. Optional: without it, the
+  /// innermost hoembed::ScopedTetGenAbort of the calling thread is polled.
+  std::function<bool()> Abort;
 };
 
 struct HOEMBEDFILTERSMESHING_EXPORT MesherResult

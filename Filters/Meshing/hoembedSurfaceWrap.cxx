@@ -1,5 +1,7 @@
 #include "hoembedSurfaceWrap.h"
 
+#include "hoembedTetGenBridge.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/alpha_wrap_3.h>
@@ -7,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <exception>
+#include <functional>
+#include <sstream>
 #include <unordered_map>
 
 namespace hoembed
@@ -27,10 +31,43 @@ double DoubleArea2(const double* a, const double* b, const double* c)
     u[0] * v[1] - u[1] * v[0] };
   return n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
 }
+
+// Thrown by the visitor to leave CGAL's flood fill (private: caught below only).
+struct WrapStopped
+{
+  bool Aborted;
+};
+
+// Counts the flood fill's work; stops it at the bounds or on an abort. CGAL 5.5 calls
+// the visitor once per gate treated and once per Steiner point inserted; CGAL's wrapper
+// and its triangulation are local to alpha_wrap_3, so unwinding through it leaks nothing.
+struct WorkVisitor : CGAL::Alpha_wraps_3::internal::Wrapping_default_visitor
+{
+  const SurfaceWrapLimits* Limits = nullptr;
+  SurfaceWrapResult* Out = nullptr;
+
+  template <typename Wrapper, typename Gate>
+  void before_facet_treatment(const Wrapper&, const Gate&)
+  {
+    const std::uint64_t gates = ++this->Out->Gates;
+    if (this->Limits->MaxGates > 0 && gates > this->Limits->MaxGates)
+      throw WrapStopped{ false };
+    if ((gates & 255u) == 0 &&
+      (this->Limits->Abort ? this->Limits->Abort() : MeshingAbortRequested()))
+      throw WrapStopped{ true };
+  }
+  template <typename Wrapper, typename Point>
+  void before_Steiner_point_insertion(const Wrapper&, const Point&)
+  {
+    const std::uint64_t steiner = ++this->Out->SteinerPoints;
+    if (this->Limits->MaxSteinerPoints > 0 && steiner > this->Limits->MaxSteinerPoints)
+      throw WrapStopped{ false };
+  }
+};
 } // namespace
 
-SurfaceWrapResult WrapSurface(
-  const std::vector<double>& points, const std::vector<Id>& tris, double alpha, double offset)
+SurfaceWrapResult WrapSurface(const std::vector<double>& points, const std::vector<Id>& tris,
+  double alpha, double offset, const SurfaceWrapLimits& limits)
 {
   SurfaceWrapResult out;
   if (!(alpha > 0.0) || !(offset > 0.0) || !std::isfinite(alpha) || !std::isfinite(offset))
@@ -65,9 +102,27 @@ SurfaceWrapResult WrapSurface(
     return out;
   }
   Mesh wrap;
+  WorkVisitor visitor;
+  visitor.Limits = &limits;
+  visitor.Out = &out;
   try
   {
-    CGAL::alpha_wrap_3(cgalPoints, faces, alpha, offset, wrap);
+    CGAL::alpha_wrap_3(cgalPoints, faces, alpha, offset, wrap,
+      CGAL::parameters::default_values(), CGAL::parameters::visitor(std::ref(visitor)));
+  }
+  catch (const WrapStopped& stop)
+  {
+    std::ostringstream msg;
+    out.Stopped = true;
+    out.Aborted = stop.Aborted;
+    if (stop.Aborted)
+      msg << "meshing was aborted (AbortExecute) during the envelope (CGAL's alpha wrap)";
+    else
+      msg << "the envelope (CGAL's alpha wrap) exceeded its work bound (" << out.SteinerPoints
+          << " points inserted, " << out.Gates << " facets treated; bounds "
+          << limits.MaxSteinerPoints << " and " << limits.MaxGates << ")";
+    out.Error = msg.str();
+    return out;
   }
   catch (const std::exception& e)
   {

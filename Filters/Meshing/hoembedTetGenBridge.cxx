@@ -182,6 +182,11 @@ ScopedTetGenAbort::~ScopedTetGenAbort()
   CurrentAbort = this->Previous;
 }
 
+bool MeshingAbortRequested()
+{
+  return CurrentAbort && *CurrentAbort && (*CurrentAbort)();
+}
+
 bool TetGenWorkIsBounded()
 {
 #ifdef HOEMBED_TETGEN_CHECKPOINT_PATCH
@@ -274,6 +279,7 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
     }
     result.Error = os.str();
     result.Stopped = true;
+    result.Aborted = watchdog.Stop == 2;
     result.Points.clear();
     result.Tets.clear();
   }

@@ -37,12 +37,15 @@ struct HOEMBEDFILTERSMESHING_EXPORT TetGenResult
   std::string Switches;            ///< the TetGen command-line switches used
   std::uint64_t CreatedTetrahedra = 0; ///< TetGen's work: tetrahedra created (0 if unknown)
   bool Stopped = false;            ///< the work bound or an abort stopped TetGen
+  bool Aborted = false;            ///< it was the abort
 };
 
 /**
  * While alive, RunTetGen calls in this thread poll `abort` (every 4096 tetrahedra TetGen
  * creates) and stop with an error when it returns true: how vtkTet10Mesher lets
- * AbortExecute stop a long TetGen run. Scopes nest (the innermost wins).
+ * AbortExecute stop a long TetGen run. The envelope (hoembed::WrapSurface) and the
+ * driver's other long steps poll the same callback (hoembed::MeshingAbortRequested).
+ * Scopes nest (the innermost wins).
  */
 class HOEMBEDFILTERSMESHING_EXPORT ScopedTetGenAbort
 {
@@ -56,6 +59,9 @@ private:
   std::function<bool()> Abort;
   const std::function<bool()>* Previous;
 };
+
+/// The innermost ScopedTetGenAbort's callback of this thread, polled now; false when none.
+HOEMBEDFILTERSMESHING_EXPORT bool MeshingAbortRequested();
 
 /// True when TetGen was compiled with HOEmbed's checkpoint patch (the work bound and
 /// abort work); false with an unpatched system TetGen.

@@ -342,7 +342,7 @@ public:
     s.Decimate = [this](double reduction, bool smoothed, std::vector<double>& points,
                    std::vector<hoembed::SurfaceCheck::Id>& tris) {
       vtkNew<vtkQuadricDecimation> decimate;
-      decimate->SetInputData(smoothed ? this->Smoothed() : this->Fine.Get());
+      decimate->SetInputData(smoothed ? this->Smoothed() : this->Unit());
       decimate->SetTargetReduction(reduction);
       decimate->VolumePreservationOff();
       decimate->AttributeErrorMetricOff();
@@ -350,6 +350,8 @@ public:
       TriSurface coarse;
       if (!ToArrays(decimate->GetOutput(), coarse))
         return false;
+      for (double& x : coarse.Points)
+        x = std::ldexp(x, this->Exponent);
       points.swap(coarse.Points);
       tris.swap(coarse.Tris);
       return true;
@@ -405,13 +407,42 @@ public:
   }
 
 private:
-  // The low-pass filtered fine surface (windowed sinc keeps the volume), made once.
+  // The fine surface scaled by a power of two to a diagonal in [0.5, 1), made once:
+  // vtkQuadricDecimation has absolute thresholds (the same bunny decimated differently at
+  // 2^-10 of its size), and a power of two scales exactly, so a surface scaled by 2^k
+  // is decimated into the same coarse surface, scaled.
+  vtkPolyData* Unit()
+  {
+    if (!this->UnitSurface)
+    {
+      std::frexp(this->Diagonal, &this->Exponent);
+      this->UnitSurface = vtkSmartPointer<vtkPolyData>::New();
+      this->UnitSurface->ShallowCopy(this->Fine);
+      vtkNew<vtkPoints> scaled;
+      scaled->SetDataTypeToDouble();
+      const vtkIdType n = this->Fine->GetNumberOfPoints();
+      scaled->SetNumberOfPoints(n);
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        double x[3];
+        this->Fine->GetPoint(i, x);
+        for (double& c : x)
+          c = std::ldexp(c, -this->Exponent);
+        scaled->SetPoint(i, x);
+      }
+      this->UnitSurface->SetPoints(scaled);
+    }
+    return this->UnitSurface;
+  }
+
+  // The low-pass filtered fine surface (windowed sinc keeps the volume), made once, at
+  // the scale of Unit().
   vtkPolyData* Smoothed()
   {
     if (!this->SmoothedSurface)
     {
       vtkNew<vtkWindowedSincPolyDataFilter> smooth;
-      smooth->SetInputData(this->Fine);
+      smooth->SetInputData(this->Unit());
       smooth->SetNumberOfIterations(hoembed::MesherServiceSettings::SmoothingIterations);
       smooth->SetPassBand(hoembed::MesherServiceSettings::SmoothingPassBand);
       smooth->NormalizeCoordinatesOn();
@@ -425,6 +456,8 @@ private:
   }
 
   vtkSmartPointer<vtkPolyData> Fine;
+  vtkSmartPointer<vtkPolyData> UnitSurface;
+  int Exponent = 0; ///< Unit() = Fine x 2^-Exponent
   vtkSmartPointer<vtkPolyData> SmoothedSurface;
   SurfaceProjector Projector;
   vtkNew<vtkStaticPointLocator> VertexLocator;

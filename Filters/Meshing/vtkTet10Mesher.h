@@ -24,9 +24,14 @@
  * Steps:
  * 0. Checks before any VTK filter sees the input: properties finite (NaN quality bounds
  *    are refused), every cell's point ids in range, and the estimated element count
- *    within MaximumNumberOfElements. During TetGen, AbortExecute is polled (through
- *    progress events) and TetGen's work is bounded (hoembed::RunTetGen): a run that
- *    does not end becomes an error.
+ *    within MaximumNumberOfElements. During TetGen and the envelope, AbortExecute is
+ *    polled (through progress events), and between the steps; TetGen's and the
+ *    envelope's work is bounded (hoembed::RunTetGen, hoembed::WrapSurface): a run that
+ *    does not end becomes an error naming the step. A clean closed surface with parts
+ *    thinner than the element size (TetGen's mesh of its coarsened surface mostly
+ *    slivers, TetGen's work bound, or curved faces still crossing after the repair) is
+ *    meshed through its envelope instead, and if curved faces still cross there the
+ *    boundary stays straight: no crossing pair is ever left (a warning says which).
  * 1. Checks: non-empty, finite coordinates, triangles after triangulation (points and
  *    lines alone enclose nothing: an error). Problems are reported with vtkErrorMacro
  *    naming the filter, and the output stays empty. All steps run in hoembed::RunMesher

@@ -173,6 +173,7 @@ class _VTKServices:
             if fine.GetNumberOfPoints() else np.zeros((0, 3))
         self.near = vtkIdList()
         self.diagonal = fine.GetLength()
+        self.unit = None
         self.smoothed = None
         self.check = vtkQuadraticTetra()
         self.check.GetPoints().SetNumberOfPoints(10)
@@ -183,18 +184,39 @@ class _VTKServices:
     def decimate(self, reduction, smoothed):
         self._count("decimate")
         decimate = vtkQuadricDecimation()
-        decimate.SetInputData(self._smoothed() if smoothed else self.fine)
+        decimate.SetInputData(self._smoothed() if smoothed else self._unit())
         decimate.SetTargetReduction(reduction)
         decimate.VolumePreservationOff()
         decimate.AttributeErrorMetricOff()
         decimate.Update()
-        return _to_arrays(decimate.GetOutput())
+        arrays = _to_arrays(decimate.GetOutput())
+        if arrays is not None:
+            points, tris = arrays
+            arrays = (np.ldexp(points, self.exponent), tris)
+        return arrays
+
+    def _unit(self):
+        # the fine surface scaled by a power of two to a diagonal in [0.5, 1), made once
+        # (vtkTet10Mesher's Unit(), for the same reason: vtkQuadricDecimation's thresholds
+        # are absolute, and a power of two scales exactly, so a surface scaled by 2^k is
+        # decimated into the same coarse surface, scaled)
+        if self.unit is None:
+            self.exponent = math.frexp(self.diagonal)[1]
+            pts = _arrays.points(self.fine.GetPoints()) if self.fine.GetNumberOfPoints() \
+                else np.zeros((0, 3))
+            scaled = vtkPoints()
+            scaled.SetData(numpy_to_vtk(np.ldexp(np.asarray(pts, dtype=np.float64),
+                                                 -self.exponent), deep=True))
+            self.unit = vtkPolyData()
+            self.unit.ShallowCopy(self.fine)
+            self.unit.SetPoints(scaled)
+        return self.unit
 
     def _smoothed(self):
         # the low-pass filtered fine surface (windowed sinc keeps the volume), made once
         if self.smoothed is None:
             smooth = vtkWindowedSincPolyDataFilter()
-            smooth.SetInputData(self.fine)
+            smooth.SetInputData(self._unit())
             smooth.SetNumberOfIterations(_SETTINGS["smoothing_iterations"])
             smooth.SetPassBand(_SETTINGS["smoothing_pass_band"])
             smooth.NormalizeCoordinatesOn()

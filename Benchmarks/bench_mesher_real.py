@@ -1,0 +1,143 @@
+"""vtkTet10Mesher on every surface of ../shared/data/meshes and ../shared/data/meshes-real
+(issue 27), plus generated thin cases, at one count (default 1000) and a count sweep
+(300 / 1000 / 4000 / 10000, tet10 and tet4) on a few.
+
+Per run, each in its own process with a time limit (a run past it is recorded as such):
+time, cells / target, the minimum / 1st percentile / median of the cell array
+MinScaledJacobian, the mesher's crossing counts (found / left), and two checks by code
+the mesher does not use: det J of every cell at the 35 points of the quartic lattice with
+VTK's vtkQuadraticTetra derivatives (cells with det J <= 0 anywhere), and crossing pairs
+of the curved boundary (Testing/Python/boundary_crossings.py: VTK's collision filter on
+the subdivided tri6 faces).
+
+    .venv/bin/python Benchmarks/bench_mesher_real.py [--count 1000] [--timeout 240]
+        [--no-sweep] [--only NAME ...]
+
+JSON: Benchmarks/results/bench_mesher_real.json (written after every run). Skips cleanly
+without the data folders.
+"""
+import argparse
+import json
+import pathlib
+import subprocess
+import sys
+import time
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent
+DATA = [ROOT.parent / "shared" / "data" / "meshes", ROOT.parent / "shared" / "data" / "meshes-real"]
+SUFFIXES = {".obj", ".stl", ".ply", ".glb", ".gltf", ".vtp", ".vtk"}
+SWEEP = ["bunny_watertight.obj", "fertility.obj", "NO_PRINT_feeder_body.stl", "gen:ribbed_beam"]
+
+
+def one_run(name, count, order):
+    """Runs in the child: mesh, measure, print one JSON line."""
+    import numpy as np
+    import pyvista as pv
+    sys.path.insert(0, str(ROOT / "Testing" / "Python"))
+    from vtkmodules.vtkCommonDataModel import vtkQuadraticTetra
+    from hoembed.hoembedFiltersMeshing import vtkTet10Mesher
+
+    if name.startswith("gen:"):
+        from test_mesher_thin import ribbed_beam
+        surface = ribbed_beam()
+    else:
+        path = next(d / name for d in DATA if (d / name).exists())
+        surface = pv.read(path)
+        if isinstance(surface, pv.MultiBlock):
+            surface = surface.combine()
+        surface = surface.extract_surface().triangulate()
+    alg = vtkTet10Mesher()
+    alg.SetInputData(surface)
+    alg.SetTargetNumberOfElements(count)
+    alg.SetElementOrder(order)
+    t0 = time.perf_counter()
+    alg.Update()
+    seconds = time.perf_counter() - t0
+    grid = pv.wrap(alg.GetOutput())
+    rec = dict(input=name, triangles=surface.n_cells, target=count, order=order,
+               seconds=round(seconds, 2), cells=grid.n_cells)
+    if grid.n_cells == 0:
+        rec["error"] = "no output"
+        return rec
+    fd = grid.field_data
+    q = np.sort(np.asarray(grid.cell_data["MinScaledJacobian"]))
+    rec.update(ratio=round(grid.n_cells / count, 3), msj_min=float(q[0]),
+               msj_p1=float(q[int(0.01 * (len(q) - 1) + 0.5)]), msj_median=float(q[(len(q) - 1) // 2]),
+               below_floor=int((q < 0.05).sum()),
+               crossings_found=int(fd["BoundaryCrossingsFound"][0]),
+               crossings_left=int(fd["BoundaryCrossingsLeft"][0]),
+               wrapped=bool(fd["EnvelopeOffset"][0] > 0))
+    # det J on the quartic lattice with VTK's own tet10 derivatives
+    npc = 10 if order == 2 else 4
+    conn = grid.cells.reshape(grid.n_cells, -1)[:, 1:]
+    X = grid.points[conn]
+    lattice = [(i / 4, j / 4, k / 4) for i in range(5) for j in range(5) for k in range(5)
+               if i + j + k <= 4]
+    worst = np.full(grid.n_cells, np.inf)
+    for p in lattice:
+        if npc == 10:
+            d = np.zeros(30)
+            vtkQuadraticTetra.InterpolationDerivs(list(p), d)
+            D = d.reshape(3, 10)
+        else:
+            D = np.array([[-1, 1, 0, 0], [-1, 0, 1, 0], [-1, 0, 0, 1]], float)
+        J = np.einsum("nai,ja->nij", X, D)
+        worst = np.minimum(worst, np.linalg.det(J))
+    rec["vtk_detj_nonpositive"] = int((worst <= 0).sum())
+    if order == 2:
+        from boundary_crossings import crossing_face_pairs
+        rec["vtk_crossing_pairs"] = len(crossing_face_pairs(grid))
+    return rec
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--count", type=int, default=1000)
+    ap.add_argument("--timeout", type=float, default=240)
+    ap.add_argument("--no-sweep", action="store_true")
+    ap.add_argument("--only", nargs="*")
+    ap.add_argument("--child", nargs=3)
+    args = ap.parse_args()
+    if args.child:
+        print("RESULT " + json.dumps(one_run(args.child[0], int(args.child[1]), int(args.child[2]))))
+        return 0
+    if not all(d.is_dir() for d in DATA):
+        print("bench_mesher_real: ../shared/data not found, skipped")
+        return 0
+    names = sorted(p.name for d in DATA for p in d.iterdir() if p.suffix.lower() in SUFFIXES)
+    names.append("gen:ribbed_beam")
+    runs = [(n, args.count, 2) for n in names]
+    if not args.no_sweep:
+        runs += [(n, c, o) for n in SWEEP for o in (2, 1) for c in (300, 1000, 4000, 10000)
+                 if not (c == args.count and o == 2)]
+    if args.only:
+        runs = [r for r in runs if r[0] in args.only]
+    out_dir = HERE / "results"
+    out_dir.mkdir(exist_ok=True)
+    results = []
+    for name, count, order in runs:
+        t0 = time.perf_counter()
+        try:
+            p = subprocess.run([sys.executable, __file__, "--child", name, str(count), str(order)],
+                               capture_output=True, text=True, timeout=args.timeout)
+            lines = [ln for ln in p.stdout.splitlines() if ln.startswith("RESULT ")]
+            if lines:
+                rec = json.loads(lines[-1][7:])
+            else:
+                err = [ln for ln in p.stderr.splitlines() if "ERR" in ln or "Error" in ln]
+                rec = dict(input=name, target=count, order=order,
+                           error=(err[-1] if err else p.stderr[-300:]).strip()[-300:])
+            rec["warnings"] = [ln.split("WARN|", 1)[1].strip()[:200]
+                               for ln in p.stderr.splitlines() if "WARN|" in ln]
+        except subprocess.TimeoutExpired:
+            rec = dict(input=name, target=count, order=order, error=f"timeout {args.timeout} s")
+        rec["wall"] = round(time.perf_counter() - t0, 1)
+        results.append(rec)
+        print(json.dumps({k: v for k, v in rec.items() if k != "warnings"}), flush=True)
+        (out_dir / "bench_mesher_real.json").write_text(json.dumps(results, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
