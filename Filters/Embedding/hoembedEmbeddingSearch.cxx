@@ -567,7 +567,8 @@ double FallbackResidual(
 // Step 4 of EmbedVertex for an outside vertex: from the closest boundary point `hit` (at
 // distance `dist`), the point p and offset d with v = p + d n (paper eq. 8-9), walking
 // across boundary edges; when that fails, every face around the corners of the closest
-// face, then every face within twice the distance (smallest |d|); else the flagged
+// face, then every face within reach (smallest |d|); only feet within reach count; else
+// the flagged
 // fallback (closest point p and the parametric offset q with v = p + J(p) q).
 void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const BoundaryHit& hit,
   double dist, VertexEmbedding& out, SearchScratch& S)
@@ -593,32 +594,46 @@ void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const Bounda
     }
     return status == 0;
   };
+  // A solution's foot p lies |d| from v (n has unit length), and the closest point lies
+  // dist from v: a walk may converge onto a foot far across the mesh (beyond the normal
+  // field's focal distance v = p + d n has several solutions), where |d| is many times
+  // dist and the transfer would swing v on a long lever. Only feet within `reach` count,
+  // the faces the wide search below looks at; which far foot a walk reaches depends on
+  // where it started, so this also keeps the result independent of the flood's starts.
+  // 4 x dist: the smooth normal leans from the true one in concave regions, so a near
+  // foot can lie over twice as far as the closest point (bunny_watertight at 1000
+  // tet10: 89 of 21,315 outside vertices over 2x, 6 over 4x, the far feet 9x and 164x).
+  const double reach = 4.0 * dist + 1e-6 * M.Diagonal;
+  auto correctNear = [&](Id& fc, double w[2], double& dc) {
+    return correct(fc, w, dc) && std::fabs(dc) <= reach;
+  };
   Id f = hit.Face;
   double uv[2] = { hit.UV[0], hit.UV[1] };
   CanonicalStart(M, hit, f, uv);
+  const Id start = f;
   double d = dist;
-  bool ok = correct(f, uv, d);
+  bool ok = correctNear(f, uv, d);
   if (!ok)
   {
-    // fallback: every face around the corners of the closest face, from its centroid
+    // fallback: every face around the corners of the (canonical) closest face, from its
+    // centroid
     const int npf = T.GetNodesPerFace();
     for (int a = 0; a < 3 && !ok; ++a)
     {
-      const Id node = T.BoundaryFaceNodes[npf * hit.Face + a];
+      const Id node = T.BoundaryFaceNodes[npf * start + a];
       for (Id i = T.NodeFaceOffsets[node]; i < T.NodeFaceOffsets[node + 1] && !ok; ++i)
       {
         f = T.NodeFaces[i];
         uv[0] = uv[1] = 1.0 / 3.0;
         d = dist;
         ++out.Visited;
-        ok = correct(f, uv, d);
+        ok = correctNear(f, uv, d);
       }
     }
     if (!ok)
     {
-      // wider fallback: every face within twice the distance, keep the smallest |d|
+      // wider fallback: every face within reach, keep the smallest |d|
       S.Candidates.clear();
-      const double reach = 2.0 * dist + 1e-6 * M.Diagonal;
       const double reach2 = reach * reach;
       M.GetFaceTree().VisitNearer(v, reach2, [&](Id g) { S.Candidates.push_back(g); });
       double bestD = std::numeric_limits<double>::infinity();
@@ -632,7 +647,7 @@ void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const Bounda
         double w[2] = { starts[k % 4][0], starts[k % 4][1] };
         double dg = dist;
         ++out.Visited;
-        if (correct(fg, w, dg) && std::fabs(dg) < bestD)
+        if (correctNear(fg, w, dg) && std::fabs(dg) < bestD)
         {
           bestD = std::fabs(dg);
           bestF = fg;

@@ -71,8 +71,10 @@
  * Fallback: the normal-offset representation need not exist everywhere (the smooth normal
  * field can fold or vanish; and for a point so far away that the round-off of d n exceeds
  * the 1e-12 tolerance, e.g. a surface vastly larger than the mesh, no d rebuilds v to
- * it). When the correction converges on no face tried (around the closest point, then
- * every face within twice the distance), the point falls back to its closest point p
+ * it; or v = p + d n holds only with a foot p beyond four times the closest distance,
+ * which would swing v on a long lever). When the correction converges on no face tried
+ * (around the closest point, then every face within four times the distance) to a foot
+ * within four times the distance, the point falls back to its closest point p
  * with the offset v - p: EmbeddingFallback = 1, EmbeddingDistance = 0, EmbeddingFace =
  * -1, EmbeddingCellId / EmbeddingParametricCoords give p, and EmbeddingFallbackOffset
  * holds q = J(pc)^-1 (v - p), the offset in the cell's parametric units (J = dx/dpc
