@@ -590,7 +590,7 @@ CurvingResult CurveTowardsSurface(CurvedMesh& out, const TetMeshTopology& topo,
 
 // Work limit of the free-node fit, in element evaluations per cell. The quality floor
 // (CurvedMeshOptions::MinimumQuality) pulls back more nodes than validity alone, and the
-// fit brings most of them back given the work (Benchmarks/RESULTS.md, "Element
+// fit brings most of them back given the work (Benchmarks/HISTORY.md, "Element
 // quality"): on scorpion at 1000 elements it brings back 39 of 106 with 300, 65 with
 // 2000, as many with 6000.
 constexpr std::int64_t FitEvaluationsPerCell = 2000;

@@ -131,7 +131,7 @@ std::string CheckEstimatedSize(const SurfaceInput& s, double edge, int target, I
   if (!(estimate > static_cast<double>(maximum)))
     return std::string();
   // Peak memory of the mesher per element, rounded up from a measurement
-  // (Benchmarks/RESULTS.md, Reliability).
+  // (Benchmarks/RESULTS.md, Mesher).
   const double bytesPerElement = 1.0e3;
   std::ostringstream msg;
   msg << "the mesh would have about " << static_cast<long long>(estimate) << " elements (about "

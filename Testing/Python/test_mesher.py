@@ -199,7 +199,7 @@ def test_real_meshes(data_dir, name, n):
     surface = pv.read(data_dir / f"{name}.obj")
     mesh, warnings = mesh_with_warnings(surface, n)
     # The issue asks for 95%: with PreserveBoundary on (the default) and the quality floor
-    # every real mesh reaches 95.5-99.1% (Benchmarks/RESULTS.md, "Element quality").
+    # every real mesh reaches 95.5-99.1% (Benchmarks/RESULTS.md, "Mesher").
     figures = check_mesh(surface, mesh, on_surface_fraction=0.95)
     q = check_quality_floor(mesh, warnings)
     assert 0.7 * n < mesh.n_cells < 1.3 * n

@@ -223,7 +223,7 @@ def test_live_transformed_normals_against_recomputed(tail, meshes):
     pass) on a dragged frame: bit for bit vtkDeformationTransferFilter's
     TRANSFORM_POINT_NORMALS on the same deformed mesh, the same points as a session with
     recomputed normals, and within a bounded angle of those recomputed normals (the
-    paper-level claim of Benchmarks/RESULTS.md, "Frame time, third round": alike in the
+    paper-level claim of Benchmarks/RESULTS.md, "Live loop", shading normals: alike in the
     picture, with large angles only on a few thorns of large offset and where the map
     folds)."""
     from hoembed._errors import run_filter
