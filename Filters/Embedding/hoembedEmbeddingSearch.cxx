@@ -600,10 +600,10 @@ void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const Bounda
   // dist and the transfer would swing v on a long lever. Only feet within `reach` count,
   // the faces the wide search below looks at; which far foot a walk reaches depends on
   // where it started, so this also keeps the result independent of the flood's starts.
-  // 4 x dist: the smooth normal leans from the true one in concave regions, so a near
-  // foot can lie over twice as far as the closest point (bunny_watertight at 1000
-  // tet10: 89 of 21,315 outside vertices over 2x, 6 over 4x, the far feet 9x and 164x).
-  const double reach = 4.0 * dist + 1e-6 * M.Diagonal;
+  // 8 x dist: the smooth normal leans from the true one in concave regions and on tet4's
+  // faceted normals, so a near foot can lie several times as far as the closest point
+  // (ratios measured: Benchmarks/RESULTS.md, Embedding).
+  const double reach = 8.0 * dist + 1e-6 * M.Diagonal;
   auto correctNear = [&](Id& fc, double w[2], double& dc) {
     return correct(fc, w, dc) && std::fabs(dc) <= reach;
   };

@@ -52,8 +52,8 @@
  * 4. Outside points, normal-offset: Newton on (u, v, d) with x(u, v) + d n(u, v) = v,
  *    n the normalised interpolated nodal normal (eq. 7-9), walking across boundary edges
  *    when the iteration leaves the face; if that fails, the faces around the closest
- *    face's corners, then every face within four times the distance (4 starts each;
- *    smallest |d| wins); a solution counts only where |d| is within four times the
+ *    face's corners, then every face within eight times the distance (4 starts each;
+ *    smallest |d| wins); a solution counts only where |d| is within eight times the
  *    distance (a far foot is another solution beyond the normal field's focal distance,
  *    and which one a walk reaches depends on where it starts); if none converges, the closest point with the offset v - p in the
  *    cell's parametric units (VertexEmbedding::Fallback). Barycentric: the owning cell

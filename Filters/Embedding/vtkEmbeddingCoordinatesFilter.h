@@ -71,10 +71,10 @@
  * Fallback: the normal-offset representation need not exist everywhere (the smooth normal
  * field can fold or vanish; and for a point so far away that the round-off of d n exceeds
  * the 1e-12 tolerance, e.g. a surface vastly larger than the mesh, no d rebuilds v to
- * it; or v = p + d n holds only with a foot p beyond four times the closest distance,
+ * it; or v = p + d n holds only with a foot p beyond eight times the closest distance,
  * which would swing v on a long lever). When the correction converges on no face tried
- * (around the closest point, then every face within four times the distance) to a foot
- * within four times the distance, the point falls back to its closest point p
+ * (around the closest point, then every face within eight times the distance) to a foot
+ * within eight times the distance, the point falls back to its closest point p
  * with the offset v - p: EmbeddingFallback = 1, EmbeddingDistance = 0, EmbeddingFace =
  * -1, EmbeddingCellId / EmbeddingParametricCoords give p, and EmbeddingFallbackOffset
  * holds q = J(pc)^-1 (v - p), the offset in the cell's parametric units (J = dx/dpc
@@ -82,8 +82,9 @@
  * vtkDeformationTransferFilter maps it as p' + J' q = p' + F (v - p), F = J' J^-1 the
  * deformation gradient at p (rigid motions move it rigidly; the smooth normal field,
  * and so NormalMode, plays no part for these points). The filter warns with their
- * number, also available as NumberOfFallbackPoints (none for the thorny tail,
- * bunny_lowres and armadillo_lowres, surfaces on their own ~1000-element meshes).
+ * number, also available as NumberOfFallbackPoints (on their own ~1000-element meshes:
+ * 2 of the thorny tail's vertices on tet10, 29 on tet4; none for bunny_lowres and
+ * armadillo_lowres on tet10, 8 and 7 on tet4).
  * @warning Bad input (empty surface or mesh, non-finite coordinates, cells other than
  * tet4/tet10, inverted or degenerate elements, broken topology) is reported with
  * vtkErrorMacro and leaves the output empty. A surface far from the mesh is valid.

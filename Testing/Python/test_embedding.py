@@ -264,7 +264,7 @@ def test_real_mesh(data_dir, name):
     p = reconstruct(g10, sub)
     d = np.asarray(sub["EmbeddingDistance"])
     gap = np.linalg.norm(np.asarray(sub.points) - p, axis=1)
-    # a fallback point (no normal offset with a foot within 4x the closest distance) has
+    # a fallback point (no normal offset with a foot within 8x the closest distance) has
     # d = 0 and its closest point as p
     fb = np.asarray(sub["EmbeddingFallback"]) != 0
     assert np.abs(gap - d)[~fb].max() <= 1e-10 * g10.length
