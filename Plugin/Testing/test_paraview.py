@@ -248,3 +248,51 @@ def read_piece_points(path):
     r.SetFileName(str(path))
     r.Update()
     return r.GetOutput().GetNumberOfPoints()
+
+
+FETCH = ROOT / "Plugin" / "Testing" / "pv_fetch.py"
+FETCH_TIMEOUT = 240     # seconds; a run that hangs (a collective call some processes skip) fails
+
+
+def run_fetch(n, surface, out):
+    """pv_fetch.py (Fetch, then Show + Render, of every HOEmbed output) on n processes
+    (n = 1: plain pvbatch), under `timeout` so that a hang fails the test and leaves no
+    process behind (timeout stops mpirun, which stops its pvbatch processes)."""
+    cmd = [PVBATCH, FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3, "--display"]
+    if n > 1:
+        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
+    cmd = ["timeout", "-k", "10", FETCH_TIMEOUT] + cmd
+    r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=FETCH_TIMEOUT + 60)
+    assert r.returncode != 124, f"{n} processes: hung (killed after {FETCH_TIMEOUT} s):\n{r.stdout[-3000:]}"
+    assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
+    return json.loads(pathlib.Path(out).read_text())
+
+
+@pytest.fixture(scope="module")
+def fetch_serial(inputs, tmp_path_factory):
+    d = tmp_path_factory.mktemp("pv_fetch1")
+    return {kind: run_fetch(1, inputs[i], d / f"{kind}.json") for i, kind in enumerate(("vtp", "pvtp"))}
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+@pytest.mark.parametrize("kind", ["vtp", "pvtp"])
+@pytest.mark.parametrize("n", [2, 3])
+def test_mpi_fetch_and_display_every_output(inputs, fetch_serial, tmp_path, n, kind):
+    """servermanager.Fetch (ParaView's delivery of a parallel server's data to the client:
+    a vtkReductionFilter gathers every process's output, a collective call) of the
+    mesher, the embedding, the stepper and the transfer (first and last step), then Show +
+    Render of each, on n processes: every one returns (it hung when a process whose piece
+    of the surface was empty, as a serial .vtp reader gives every process but the first,
+    failed and skipped the gather) and brings the 1-process run's counts. The surface as
+    one .vtp (processes 1.. get empty pieces) and as a .pvtp of 4 pieces. The mesh outputs
+    are the whole mesh on every process; Fetch brings the first process's (ParaView's
+    append of vtkUnstructuredGrid is not chosen for them), the surfaces are appended."""
+    surface = inputs[0] if kind == "vtp" else inputs[1]
+    got = run_fetch(n, surface, tmp_path / "fetch.json")
+    ref = fetch_serial[kind]
+    assert ref["processes"] == 1 and got["processes"] == n
+    for name in ("mesher", "embedding", "stepper", "transfer", "stepper_first", "transfer_first"):
+        assert ref[name]["points"] > 0
+        assert got[name] == ref[name], f"{name} on {n} processes: {got[name]} != {ref[name]}"
+    for name in ("mesher", "embedding", "stepper", "transfer"):
+        assert got["shown_" + name]
