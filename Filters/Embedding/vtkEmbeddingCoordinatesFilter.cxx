@@ -147,6 +147,16 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   hoembed::EmbeddingDriver& driver = internals.Driver;
   this->NumberOfUncertifiedPoints = 0;
   this->NumberOfFallbackPoints = 0;
+  if (surface && output && surface->GetNumberOfPoints() == 0 &&
+    vtkStreamingDemandDrivenPipeline::GetUpdateNumberOfPieces(outputVector->GetInformationObject(0)) > 1)
+  {
+    // An empty piece of a distributed surface (a serial reader gives every process but
+    // the first nothing) is an empty result, not an error: a failure on some processes
+    // only stops the pipeline there, and the collective calls downstream (ParaView's
+    // delivery gathers every output to the client) then wait forever for them.
+    output->Initialize();
+    return 1;
+  }
   if (!surface || surface->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro("The surface (input port 0) is empty: it has no points.");

@@ -214,6 +214,15 @@ int vtkDeformationTransferFilter::RequestData(
   {
     output->GetInformation()->Remove(vtkDataObject::DATA_TIME_STEP());
   }
+  if (surface->GetNumberOfPoints() == 0 &&
+    vtkStreamingDemandDrivenPipeline::GetUpdateNumberOfPieces(outputVector->GetInformationObject(0)) > 1)
+  {
+    // An empty piece of a distributed surface moves to an empty result on this process,
+    // not an error: a failure on some processes only would leave the collective calls
+    // downstream (ParaView's delivery to the client) waiting for them.
+    output->Initialize();
+    return 1;
+  }
   if (!this->PrepareMesh(mesh))
   {
     return 0;

@@ -248,3 +248,88 @@ def read_piece_points(path):
     r.SetFileName(str(path))
     r.Update()
     return r.GetOutput().GetNumberOfPoints()
+
+
+
+FETCH = ROOT / "Plugin" / "Testing" / "pv_fetch.py"
+FETCH_TIMEOUT = 240     # seconds; a run that hangs (a collective call some processes skip) fails
+X_FAILURE = "bad X server connection"
+
+
+def run_fetch(n, surface, out, display=False, timeout=FETCH_TIMEOUT):
+    """pv_fetch.py (Fetch of every HOEmbed output; with display, Show + Render of each
+    too) on n processes (n = 1: plain pvbatch), under `timeout` so that a hang fails the
+    test and leaves no process behind (timeout stops mpirun, which stops its pvbatch
+    processes). Returns the JSON it wrote, or the reason to skip."""
+    cmd = [PVBATCH, FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3]
+    if display:
+        cmd.append("--display")
+    if n > 1:
+        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
+    cmd = ["timeout", "-k", "10", timeout] + cmd
+    r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=timeout + 60)
+    log = r.stdout[-3000:] + "\n" + r.stderr[-3000:]
+    assert r.returncode != 124, f"{n} processes: hung (killed after {timeout} s):\n{log}"
+    if display and r.returncode != 0 and X_FAILURE in r.stdout + r.stderr:
+        # Seen here, on a machine shared by several Xvfb users: one of the processes'
+        # XOpenDisplay fails at its first render (about 1 run in 3 on 3 processes).
+        return f"a process could not connect to the X server: {log[-500:]}"
+    assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{log}"
+    return json.loads(pathlib.Path(out).read_text())
+
+
+FETCHED = ("mesher", "embedding", "stepper", "transfer", "stepper_first", "transfer_first")
+
+
+@pytest.fixture(scope="module")
+def fetch_serial(inputs, tmp_path_factory):
+    d = tmp_path_factory.mktemp("pv_fetch1")
+    return {kind: run_fetch(1, inputs[i], d / f"{kind}.json") for i, kind in enumerate(("vtp", "pvtp"))}
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+@pytest.mark.parametrize("kind", ["vtp", "pvtp"])
+@pytest.mark.parametrize("n", [2, 3])
+def test_mpi_fetch_every_output(inputs, fetch_serial, tmp_path, n, kind):
+    """servermanager.Fetch (ParaView's delivery of a parallel server's data to the client:
+    a vtkReductionFilter gathers every process's output, a collective call) of the
+    mesher, the embedding, the stepper and the transfer (first and last step), on n
+    processes, each proxy fetched without an update before (as the client does): every
+    one returns and brings the 1-process run's counts. It hung on 2 processes when the
+    embedding failed on a process whose piece of the surface was empty (a serial .vtp
+    reader gives every process but the first nothing): that process skipped the gather.
+    The surface as one .vtp and as a .pvtp of 4 pieces. The mesh outputs are the whole
+    mesh on every process and Fetch brings the first process's (ParaView's Fetch picks no
+    append filter for them); the surfaces' pieces are appended."""
+    surface = inputs[0] if kind == "vtp" else inputs[1]
+    got = run_fetch(n, surface, tmp_path / "fetch.json")
+    ref = fetch_serial[kind]
+    assert ref["processes"] == 1 and got["processes"] == n
+    for name in FETCHED:
+        assert ref[name]["points"] > 0
+        assert got[name] == ref[name], f"{name} on {n} processes: {got[name]} != {ref[name]}"
+
+
+DISPLAY_HANG = (
+    "intermittent (here 2 of about 12 runs on 3 processes and 1 of 6 on 2, at the first "
+    "Show + Render): process 0 waits in vtkIceTCompositePass::Render "
+    "(vtkIceTContext::SetController -> MPI_Comm_dup, a collective call) while the other "
+    "processes wait for the next RMI in ProcessRMIs: they did not enter the compositing. "
+    "Not seen in 14 runs of ParaView's own Delaunay3D/ResampleWithDataset on 3 processes; "
+    "not understood yet")
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+@pytest.mark.xfail(reason=DISPLAY_HANG, strict=False)
+@pytest.mark.parametrize("n", [2, 3])
+def test_mpi_display_every_output(inputs, fetch_serial, tmp_path, n):
+    """Show + Render of every HOEmbed output on n processes (each process renders its part
+    and ParaView composites them), from the .vtp surface (processes 1.. hold empty pieces),
+    after the Fetches: returns, with the 1-process counts."""
+    got = run_fetch(n, inputs[0], tmp_path / "display.json", display=True, timeout=150)
+    if isinstance(got, str):
+        pytest.skip(got)
+    for name in FETCHED:
+        assert got[name] == fetch_serial["vtp"][name]
+    for name in ("mesher", "embedding", "stepper", "transfer"):
+        assert got["shown_" + name]
