@@ -668,54 +668,12 @@ void ApplyExtraCheck(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
       curving.Alpha[edgeOf[redo[k]]] = std::min(curving.Alpha[edgeOf[redo[k]]], again.Alpha[k]);
 }
 
-// Safety net: any cell still not valid gets all its mid-edge nodes straight; repeat for
-// the cells around them. Terminates (each sweep straightens nodes for good) and ends
-// valid (a straight tet10 is valid when its corners are).
-void StraightenInvalidCells(
-  CurvedMesh& out, const QuadraticNodes& quad, Id nbe, CurvingResult& curving)
-{
-  const Id nPts = static_cast<Id>(out.Points.size() / 3);
-  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
-  std::vector<Id> edgeOf(nPts, -1);
-  for (Id e = 0; e < nbe; ++e)
-    edgeOf[quad.EdgeMid[e]] = e;
-  std::vector<char> straightened(nPts, 0);
-  for (bool changed = true; changed;)
-  {
-    changed = false;
-    for (Id c = 0; c < nTets; ++c)
-    {
-      double x[30];
-      for (int a = 0; a < 10; ++a)
-        for (int d = 0; d < 3; ++d)
-          x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
-      if (Tet10MinScaledJacobian(x) > 0.0)
-        continue;
-      for (int a = 4; a < 10; ++a)
-      {
-        const Id m = out.Conn[10 * c + a];
-        if (straightened[m])
-          continue;
-        straightened[m] = 1;
-        changed = true;
-        const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
-        for (int d = 0; d < 3; ++d)
-          out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
-        if (edgeOf[m] >= 0)
-          curving.Alpha[edgeOf[m]] = 0.0;
-      }
-    }
-  }
-}
-
-// The quality floor, last: the crossing repair moves nodes without asking the quality
-// (a partial pull-back, a restored corner, straightened interior nodes), which can leave
-// a cell below hoembed::Tet10RequiredQuality of its straight shape (fertility at 3000: one
-// cell at 0.017 whose straight shape is 0.22). Such a cell gets its mid-edge nodes
-// straight, and so on for the cells around them: terminates (each node once) and ends
-// acceptable (a straight cell is). Returns the number of nodes straightened.
-Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
-  const CurvedMeshOptions& options, CurvingResult& curving)
+// Every cell that `keep` refuses gets all its mid-edge nodes straight, and so on for the
+// cells around them. Terminates (each node is straightened once, for good) and ends with
+// every cell kept where a straight cell is. Returns the number of nodes straightened.
+template <typename Keep>
+Id StraightenCellsUntil(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  CurvingResult& curving, const Keep& keep)
 {
   const Id nPts = static_cast<Id>(out.Points.size() / 3);
   const Id nTets = static_cast<Id>(out.Conn.size() / 10);
@@ -733,7 +691,7 @@ Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
       for (int a = 0; a < 10; ++a)
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
-      if (Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality))
+      if (keep(x))
         continue;
       for (int a = 4; a < 10; ++a)
       {
@@ -752,6 +710,28 @@ Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
     }
   }
   return count;
+}
+
+// Safety net: any cell still not valid gets its mid-edge nodes straight (a straight tet10
+// is valid when its corners are).
+void StraightenInvalidCells(
+  CurvedMesh& out, const QuadraticNodes& quad, Id nbe, CurvingResult& curving)
+{
+  StraightenCellsUntil(
+    out, quad, nbe, curving, [](const double* x) { return Tet10MinScaledJacobian(x) > 0.0; });
+}
+
+// The quality floor, last: the crossing repair moves nodes without asking the quality
+// (a partial pull-back, a restored corner, straightened interior nodes), which can leave
+// a cell below hoembed::Tet10RequiredQuality of its straight shape (fertility at 3000: one
+// cell at 0.017 whose straight shape is 0.22). Such a cell gets its mid-edge nodes
+// straight (a straight cell is acceptable). Returns the number of nodes straightened.
+Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  const CurvedMeshOptions& options, CurvingResult& curving)
+{
+  return StraightenCellsUntil(out, quad, nbe, curving, [&](const double* x) {
+    return Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality);
+  });
 }
 
 // Moves mid-edge node m to keep * its displacement from the straight position.

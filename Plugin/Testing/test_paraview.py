@@ -320,7 +320,10 @@ DISPLAY_HANG = (
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
-@pytest.mark.xfail(reason=DISPLAY_HANG, strict=False)
+# A known, intermittent hang (DISPLAY_HANG) costs its 150 s timeout per run and decides
+# nothing, so it runs only when asked (HOEMBED_TEST_MPI_DISPLAY=1) while it is open.
+@pytest.mark.skipif(os.environ.get("HOEMBED_TEST_MPI_DISPLAY") != "1",
+                    reason="HOEMBED_TEST_MPI_DISPLAY=1 runs it; known open: " + DISPLAY_HANG)
 @pytest.mark.parametrize("n", [2, 3])
 def test_mpi_display_every_output(inputs, fetch_serial, tmp_path, n):
     """Show + Render of every HOEmbed output on n processes (each process renders its part
