@@ -109,4 +109,6 @@ bash scripts/build_wheel.sh --native "$pyver"
 "$first_venv/bin/python" -m pip install -q --no-deps --force-reinstall build-pip/native/hoembed-*.whl
 HOEMBED_PIP_NATIVE=1 HOEMBED_PIP_REFERENCE="$root/$ref" HOEMBED_DATA_DIR="$data" \
   "$first_venv/bin/python" -m pytest -q -p no:cacheprovider Testing/Pip/test_pip.py -k stepper
+HOEMBED_PIP_NATIVE=1 HOEMBED_PIP_REFERENCE="$root/$ref" HOEMBED_DATA_DIR="$data" \
+  "$first_venv/bin/python" -m pytest -q -p no:cacheprovider Testing/Pip/test_pip_live.py
 echo "[test-pip] done in $((SECONDS - start)) s"
