@@ -927,6 +927,18 @@ void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   }
 }
 
+// The six nodes of every boundary face (tri6), in the order FindCurvedFaceCrossings reads.
+std::vector<Id> BoundaryFaceNodes(const CurvedMesh& out, const TetMeshTopology& topo)
+{
+  const Id nbf = topo.GetNumberOfBoundaryFaces();
+  std::vector<Id> faces(6 * nbf);
+  for (Id f = 0; f < nbf; ++f)
+    for (int k = 0; k < 6; ++k)
+      faces[6 * f + k] =
+        out.Conn[10 * topo.BoundaryFaceCell[f] + TetFaceNodes[topo.BoundaryFaceLocal[f]][k]];
+  return faces;
+}
+
 // Two parts of the boundary that come close (thin parts, folds) can cross once curved,
 // though every element is valid. Each crossing pair of curved boundary faces (certified,
 // hoembed::FindCurvedFaceCrossings) is separated by pulling back as little as possible
@@ -935,12 +947,7 @@ void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
 void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
   const QuadraticNodes& quad, Id nbe, const std::vector<double>& straight, CurvingResult& curving)
 {
-  const Id nbf = topo.GetNumberOfBoundaryFaces();
-  std::vector<Id> faces(6 * nbf);
-  for (Id f = 0; f < nbf; ++f)
-    for (int k = 0; k < 6; ++k)
-      faces[6 * f + k] =
-        out.Conn[10 * topo.BoundaryFaceCell[f] + TetFaceNodes[topo.BoundaryFaceLocal[f]][k]];
+  const std::vector<Id> faces = BoundaryFaceNodes(out, topo);
   std::vector<std::array<Id, 2>> pairs = FindCurvedFaceCrossings(out.Points, faces);
   out.CrossingPairsFound = static_cast<Id>(pairs.size());
   if (pairs.empty())
@@ -1063,13 +1070,8 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   {
     // straightened boundary nodes change the curved faces: count the crossing pairs again
     // (the driver changes the mesh when any is left)
-    const Id nbf = topo.GetNumberOfBoundaryFaces();
-    std::vector<Id> faces(6 * nbf);
-    for (Id f = 0; f < nbf; ++f)
-      for (int k = 0; k < 6; ++k)
-        faces[6 * f + k] =
-          out.Conn[10 * topo.BoundaryFaceCell[f] + TetFaceNodes[topo.BoundaryFaceLocal[f]][k]];
-    out.CrossingPairsLeft = static_cast<Id>(FindCurvedFaceCrossings(out.Points, faces).size());
+    out.CrossingPairsLeft =
+      static_cast<Id>(FindCurvedFaceCrossings(out.Points, BoundaryFaceNodes(out, topo)).size());
   }
   CountCurvedNodes(out, topo, targets, envelope, curving);
   report(1.0);
