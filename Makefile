@@ -6,6 +6,7 @@
 #   make test-sanitize  the C++ tests and a subset of the Python tests on an
 #                AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/, TetGen
 #                included); part of `make test`. Suppressions: Testing/sanitizers/
+#   make format  the house style (clang-format, ruff) on every tracked source file
 #   make bench   the benchmark scripts (JSON in Benchmarks/results/)
 #   make paraview       the ParaView 5.11 plugin (Plugin/, a separate build in build-paraview/)
 #   make test-paraview  its tests (pvbatch pipeline against the VTK 9.1 build, GUI, MPI)
@@ -35,7 +36,7 @@ SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer
 # mesh cases take minutes under ASan; the C++ tests cover those filters sanitized).
 SAN_PY_TESTS ?= py\.(test_bad_input|test_fuzz_surfaces|test_series|test_cli|test_simulation|test_transfer|test_package)$$
 
-.PHONY: all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install paraview test-paraview wheel test-pip test-pip-vtk95
+.PHONY: format all setup configure build demo test test-unsanitized test-sanitize build-sanitize bench clean install paraview test-paraview wheel test-pip test-pip-vtk95
 
 all: build
 
@@ -113,6 +114,9 @@ test-pip: build wheel
 
 test-pip-vtk95: build wheel
 	bash scripts/test_pip.sh 3.11:9.5.2:newest
+
+format: setup
+	bash scripts/format.sh
 
 clean:
 	rm -rf $(BUILD_DIR) $(ASAN_DIR) install build-paraview build-pip dist

@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 APT_PACKAGES=(build-essential cmake ninja-build pkg-config
   libvtk9-dev python3-vtk9 libeigen3-dev libsuitesparse-dev libcgal-dev
   python3 python3-dev python3-venv python3-pip python3-numpy python3-scipy python3-matplotlib
-  python3-pil xvfb xauth patch)
+  python3-pil xvfb xauth patch clang-format)
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
@@ -39,6 +39,11 @@ if [ ! -f "$STAMP" ]; then
   "${PIP[@]}" --no-deps "pyvista==0.46.5" "scikit-fem==12.0.2"
   "${PIP[@]}" "scooby>=0.5.1" "pooch>=1.8" "typing-extensions>=4.10" "pytest>=7.2" "tqdm"
   touch "$STAMP"
+fi
+# ruff: the Python half of the house style (make format, ctest's house.style)
+if [ ! -x .venv/bin/ruff ]; then
+  echo "[setup] installing ruff into .venv"
+  "$PY" -m pip install -q --disable-pip-version-check --no-deps "ruff==0.17.5"
 fi
 # nanobind (headers and CMake files only) for the package's compiled module, hoembed._hoembed
 # (Wrapping/Python/CMakeLists.txt); the same version the wheel's build resolves.
