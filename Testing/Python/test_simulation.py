@@ -35,8 +35,31 @@ def test_static_matches_skfem_p2(nu, curved):
                               fixed={"plane": ((0, 0, 0), (1, 0, 0))}, static=True)
     u = frames[0].point_data["Displacement"]
     rel = np.linalg.norm(u - ref) / np.linalg.norm(ref)
-    assert rel < 1e-6, rel
+    assert rel < 1e-7, rel  # |u| ~ 1e-7 L here: see the test below
     assert np.linalg.norm(ref) > 0
+
+
+def test_static_difference_to_linear_is_the_corotation_term():
+    # The co-rotated equilibrium is not linear elasticity's: the two differ by O(|u| / L)
+    # (each element's rotated frame), so the relative difference to scikit-fem's linear P2
+    # solve grows in proportion to the load. Ten times the load (E ten times smaller) gives
+    # ten times the difference, to 1%; a difference from anything else (quadrature, node
+    # order, a solver stopping early) would not scale so. Ten times less load leaves the
+    # round-off of x - X (the state is stored as positions: a few ulps of |x| / |u|), and
+    # a stiff bar whose displacement is 1e-9 of its size still converges, to that round-off.
+    rho, nu, g = 1000.0, 0.3, (0.0, -3.0, -9.81)
+    mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2, mapping=_curve)
+    rel = {}
+    for E in (1e11, 1e12, 1e13, 1e14, 1e15):
+        ref = skfem_static(mesh, E, nu, rho, g, 2)
+        u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
+                             fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+                             static=True)[0].point_data["Displacement"]
+        rel[E] = np.linalg.norm(u - ref) / np.linalg.norm(ref)
+    assert rel[1e11] / rel[1e12] == pytest.approx(10.0, rel=0.01), rel
+    assert rel[1e12] / rel[1e13] == pytest.approx(10.0, rel=0.01), rel
+    assert rel[1e14] < 1e-7, rel
+    assert rel[1e15] < 1e-6, rel
 
 
 def test_static_matches_skfem_p1_tet4():
