@@ -229,6 +229,29 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
 }
 } // namespace
 
+nb::dict MesherDefaults()
+{
+  // vtkTet10Mesher's property defaults by its property names: hoembed::MesherOptions and
+  // the read step's settings (hoembed::MesherServiceSettings)
+  const hoembed::MesherOptions o;
+  nb::dict d;
+  d["TargetNumberOfElements"] = o.TargetNumberOfElements;
+  d["TargetEdgeLength"] = o.TargetEdgeLength;
+  d["ElementOrder"] = o.ElementOrder;
+  d["CurveBoundary"] = o.CurveBoundary;
+  d["ProjectCorners"] = o.ProjectCorners;
+  d["PreserveBoundary"] = o.PreserveBoundary;
+  d["RadiusEdgeRatio"] = o.RadiusEdgeRatio;
+  d["MinDihedralAngle"] = o.MinDihedralAngle;
+  d["SurfaceDeviationWarning"] = o.SurfaceDeviationWarning;
+  d["CurvedQualityRatio"] = o.CurvedQualityRatio;
+  d["MinimumQuality"] = o.MinimumQuality;
+  d["EnvelopeTolerance"] = o.EnvelopeTolerance;
+  d["MergeTolerance"] = hoembed::MesherServiceSettings::MergeTolerance;
+  d["MaximumNumberOfElements"] = hoembed::MesherServiceSettings::MaximumNumberOfElements;
+  return d;
+}
+
 void BindMesher(nb::module_& m)
 {
   m.def("mesh_surface", &MeshSurface, nb::arg("points"), nb::arg("vert_offsets"),

@@ -31,8 +31,9 @@ namespace nb = nanobind;
 
 // hoembedPipSeries.cxx
 void BindSeries(nb::module_& m);
-// the mesher's bindings (hoembedPipMesher.cxx)
+// the mesher's bindings and vtkTet10Mesher's defaults (hoembedPipMesher.cxx)
 void BindMesher(nb::module_& m);
+nb::dict MesherDefaults();
 
 namespace
 {
@@ -168,10 +169,69 @@ struct Stepper
   long long NumberOfCells = 0;
   bool Static = false;
   bool Built = false;
-  // the loads a live advance applies (the filter's Gravity and PrescribedSpeedLimit)
+  // the loads a live advance applies (the filter's Gravity and PrescribedSpeedLimit; set
+  // by build)
   double Gravity[3] = { 0.0, 0.0, 0.0 };
-  double SpeedLimit = 0.0;
+  double SpeedLimit = hoembed::StepperOptions().PrescribedSpeedLimit;
 };
+
+// Every filter's property defaults by its property names (enumerations as their int
+// values, vectors as tuples): the drivers' options structs, which the filters' constructors
+// copy too; the package's keyword defaults are read from here.
+nb::dict Defaults()
+{
+  nb::dict all;
+  all["mesher"] = MesherDefaults();
+
+  const hoembed::EmbeddingOptions e;
+  nb::dict embedding;
+  embedding["Method"] = e.Method;
+  embedding["NumberOfPartitions"] = e.NumberOfPartitions;
+  embedding["ValidateElements"] = e.ValidateElements;
+  embedding["ReuseMeshPreparation"] = e.ReuseMeshPreparation;
+  all["embedding"] = embedding;
+
+  const hoembed::TransferOptions t;
+  nb::dict transfer;
+  transfer["NormalMode"] = static_cast<int>(t.NormalMode);
+  transfer["ComputePointNormals"] = t.ComputePointNormals;
+  transfer["PointNormalsMode"] = static_cast<int>(t.PointNormalsMode);
+  transfer["CheckInvertedElements"] = t.CheckInvertedElements;
+  transfer["FaceTolerance"] = t.FaceTolerance;
+  all["transfer"] = transfer;
+
+  const hoembed::StepperParameters p;
+  const hoembed::StepperOptions o;
+  nb::dict stepper;
+  stepper["YoungModulus"] = p.YoungModulus;
+  stepper["PoissonRatio"] = p.PoissonRatio;
+  stepper["Density"] = p.Density;
+  stepper["LumpedMass"] = p.LumpedMass;
+  stepper["TimeStep"] = p.TimeStep;
+  stepper["RayleighMass"] = p.RayleighMass;
+  stepper["RayleighStiffness"] = p.RayleighStiffness;
+  stepper["SolverTolerance"] = p.SolverTolerance;
+  stepper["MaxSolverIterations"] = p.MaxSolverIterations;
+  stepper["UseClampPlane"] = p.UseClampPlane;
+  stepper["ClampPlaneOrigin"] =
+    nb::make_tuple(p.ClampPlaneOrigin[0], p.ClampPlaneOrigin[1], p.ClampPlaneOrigin[2]);
+  stepper["ClampPlaneNormal"] =
+    nb::make_tuple(p.ClampPlaneNormal[0], p.ClampPlaneNormal[1], p.ClampPlaneNormal[2]);
+  stepper["UseClampBox"] = p.UseClampBox;
+  stepper["ClampBox"] = nb::make_tuple(p.ClampBox[0], p.ClampBox[1], p.ClampBox[2],
+    p.ClampBox[3], p.ClampBox[4], p.ClampBox[5]);
+  stepper["Gravity"] = nb::make_tuple(o.Gravity[0], o.Gravity[1], o.Gravity[2]);
+  stepper["NumberOfTimeSteps"] = o.NumberOfTimeSteps;
+  stepper["StaticSolve"] = o.StaticSolve;
+  stepper["PrescribedSpeedLimit"] = o.PrescribedSpeedLimit;
+  stepper["LiveMode"] = o.LiveMode;
+  stepper["ComputeDiagnostics"] = o.ComputeDiagnostics;
+  stepper["BackgroundFactorization"] = o.BackgroundFactorization;
+  stepper["FactorizationLag"] = o.FactorizationLag;
+  stepper["FixedArrayName"] = hoembed::ArrayNames::Fixed;
+  all["stepper"] = stepper;
+  return all;
+}
 
 std::string Error(const std::string& where, const std::string& error)
 {
@@ -257,7 +317,6 @@ NB_MODULE(_hoembed, m)
 
   nb::class_<Transfer>(m, "TransferDriver")
     .def(nb::init<>())
-    .def_ro_static("DEFAULT_FACE_TOLERANCE", &hoembed::TransferDriver::DefaultFaceTolerance)
     .def(
       "set_mesh_topology",
       [](Transfer& t, std::int64_t numberOfPoints, const In& types, const In& offsets,
@@ -311,7 +370,8 @@ NB_MODULE(_hoembed, m)
         return nb::make_tuple(d, r);
       },
       nb::arg("normals"), nb::arg("number_of_points"), nb::arg("displacements").none(),
-      nb::arg("rotations").none(), nb::arg("point_normals_mode") = 0,
+      nb::arg("rotations").none(),
+      nb::arg("point_normals_mode") = static_cast<int>(hoembed::TransferOptions().PointNormalsMode),
       "Which of Displacement, NodalRotation a frame reads (point_normals_mode: the "
       "TransferPointNormals of a frame that writes point normals, 0 recompute, 1 transform).")
     .def(
@@ -387,7 +447,8 @@ NB_MODULE(_hoembed, m)
       },
       nb::arg("points"), nb::arg("normals"), nb::arg("displacements").none(),
       nb::arg("rotations").none(), nb::arg("count_inverted"), nb::arg("out"),
-      nb::arg("point_normals").none() = nb::none(), nb::arg("point_normals_mode") = 0,
+      nb::arg("point_normals").none() = nb::none(),
+      nb::arg("point_normals_mode") = static_cast<int>(hoembed::TransferOptions().PointNormalsMode),
       "One frame into `out` (and unit point normals into `point_normals`, float32 (n, 3), "
       "when given: set_polygons first, and for mode 1 (transform) set_rest_surface_points). "
       "Returns the driver's warnings.")
@@ -530,7 +591,7 @@ NB_MODULE(_hoembed, m)
       nb::arg("initial_displacement").none(), nb::arg("initial_velocity").none(),
       nb::arg("prescribed_mask").none() = nb::none(),
       nb::arg("prescribed_displacement").none() = nb::none(),
-      nb::arg("prescribed_speed_limit") = 0.0)
+      nb::arg("prescribed_speed_limit") = hoembed::StepperOptions().PrescribedSpeedLimit)
     .def(
       "advance",
       [](Stepper& st, long long k) {
@@ -567,24 +628,6 @@ NB_MODULE(_hoembed, m)
       nb::arg("points"), nb::arg("displacement").none() = nb::none(),
       nb::arg("velocity").none() = nb::none(), nb::arg("rotation").none() = nb::none(),
       nb::arg("von_mises").none() = nb::none())
-    .def_static(
-      "defaults",
-      [] {
-        // the set-up's defaults (hoembed::StepperParameters), which vtkCorotationalFEMStepper
-        // takes too; simulate()'s keyword defaults are checked against them
-        const hoembed::StepperParameters p;
-        nb::dict d;
-        d["young"] = p.YoungModulus;
-        d["poisson"] = p.PoissonRatio;
-        d["density"] = p.Density;
-        d["dt"] = p.TimeStep;
-        d["rayleigh_mass"] = p.RayleighMass;
-        d["rayleigh_stiffness"] = p.RayleighStiffness;
-        d["solver_tolerance"] = p.SolverTolerance;
-        d["lumped_mass"] = p.LumpedMass;
-        return d;
-      },
-      "The set-up's defaults by simulate()'s names (hoembed::StepperParameters).")
     .def_static(
       "check_fixed_array",
       [](const std::string& name, const std::string& kind, long long tuples,
@@ -628,7 +671,7 @@ NB_MODULE(_hoembed, m)
     .def(
       "set_background_factorization",
       [](Stepper& st, bool on, int lag) { st.Driver.Solver.SetBackgroundFactorization(on, lag); },
-      nb::arg("on"), nb::arg("lag") = 0)
+      nb::arg("on"), nb::arg("lag") = hoembed::StepperOptions().FactorizationLag)
     .def("request_steps", [](Stepper& st, long long n) {
       if (n < 0)
         throw std::invalid_argument("request_steps: the number of steps must be >= 0");
@@ -698,6 +741,7 @@ NB_MODULE(_hoembed, m)
   HOEMBED_NAME(KineticEnergy);
   HOEMBED_NAME(StrainEnergy);
   HOEMBED_NAME(SolverIterations);
+  HOEMBED_NAME(TimeValue);
   HOEMBED_NAME(EmbeddingCellId);
   HOEMBED_NAME(EmbeddingParametricCoords);
   HOEMBED_NAME(EmbeddingDistance);
@@ -715,6 +759,7 @@ NB_MODULE(_hoembed, m)
   HOEMBED_NAME(NumberOfFallbackPoints);
 #undef HOEMBED_NAME
   m.attr("ARRAY_NAMES") = names;
+  m.attr("DEFAULTS") = Defaults();
 
   m.def("number_of_threads", [] { return hoembed::ParallelThreadCount(); },
     "Threads the kernels' loops use (the wheel: HOEMBED_NUM_THREADS, else the hardware's; "

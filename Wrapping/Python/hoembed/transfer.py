@@ -8,13 +8,15 @@ from vtkmodules.vtkCommonCore import VTK_FLOAT
 
 from . import _arrays
 from ._arrays import N
-from ._checks import POINT_NORMALS_MODES, point_normals_argument, transfer_arguments
+from ._checks import (NORMAL_MODE_NAMES, POINT_NORMALS_MODE_NAMES, POINT_NORMALS_MODES,
+                      point_normals_argument, transfer_arguments)
 from ._errors import HOEmbedError
-from ._hoembed import TransferDriver
+from ._hoembed import DEFAULTS, TransferDriver
 
 __all__ = ["transfer", "TransferPlan"]
-# vtkDeformationTransferFilter's default (the driver's)
-_FACE_TOLERANCE = TransferDriver.DEFAULT_FACE_TOLERANCE
+# the defaults: vtkDeformationTransferFilter's, which are the driver's
+# (hoembed::TransferOptions)
+_D = DEFAULTS["transfer"]
 
 
 def _field_string(fd, name):
@@ -38,8 +40,8 @@ def _fail(message):
     raise HOEmbedError(f"transfer: {message}")
 
 
-def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False,
-             warnings=None):
+def transfer(embedded_surface, deformed_mesh, normals=NORMAL_MODE_NAMES[_D["NormalMode"]],
+             compute_point_normals=_D["ComputePointNormals"], warnings=None):
     """The deformed fine surface for a deformed FE mesh: v' = p' + d n' (paper eq. 4).
 
     Parameters
@@ -88,7 +90,8 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
     mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
-    pn_mode = point_normals_argument("transfer", compute_point_normals, "recompute")
+    pn_mode = point_normals_argument("transfer", compute_point_normals,
+                                     POINT_NORMALS_MODE_NAMES[_D["PointNormalsMode"]])
     plan = TransferPlan(embedded_surface, deformed_mesh, mode)
     mesh = deformed_mesh
     mpd = mesh.GetPointData()
@@ -142,7 +145,7 @@ class TransferPlan:
             driver.build_plan(method, d(cell_ids), d(pcoords), d(dist) if use_dist else None,
                               d(faces) if use_faces else None,
                               d(fallback) if use_fallback else None,
-                              _FACE_TOLERANCE, mesh.GetLength())
+                              _D["FaceTolerance"], mesh.GetLength())
         except RuntimeError as e:
             _fail(e)
 
@@ -163,7 +166,8 @@ class TransferPlan:
         try:
             return self.driver.evaluate_frame(
                 d(points), self.mode, d(displacements) if use_disp else None,
-                d(rotations) if use_rot else None, True, self.points, point_normals, mode)
+                d(rotations) if use_rot else None, _D["CheckInvertedElements"], self.points,
+                point_normals, mode)
         except RuntimeError as e:
             _fail(e)
 
