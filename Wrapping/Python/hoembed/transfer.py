@@ -150,7 +150,7 @@ class TransferPlan:
             _fail(e)
 
     def evaluate(self, points, displacements=None, rotations=None, point_normals=None,
-                 point_normals_mode=0):
+                 point_normals_mode=_D["PointNormalsMode"]):
         """The deformed surface points into self.points for the mesh's deformed `points`
         (a VTK data array or an (n, 3) array) and, when the normal modes read them, its
         Displacement and NodalRotation (VTK arrays, arrays or None). With
@@ -158,7 +158,9 @@ class TransferPlan:
         `point_normals_mode` (the driver's TransferPointNormals;
         transform sets the rest surface points once). Returns the driver's warnings."""
         d = _arrays.doubles
-        mode = point_normals_mode if point_normals is not None else 0
+        # without point normals the frame reads no more than recompute's (nothing extra)
+        mode = point_normals_mode if point_normals is not None else \
+            POINT_NORMALS_MODES["recompute"]
         if point_normals is not None:
             self._prepare_normals(mode)
         use_disp, use_rot = TransferDriver.frame_arrays_used(
