@@ -231,24 +231,27 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
 
 nb::dict MesherDefaults()
 {
-  // vtkTet10Mesher's property defaults by its property names: hoembed::MesherOptions and
-  // the read step's settings (hoembed::MesherServiceSettings)
+  // vtkTet10Mesher's property defaults by its property names (the members' names):
+  // hoembed::MesherOptions and the read step's settings (hoembed::MesherServiceSettings)
   const hoembed::MesherOptions o;
+  using S = hoembed::MesherServiceSettings;
   nb::dict d;
-  d["TargetNumberOfElements"] = o.TargetNumberOfElements;
-  d["TargetEdgeLength"] = o.TargetEdgeLength;
-  d["ElementOrder"] = o.ElementOrder;
-  d["CurveBoundary"] = o.CurveBoundary;
-  d["ProjectCorners"] = o.ProjectCorners;
-  d["PreserveBoundary"] = o.PreserveBoundary;
-  d["RadiusEdgeRatio"] = o.RadiusEdgeRatio;
-  d["MinDihedralAngle"] = o.MinDihedralAngle;
-  d["SurfaceDeviationWarning"] = o.SurfaceDeviationWarning;
-  d["CurvedQualityRatio"] = o.CurvedQualityRatio;
-  d["MinimumQuality"] = o.MinimumQuality;
-  d["EnvelopeTolerance"] = o.EnvelopeTolerance;
-  d["MergeTolerance"] = hoembed::MesherServiceSettings::MergeTolerance;
-  d["MaximumNumberOfElements"] = hoembed::MesherServiceSettings::MaximumNumberOfElements;
+#define HOEMBED_DEFAULT(member) d[#member] = o.member
+  HOEMBED_DEFAULT(TargetNumberOfElements);
+  HOEMBED_DEFAULT(TargetEdgeLength);
+  HOEMBED_DEFAULT(ElementOrder);
+  HOEMBED_DEFAULT(CurveBoundary);
+  HOEMBED_DEFAULT(ProjectCorners);
+  HOEMBED_DEFAULT(PreserveBoundary);
+  HOEMBED_DEFAULT(RadiusEdgeRatio);
+  HOEMBED_DEFAULT(MinDihedralAngle);
+  HOEMBED_DEFAULT(SurfaceDeviationWarning);
+  HOEMBED_DEFAULT(CurvedQualityRatio);
+  HOEMBED_DEFAULT(MinimumQuality);
+  HOEMBED_DEFAULT(EnvelopeTolerance);
+#undef HOEMBED_DEFAULT
+  d["MergeTolerance"] = S::MergeTolerance;
+  d["MaximumNumberOfElements"] = S::MaximumNumberOfElements;
   return d;
 }
 

@@ -177,7 +177,13 @@ struct Stepper
 
 // Every filter's property defaults by its property names (enumerations as their int
 // values, vectors as tuples): the drivers' options structs, which the filters' constructors
-// copy too; the package's keyword defaults are read from here.
+// copy too; the package's keyword defaults are read from here. The options' members carry
+// the properties' names, so the keys are the members' names.
+#define HOEMBED_DEFAULT(dict, options, member) dict[#member] = options.member
+#define HOEMBED_DEFAULT_ENUM(dict, options, member)                                        \
+  dict[#member] = static_cast<int>(options.member)
+#define HOEMBED_DEFAULT_VECTOR3(dict, options, member)                                     \
+  dict[#member] = nb::make_tuple(options.member[0], options.member[1], options.member[2])
 nb::dict Defaults()
 {
   nb::dict all;
@@ -185,53 +191,54 @@ nb::dict Defaults()
 
   const hoembed::EmbeddingOptions e;
   nb::dict embedding;
-  embedding["Method"] = e.Method;
-  embedding["NumberOfPartitions"] = e.NumberOfPartitions;
-  embedding["ValidateElements"] = e.ValidateElements;
-  embedding["ReuseMeshPreparation"] = e.ReuseMeshPreparation;
+  HOEMBED_DEFAULT(embedding, e, Method);
+  HOEMBED_DEFAULT(embedding, e, NumberOfPartitions);
+  HOEMBED_DEFAULT(embedding, e, ValidateElements);
+  HOEMBED_DEFAULT(embedding, e, ReuseMeshPreparation);
   all["embedding"] = embedding;
 
   const hoembed::TransferOptions t;
   nb::dict transfer;
-  transfer["NormalMode"] = static_cast<int>(t.NormalMode);
-  transfer["ComputePointNormals"] = t.ComputePointNormals;
-  transfer["PointNormalsMode"] = static_cast<int>(t.PointNormalsMode);
-  transfer["CheckInvertedElements"] = t.CheckInvertedElements;
-  transfer["FaceTolerance"] = t.FaceTolerance;
+  HOEMBED_DEFAULT_ENUM(transfer, t, NormalMode);
+  HOEMBED_DEFAULT(transfer, t, ComputePointNormals);
+  HOEMBED_DEFAULT_ENUM(transfer, t, PointNormalsMode);
+  HOEMBED_DEFAULT(transfer, t, CheckInvertedElements);
+  HOEMBED_DEFAULT(transfer, t, FaceTolerance);
   all["transfer"] = transfer;
 
   const hoembed::StepperParameters p;
   const hoembed::StepperOptions o;
   nb::dict stepper;
-  stepper["YoungModulus"] = p.YoungModulus;
-  stepper["PoissonRatio"] = p.PoissonRatio;
-  stepper["Density"] = p.Density;
-  stepper["LumpedMass"] = p.LumpedMass;
-  stepper["TimeStep"] = p.TimeStep;
-  stepper["RayleighMass"] = p.RayleighMass;
-  stepper["RayleighStiffness"] = p.RayleighStiffness;
-  stepper["SolverTolerance"] = p.SolverTolerance;
-  stepper["MaxSolverIterations"] = p.MaxSolverIterations;
-  stepper["UseClampPlane"] = p.UseClampPlane;
-  stepper["ClampPlaneOrigin"] =
-    nb::make_tuple(p.ClampPlaneOrigin[0], p.ClampPlaneOrigin[1], p.ClampPlaneOrigin[2]);
-  stepper["ClampPlaneNormal"] =
-    nb::make_tuple(p.ClampPlaneNormal[0], p.ClampPlaneNormal[1], p.ClampPlaneNormal[2]);
-  stepper["UseClampBox"] = p.UseClampBox;
+  HOEMBED_DEFAULT(stepper, p, YoungModulus);
+  HOEMBED_DEFAULT(stepper, p, PoissonRatio);
+  HOEMBED_DEFAULT(stepper, p, Density);
+  HOEMBED_DEFAULT(stepper, p, LumpedMass);
+  HOEMBED_DEFAULT(stepper, p, TimeStep);
+  HOEMBED_DEFAULT(stepper, p, RayleighMass);
+  HOEMBED_DEFAULT(stepper, p, RayleighStiffness);
+  HOEMBED_DEFAULT(stepper, p, SolverTolerance);
+  HOEMBED_DEFAULT(stepper, p, MaxSolverIterations);
+  HOEMBED_DEFAULT(stepper, p, UseClampPlane);
+  HOEMBED_DEFAULT_VECTOR3(stepper, p, ClampPlaneOrigin);
+  HOEMBED_DEFAULT_VECTOR3(stepper, p, ClampPlaneNormal);
+  HOEMBED_DEFAULT(stepper, p, UseClampBox);
   stepper["ClampBox"] = nb::make_tuple(p.ClampBox[0], p.ClampBox[1], p.ClampBox[2],
     p.ClampBox[3], p.ClampBox[4], p.ClampBox[5]);
-  stepper["Gravity"] = nb::make_tuple(o.Gravity[0], o.Gravity[1], o.Gravity[2]);
-  stepper["NumberOfTimeSteps"] = o.NumberOfTimeSteps;
-  stepper["StaticSolve"] = o.StaticSolve;
-  stepper["PrescribedSpeedLimit"] = o.PrescribedSpeedLimit;
-  stepper["LiveMode"] = o.LiveMode;
-  stepper["ComputeDiagnostics"] = o.ComputeDiagnostics;
-  stepper["BackgroundFactorization"] = o.BackgroundFactorization;
-  stepper["FactorizationLag"] = o.FactorizationLag;
+  HOEMBED_DEFAULT_VECTOR3(stepper, o, Gravity);
+  HOEMBED_DEFAULT(stepper, o, NumberOfTimeSteps);
+  HOEMBED_DEFAULT(stepper, o, StaticSolve);
+  HOEMBED_DEFAULT(stepper, o, PrescribedSpeedLimit);
+  HOEMBED_DEFAULT(stepper, o, LiveMode);
+  HOEMBED_DEFAULT(stepper, o, ComputeDiagnostics);
+  HOEMBED_DEFAULT(stepper, o, BackgroundFactorization);
+  HOEMBED_DEFAULT(stepper, o, FactorizationLag);
   stepper["FixedArrayName"] = hoembed::ArrayNames::Fixed;
   all["stepper"] = stepper;
   return all;
 }
+#undef HOEMBED_DEFAULT
+#undef HOEMBED_DEFAULT_ENUM
+#undef HOEMBED_DEFAULT_VECTOR3
 
 std::string Error(const std::string& where, const std::string& error)
 {
