@@ -12,7 +12,8 @@
 #   make test-paraview  its tests (pvbatch pipeline against the VTK 9.1 build, GUI, MPI)
 #   make wheel   the self-contained binary wheels for pyvista users in dist/ (pyproject.toml,
 #                scripts/build_wheel.sh: pip wheel + auditwheel repair, a manylinux tag):
-#                one per CPython of WHEEL_PYTHONS (3.12: the abi3 wheel for every 3.12+)
+#                one per CPython of WHEEL_PYTHONS (3.10, 3.11; 3.12: the abi3 wheel for
+#                every 3.12+)
 #   make test-pip       those wheels installed with --only-binary=:all: in fresh venvs of
 #                the cells of PIP_MATRIX (CPython:VTK:pyvista), against the VTK build's
 #                outputs, and the bitwise stepper test build (scripts/test_pip.sh); part
@@ -21,10 +22,10 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PY := .venv/bin/python
 # pyenv's CPythons (scripts/build_wheel.sh finds them; else python3.X on PATH)
-WHEEL_PYTHONS ?= 3.11 3.12
+WHEEL_PYTHONS ?= 3.10 3.11 3.12
 # the issue's two cells, and the oldest VTK and pyvista the wheel accepts (numpy 1.x, as
 # they were built for)
-PIP_MATRIX ?= 3.11:9.4.2:0.46.5 3.13:newest:newest 3.12:9.3.1:0.42.3:numpy<2
+PIP_MATRIX ?= 3.11:9.4.2:0.46.5 3.13:newest:newest 3.10:9.3.1:0.42.3:numpy<2
 SITE = $(shell $(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 
 ASAN_DIR ?= build-asan

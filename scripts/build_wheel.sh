@@ -4,7 +4,7 @@
 # PYTHON: a version (3.11: the newest pyenv CPython 3.11.x under ${PYENV_ROOT:-~/.pyenv},
 # else python3.11 on PATH) or an interpreter's path. One wheel per PYTHON: CPython 3.12+
 # gives the abi3 wheel for every CPython >= 3.12 (nanobind's stable ABI), older ones a
-# version-specific wheel; so `3.11 3.12` covers 3.11 and 3.12+.
+# version-specific wheel; so `3.10 3.11 3.12` (make wheel) covers 3.10, 3.11 and 3.12+.
 # For each: `pip wheel .` (scikit-build-core + nanobind from the package index; object
 # files kept in build-pip/<wheel tag>, ccache when CMAKE_CXX_COMPILER_LAUNCHER says so),
 # then `auditwheel repair`: libgmp and libmpfr (CGAL's) copied into the wheel

@@ -47,6 +47,9 @@ constexpr const char* VonMisesStress = "VonMisesStress";
 constexpr const char* KineticEnergy = "KineticEnergy";
 constexpr const char* StrainEnergy = "StrainEnergy";
 constexpr const char* SolverIterations = "SolverIterations";
+// a frame's time in field data (the package's simulate() frames; write_series reads it):
+// the name VTK's XML readers and pyvista give a dataset's time
+constexpr const char* TimeValue = "TimeValue";
 // embedded surface, point data
 constexpr const char* EmbeddingCellId = "EmbeddingCellId";
 constexpr const char* EmbeddingParametricCoords = "EmbeddingParametricCoords";

@@ -60,6 +60,23 @@ struct EmbeddingSummary
   int Method = 0;
 };
 
+/// The embedding's settings and their defaults, written once: vtkEmbeddingCoordinatesFilter
+/// initialises its properties from a default-constructed EmbeddingOptions, the package's
+/// embed() its keyword defaults (through the compiled module), and a test checks the
+/// ParaView XML's default_values against the filter.
+struct EmbeddingOptions
+{
+  /// EMBED_NORMAL_OFFSET (the paper's v = p + d n) or EMBED_BARYCENTRIC (the baseline)
+  int Method = EMBED_NORMAL_OFFSET;
+  /// surface patches flooded in parallel; 0: about one per 1000 triangles, at most 256
+  int NumberOfPartitions = 0;
+  /// refuse meshes with inverted or degenerate elements (PrepareAndOrder's check)
+  bool ValidateElements = true;
+  /// keep the prepared mesh while the binding knows it is the same (PrepareAndOrder with
+  /// no mesh)
+  bool ReuseMeshPreparation = true;
+};
+
 /// Relative to the mesh's bounding-box diagonal: a residual above it is reported (an exact
 /// embedding's is round-off, under 1e-12 of the diagonal).
 constexpr double ResidualTolerance = 1e-6;

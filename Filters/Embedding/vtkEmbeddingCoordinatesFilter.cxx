@@ -105,6 +105,12 @@ vtkEmbeddingCoordinatesFilter::vtkEmbeddingCoordinatesFilter()
   : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(2);
+  // the defaults are the driver's
+  const hoembed::EmbeddingOptions o;
+  this->Method = o.Method;
+  this->NumberOfPartitions = o.NumberOfPartitions;
+  this->ValidateElements = o.ValidateElements;
+  this->ReuseMeshPreparation = o.ReuseMeshPreparation;
 }
 
 vtkEmbeddingCoordinatesFilter::~vtkEmbeddingCoordinatesFilter() = default;

@@ -197,10 +197,12 @@ protected:
   bool PrepareMeshAndOrder(vtkUnstructuredGrid* mesh);
   bool WriteOutput(vtkPolyData* surface, vtkPolyData* output);
 
-  int Method = NORMAL_OFFSET;
-  int NumberOfPartitions = 0;
-  bool ValidateElements = true;
-  bool ReuseMeshPreparation = true;
+  // the settings: their defaults are hoembed::EmbeddingOptions' (the constructor copies
+  // them)
+  int Method;
+  int NumberOfPartitions;
+  bool ValidateElements;
+  bool ReuseMeshPreparation;
   vtkIdType NumberOfUncertifiedPoints = 0;
   vtkIdType NumberOfFallbackPoints = 0;
   vtkIdType NumberOfMeshPreparations = 0;

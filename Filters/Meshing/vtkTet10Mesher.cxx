@@ -149,7 +149,26 @@ private:
 
 } // namespace
 
-vtkTet10Mesher::vtkTet10Mesher() = default;
+vtkTet10Mesher::vtkTet10Mesher()
+{
+  // the defaults are the driver's
+  const hoembed::MesherOptions o;
+  this->TargetNumberOfElements = o.TargetNumberOfElements;
+  this->TargetEdgeLength = o.TargetEdgeLength;
+  this->ElementOrder = o.ElementOrder;
+  this->CurveBoundary = o.CurveBoundary;
+  this->ProjectCorners = o.ProjectCorners;
+  this->PreserveBoundary = o.PreserveBoundary;
+  this->RadiusEdgeRatio = o.RadiusEdgeRatio;
+  this->MinDihedralAngle = o.MinDihedralAngle;
+  this->SurfaceDeviationWarning = o.SurfaceDeviationWarning;
+  this->CurvedQualityRatio = o.CurvedQualityRatio;
+  this->MinimumQuality = o.MinimumQuality;
+  this->EnvelopeTolerance = o.EnvelopeTolerance;
+  this->MergeTolerance = hoembed::MesherServiceSettings::MergeTolerance;
+  this->MaximumNumberOfElements = hoembed::MesherServiceSettings::MaximumNumberOfElements;
+}
+
 vtkTet10Mesher::~vtkTet10Mesher() = default;
 
 int vtkTet10Mesher::FillInputPortInformation(int, vtkInformation* info)

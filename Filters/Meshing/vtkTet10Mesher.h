@@ -243,20 +243,23 @@ protected:
   /// estimated size (hoembed::CheckSurfacePointIds, hoembed::CheckEstimatedSize).
   bool CheckRequest(vtkPolyData* input);
 
-  int TargetNumberOfElements = 1000;
-  vtkIdType MaximumNumberOfElements = 1000000;
-  double TargetEdgeLength = 0.0;
-  int ElementOrder = 2;
-  bool CurveBoundary = true;
-  bool ProjectCorners = true;
-  bool PreserveBoundary = true;
-  double RadiusEdgeRatio = 1.5;
-  double MinDihedralAngle = 10.0;
-  double SurfaceDeviationWarning = 0.05;
-  double CurvedQualityRatio = 0.02;
-  double MinimumQuality = 0.05;
-  double EnvelopeTolerance = 0.0;
-  double MergeTolerance = 1e-6;
+  // the settings: their defaults are hoembed::MesherOptions' and, for the read step's
+  // MergeTolerance and MaximumNumberOfElements, hoembed::MesherServiceSettings' (the
+  // constructor copies them)
+  int TargetNumberOfElements;
+  vtkIdType MaximumNumberOfElements;
+  double TargetEdgeLength;
+  int ElementOrder;
+  bool CurveBoundary;
+  bool ProjectCorners;
+  bool PreserveBoundary;
+  double RadiusEdgeRatio;
+  double MinDihedralAngle;
+  double SurfaceDeviationWarning;
+  double CurvedQualityRatio;
+  double MinimumQuality;
+  double EnvelopeTolerance;
+  double MergeTolerance;
 
   vtkIdType RelaxedNodeCount = 0;
   vtkIdType CurvedNodeCount = 0;

@@ -44,6 +44,25 @@ struct StepperParameters
   double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
 };
 
+/// The stepper's other settings and their defaults (vtkCorotationalFEMStepper's names):
+/// the loads, the steps a run makes, live mode. With StepperParameters, the defaults are
+/// written here once: the filter's constructor copies them, the package's simulate() and
+/// StepperDriver binding take them through the compiled module, and a test checks the
+/// ParaView XML's default_values against the filter.
+struct StepperOptions
+{
+  /// gravity acceleration of a run (StepperInputs::Gravity is none unless given)
+  double Gravity[3] = { 0.0, 0.0, -9.81 };
+  /// steps of a run (the filter's advertised TIME_STEPS, simulate()'s steps)
+  int NumberOfTimeSteps = 100;
+  bool StaticSolve = false;
+  double PrescribedSpeedLimit = 0.0;
+  bool LiveMode = false;
+  bool ComputeDiagnostics = true;
+  bool BackgroundFactorization = false;
+  int FactorizationLag = 0;
+};
+
 /// The per-point inputs of a set-up (each nullptr: none), 1 or 3 values per point.
 struct StepperInputs
 {

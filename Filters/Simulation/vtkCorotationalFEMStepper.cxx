@@ -82,6 +82,18 @@ vtkCorotationalFEMStepper::vtkCorotationalFEMStepper()
   {
     this->ClampBox[i] = p.ClampBox[i];
   }
+  const hoembed::StepperOptions o;
+  for (int i = 0; i < 3; ++i)
+  {
+    this->Gravity[i] = o.Gravity[i];
+  }
+  this->NumberOfTimeSteps = o.NumberOfTimeSteps;
+  this->StaticSolve = o.StaticSolve;
+  this->PrescribedSpeedLimit = o.PrescribedSpeedLimit;
+  this->LiveMode = o.LiveMode;
+  this->ComputeDiagnostics = o.ComputeDiagnostics;
+  this->BackgroundFactorization = o.BackgroundFactorization;
+  this->FactorizationLag = o.FactorizationLag;
 }
 
 vtkCorotationalFEMStepper::~vtkCorotationalFEMStepper()

@@ -291,12 +291,12 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  // the set-up's properties: their defaults are hoembed::StepperParameters' (the
-  // constructor copies them)
+  // the settings: their defaults are hoembed::StepperParameters' and
+  // hoembed::StepperOptions' (the constructor copies them)
   double YoungModulus;
   double PoissonRatio;
   double Density;
-  double Gravity[3] = { 0.0, 0.0, -9.81 };
+  double Gravity[3];
   char* ExternalForceArrayName = nullptr;
   char* InitialDisplacementArrayName = nullptr;
   char* InitialVelocityArrayName = nullptr;
@@ -304,8 +304,8 @@ protected:
   double RayleighMass;
   double RayleighStiffness;
   double TimeStep;
-  int NumberOfTimeSteps = 100;
-  bool StaticSolve = false;
+  int NumberOfTimeSteps;
+  bool StaticSolve;
   bool LumpedMass;
   bool UseClampPlane;
   double ClampPlaneOrigin[3];
@@ -314,11 +314,11 @@ protected:
   double ClampBox[6];
   double SolverTolerance;
   int MaxSolverIterations;
-  bool LiveMode = false;
-  bool ComputeDiagnostics = true;
-  double PrescribedSpeedLimit = 0.0;
-  bool BackgroundFactorization = false;
-  int FactorizationLag = 0;
+  bool LiveMode;
+  bool ComputeDiagnostics;
+  double PrescribedSpeedLimit;
+  bool BackgroundFactorization;
+  int FactorizationLag;
 
   int LastNumberOfSteps = 0;
   double LastRotationTime = 0.0;

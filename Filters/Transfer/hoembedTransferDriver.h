@@ -123,13 +123,26 @@ struct TransferFrame
   TransferPointNormals PointNormalsMode = TransferPointNormals::Recompute;
 };
 
+/// The transfer's settings and their defaults, written once: vtkDeformationTransferFilter
+/// initialises its properties from a default-constructed TransferOptions, the package's
+/// transfer() its keyword defaults (through the compiled module), and a test checks the
+/// ParaView XML's default_values against the filter.
+struct TransferOptions
+{
+  TransferNormals NormalMode = TransferNormals::Recompute;
+  /// write unit point normals of the transferred surface, and how
+  bool ComputePointNormals = false;
+  TransferPointNormals PointNormalsMode = TransferPointNormals::Recompute;
+  /// count inverted or degenerate deformed cells (TransferFrame::CountInverted)
+  bool CheckInvertedElements = true;
+  /// BuildPlan's face tolerance: how close to 0 a parametric coordinate of a point on a
+  /// boundary face may be
+  double FaceTolerance = 1e-6;
+};
+
 class HOEMBEDFILTERSTRANSFER_EXPORT TransferDriver
 {
 public:
-  /// BuildPlan's default face tolerance (vtkDeformationTransferFilter's FaceTolerance):
-  /// how close to 0 a parametric coordinate of a point on a boundary face may be.
-  static constexpr double DefaultFaceTolerance = 1e-6;
-
   explicit TransferDriver(ParallelFor parallelFor = ParallelFor());
 
   /// Before step 1: the deformed mesh is not empty (at least 4 points and a cell, a

@@ -111,11 +111,30 @@ struct vtkDeformationTransferFilter::Internals
   std::vector<double> RestPoints, Points, Displacements, Rotations, CellIds, PCoords, Distances, Faces, Fallback;
 };
 
+// the wrapped enumerators are the driver's values (the properties hold them as ints)
+static_assert(vtkDeformationTransferFilter::RECOMPUTE_NORMALS ==
+      static_cast<int>(hoembed::TransferNormals::Recompute) &&
+    vtkDeformationTransferFilter::ROTATE_NORMALS ==
+      static_cast<int>(hoembed::TransferNormals::Rotate) &&
+    vtkDeformationTransferFilter::DEFORM_NORMALS ==
+      static_cast<int>(hoembed::TransferNormals::Deform) &&
+    vtkDeformationTransferFilter::RECOMPUTE_POINT_NORMALS ==
+      static_cast<int>(hoembed::TransferPointNormals::Recompute) &&
+    vtkDeformationTransferFilter::TRANSFORM_POINT_NORMALS ==
+      static_cast<int>(hoembed::TransferPointNormals::Transform),
+  "vtkDeformationTransferFilter's modes are hoembed::TransferNormals and TransferPointNormals");
+
 //------------------------------------------------------------------------------
 vtkDeformationTransferFilter::vtkDeformationTransferFilter()
   : Internal(new Internals)
 {
-  this->FaceTolerance = hoembed::TransferDriver::DefaultFaceTolerance;
+  // the defaults are the driver's
+  const hoembed::TransferOptions o;
+  this->NormalMode = static_cast<int>(o.NormalMode);
+  this->ComputePointNormals = o.ComputePointNormals;
+  this->PointNormalsMode = static_cast<int>(o.PointNormalsMode);
+  this->CheckInvertedElements = o.CheckInvertedElements;
+  this->FaceTolerance = o.FaceTolerance;
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(1);
 }

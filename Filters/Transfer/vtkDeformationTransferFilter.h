@@ -207,11 +207,13 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int NormalMode = RECOMPUTE_NORMALS;
-  bool ComputePointNormals = false;
-  int PointNormalsMode = RECOMPUTE_POINT_NORMALS;
-  bool CheckInvertedElements = true;
-  double FaceTolerance; // hoembed::TransferDriver::DefaultFaceTolerance
+  // the settings: their defaults are hoembed::TransferOptions' (the constructor copies
+  // them); OutputPointsPrecision is VTK's own (vtkAlgorithm::DesiredOutputPrecision)
+  int NormalMode;
+  bool ComputePointNormals;
+  int PointNormalsMode;
+  bool CheckInvertedElements;
+  double FaceTolerance;
   int OutputPointsPrecision = DEFAULT_PRECISION;
 
   vtkIdType NumberOfInvertedElements = 0;

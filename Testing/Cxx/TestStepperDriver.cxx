@@ -3,6 +3,7 @@
 // filter calls this driver; this checks that nothing of the set-up stayed behind in the
 // filter), a restart when asked for an earlier step, the static solve, and the driver's
 // errors as sentences.
+#include "hoembedDriverTestUtilities.h"
 #include "hoembedStepperDriver.h"
 #include "hoembedTestUtilities.h"
 #include "hoembedTetMeshInput.h"
@@ -27,44 +28,11 @@ namespace
 {
 using hoembed_test::MakeBoxTetMesh;
 
-struct PlainMesh
-{
-  std::vector<double> Points;
-  std::vector<unsigned char> Types;
-  std::vector<std::int64_t> Offsets, Connectivity;
-  hoembed::TetMeshArrays View() const
-  {
-    hoembed::TetMeshArrays m;
-    m.NumberOfPoints = static_cast<std::int64_t>(this->Points.size() / 3);
-    m.PointsDouble = this->Points.data();
-    m.NumberOfCells = static_cast<std::int64_t>(this->Types.size());
-    m.CellTypes = this->Types.data();
-    m.Offsets64 = this->Offsets.data();
-    m.Connectivity64 = this->Connectivity.data();
-    return m;
-  }
-};
-
+// the mesh as the wheel's binding hands it over (plain arrays)
+using PlainMesh = hoembed_test::PlainTetMesh;
 PlainMesh Plain(vtkUnstructuredGrid* g)
 {
-  PlainMesh m;
-  for (vtkIdType p = 0; p < g->GetNumberOfPoints(); ++p)
-  {
-    double x[3];
-    g->GetPoint(p, x);
-    m.Points.insert(m.Points.end(), x, x + 3);
-  }
-  m.Offsets.push_back(0);
-  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c)
-  {
-    m.Types.push_back(static_cast<unsigned char>(g->GetCellType(c)));
-    vtkIdType n;
-    const vtkIdType* ids;
-    g->GetCellPoints(c, n, ids);
-    m.Connectivity.insert(m.Connectivity.end(), ids, ids + n);
-    m.Offsets.push_back(static_cast<std::int64_t>(m.Connectivity.size()));
-  }
-  return m;
+  return PlainMesh(g);
 }
 
 bool SamePositions(const hoembed::StepperDriver& d, vtkUnstructuredGrid* out)

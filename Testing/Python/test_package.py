@@ -1,6 +1,7 @@
 """The hoembed package: what it exposes, importing it first in a fresh interpreter, and
 VTK errors turned into HOEmbedError (run_filter)."""
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -21,9 +22,9 @@ def test_exports():
     assert isinstance(hoembed.__version__, str)
     assert issubclass(hoembed.HOEmbedError, RuntimeError)
     assert callable(hoembed.tet10_mesh)
-    from hoembed._hoembed import TransferDriver
+    from hoembed._hoembed import DEFAULTS
     assert (hoembed.vtkDeformationTransferFilter().GetFaceTolerance()
-            == TransferDriver.DEFAULT_FACE_TOLERANCE == 1e-6)
+            == DEFAULTS["transfer"]["FaceTolerance"] == 1e-6)
     mesher = hoembed.vtkTet10Mesher()
     assert isinstance(mesher, vtkAlgorithm)
     assert mesher.GetClassName() == "vtkTet10Mesher"
@@ -128,28 +129,121 @@ def test_front_end_raises_on_bad_input():
     assert "vtkTet10Mesher" in str(info.value)
 
 
-def test_defaults_are_the_drivers():
-    """simulate()'s keyword defaults and vtkCorotationalFEMStepper's property defaults are
-    the driver's (hoembed::StepperParameters); the mesher's services' defaults are
-    vtkTet10Mesher's."""
+# The filters' classes by the stage whose driver owns their defaults (the compiled module's
+# DEFAULTS), and the functions' keywords by the property each sets.
+FILTERS = {"mesher": "vtkTet10Mesher", "embedding": "vtkEmbeddingCoordinatesFilter",
+           "transfer": "vtkDeformationTransferFilter", "stepper": "vtkCorotationalFEMStepper"}
+KEYWORDS = {
+    "tet10_mesh": ("mesher", dict(n_elements="TargetNumberOfElements",
+                                  edge_length="TargetEdgeLength", order="ElementOrder",
+                                  curve_boundary="CurveBoundary",
+                                  radius_edge_ratio="RadiusEdgeRatio",
+                                  min_dihedral_angle="MinDihedralAngle")),
+    "embed": ("embedding", dict(method="Method", n_partitions="NumberOfPartitions")),
+    "transfer": ("transfer", dict(normals="NormalMode",
+                                  compute_point_normals="ComputePointNormals")),
+    "simulate": ("stepper", dict(steps="NumberOfTimeSteps", dt="TimeStep",
+                                 young="YoungModulus", poisson="PoissonRatio",
+                                 density="Density", gravity="Gravity",
+                                 rayleigh_mass="RayleighMass",
+                                 rayleigh_stiffness="RayleighStiffness",
+                                 lumped_mass="LumpedMass", static="StaticSolve",
+                                 solver_tolerance="SolverTolerance",
+                                 prescribed_speed_limit="PrescribedSpeedLimit")),
+}
+# the functions' names of the enumerated values (the filters' enumerations)
+ENUM_VALUES = {"Method": {"normal-offset": 0, "barycentric": 1},
+               "NormalMode": {"recompute": 0, "rotate": 1, "deform": 2}}
+
+
+def _same(a, b):
+    """Equal as the XML, the filters and Python spell them: bools as 0/1, vectors as
+    tuples, a null string as ""."""
+    norm = (lambda v: "" if v is None else tuple(v) if isinstance(v, (list, tuple))
+            else int(v) if isinstance(v, bool) else v)
+    return norm(a) == norm(b)
+
+
+def test_filters_take_the_drivers_defaults():
+    """Each filter's properties start at its driver's defaults (the options structs the
+    constructors copy), every property the driver has a default for."""
+    from hoembed._hoembed import DEFAULTS
+    assert set(DEFAULTS) == set(FILTERS)
+    for stage, cls in FILTERS.items():
+        alg = getattr(hoembed, cls)()
+        assert DEFAULTS[stage], stage
+        for name, value in DEFAULTS[stage].items():
+            assert _same(getattr(alg, "Get" + name)(), value), (cls, name)
+
+
+def test_functions_take_the_drivers_defaults():
+    """The functions' keyword defaults are the drivers' (read from the compiled module,
+    not written again), and their docstrings state those values."""
     import inspect
-    from hoembed._hoembed import MESHER_SERVICE_SETTINGS, StepperDriver
-    defaults = StepperDriver.defaults()
-    params = inspect.signature(hoembed.simulate).parameters
-    for name, value in defaults.items():
-        assert params[name].default == value, name
-    stepper = hoembed.vtkCorotationalFEMStepper()
-    for name, getter in (("young", "YoungModulus"), ("poisson", "PoissonRatio"),
-                         ("density", "Density"), ("dt", "TimeStep"),
-                         ("rayleigh_mass", "RayleighMass"),
-                         ("rayleigh_stiffness", "RayleighStiffness"),
-                         ("solver_tolerance", "SolverTolerance"),
-                         ("lumped_mass", "LumpedMass")):
-        assert getattr(stepper, "Get" + getter)() == defaults[name], getter
-    mesher = hoembed.vtkTet10Mesher()
-    assert mesher.GetMergeTolerance() == MESHER_SERVICE_SETTINGS["merge_tolerance"]
-    assert (mesher.GetMaximumNumberOfElements()
-            == MESHER_SERVICE_SETTINGS["maximum_number_of_elements"])
+    from hoembed._hoembed import DEFAULTS
+    for function, (stage, keywords) in KEYWORDS.items():
+        params = inspect.signature(getattr(hoembed, function)).parameters
+        for keyword, prop in keywords.items():
+            default = params[keyword].default
+            if prop in ENUM_VALUES:
+                default = ENUM_VALUES[prop][default]
+            assert _same(default, DEFAULTS[stage][prop]), (function, keyword)
+    assert f"(default {DEFAULTS['mesher']['TargetNumberOfElements']!r})" in \
+        hoembed.tet10_mesh.__doc__
+    assert f"(default {DEFAULTS['stepper']['Gravity']!r})" in hoembed.simulate.__doc__
+    for doc in (hoembed.tet10_mesh.__doc__, hoembed.simulate.__doc__):
+        assert not re.search(r"<[A-Z][A-Za-z]+>", doc)  # every <Name> replaced
+
+
+def _xml_defaults():
+    """(class, property, command, kind, values) of every ParaView XML property with a
+    default_values attribute (information-only ones have none)."""
+    import pathlib
+    import xml.etree.ElementTree as ET
+    xml = pathlib.Path(__file__).resolve().parents[2] / "Plugin" / "HOEmbed" / "HOEmbed.xml"
+    out = []
+    for proxy in ET.parse(xml).getroot().iter("SourceProxy"):
+        for prop in proxy:
+            if not prop.tag.endswith("VectorProperty") or "default_values" not in prop.attrib:
+                continue
+            kind = prop.tag[:-len("VectorProperty")]
+            text = prop.attrib["default_values"]
+            if kind == "String":
+                values = text
+            else:
+                convert = int if kind == "Int" else float
+                values = tuple(convert(v) for v in text.split())
+                values = values[0] if len(values) == 1 else values
+            out.append((proxy.attrib["class"], prop.attrib["name"], prop.attrib["command"],
+                        kind, values))
+    return out
+
+
+def test_paraview_xml_defaults_are_the_filters():
+    """The plugin's XML has to write its default_values out: each must equal the filter's
+    property right after construction (the driver's default), so that they cannot drift
+    apart. The XML is parsed and compared with the VTK build's filters (ParaView's VTK
+    compiles the same constructors)."""
+    from hoembed._hoembed import DEFAULTS
+    rows = _xml_defaults()
+    classes = {row[0] for row in rows}
+    assert classes == set(FILTERS.values())
+    covered = set()
+    for cls, name, command, kind, values in rows:
+        assert command.startswith("Set"), (cls, name)
+        alg = getattr(hoembed, cls)()
+        prop = command[3:]
+        got = getattr(alg, "Get" + prop)()
+        # exact: the XML's decimal and the driver's literal are the same double
+        assert _same(got, values), (cls, name, got, values)
+        covered.add((cls, prop))
+    # every XML default but VTK's own precision and the optional arrays' names (none by
+    # default) is a driver's
+    stage_of = {cls: stage for stage, cls in FILTERS.items()}
+    assert {prop for cls, prop in covered if prop not in DEFAULTS[stage_of[cls]]} == {
+        "OutputPointsPrecision", "ExternalForceArrayName", "InitialDisplacementArrayName",
+        "InitialVelocityArrayName"}
+    assert len(covered) == 41
 
 
 def test_one_source_tree():

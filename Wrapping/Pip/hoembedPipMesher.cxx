@@ -229,6 +229,32 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
 }
 } // namespace
 
+nb::dict MesherDefaults()
+{
+  // vtkTet10Mesher's property defaults by its property names (the members' names):
+  // hoembed::MesherOptions and the read step's settings (hoembed::MesherServiceSettings)
+  const hoembed::MesherOptions o;
+  using S = hoembed::MesherServiceSettings;
+  nb::dict d;
+#define HOEMBED_DEFAULT(member) d[#member] = o.member
+  HOEMBED_DEFAULT(TargetNumberOfElements);
+  HOEMBED_DEFAULT(TargetEdgeLength);
+  HOEMBED_DEFAULT(ElementOrder);
+  HOEMBED_DEFAULT(CurveBoundary);
+  HOEMBED_DEFAULT(ProjectCorners);
+  HOEMBED_DEFAULT(PreserveBoundary);
+  HOEMBED_DEFAULT(RadiusEdgeRatio);
+  HOEMBED_DEFAULT(MinDihedralAngle);
+  HOEMBED_DEFAULT(SurfaceDeviationWarning);
+  HOEMBED_DEFAULT(CurvedQualityRatio);
+  HOEMBED_DEFAULT(MinimumQuality);
+  HOEMBED_DEFAULT(EnvelopeTolerance);
+#undef HOEMBED_DEFAULT
+  d["MergeTolerance"] = S::MergeTolerance;
+  d["MaximumNumberOfElements"] = S::MaximumNumberOfElements;
+  return d;
+}
+
 void BindMesher(nb::module_& m)
 {
   m.def("mesh_surface", &MeshSurface, nb::arg("points"), nb::arg("vert_offsets"),

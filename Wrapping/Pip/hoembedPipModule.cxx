@@ -31,8 +31,9 @@ namespace nb = nanobind;
 
 // hoembedPipSeries.cxx
 void BindSeries(nb::module_& m);
-// the mesher's bindings (hoembedPipMesher.cxx)
+// the mesher's bindings and vtkTet10Mesher's defaults (hoembedPipMesher.cxx)
 void BindMesher(nb::module_& m);
+nb::dict MesherDefaults();
 
 namespace
 {
@@ -168,10 +169,76 @@ struct Stepper
   long long NumberOfCells = 0;
   bool Static = false;
   bool Built = false;
-  // the loads a live advance applies (the filter's Gravity and PrescribedSpeedLimit)
+  // the loads a live advance applies (the filter's Gravity and PrescribedSpeedLimit; set
+  // by build)
   double Gravity[3] = { 0.0, 0.0, 0.0 };
-  double SpeedLimit = 0.0;
+  double SpeedLimit = hoembed::StepperOptions().PrescribedSpeedLimit;
 };
+
+// Every filter's property defaults by its property names (enumerations as their int
+// values, vectors as tuples): the drivers' options structs, which the filters' constructors
+// copy too; the package's keyword defaults are read from here. The options' members carry
+// the properties' names, so the keys are the members' names.
+#define HOEMBED_DEFAULT(dict, options, member) dict[#member] = options.member
+#define HOEMBED_DEFAULT_ENUM(dict, options, member)                                        \
+  dict[#member] = static_cast<int>(options.member)
+#define HOEMBED_DEFAULT_VECTOR3(dict, options, member)                                     \
+  dict[#member] = nb::make_tuple(options.member[0], options.member[1], options.member[2])
+nb::dict Defaults()
+{
+  nb::dict all;
+  all["mesher"] = MesherDefaults();
+
+  const hoembed::EmbeddingOptions e;
+  nb::dict embedding;
+  HOEMBED_DEFAULT(embedding, e, Method);
+  HOEMBED_DEFAULT(embedding, e, NumberOfPartitions);
+  HOEMBED_DEFAULT(embedding, e, ValidateElements);
+  HOEMBED_DEFAULT(embedding, e, ReuseMeshPreparation);
+  all["embedding"] = embedding;
+
+  const hoembed::TransferOptions t;
+  nb::dict transfer;
+  HOEMBED_DEFAULT_ENUM(transfer, t, NormalMode);
+  HOEMBED_DEFAULT(transfer, t, ComputePointNormals);
+  HOEMBED_DEFAULT_ENUM(transfer, t, PointNormalsMode);
+  HOEMBED_DEFAULT(transfer, t, CheckInvertedElements);
+  HOEMBED_DEFAULT(transfer, t, FaceTolerance);
+  all["transfer"] = transfer;
+
+  const hoembed::StepperParameters p;
+  const hoembed::StepperOptions o;
+  nb::dict stepper;
+  HOEMBED_DEFAULT(stepper, p, YoungModulus);
+  HOEMBED_DEFAULT(stepper, p, PoissonRatio);
+  HOEMBED_DEFAULT(stepper, p, Density);
+  HOEMBED_DEFAULT(stepper, p, LumpedMass);
+  HOEMBED_DEFAULT(stepper, p, TimeStep);
+  HOEMBED_DEFAULT(stepper, p, RayleighMass);
+  HOEMBED_DEFAULT(stepper, p, RayleighStiffness);
+  HOEMBED_DEFAULT(stepper, p, SolverTolerance);
+  HOEMBED_DEFAULT(stepper, p, MaxSolverIterations);
+  HOEMBED_DEFAULT(stepper, p, UseClampPlane);
+  HOEMBED_DEFAULT_VECTOR3(stepper, p, ClampPlaneOrigin);
+  HOEMBED_DEFAULT_VECTOR3(stepper, p, ClampPlaneNormal);
+  HOEMBED_DEFAULT(stepper, p, UseClampBox);
+  stepper["ClampBox"] = nb::make_tuple(p.ClampBox[0], p.ClampBox[1], p.ClampBox[2],
+    p.ClampBox[3], p.ClampBox[4], p.ClampBox[5]);
+  HOEMBED_DEFAULT_VECTOR3(stepper, o, Gravity);
+  HOEMBED_DEFAULT(stepper, o, NumberOfTimeSteps);
+  HOEMBED_DEFAULT(stepper, o, StaticSolve);
+  HOEMBED_DEFAULT(stepper, o, PrescribedSpeedLimit);
+  HOEMBED_DEFAULT(stepper, o, LiveMode);
+  HOEMBED_DEFAULT(stepper, o, ComputeDiagnostics);
+  HOEMBED_DEFAULT(stepper, o, BackgroundFactorization);
+  HOEMBED_DEFAULT(stepper, o, FactorizationLag);
+  stepper["FixedArrayName"] = hoembed::ArrayNames::Fixed;
+  all["stepper"] = stepper;
+  return all;
+}
+#undef HOEMBED_DEFAULT
+#undef HOEMBED_DEFAULT_ENUM
+#undef HOEMBED_DEFAULT_VECTOR3
 
 std::string Error(const std::string& where, const std::string& error)
 {
@@ -257,7 +324,6 @@ NB_MODULE(_hoembed, m)
 
   nb::class_<Transfer>(m, "TransferDriver")
     .def(nb::init<>())
-    .def_ro_static("DEFAULT_FACE_TOLERANCE", &hoembed::TransferDriver::DefaultFaceTolerance)
     .def(
       "set_mesh_topology",
       [](Transfer& t, std::int64_t numberOfPoints, const In& types, const In& offsets,
@@ -311,7 +377,8 @@ NB_MODULE(_hoembed, m)
         return nb::make_tuple(d, r);
       },
       nb::arg("normals"), nb::arg("number_of_points"), nb::arg("displacements").none(),
-      nb::arg("rotations").none(), nb::arg("point_normals_mode") = 0,
+      nb::arg("rotations").none(),
+      nb::arg("point_normals_mode") = static_cast<int>(hoembed::TransferOptions().PointNormalsMode),
       "Which of Displacement, NodalRotation a frame reads (point_normals_mode: the "
       "TransferPointNormals of a frame that writes point normals, 0 recompute, 1 transform).")
     .def(
@@ -387,7 +454,8 @@ NB_MODULE(_hoembed, m)
       },
       nb::arg("points"), nb::arg("normals"), nb::arg("displacements").none(),
       nb::arg("rotations").none(), nb::arg("count_inverted"), nb::arg("out"),
-      nb::arg("point_normals").none() = nb::none(), nb::arg("point_normals_mode") = 0,
+      nb::arg("point_normals").none() = nb::none(),
+      nb::arg("point_normals_mode") = static_cast<int>(hoembed::TransferOptions().PointNormalsMode),
       "One frame into `out` (and unit point normals into `point_normals`, float32 (n, 3), "
       "when given: set_polygons first, and for mode 1 (transform) set_rest_surface_points). "
       "Returns the driver's warnings.")
@@ -530,7 +598,7 @@ NB_MODULE(_hoembed, m)
       nb::arg("initial_displacement").none(), nb::arg("initial_velocity").none(),
       nb::arg("prescribed_mask").none() = nb::none(),
       nb::arg("prescribed_displacement").none() = nb::none(),
-      nb::arg("prescribed_speed_limit") = 0.0)
+      nb::arg("prescribed_speed_limit") = hoembed::StepperOptions().PrescribedSpeedLimit)
     .def(
       "advance",
       [](Stepper& st, long long k) {
@@ -567,24 +635,6 @@ NB_MODULE(_hoembed, m)
       nb::arg("points"), nb::arg("displacement").none() = nb::none(),
       nb::arg("velocity").none() = nb::none(), nb::arg("rotation").none() = nb::none(),
       nb::arg("von_mises").none() = nb::none())
-    .def_static(
-      "defaults",
-      [] {
-        // the set-up's defaults (hoembed::StepperParameters), which vtkCorotationalFEMStepper
-        // takes too; simulate()'s keyword defaults are checked against them
-        const hoembed::StepperParameters p;
-        nb::dict d;
-        d["young"] = p.YoungModulus;
-        d["poisson"] = p.PoissonRatio;
-        d["density"] = p.Density;
-        d["dt"] = p.TimeStep;
-        d["rayleigh_mass"] = p.RayleighMass;
-        d["rayleigh_stiffness"] = p.RayleighStiffness;
-        d["solver_tolerance"] = p.SolverTolerance;
-        d["lumped_mass"] = p.LumpedMass;
-        return d;
-      },
-      "The set-up's defaults by simulate()'s names (hoembed::StepperParameters).")
     .def_static(
       "check_fixed_array",
       [](const std::string& name, const std::string& kind, long long tuples,
@@ -628,7 +678,7 @@ NB_MODULE(_hoembed, m)
     .def(
       "set_background_factorization",
       [](Stepper& st, bool on, int lag) { st.Driver.Solver.SetBackgroundFactorization(on, lag); },
-      nb::arg("on"), nb::arg("lag") = 0)
+      nb::arg("on"), nb::arg("lag") = hoembed::StepperOptions().FactorizationLag)
     .def("request_steps", [](Stepper& st, long long n) {
       if (n < 0)
         throw std::invalid_argument("request_steps: the number of steps must be >= 0");
@@ -698,6 +748,7 @@ NB_MODULE(_hoembed, m)
   HOEMBED_NAME(KineticEnergy);
   HOEMBED_NAME(StrainEnergy);
   HOEMBED_NAME(SolverIterations);
+  HOEMBED_NAME(TimeValue);
   HOEMBED_NAME(EmbeddingCellId);
   HOEMBED_NAME(EmbeddingParametricCoords);
   HOEMBED_NAME(EmbeddingDistance);
@@ -715,6 +766,7 @@ NB_MODULE(_hoembed, m)
   HOEMBED_NAME(NumberOfFallbackPoints);
 #undef HOEMBED_NAME
   m.attr("ARRAY_NAMES") = names;
+  m.attr("DEFAULTS") = Defaults();
 
   m.def("number_of_threads", [] { return hoembed::ParallelThreadCount(); },
     "Threads the kernels' loops use (the wheel: HOEMBED_NUM_THREADS, else the hardware's; "

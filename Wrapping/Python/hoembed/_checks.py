@@ -4,8 +4,10 @@ before any driver runs. Pure Python."""
 
 import numpy as np
 
+from ._arrays import N
 from ._errors import (HOEmbedArgumentError, HOEmbedError, check_callable, check_dataset,
                       check_int, check_real, check_vector)
+from ._hoembed import DEFAULTS
 
 # values of hoembed::EmbeddingMethod (= vtkEmbeddingCoordinatesFilter's Method)
 EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
@@ -13,6 +15,10 @@ EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
 NORMAL_MODES = {"recompute": 0, "rotate": 1, "deform": 2}
 # vtkDeformationTransferFilter's PointNormalsMode (the driver's TransferPointNormals)
 POINT_NORMALS_MODES = {"recompute": 0, "transform": 1}
+# the names of those values (the functions' keyword defaults name the drivers' defaults)
+EMBED_METHOD_NAMES = {v: k for k, v in EMBED_METHODS.items()}
+NORMAL_MODE_NAMES = {v: k for k, v in NORMAL_MODES.items()}
+POINT_NORMALS_MODE_NAMES = {v: k for k, v in POINT_NORMALS_MODES.items()}
 
 
 def point_normals_argument(who, value, default):
@@ -41,15 +47,17 @@ surface : pyvista.PolyData or vtkPolyData
     a clean closed manifold is meshed through its envelope (vtkTet10Mesher's
     EnvelopeTolerance; field data ``EnvelopeOffset``, ``EnvelopeNodeCount``).
 n_elements : int
-    Approximate number of elements (default 1000); ignored if ``edge_length > 0``.
+    Approximate number of elements (default <TargetNumberOfElements>); ignored if
+    ``edge_length > 0``.
 edge_length : float
-    Target edge length in surface units (default 0: from ``n_elements``).
+    Target edge length in surface units (default <TargetEdgeLength>; 0: from
+    ``n_elements``).
 order : int
-    2 for VTK_QUADRATIC_TETRA (default), 1 for VTK_TETRA.
+    2 for VTK_QUADRATIC_TETRA, 1 for VTK_TETRA (default <ElementOrder>).
 curve_boundary : bool
-    Move boundary mid-edge nodes onto the surface (default True).
+    Move boundary mid-edge nodes onto the surface (default <CurveBoundary>).
 radius_edge_ratio, min_dihedral_angle : float
-    TetGen quality bounds (defaults 1.5 and 10 degrees).
+    TetGen quality bounds (defaults <RadiusEdgeRatio> and <MinDihedralAngle> degrees).
 progress : callable, optional
     Called with a float in [0, 1] on the filter's progress events.
 
@@ -75,6 +83,17 @@ Examples
 >>> import pyvista as pv, hoembed
 >>> mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=500)
 """
+
+
+def _with_defaults(doc, defaults):
+    """`doc` with each <Name> replaced by the driver's default of the property Name (the
+    docstrings state the defaults without writing them again)."""
+    for name, value in defaults.items():
+        doc = doc.replace(f"<{name}>", repr(value))
+    return doc
+
+
+MESH_DOC = _with_defaults(MESH_DOC, DEFAULTS["mesher"])
 
 
 def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
@@ -261,17 +280,17 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
         Number of time steps and their length (s). Frames are returned for
         t = 0, every*dt, 2*every*dt, ..., steps*dt (the first frame is the initial state).
     young, poisson, density : float
-        Young's modulus (Pa, > 0), Poisson's ratio (in (-1, 0.5), default 0.49) and
-        density (kg/m^3, > 0).
+        Young's modulus (Pa, > 0, default <YoungModulus>), Poisson's ratio (in (-1, 0.5),
+        default <PoissonRatio>) and density (kg/m^3, > 0, default <Density>).
     gravity : 3 floats
-        Gravity acceleration (default (0, 0, -9.81)).
+        Gravity acceleration (default <Gravity>).
     fixed : None, array, str or dict
         Clamped nodes: a boolean / integer mask of length n_points, the name of a point
         array, ``{"plane": (origin, normal)}`` (nodes with (x - origin) . normal <= 0)
         or ``{"box": (xmin, xmax, ymin, ymax, zmin, zmax)}``; None uses the mesh's own
         ``Fixed`` array if any.
     rayleigh_mass, rayleigh_stiffness : float
-        Rayleigh damping C = a M + b K (defaults 0.1 and 0.01).
+        Rayleigh damping C = a M + b K (defaults <RayleighMass> and <RayleighStiffness>).
     external_force, initial_displacement, initial_velocity : (n_points, 3) arrays
         Optional nodal forces (N) and initial state.
     lumped_mass : bool
@@ -284,7 +303,8 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
         that speed. Clamped nodes stay clamped. With ``static``, the equilibrium with those
         nodes displaced.
     prescribed_speed_limit : float
-        Distance per second the prescribed nodes move at most (0, default: no limit).
+        Distance per second the prescribed nodes move at most (default
+        <PrescribedSpeedLimit>; 0: no limit).
     static : bool
         Return the static equilibrium (one frame) instead of a time series.
     every : int
@@ -315,6 +335,8 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
     >>> frames = hoembed.simulate(mesh, steps=50, dt=0.01, young=5e4,
     ...                           fixed={"plane": ((0, 0, 0), (1, 0, 0))})
     """
+
+SIMULATE_DOC = _with_defaults(SIMULATE_DOC, DEFAULTS["stepper"])
 
 
 # ---- write_series: one signature, docstring and set of argument checks for both bindings
@@ -380,8 +402,8 @@ def series_frame_times(frames, times):
             out.append(float(times[i]))
             continue
         fd = getattr(frame, "field_data", None)
-        if fd is not None and "TimeValue" in fd and len(fd["TimeValue"]):
-            out.append(float(fd["TimeValue"][0]))
+        if fd is not None and N.TimeValue in fd and len(fd[N.TimeValue]):
+            out.append(float(fd[N.TimeValue][0]))
         else:
             out.append(float(i))
     return out

@@ -25,6 +25,13 @@ import time
 
 import numpy as np
 
+from ._arrays import N
+from ._checks import NORMAL_MODE_NAMES, NORMAL_MODES
+from ._hoembed import DEFAULTS
+
+# the drivers' defaults (as the functions' and the filters'), where the commands take them
+_MESHER, _STEPPER, _TRANSFER = DEFAULTS["mesher"], DEFAULTS["stepper"], DEFAULTS["transfer"]
+
 EPILOG = """examples:
   hoembed demo
   hoembed run bunny.obj --elements 1500 --clamp-axis z --clamp-side min --steps 40
@@ -54,21 +61,27 @@ def _parser():
                           formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     live.add_argument("surface", nargs="?", default=None,
                       help="surface file (default: the built-in thorny tail)")
-    live.add_argument("--elements", type=int, default=1000, help="target number of tet10")
+    live.add_argument("--elements", type=int, default=_MESHER["TargetNumberOfElements"],
+                      help="target number of tet10")
     live.add_argument("--young", type=float, default=2e5, help="Young's modulus E (Pa)")
     live.add_argument("--gravity", type=float, nargs=3, default=(0.0, 0.0, 0.0),
                       metavar=("GX", "GY", "GZ"), help="gravity (m/s^2)")
-    for sp, defaults in ((demo, dict(steps=40, dt=0.02, young=1e7, gravity=(0.0, 0.0, -9.81),
-                                     elements=1000)),
-                         (run, dict(steps=40, dt=0.02, young=1e5, gravity=(0.0, 0.0, -9.81),
-                                    elements=1000))):
+    # the commands' own run (40 steps of 0.02 s; the demo's model stiffer), otherwise the
+    # drivers' defaults
+    gravity, elements = _STEPPER["Gravity"], _MESHER["TargetNumberOfElements"]
+    for sp, defaults in ((demo, dict(steps=40, dt=0.02, young=1e7, gravity=gravity,
+                                     elements=elements)),
+                         (run, dict(steps=40, dt=0.02, young=_STEPPER["YoungModulus"],
+                                    gravity=gravity, elements=elements))):
         sp.add_argument("--output", default="output", help="output folder")
         sp.add_argument("--elements", type=int, default=defaults["elements"],
                         help="target number of tet10 elements")
         sp.add_argument("--young", type=float, default=defaults["young"],
                         help="Young's modulus E (Pa)")
-        sp.add_argument("--poisson", type=float, default=0.49, help="Poisson's ratio")
-        sp.add_argument("--density", type=float, default=1000.0, help="density (kg/m^3)")
+        sp.add_argument("--poisson", type=float, default=_STEPPER["PoissonRatio"],
+                        help="Poisson's ratio")
+        sp.add_argument("--density", type=float, default=_STEPPER["Density"],
+                        help="density (kg/m^3)")
         sp.add_argument("--gravity", type=float, nargs=3, default=defaults["gravity"],
                         metavar=("GX", "GY", "GZ"), help="gravity (m/s^2)")
         sp.add_argument("--steps", type=int, default=defaults["steps"], help="time steps")
@@ -80,8 +93,8 @@ def _parser():
                         help="thickness of the clamped end, as a fraction of the extent")
         sp.add_argument("--clamp-sphere", type=float, nargs=4, default=None,
                         metavar=("X", "Y", "Z", "R"), help="clamp the nodes inside a sphere")
-        sp.add_argument("--normals", choices=("recompute", "rotate", "deform"),
-                        default="recompute",
+        sp.add_argument("--normals", choices=tuple(NORMAL_MODES),
+                        default=NORMAL_MODE_NAMES[_TRANSFER["NormalMode"]],
                         help="deformed normal field of the transfer: recompute (the paper's "
                              "smooth normals of the deformed boundary, default), rotate "
                              "(rest normals rotated by the nodal rotations) or deform (rest "
@@ -358,7 +371,7 @@ def _simulate_and_transfer(hoembed, mesh, embedded, args, mask, label):
     surfaces = []
     for f in frames:
         s = hoembed.transfer(embedded, f, normals=args.normals)
-        s.field_data["TimeValue"] = f.field_data["TimeValue"]
+        s.field_data[N.TimeValue] = f.field_data[N.TimeValue]
         surfaces.append(s)
     return frames, surfaces, t_sim, time.perf_counter() - t0
 

@@ -10,14 +10,20 @@ from vtkmodules.vtkCommonCore import (VTK_DOUBLE, VTK_ID_TYPE, VTK_INT, VTK_SIGN
 
 from . import _arrays
 from ._arrays import N
-from ._checks import embed_arguments
+from ._checks import EMBED_METHOD_NAMES, embed_arguments
 from ._errors import HOEmbedError
-from ._hoembed import EmbeddingDriver
+from ._hoembed import DEFAULTS, EmbeddingDriver
 
 __all__ = ["embed"]
 
 
-def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=None):
+# the keyword defaults: vtkEmbeddingCoordinatesFilter's, which are the driver's
+# (hoembed::EmbeddingOptions)
+_D = DEFAULTS["embedding"]
+
+
+def embed(surface, fe_mesh, method=EMBED_METHOD_NAMES[_D["Method"]],
+          n_partitions=_D["NumberOfPartitions"], progress=None):
     """Embedding coordinates of a fine triangle surface in a (curved) tet FE mesh.
 
     Parameters
@@ -76,7 +82,7 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, progress=Non
         offsets, conn = _arrays.cells(fe_mesh.GetCells())
         types = _arrays.cell_types(fe_mesh)
         driver.prepare_and_order(fe_mesh.GetNumberOfPoints(), _arrays.points(fe_mesh.GetPoints()),
-                                 types, offsets, conn, True, n_partitions)
+                                 types, offsets, conn, _D["ValidateElements"], n_partitions)
         if progress is not None:
             progress(0.1)
         driver.embed(method_value,

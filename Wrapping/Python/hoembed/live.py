@@ -29,10 +29,15 @@ from ._arrays import N
 from ._checks import (NORMAL_MODES, POINT_NORMALS_MODES, point_normals_argument,
                       simulate_arguments)
 from ._errors import HOEmbedArgumentError, HOEmbedError
+from ._hoembed import DEFAULTS
 from .simulation import build_stepper
 from .transfer import TransferPlan
 
 __all__ = ["LiveSession", "LiveApp", "live"]
+# the drivers' defaults where the live loop has no setting of its own (its material,
+# damping and gravity are its own: a soft, damped solid)
+_STEPPER = DEFAULTS["stepper"]
+_N_ELEMENTS = DEFAULTS["mesher"]["TargetNumberOfElements"]
 
 
 def _edge_lengths(points, cells):
@@ -98,7 +103,8 @@ class LiveSession:
     """
 
     def __init__(self, fe_mesh, embedded, fixed=None, dt=1.0 / 60.0, young=2e5,
-                 poisson=0.45, density=1000.0, gravity=(0.0, 0.0, 0.0), rayleigh_mass=1.0,
+                 poisson=0.45, density=_STEPPER["Density"], gravity=(0.0, 0.0, 0.0),
+                 rayleigh_mass=1.0,
                  rayleigh_stiffness=0.005, grab_radius=None, speed_limit=None,
                  normals="recompute", point_normals="transform",
                  background_factorization=True):
@@ -121,7 +127,8 @@ class LiveSession:
         # True: the default mode (the session drew recomputed normals before "transform")
         self._pn_mode = point_normals_argument("live", point_normals, "transform")
         a = simulate_arguments(self.fe_rest, 1, self.dt, young, poisson, density, gravity,
-                               rayleigh_mass, rayleigh_stiffness, 1, 1e-4, None)
+                               rayleigh_mass, rayleigh_stiffness, 1,
+                               _STEPPER["SolverTolerance"], None)
         speed = 0.5 * self.h / self.dt if speed_limit is None else float(speed_limit)
         try:
             st = build_stepper(self.fe_rest, a, {}, self.fixed.astype(np.float64), False,
@@ -505,7 +512,7 @@ def _report(label):
     return progress
 
 
-def prepare(surface=None, n_elements=1000, progress=True, order=2):
+def prepare(surface=None, n_elements=_N_ELEMENTS, progress=True, order=2):
     """Mesh and embed a surface (the built-in thorny tail when None), printing progress.
     Returns (surface, fe_mesh, embedded, clamp mask)."""
     import hoembed
@@ -521,7 +528,7 @@ def prepare(surface=None, n_elements=1000, progress=True, order=2):
     return surface, fe, emb, default_clamp(fe, builtin)
 
 
-def live(surface=None, n_elements=1000, plotter=None, run=True, **session_options):
+def live(surface=None, n_elements=_N_ELEMENTS, plotter=None, run=True, **session_options):
     """Open the live window on a surface (pyvista.PolyData, a file name, or None for the
     built-in thorny tail). Returns the LiveApp (after the window closes when `run`)."""
     if isinstance(surface, str):

@@ -31,6 +31,7 @@ from . import _arrays
 from ._arrays import N
 from ._checks import MESH_DOC, mesh_arguments
 from ._errors import HOEmbedError
+from ._hoembed import DEFAULTS
 from ._hoembed import MESHER_SERVICE_SETTINGS as _SETTINGS
 from ._hoembed import mesh_surface
 
@@ -315,8 +316,14 @@ def _grid(r):
     return grid
 
 
-def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundary=True,
-               radius_edge_ratio=1.5, min_dihedral_angle=10.0, progress=None):
+# the keyword defaults: vtkTet10Mesher's, which are the driver's (hoembed::MesherOptions)
+_D = DEFAULTS["mesher"]
+
+
+def tet10_mesh(surface, n_elements=_D["TargetNumberOfElements"],
+               edge_length=_D["TargetEdgeLength"], order=_D["ElementOrder"],
+               curve_boundary=_D["CurveBoundary"], radius_edge_ratio=_D["RadiusEdgeRatio"],
+               min_dihedral_angle=_D["MinDihedralAngle"], progress=None):
     options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
                              radius_edge_ratio, min_dihedral_angle, progress)
     r = _run(surface, options, progress)[0]

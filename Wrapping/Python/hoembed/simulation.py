@@ -9,9 +9,12 @@ from ._arrays import N
 from ._checks import (SIMULATE_DOC, simulate_arguments, simulate_clamps, simulate_frames,
                       simulate_prescribed, simulate_vector)
 from ._errors import HOEmbedError
-from ._hoembed import StepperDriver
+from ._hoembed import DEFAULTS, StepperDriver
 
 __all__ = ["simulate"]
+# the keyword defaults: vtkCorotationalFEMStepper's, which are the driver's
+# (hoembed::StepperParameters, hoembed::StepperOptions)
+_D = DEFAULTS["stepper"]
 
 
 def _fail(message):
@@ -47,7 +50,7 @@ def _fixed_values(mesh, name):
 
 def build_stepper(mesh, a, clamps, fixed_values, lumped_mass, static, external_force=None,
                   initial_displacement=None, initial_velocity=None, prescribed_mask=None,
-                  prescribed_u=None, speed_limit=0.0):
+                  prescribed_u=None, speed_limit=_D["PrescribedSpeedLimit"]):
     """A StepperDriver set up on `mesh` (the filter's BuildSolver): `a` the checked
     material (simulate_arguments), `clamps` simulate_clamps' plane and box, `fixed_values`
     one float per node or None. simulate() and the live loop (hoembed.live) use it."""
@@ -77,12 +80,14 @@ def build_stepper(mesh, a, clamps, fixed_values, lumped_mass, static, external_f
     return driver
 
 
-def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=1000.0,
-             gravity=(0.0, 0.0, -9.81), fixed=None, rayleigh_mass=0.1,
-             rayleigh_stiffness=0.01, external_force=None, initial_displacement=None,
-             initial_velocity=None, lumped_mass=False, static=False, every=1,
-             solver_tolerance=1e-4, progress=None, prescribed=None,
-             prescribed_speed_limit=0.0):
+def simulate(fe_mesh, steps=_D["NumberOfTimeSteps"], dt=_D["TimeStep"],
+             young=_D["YoungModulus"], poisson=_D["PoissonRatio"], density=_D["Density"],
+             gravity=_D["Gravity"], fixed=None, rayleigh_mass=_D["RayleighMass"],
+             rayleigh_stiffness=_D["RayleighStiffness"], external_force=None,
+             initial_displacement=None, initial_velocity=None, lumped_mass=_D["LumpedMass"],
+             static=_D["StaticSolve"], every=1, solver_tolerance=_D["SolverTolerance"],
+             progress=None, prescribed=None,
+             prescribed_speed_limit=_D["PrescribedSpeedLimit"]):
     a = simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity,
                            rayleigh_mass, rayleigh_stiffness, every, solver_tolerance,
                            progress)
@@ -131,7 +136,7 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
         out.field_data[N.KineticEnergy] = np.array([kinetic])
         out.field_data[N.StrainEnergy] = np.array([strain])
         out.field_data[N.SolverIterations] = np.array([float(iterations)])
-        out.field_data["TimeValue"] = np.array([0.0 if static else k * dt])
+        out.field_data[N.TimeValue] = np.array([0.0 if static else k * dt])
         frames.append(out)
         if progress is not None:
             progress(i + 1, len(ks))

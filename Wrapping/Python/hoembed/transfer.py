@@ -8,13 +8,15 @@ from vtkmodules.vtkCommonCore import VTK_FLOAT
 
 from . import _arrays
 from ._arrays import N
-from ._checks import POINT_NORMALS_MODES, point_normals_argument, transfer_arguments
+from ._checks import (NORMAL_MODE_NAMES, POINT_NORMALS_MODE_NAMES, POINT_NORMALS_MODES,
+                      point_normals_argument, transfer_arguments)
 from ._errors import HOEmbedError
-from ._hoembed import TransferDriver
+from ._hoembed import DEFAULTS, TransferDriver
 
 __all__ = ["transfer", "TransferPlan"]
-# vtkDeformationTransferFilter's default (the driver's)
-_FACE_TOLERANCE = TransferDriver.DEFAULT_FACE_TOLERANCE
+# the defaults: vtkDeformationTransferFilter's, which are the driver's
+# (hoembed::TransferOptions)
+_D = DEFAULTS["transfer"]
 
 
 def _field_string(fd, name):
@@ -38,8 +40,8 @@ def _fail(message):
     raise HOEmbedError(f"transfer: {message}")
 
 
-def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False,
-             warnings=None):
+def transfer(embedded_surface, deformed_mesh, normals=NORMAL_MODE_NAMES[_D["NormalMode"]],
+             compute_point_normals=_D["ComputePointNormals"], warnings=None):
     """The deformed fine surface for a deformed FE mesh: v' = p' + d n' (paper eq. 4).
 
     Parameters
@@ -88,7 +90,8 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
     mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
-    pn_mode = point_normals_argument("transfer", compute_point_normals, "recompute")
+    pn_mode = point_normals_argument("transfer", compute_point_normals,
+                                     POINT_NORMALS_MODE_NAMES[_D["PointNormalsMode"]])
     plan = TransferPlan(embedded_surface, deformed_mesh, mode)
     mesh = deformed_mesh
     mpd = mesh.GetPointData()
@@ -142,12 +145,12 @@ class TransferPlan:
             driver.build_plan(method, d(cell_ids), d(pcoords), d(dist) if use_dist else None,
                               d(faces) if use_faces else None,
                               d(fallback) if use_fallback else None,
-                              _FACE_TOLERANCE, mesh.GetLength())
+                              _D["FaceTolerance"], mesh.GetLength())
         except RuntimeError as e:
             _fail(e)
 
     def evaluate(self, points, displacements=None, rotations=None, point_normals=None,
-                 point_normals_mode=0):
+                 point_normals_mode=_D["PointNormalsMode"]):
         """The deformed surface points into self.points for the mesh's deformed `points`
         (a VTK data array or an (n, 3) array) and, when the normal modes read them, its
         Displacement and NodalRotation (VTK arrays, arrays or None). With
@@ -155,7 +158,9 @@ class TransferPlan:
         `point_normals_mode` (the driver's TransferPointNormals;
         transform sets the rest surface points once). Returns the driver's warnings."""
         d = _arrays.doubles
-        mode = point_normals_mode if point_normals is not None else 0
+        # without point normals the frame reads no more than recompute's (nothing extra)
+        mode = point_normals_mode if point_normals is not None else \
+            POINT_NORMALS_MODES["recompute"]
         if point_normals is not None:
             self._prepare_normals(mode)
         use_disp, use_rot = TransferDriver.frame_arrays_used(
@@ -163,7 +168,8 @@ class TransferPlan:
         try:
             return self.driver.evaluate_frame(
                 d(points), self.mode, d(displacements) if use_disp else None,
-                d(rotations) if use_rot else None, True, self.points, point_normals, mode)
+                d(rotations) if use_rot else None, _D["CheckInvertedElements"], self.points,
+                point_normals, mode)
         except RuntimeError as e:
             _fail(e)
 
