@@ -5,7 +5,7 @@
  *
  * The squared distance over a strongly curved tri6 patch is not convex: a solve from one
  * start (even several) can stop in a local minimum, on the patch border or inside (see
- * Testing/Cxx/TestEmbeddingNonConvexFace.cxx).
+ * Testing/Cxx/Embedding/TestEmbeddingNonConvexFace.cxx).
  *
  * The certificate is an exact expansion at a parametric point r (the local solution):
  * the map is quadratic and its Jacobian affine, so with D = u - r, p = x(r) - v,
