@@ -336,3 +336,112 @@ def test_mpi_display_every_output(inputs, fetch_serial, tmp_path, n):
         assert got[name] == fetch_serial["vtp"][name]
     for name in ("mesher", "embedding", "stepper", "transfer"):
         assert got["shown_" + name]
+
+
+GHOSTS = ROOT / "Plugin" / "Testing" / "pv_ghosts.py"
+
+
+def run_ghosts(n, surface, out, *extra, timeout=FETCH_TIMEOUT):
+    """pv_ghosts.py on n processes under `timeout` (a hang fails the test)."""
+    cmd = [PVBATCH, GHOSTS, surface, out, "--elements", ELEMENTS, "--steps", 3, *extra]
+    if n > 1:
+        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
+    r = subprocess.run([str(c) for c in ["timeout", "-k", "10", timeout] + cmd],
+                       capture_output=True, text=True, timeout=timeout + 60)
+    log = r.stdout + r.stderr
+    assert r.returncode != 124, f"{n} processes: hung (killed after {timeout} s):\n{log[-3000:]}"
+    assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{log[-3000:]}"
+    return json.loads((pathlib.Path(out) / "fetch.json").read_text()), log
+
+
+def read_vtp(path):
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(str(path))
+    r.Update()
+    return r.GetOutput()
+
+
+def read_vtu(path):
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    r = vtkXMLUnstructuredGridReader()
+    r.SetFileName(str(path))
+    r.Update()
+    return r.GetOutput()
+
+
+@pytest.fixture(scope="module")
+def ghosts_serial(inputs, tmp_path_factory):
+    out = tmp_path_factory.mktemp("pv_ghosts1")
+    run_ghosts(1, inputs[0], out)
+    return out
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+@pytest.mark.parametrize("n", [2, 3])
+def test_mpi_ghost_cells(inputs, ghosts_serial, tmp_path, n):
+    """A surface with ghost cells from ParaView's D3 (MinimumNumberOfGhostLevels=1, then
+    ExtractSurface; 5.11's GhostCellsGenerator makes none on triangles) on n processes,
+    every output fetched as the client does, against one process (where D3 makes no
+    ghosts). The embedding and the transfer embed and move ghost points like the others
+    and pass vtkGhostType (points and cells) through unchanged, as ParaView's point-wise
+    filters do: the fetched result holds the ghosts once per process that has them,
+    marked. Every point (ghosts too) matches the serial point of the same GlobalPointId
+    (the cell bitwise, the rest to round-off: D3 reorders the surface, so the flood
+    visits points in another order); the transfer's point normals of the owned points
+    equal the serial ones (what the ghost layer is for; the ghosts on the layer's outer
+    edge miss neighbours, as in VTK). The mesher leaves ghost cells out of its gather:
+    on the ghosted surface it meshes exactly what it meshes on the same surface after
+    ParaView's RemoveGhostInformation."""
+    got, _ = run_ghosts(n, inputs[0], tmp_path)
+    ref = json.loads((ghosts_serial / "fetch.json").read_text())
+    assert got["processes"] == n and ref["processes"] == 1
+    ghosted = read_vtp(tmp_path / "ghosted.vtp")
+    cell_ghosts = vtk_to_numpy(ghosted.GetCellData().GetArray("vtkGhostType"))
+    point_ghosts = arr(ghosted, "vtkGhostType")
+    # the source really made ghosts (else this test would decide nothing)
+    assert (cell_ghosts & 1).sum() > 0 and (point_ghosts & 1).sum() > 0
+    own = (point_ghosts & 1) == 0
+    for name in ("embedded", "surface_first", "surface_last"):
+        assert got[name] == got["ghosted"], name
+        a, b = read_vtp(ghosts_serial / f"{name}.vtp"), read_vtp(tmp_path / f"{name}.vtp")
+        assert np.array_equal(arr(b, "vtkGhostType"), point_ghosts), name
+        assert np.array_equal(vtk_to_numpy(b.GetCellData().GetArray("vtkGhostType")), cell_ghosts)
+        ids_a, ids_b = arr(a, "GlobalPointId"), arr(b, "GlobalPointId")
+        assert len(np.unique(ids_a)) == len(ids_a) == ref[name]["points"]
+        assert set(ids_b[own]) == set(ids_a), f"{name}: the owned points are not the serial ones"
+        order = np.argsort(ids_a)
+        at = order[np.searchsorted(ids_a, ids_b, sorter=order)]
+        assert np.abs(points(a)[at] - points(b)).max() < 1e-13, name
+        if name == "embedded":
+            assert np.array_equal(arr(a, "EmbeddingCellId")[at], arr(b, "EmbeddingCellId"))
+            for e in ("EmbeddingParametricCoords", "EmbeddingDistance"):
+                assert np.abs(arr(a, e)[at] - arr(b, e)).max() < 1e-13, e
+        else:
+            na, nb = arr(a, "Normals")[at], arr(b, "Normals")
+            assert np.abs(na[own] - nb[own]).max() < 1e-6, f"{name}: owned points' normals"
+    for name in ("mesh", "mesh_ghosted", "mesh_unghosted"):
+        assert got[name]["points"] > 0
+    serial_mesh, mesh = read_vtu(ghosts_serial / "mesh.vtu"), read_vtu(tmp_path / "mesh.vtu")
+    assert np.array_equal(points(serial_mesh), points(mesh))
+    m1, m2 = read_vtu(tmp_path / "mesh_ghosted.vtu"), read_vtu(tmp_path / "mesh_unghosted.vtu")
+    assert np.array_equal(points(m1), points(m2))
+    assert np.array_equal(vtk_to_numpy(m1.GetCells().GetConnectivityArray()),
+                          vtk_to_numpy(m2.GetCells().GetConnectivityArray()))
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+def test_mpi_mesh_with_ghost_cells_refused(inputs, tmp_path):
+    """The FE mesh must be whole on every process: ghost cells on it (ParaView's
+    GhostCellsGenerator between the mesher and the embedding and stepper, on 2
+    processes) mean a distributed mesh, whose ghosts would be elements counted twice.
+    Every process refuses it with the FE-mesh reader's one message (the embedding and
+    the stepper), so no process waits for the others: every Fetch returns, empty."""
+    got, log = run_ghosts(2, inputs[0], tmp_path, "--mesh-ghosts")
+    for who in ("vtkEmbeddingCoordinatesFilter", "vtkCorotationalFEMStepper"):
+        lines = [ln for ln in log.splitlines() if who in ln and "ghost cells of" in ln]
+        assert {ln.split("[pvbatch.")[1][0] for ln in lines if "[pvbatch." in ln} == {"0", "1"}, \
+            f"{who}: not refused on both processes:\n{log[-3000:]}"
+        assert all("whole mesh is needed on every process" in ln for ln in lines)
+    for name in ("embedded", "surface_first", "surface_last"):
+        assert got[name]["points"] == 0, name
