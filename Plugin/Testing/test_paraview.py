@@ -253,27 +253,22 @@ def read_piece_points(path):
 
 FETCH = ROOT / "Plugin" / "Testing" / "pv_fetch.py"
 FETCH_TIMEOUT = 240     # seconds; a run that hangs (a collective call some processes skip) fails
+# Seen here, on a machine shared by several Xvfb users: one process's XOpenDisplay fails
+# at its first render (pvbatch aborts).
 X_FAILURE = "bad X server connection"
 
 
-def run_fetch(n, surface, out, display=False, timeout=FETCH_TIMEOUT):
-    """pv_fetch.py (Fetch of every HOEmbed output; with display, Show + Render of each
-    too) on n processes (n = 1: plain pvbatch), under `timeout` so that a hang fails the
-    test and leaves no process behind (timeout stops mpirun, which stops its pvbatch
-    processes). Returns the JSON it wrote, or the reason to skip."""
+def run_fetch(n, surface, out, timeout=FETCH_TIMEOUT):
+    """pv_fetch.py (Fetch of every HOEmbed output) on n processes (n = 1: plain pvbatch),
+    under `timeout` so that a hang fails the test and leaves no process behind (timeout
+    stops mpirun, which stops its pvbatch processes). Returns the JSON it wrote."""
     cmd = [PVBATCH, FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3]
-    if display:
-        cmd.append("--display")
     if n > 1:
         cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
     cmd = ["timeout", "-k", "10", timeout] + cmd
     r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=timeout + 60)
     log = r.stdout[-3000:] + "\n" + r.stderr[-3000:]
     assert r.returncode != 124, f"{n} processes: hung (killed after {timeout} s):\n{log}"
-    if display and r.returncode != 0 and X_FAILURE in r.stdout + r.stderr:
-        # Seen here, on a machine shared by several Xvfb users: one of the processes'
-        # XOpenDisplay fails at its first render (about 1 run in 3 on 3 processes).
-        return f"a process could not connect to the X server: {log[-500:]}"
     assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{log}"
     return json.loads(pathlib.Path(out).read_text())
 
@@ -310,26 +305,58 @@ def test_mpi_fetch_every_output(inputs, fetch_serial, tmp_path, n, kind):
         assert got[name] == ref[name], f"{name} on {n} processes: {got[name]} != {ref[name]}"
 
 
-DISPLAY_HANG = (
-    "intermittent (here 2 of about 12 runs on 3 processes and 1 of 6 on 2, at the first "
-    "Show + Render): process 0 waits in vtkIceTCompositePass::Render "
-    "(vtkIceTContext::SetController -> MPI_Comm_dup, a collective call) while the other "
-    "processes wait for the next RMI in ProcessRMIs: they did not enter the compositing. "
-    "Not seen in 14 runs of ParaView's own Delaunay3D/ResampleWithDataset on 3 processes; "
-    "not understood yet")
+DISPLAY_TIMEOUT = 150   # seconds; a display run takes 20-60 s here
+DISPLAY_TRIES = 3
+
+
+def icet_hang(output, n):
+    """Whether a killed run's stack traces (ParaView prints one per process on SIGTERM)
+    show the hang of ParaView's own compositing, seen with ParaView's own filters too:
+    process 0 in the first composited render (vtkIceTCompositePass ->
+    vtkIceTContext::SetController -> MPI_Comm_dup, a collective call) while every other
+    process is back in ProcessRMIs waiting for the next request, never having entered it."""
+    return (output.count("vtkIceTContext::SetController") == 1
+            and output.count("MPI_Comm_dup") >= 1
+            and output.count("vtkMultiProcessController::ProcessRMIs() ") == n - 1)
+
+
+def run_display(n, surface, out):
+    """pv_fetch.py --display on n processes, tried up to DISPLAY_TRIES times, each under
+    DISPLAY_TIMEOUT. A try that ends with ParaView's compositing hang (icet_hang) or an X
+    connection failure of this shared machine is tried again; any other hang or failure
+    fails. Returns the JSON, or the reason to skip when every try ended so."""
+    seen = []
+    for _ in range(DISPLAY_TRIES):
+        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi",
+               FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3, "--display"]
+        cmd = ["timeout", "-k", "10", DISPLAY_TIMEOUT] + cmd
+        r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True,
+                           timeout=DISPLAY_TIMEOUT + 60)
+        output = r.stdout + r.stderr
+        if r.returncode == 0:
+            return json.loads(pathlib.Path(out).read_text())
+        if r.returncode == 124 and icet_hang(output, n):
+            seen.append("ParaView's compositing hang (process 0 in vtkIceTContext::SetController"
+                        " -> MPI_Comm_dup, the others in ProcessRMIs)")
+            continue
+        if X_FAILURE in output:
+            seen.append("a process could not connect to the X server")
+            continue
+        what = f"hung (killed after {DISPLAY_TIMEOUT} s)" if r.returncode == 124 else f"failed ({r.returncode})"
+        raise AssertionError(f"{n} processes: {what}:\n{output[-4000:]}")
+    return "every try ended in an upstream or machine failure: " + "; ".join(seen)
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
-# A known, intermittent hang (DISPLAY_HANG) costs its 150 s timeout per run and decides
-# nothing, so it runs only when asked (HOEMBED_TEST_MPI_DISPLAY=1) while it is open.
-@pytest.mark.skipif(os.environ.get("HOEMBED_TEST_MPI_DISPLAY") != "1",
-                    reason="HOEMBED_TEST_MPI_DISPLAY=1 runs it; known open: " + DISPLAY_HANG)
 @pytest.mark.parametrize("n", [2, 3])
 def test_mpi_display_every_output(inputs, fetch_serial, tmp_path, n):
     """Show + Render of every HOEmbed output on n processes (each process renders its part
-    and ParaView composites them), from the .vtp surface (processes 1.. hold empty pieces),
-    after the Fetches: returns, with the 1-process counts."""
-    got = run_fetch(n, inputs[0], tmp_path / "display.json", display=True, timeout=150)
+    and ParaView composites them with IceT), from the .vtp surface (processes 1.. hold
+    empty pieces), after the Fetches: returns, with the 1-process counts. The first
+    composited render of pvbatch --mpi hangs now and then in ParaView itself (the same
+    stacks with a pipeline of ParaView's own filters and no plugin loaded:
+    Benchmarks/RESULTS.md); such a try is recognised by its stacks and tried again."""
+    got = run_display(n, inputs[0], tmp_path / "display.json")
     if isinstance(got, str):
         pytest.skip(got)
     for name in FETCHED:
