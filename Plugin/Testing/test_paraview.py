@@ -334,6 +334,8 @@ def run_display(n, surface, out):
                            timeout=DISPLAY_TIMEOUT + 60)
         output = r.stdout + r.stderr
         if r.returncode == 0:
+            if seen:
+                print(f"display on {n} processes passed after: {'; '.join(seen)}")  # pytest -rP
             return json.loads(pathlib.Path(out).read_text())
         if r.returncode == 124 and icet_hang(output, n):
             seen.append("ParaView's compositing hang (process 0 in vtkIceTContext::SetController"
