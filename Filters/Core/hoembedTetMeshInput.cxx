@@ -94,6 +94,27 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
            "(10) cells";
     return msg.str();
   }
+  if (in.CellGhosts)
+  {
+    std::int64_t ghosts = 0, first = -1;
+    for (std::int64_t c = 0; c < in.NumberOfCells; ++c)
+    {
+      if (in.CellGhosts[c] & GhostDuplicateCell)
+      {
+        first = first < 0 ? c : first;
+        ++ghosts;
+      }
+    }
+    if (ghosts > 0)
+    {
+      msg << "the FE mesh has " << ghosts << " ghost cells of " << in.NumberOfCells
+          << " (the first: cell " << first
+          << "), so it is a distributed mesh: the whole mesh is needed on every process; "
+             "remove the filter that distributes it or adds ghost cells (D3, "
+             "RedistributeDataSet, GhostCellsGenerator) from the mesh input";
+      return msg.str();
+    }
+  }
   this->CellType = type0;
   this->NodesPerCell = type0 == QuadraticTetra ? 10 : 4;
   const std::string cells = has64

@@ -8,7 +8,12 @@
  *  2. every cell is VTK_QUADRATIC_TETRA (24) or every cell is VTK_TETRA (10), each with
  *     10 or 4 node ids;
  *  3. every node id is in [0, number of points);
- *  4. every coordinate is finite (when points are given).
+ *  4. every coordinate is finite (when points are given);
+ *  5. no cell is a ghost (CellGhosts, when given): the FE mesh must be whole on every
+ *     process. A ghost cell is a copy of another process's cell, so a mesh with ghosts is
+ *     a distributed one (a filter such as D3 or GhostCellsGenerator on the Mesh input):
+ *     its ghosts would be elements counted twice, and what is missing from the local part
+ *     would silently be missing from every closest-point search and solve.
  * It keeps the connectivity (64-bit ids, npc per cell, back to back), optionally the
  * points as doubles, and the topology fingerprint (hoembed::MeshFingerprint). Element
  * validity (det J > 0) is not checked here: the stages differ in when they need it.
@@ -42,7 +47,13 @@ struct TetMeshArrays
   const std::int64_t* Connectivity64 = nullptr;
   const std::int32_t* Offsets32 = nullptr;
   const std::int32_t* Connectivity32 = nullptr;
+  /// Optional, one per cell: VTK's ghost flags (vtkGhostType); a cell with the
+  /// GhostDuplicateCell bit is another process's cell.
+  const unsigned char* CellGhosts = nullptr;
 };
+
+/// VTK's vtkDataSetAttributes::DUPLICATECELL (checked where VTK is at hand).
+constexpr unsigned char GhostDuplicateCell = 1;
 
 class HOEMBEDCORE_EXPORT TetMeshInput
 {

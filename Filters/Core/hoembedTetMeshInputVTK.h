@@ -11,6 +11,7 @@
 #include "hoembedTetMeshInput.h"
 
 #include "vtkCellArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkPoints.h"
@@ -71,6 +72,12 @@ inline TetMeshArrays ViewTetMesh(
   vtkCellArray* cells = mesh->GetCells();
   vtkUnsignedCharArray* types = mesh->GetCellTypesArray();
   a.NumberOfCells = cells && types ? mesh->GetNumberOfCells() : 0;
+  static_assert(GhostDuplicateCell == vtkDataSetAttributes::DUPLICATECELL, "VTK's ghost bit");
+  vtkUnsignedCharArray* ghosts = mesh->GetCellGhostArray();
+  if (ghosts && ghosts->GetNumberOfTuples() == a.NumberOfCells && a.NumberOfCells > 0)
+  {
+    a.CellGhosts = ghosts->GetPointer(0);
+  }
   if (a.NumberOfCells > 0)
   {
     a.CellTypes = types->GetPointer(0);

@@ -239,14 +239,25 @@ static_assert(hoembed::MesherServiceSettings::RefusedCellStates ==
 // Distributed pipelines: every process's piece of the surface, gathered in rank order (so
 // every process appends the same surface) before any check, so that all processes take
 // part in the collective call and then mesh the same surface. The pieces' seams are
-// merged by the read step with every other coincident point. Returns an error message.
+// merged by the read step with every other coincident point. Ghost cells (a distributing
+// filter such as D3 adds a layer of the neighbours' cells, marked in vtkGhostType) are
+// left out: each is some other process's own cell, and gathered twice it would make the
+// surface non-manifold. Returns an error message.
 std::string GatherPieces(vtkPolyData*& input, vtkAppendPolyData* gathered)
 {
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
   if (!controller || controller->GetNumberOfProcesses() <= 1)
     return std::string();
   vtkNew<vtkPolyData> mine;
-  mine->ShallowCopy(input);
+  if (input->GetCellGhostArray())
+  {
+    mine->DeepCopy(input);
+    mine->RemoveGhostCells();
+  }
+  else
+  {
+    mine->ShallowCopy(input);
+  }
   std::vector<vtkSmartPointer<vtkDataObject>> pieces;
   if (!controller->AllGather(mine, pieces) ||
     static_cast<int>(pieces.size()) != controller->GetNumberOfProcesses())

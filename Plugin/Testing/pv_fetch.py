@@ -3,16 +3,20 @@ to the client) and display of every HOEmbed output, in pvbatch (serial or
 `mpirun -np N scripts/pvbatch --mpi`). Writes, from the process running the script,
 a JSON file with the number of points and cells each Fetch returned.
 
-    scripts/pvbatch [--mpi] Plugin/Testing/pv_fetch.py SURFACE OUT_JSON [--stage STAGE]
+    scripts/pvbatch [--mpi] Plugin/Testing/pv_fetch.py SURFACE OUT_JSON [--display] [--native]
+
+--native builds a pipeline of the same shape from ParaView's own filters (Delaunay3D for
+the mesher, ResampleWithDataset for the embedding and the transfer, Transform for the
+stepper), for a pvbatch run without the HOEmbed plugin: it tells the plugin's problems
+from ParaView's.
 """
 import argparse
 import json
 import sys
 
 from paraview import servermanager
-from paraview.simple import (GetActiveViewOrCreate, HOEmbedCorotationalFEMStepper,
-                             HOEmbedDeformationTransfer, HOEmbedEmbeddingCoordinates,
-                             HOEmbedTet10Mesher, Hide, OpenDataFile, Render, Show)
+from paraview import simple
+from paraview.simple import GetActiveViewOrCreate, Hide, OpenDataFile, Render, Show
 
 p = argparse.ArgumentParser()
 p.add_argument("surface")
@@ -21,17 +25,34 @@ p.add_argument("--elements", type=int, default=300)
 p.add_argument("--steps", type=int, default=3)
 p.add_argument("--only", nargs="*", default=None)
 p.add_argument("--display", action="store_true", help="also Show and Render each output")
+p.add_argument("--native", action="store_true", help="ParaView's own filters, same shape")
+p.add_argument("--warmup", action="store_true",
+               help="with --display: render the empty view once before anything is shown")
 args = p.parse_args()
 
 surface = OpenDataFile(args.surface)
-mesher = HOEmbedTet10Mesher(Input=surface, TargetNumberOfElements=args.elements)
-embedded = HOEmbedEmbeddingCoordinates(Surface=surface, Mesh=mesher, NumberOfPartitions=1)
-stepper = HOEmbedCorotationalFEMStepper(Input=mesher, TimeStep=0.02, NumberOfTimeSteps=args.steps,
-                                        YoungModulus=3e4, PoissonRatio=0.45, UseClampPlane=1,
-                                        ClampPlaneOrigin=[-0.6, 0.0, 0.0],
-                                        ClampPlaneNormal=[1.0, 0.0, 0.0])
-transfer = HOEmbedDeformationTransfer(Surface=embedded, Mesh=stepper)
-times = list(transfer.TimestepValues)
+if args.native:
+    mesher = simple.Delaunay3D(Input=surface)
+    embedded = simple.ResampleWithDataset(SourceDataArrays=mesher, DestinationMesh=surface)
+    stepper = simple.Transform(Input=mesher)
+    stepper.Transform.Translate = [0.0, 0.0, 0.01]
+    transfer = simple.ResampleWithDataset(SourceDataArrays=stepper, DestinationMesh=embedded)
+    times = [None, None]
+else:
+    mesher = simple.HOEmbedTet10Mesher(Input=surface, TargetNumberOfElements=args.elements)
+    embedded = simple.HOEmbedEmbeddingCoordinates(Surface=surface, Mesh=mesher, NumberOfPartitions=1)
+    stepper = simple.HOEmbedCorotationalFEMStepper(
+        Input=mesher, TimeStep=0.02, NumberOfTimeSteps=args.steps, YoungModulus=3e4,
+        PoissonRatio=0.45, UseClampPlane=1, ClampPlaneOrigin=[-0.6, 0.0, 0.0],
+        ClampPlaneNormal=[1.0, 0.0, 0.0])
+    transfer = simple.HOEmbedDeformationTransfer(Surface=embedded, Mesh=stepper)
+    times = list(transfer.TimestepValues)
+
+if args.display and args.warmup:
+    print("warming up", flush=True)
+    warm = GetActiveViewOrCreate("RenderView")
+    warm.ViewSize = [320, 240]
+    Render(warm)
 
 result = {"processes": servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()}
 

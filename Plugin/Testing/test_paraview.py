@@ -253,27 +253,22 @@ def read_piece_points(path):
 
 FETCH = ROOT / "Plugin" / "Testing" / "pv_fetch.py"
 FETCH_TIMEOUT = 240     # seconds; a run that hangs (a collective call some processes skip) fails
+# Seen here, on a machine shared by several Xvfb users: one process's XOpenDisplay fails
+# at its first render (pvbatch aborts).
 X_FAILURE = "bad X server connection"
 
 
-def run_fetch(n, surface, out, display=False, timeout=FETCH_TIMEOUT):
-    """pv_fetch.py (Fetch of every HOEmbed output; with display, Show + Render of each
-    too) on n processes (n = 1: plain pvbatch), under `timeout` so that a hang fails the
-    test and leaves no process behind (timeout stops mpirun, which stops its pvbatch
-    processes). Returns the JSON it wrote, or the reason to skip."""
+def run_fetch(n, surface, out, timeout=FETCH_TIMEOUT):
+    """pv_fetch.py (Fetch of every HOEmbed output) on n processes (n = 1: plain pvbatch),
+    under `timeout` so that a hang fails the test and leaves no process behind (timeout
+    stops mpirun, which stops its pvbatch processes). Returns the JSON it wrote."""
     cmd = [PVBATCH, FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3]
-    if display:
-        cmd.append("--display")
     if n > 1:
         cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
     cmd = ["timeout", "-k", "10", timeout] + cmd
     r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=timeout + 60)
     log = r.stdout[-3000:] + "\n" + r.stderr[-3000:]
     assert r.returncode != 124, f"{n} processes: hung (killed after {timeout} s):\n{log}"
-    if display and r.returncode != 0 and X_FAILURE in r.stdout + r.stderr:
-        # Seen here, on a machine shared by several Xvfb users: one of the processes'
-        # XOpenDisplay fails at its first render (about 1 run in 3 on 3 processes).
-        return f"a process could not connect to the X server: {log[-500:]}"
     assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{log}"
     return json.loads(pathlib.Path(out).read_text())
 
@@ -310,29 +305,172 @@ def test_mpi_fetch_every_output(inputs, fetch_serial, tmp_path, n, kind):
         assert got[name] == ref[name], f"{name} on {n} processes: {got[name]} != {ref[name]}"
 
 
-DISPLAY_HANG = (
-    "intermittent (here 2 of about 12 runs on 3 processes and 1 of 6 on 2, at the first "
-    "Show + Render): process 0 waits in vtkIceTCompositePass::Render "
-    "(vtkIceTContext::SetController -> MPI_Comm_dup, a collective call) while the other "
-    "processes wait for the next RMI in ProcessRMIs: they did not enter the compositing. "
-    "Not seen in 14 runs of ParaView's own Delaunay3D/ResampleWithDataset on 3 processes; "
-    "not understood yet")
+DISPLAY_TIMEOUT = 150   # seconds; a display run takes 20-60 s here
+DISPLAY_TRIES = 3
+
+
+def icet_hang(output, n):
+    """Whether a killed run's stack traces (ParaView prints one per process on SIGTERM)
+    show the hang of ParaView's own compositing, seen with ParaView's own filters too:
+    process 0 in the first composited render (vtkIceTCompositePass ->
+    vtkIceTContext::SetController -> MPI_Comm_dup, a collective call) while every other
+    process is back in ProcessRMIs waiting for the next request, never having entered it."""
+    return (output.count("vtkIceTContext::SetController") == 1
+            and output.count("MPI_Comm_dup") >= 1
+            and output.count("vtkMultiProcessController::ProcessRMIs() ") == n - 1)
+
+
+def run_display(n, surface, out):
+    """pv_fetch.py --display on n processes, tried up to DISPLAY_TRIES times, each under
+    DISPLAY_TIMEOUT. A try that ends with ParaView's compositing hang (icet_hang) or an X
+    connection failure of this shared machine is tried again; any other hang or failure
+    fails. Returns the JSON, or the reason to skip when every try ended so."""
+    seen = []
+    for _ in range(DISPLAY_TRIES):
+        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi",
+               FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3, "--display"]
+        cmd = ["timeout", "-k", "10", DISPLAY_TIMEOUT] + cmd
+        r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True,
+                           timeout=DISPLAY_TIMEOUT + 60)
+        output = r.stdout + r.stderr
+        if r.returncode == 0:
+            if seen:
+                print(f"display on {n} processes passed after: {'; '.join(seen)}")  # pytest -rP
+            return json.loads(pathlib.Path(out).read_text())
+        if r.returncode == 124 and icet_hang(output, n):
+            seen.append("ParaView's compositing hang (process 0 in vtkIceTContext::SetController"
+                        " -> MPI_Comm_dup, the others in ProcessRMIs)")
+            continue
+        if X_FAILURE in output:
+            seen.append("a process could not connect to the X server")
+            continue
+        what = f"hung (killed after {DISPLAY_TIMEOUT} s)" if r.returncode == 124 else f"failed ({r.returncode})"
+        raise AssertionError(f"{n} processes: {what}:\n{output[-4000:]}")
+    return "every try ended in an upstream or machine failure: " + "; ".join(seen)
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
-# A known, intermittent hang (DISPLAY_HANG) costs its 150 s timeout per run and decides
-# nothing, so it runs only when asked (HOEMBED_TEST_MPI_DISPLAY=1) while it is open.
-@pytest.mark.skipif(os.environ.get("HOEMBED_TEST_MPI_DISPLAY") != "1",
-                    reason="HOEMBED_TEST_MPI_DISPLAY=1 runs it; known open: " + DISPLAY_HANG)
 @pytest.mark.parametrize("n", [2, 3])
 def test_mpi_display_every_output(inputs, fetch_serial, tmp_path, n):
     """Show + Render of every HOEmbed output on n processes (each process renders its part
-    and ParaView composites them), from the .vtp surface (processes 1.. hold empty pieces),
-    after the Fetches: returns, with the 1-process counts."""
-    got = run_fetch(n, inputs[0], tmp_path / "display.json", display=True, timeout=150)
+    and ParaView composites them with IceT), from the .vtp surface (processes 1.. hold
+    empty pieces), after the Fetches: returns, with the 1-process counts. The first
+    composited render of pvbatch --mpi hangs now and then in ParaView itself (the same
+    stacks with a pipeline of ParaView's own filters and no plugin loaded:
+    Benchmarks/RESULTS.md); such a try is recognised by its stacks and tried again."""
+    got = run_display(n, inputs[0], tmp_path / "display.json")
     if isinstance(got, str):
         pytest.skip(got)
     for name in FETCHED:
         assert got[name] == fetch_serial["vtp"][name]
     for name in ("mesher", "embedding", "stepper", "transfer"):
         assert got["shown_" + name]
+
+
+GHOSTS = ROOT / "Plugin" / "Testing" / "pv_ghosts.py"
+
+
+def run_ghosts(n, surface, out, *extra, timeout=FETCH_TIMEOUT):
+    """pv_ghosts.py on n processes under `timeout` (a hang fails the test)."""
+    cmd = [PVBATCH, GHOSTS, surface, out, "--elements", ELEMENTS, "--steps", 3, *extra]
+    if n > 1:
+        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
+    r = subprocess.run([str(c) for c in ["timeout", "-k", "10", timeout] + cmd],
+                       capture_output=True, text=True, timeout=timeout + 60)
+    log = r.stdout + r.stderr
+    assert r.returncode != 124, f"{n} processes: hung (killed after {timeout} s):\n{log[-3000:]}"
+    assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{log[-3000:]}"
+    return json.loads((pathlib.Path(out) / "fetch.json").read_text()), log
+
+
+def read_vtp(path):
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(str(path))
+    r.Update()
+    return r.GetOutput()
+
+
+def read_vtu(path):
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    r = vtkXMLUnstructuredGridReader()
+    r.SetFileName(str(path))
+    r.Update()
+    return r.GetOutput()
+
+
+@pytest.fixture(scope="module")
+def ghosts_serial(inputs, tmp_path_factory):
+    out = tmp_path_factory.mktemp("pv_ghosts1")
+    run_ghosts(1, inputs[0], out)
+    return out
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+@pytest.mark.parametrize("n", [2, 3])
+def test_mpi_ghost_cells(inputs, ghosts_serial, tmp_path, n):
+    """A surface with ghost cells from ParaView's D3 (MinimumNumberOfGhostLevels=1, then
+    ExtractSurface; 5.11's GhostCellsGenerator makes none on triangles) on n processes,
+    every output fetched as the client does, against one process (where D3 makes no
+    ghosts). The embedding and the transfer embed and move ghost points like the others
+    and pass vtkGhostType (points and cells) through unchanged, as ParaView's point-wise
+    filters do: the fetched result holds the ghosts once per process that has them,
+    marked. Every point (ghosts too) matches the serial point of the same GlobalPointId
+    (the cell bitwise, the rest to round-off: D3 reorders the surface, so the flood
+    visits points in another order); the transfer's point normals of the owned points
+    equal the serial ones (what the ghost layer is for; the ghosts on the layer's outer
+    edge miss neighbours, as in VTK). The mesher leaves ghost cells out of its gather:
+    on the ghosted surface it meshes exactly what it meshes on the same surface after
+    ParaView's RemoveGhostInformation."""
+    got, _ = run_ghosts(n, inputs[0], tmp_path)
+    ref = json.loads((ghosts_serial / "fetch.json").read_text())
+    assert got["processes"] == n and ref["processes"] == 1
+    ghosted = read_vtp(tmp_path / "ghosted.vtp")
+    cell_ghosts = vtk_to_numpy(ghosted.GetCellData().GetArray("vtkGhostType"))
+    point_ghosts = arr(ghosted, "vtkGhostType")
+    # the source really made ghosts (else this test would decide nothing)
+    assert (cell_ghosts & 1).sum() > 0 and (point_ghosts & 1).sum() > 0
+    own = (point_ghosts & 1) == 0
+    for name in ("embedded", "surface_first", "surface_last"):
+        assert got[name] == got["ghosted"], name
+        a, b = read_vtp(ghosts_serial / f"{name}.vtp"), read_vtp(tmp_path / f"{name}.vtp")
+        assert np.array_equal(arr(b, "vtkGhostType"), point_ghosts), name
+        assert np.array_equal(vtk_to_numpy(b.GetCellData().GetArray("vtkGhostType")), cell_ghosts)
+        ids_a, ids_b = arr(a, "GlobalPointId"), arr(b, "GlobalPointId")
+        assert len(np.unique(ids_a)) == len(ids_a) == ref[name]["points"]
+        assert set(ids_b[own]) == set(ids_a), f"{name}: the owned points are not the serial ones"
+        order = np.argsort(ids_a)
+        at = order[np.searchsorted(ids_a, ids_b, sorter=order)]
+        assert np.abs(points(a)[at] - points(b)).max() < 1e-13, name
+        if name == "embedded":
+            assert np.array_equal(arr(a, "EmbeddingCellId")[at], arr(b, "EmbeddingCellId"))
+            for e in ("EmbeddingParametricCoords", "EmbeddingDistance"):
+                assert np.abs(arr(a, e)[at] - arr(b, e)).max() < 1e-13, e
+        else:
+            na, nb = arr(a, "Normals")[at], arr(b, "Normals")
+            assert np.abs(na[own] - nb[own]).max() < 1e-6, f"{name}: owned points' normals"
+    for name in ("mesh", "mesh_ghosted", "mesh_unghosted"):
+        assert got[name]["points"] > 0
+    serial_mesh, mesh = read_vtu(ghosts_serial / "mesh.vtu"), read_vtu(tmp_path / "mesh.vtu")
+    assert np.array_equal(points(serial_mesh), points(mesh))
+    m1, m2 = read_vtu(tmp_path / "mesh_ghosted.vtu"), read_vtu(tmp_path / "mesh_unghosted.vtu")
+    assert np.array_equal(points(m1), points(m2))
+    assert np.array_equal(vtk_to_numpy(m1.GetCells().GetConnectivityArray()),
+                          vtk_to_numpy(m2.GetCells().GetConnectivityArray()))
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+def test_mpi_mesh_with_ghost_cells_refused(inputs, tmp_path):
+    """The FE mesh must be whole on every process: ghost cells on it (ParaView's
+    GhostCellsGenerator between the mesher and the embedding and stepper, on 2
+    processes) mean a distributed mesh, whose ghosts would be elements counted twice.
+    Every process refuses it with the FE-mesh reader's one message (the embedding and
+    the stepper), so no process waits for the others: every Fetch returns, empty."""
+    got, log = run_ghosts(2, inputs[0], tmp_path, "--mesh-ghosts")
+    for who in ("vtkEmbeddingCoordinatesFilter", "vtkCorotationalFEMStepper"):
+        lines = [ln for ln in log.splitlines() if who in ln and "ghost cells of" in ln]
+        assert {ln.split("[pvbatch.")[1][0] for ln in lines if "[pvbatch." in ln} == {"0", "1"}, \
+            f"{who}: not refused on both processes:\n{log[-3000:]}"
+        assert all("whole mesh is needed on every process" in ln for ln in lines)
+    for name in ("embedded", "surface_first", "surface_last"):
+        assert got[name]["points"] == 0, name

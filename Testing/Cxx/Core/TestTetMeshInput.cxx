@@ -2,17 +2,20 @@
 // accessors (connectivity, cell sizes), hoembed::MeshFingerprint fed cell by cell through
 // vtkIdList (the reference the embedding and the transfer used before), and every error
 // the reader must give (empty, other or mixed types, wrong sizes, node ids out of range,
-// non-finite coordinates) for 32- and 64-bit cell storage and float and double points.
+// non-finite coordinates, ghost cells) for 32- and 64-bit cell storage and float and
+// double points.
 #include "hoembedMeshFingerprint.h"
 #include "hoembedTestUtilities.h"
 #include "hoembedTetMeshInputVTK.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <cmath>
@@ -136,6 +139,22 @@ void TestErrors(bool use32)
     g->GetPoints()->SetPoint(5, 0.0, std::numeric_limits<double>::infinity(), 0.0);
     HOEMBED_CHECK(Has(Read(g, in), "non-finite"), "infinite point accepted");
     HOEMBED_CHECK(Read(g, in, false).empty(), "topology-only read looked at the points");
+  }
+  {
+    // Ghost cells (vtkGhostType, as D3 or GhostCellsGenerator mark them): a distributed
+    // mesh, refused by every reader; other flags (here exterior) are not ghosts.
+    auto g = fresh();
+    vtkUnsignedCharArray* ghosts = g->AllocateCellGhostArray();
+    ghosts->SetValue(0, vtkDataSetAttributes::EXTERIORCELL);
+    HOEMBED_CHECK(Read(g, in).empty(), "a mesh without ghost cells refused: %s", Read(g, in).c_str());
+    ghosts->SetValue(1, vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::EXTERIORCELL);
+    ghosts->SetValue(3, vtkDataSetAttributes::DUPLICATECELL);
+    for (bool points : { true, false })
+    {
+      const std::string e = Read(g, in, points);
+      HOEMBED_CHECK(Has(e, "has 2 ghost cells of") && Has(e, "cell 1") && Has(e, "whole mesh"),
+        "ghost cells: %s", e.c_str());
+    }
   }
 }
 } // namespace
