@@ -138,9 +138,10 @@ int vtkCorotationalFEMStepper::RequestInformation(
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  if (!(this->TimeStep > 0.0) || !std::isfinite(this->TimeStep))
+  if (!hoembed::CheckStepperProperty("TimeStep", this->TimeStep).empty() ||
+    !hoembed::CheckStepperProperty("NumberOfTimeSteps", this->NumberOfTimeSteps).empty())
   {
-    return 1; // reported by RequestData
+    return 1; // no time steps to advertise; the error is RequestData's (CheckProperties)
   }
   std::vector<double> times(static_cast<size_t>(this->NumberOfTimeSteps) + 1);
   for (size_t k = 0; k < times.size(); ++k)

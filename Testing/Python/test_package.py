@@ -299,6 +299,18 @@ def test_filters_refuse_what_their_driver_refuses():
     with pytest.raises(hoembed.HOEmbedError, match=re.escape(sentence)):
         run_filter(mesher)
     assert check_range("mesher", "TargetNumberOfElements", 4) == ""
+    # the stepper: a negative step count advertises no times and fails RequestData
+    import numpy as np
+    tet = pv.UnstructuredGrid({pv.CellType.TETRA: np.array([[0, 1, 2, 3]])},
+                              np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]))
+    stepper = hoembed.vtkCorotationalFEMStepper()
+    stepper.SetInputData(tet)
+    stepper.SetNumberOfTimeSteps(-1)
+    sentence = check_range("stepper", "NumberOfTimeSteps", -1)
+    with pytest.raises(hoembed.HOEmbedError, match=re.escape(sentence)):
+        run_filter(stepper)
+    with pytest.raises(ValueError, match="no range of Nope"):
+        check_range("stepper", "Nope", 1.0)
 
 
 def test_one_source_tree():
