@@ -73,6 +73,11 @@ std::string EmbeddingDriver::PrepareMesh(const TetMeshArrays& arrays, bool valid
 std::string EmbeddingDriver::PrepareAndOrder(
   const TetMeshArrays* mesh, bool validateElements, int partitions)
 {
+  const std::string rangeError = CheckPropertyRange(EmbeddingRanges[0], partitions);
+  if (!rangeError.empty())
+  {
+    return rangeError;
+  }
   // The surface's order for the flood depends on the surface only: it is built while the
   // mesh is prepared (two tasks; on two threads the preparation's serial parts and the
   // ordering overlap). Both tasks only record problems.

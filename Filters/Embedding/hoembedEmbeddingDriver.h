@@ -23,6 +23,7 @@
 
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedPropertyRange.h"
 #include "hoembedSurfaceTriangles.h"
 #include "hoembedTetMeshInput.h"
 
@@ -75,6 +76,13 @@ struct EmbeddingOptions
   /// keep the prepared mesh while the binding knows it is the same (PrepareAndOrder with
   /// no mesh)
   bool ReuseMeshPreparation = true;
+};
+
+/// The valid range of the embedding's numeric property, written once: PrepareAndOrder
+/// refuses a value outside it with its sentence; the package (RANGES, check_range) and the
+/// ParaView XML's range domain (kept inside by a test) read it from here.
+constexpr PropertyRange EmbeddingRanges[] = {
+  { "NumberOfPartitions", 0, 1 << 20, false, false, true },
 };
 
 /// Relative to the mesh's bounding-box diagonal: a residual above it is reported (an exact

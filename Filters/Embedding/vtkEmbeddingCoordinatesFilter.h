@@ -132,7 +132,7 @@ public:
    * Number of surface patches flooded independently (in parallel); 0 (default) picks
    * about one per 1000 triangles, at most 256.
    */
-  vtkSetClampMacro(NumberOfPartitions, int, 0, 1 << 20);
+  vtkSetMacro(NumberOfPartitions, int);
   vtkGetMacro(NumberOfPartitions, int);
   ///@}
 

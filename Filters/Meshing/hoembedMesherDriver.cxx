@@ -462,11 +462,40 @@ void ReportQuality(const MesherOptions& options, MesherResult& out)
 }
 } // namespace
 
+std::string CheckMesherProperty(const std::string& name, double value)
+{
+  const PropertyRange* r = FindPropertyRange(MesherRanges, name);
+  return r ? CheckPropertyRange(*r, value) : std::string();
+}
+
+std::string CheckMesherOptions(const MesherOptions& o)
+{
+  const std::pair<const char*, double> values[] = {
+    { "TargetNumberOfElements", o.TargetNumberOfElements },
+    { "TargetEdgeLength", o.TargetEdgeLength }, { "ElementOrder", o.ElementOrder },
+    { "RadiusEdgeRatio", o.RadiusEdgeRatio }, { "MinDihedralAngle", o.MinDihedralAngle },
+    { "SurfaceDeviationWarning", o.SurfaceDeviationWarning },
+    { "CurvedQualityRatio", o.CurvedQualityRatio }, { "MinimumQuality", o.MinimumQuality },
+    { "EnvelopeTolerance", o.EnvelopeTolerance }, { "Wrap", o.Wrap },
+    { "WrapMaxGates", o.WrapMaxGates }, { "CoarseTetGenMaxCreated", o.CoarseTetGenMaxCreated }
+  };
+  for (const auto& v : values)
+  {
+    const std::string error = CheckMesherProperty(v.first, v.second);
+    if (!error.empty())
+      return error;
+  }
+  return std::string();
+}
+
 MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>& tris,
   const MesherOptions& options, const MesherServices& services,
   const std::function<void(double)>& progress)
 {
   MesherResult out;
+  out.Error = CheckMesherOptions(options);
+  if (!out.Error.empty())
+    return out;
   // Never backwards: a fallback (the envelope after the coarsened surface was curved)
   // repeats earlier steps; its progress stays where it was until it passes it.
   double reported = 0.0;

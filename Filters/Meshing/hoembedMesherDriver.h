@@ -16,6 +16,7 @@
 
 #include "hoembedCurvedMeshBuilder.h"
 #include "hoembedFiltersMeshingModule.h"
+#include "hoembedPropertyRange.h"
 
 #include <cstdint>
 #include <functional>
@@ -77,6 +78,36 @@ struct MesherServiceSettings
   static constexpr double MergeTolerance = 1e-6;
   static constexpr std::int64_t MaximumNumberOfElements = 1000000;
 };
+
+/// The valid range of each numeric property of the mesher (MesherOptions, and the
+/// filter's MergeTolerance and MaximumNumberOfElements of MesherServiceSettings), written
+/// once: CheckMesherOptions (and so RunMesher) refuses a value outside it with its
+/// sentence; vtkTet10Mesher, the package (RANGES, check_range) and the ParaView XML's
+/// range domains (kept inside by a test) read it from here.
+constexpr PropertyRange MesherRanges[] = {
+  { "TargetNumberOfElements", 4, 1e7, false, false, true },
+  { "MaximumNumberOfElements", 1, NoLimit, false, false, true },
+  { "TargetEdgeLength", 0, NoLimit, false, false, false },
+  { "ElementOrder", 1, 2, false, false, true },
+  { "RadiusEdgeRatio", 1.05, 100, false, false, false },
+  { "MinDihedralAngle", 0, 30, false, false, false },
+  { "SurfaceDeviationWarning", 0, NoLimit, false, false, false },
+  { "CurvedQualityRatio", 0, 1, false, false, false },
+  { "MinimumQuality", 0, 1, false, false, false },
+  { "EnvelopeTolerance", 0, 1, false, false, false },
+  { "Wrap", -1, 1, false, false, true },
+  { "WrapMaxGates", 0, NoLimit, false, false, false },
+  { "CoarseTetGenMaxCreated", 0, NoLimit, false, false, false },
+  { "MergeTolerance", 0, 0.01, false, false, false },
+};
+
+/// The sentence refusing `value` for the property `name` (MesherRanges; "" when `value`
+/// is in its range, or `name` has none).
+HOEMBEDFILTERSMESHING_EXPORT std::string CheckMesherProperty(const std::string& name, double value);
+
+/// The first option of `options` outside its MesherRanges range, as its sentence ("" when
+/// all are valid). RunMesher starts with it.
+HOEMBEDFILTERSMESHING_EXPORT std::string CheckMesherOptions(const MesherOptions& options);
 
 /// Geometry services on the fine surface that the binding provides.
 struct HOEMBEDFILTERSMESHING_EXPORT MesherServices

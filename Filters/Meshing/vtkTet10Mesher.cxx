@@ -582,7 +582,8 @@ int vtkTet10Mesher::RequestUpdateExtent(
   return 1;
 }
 
-// Before any work: properties finite (the clamp macros let NaN through).
+// Before any work: every property in the driver's range (hoembed::MesherRanges; the set
+// macros do not clamp, so that a bad value is refused with its sentence, not changed).
 bool vtkTet10Mesher::CheckRequest(vtkPolyData*)
 {
   const std::pair<const char*, double> props[] = { { "TargetEdgeLength", this->TargetEdgeLength },
@@ -590,12 +591,16 @@ bool vtkTet10Mesher::CheckRequest(vtkPolyData*)
     { "CurvedQualityRatio", this->CurvedQualityRatio },
     { "MinimumQuality", this->MinimumQuality },
     { "SurfaceDeviationWarning", this->SurfaceDeviationWarning },
-    { "EnvelopeTolerance", this->EnvelopeTolerance }, { "MergeTolerance", this->MergeTolerance } };
+    { "EnvelopeTolerance", this->EnvelopeTolerance }, { "MergeTolerance", this->MergeTolerance },
+    { "TargetNumberOfElements", this->TargetNumberOfElements },
+    { "MaximumNumberOfElements", static_cast<double>(this->MaximumNumberOfElements) },
+    { "ElementOrder", this->ElementOrder } };
   for (const auto& p : props)
   {
-    if (!std::isfinite(p.second))
+    const std::string error = hoembed::CheckMesherProperty(p.first, p.second);
+    if (!error.empty())
     {
-      vtkErrorMacro(<< p.first << " is " << p.second << ": a finite value is needed");
+      vtkErrorMacro(<< error);
       return false;
     }
   }

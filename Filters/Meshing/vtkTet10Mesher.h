@@ -100,7 +100,7 @@ public:
    * Approximate number of elements wanted (default 1000). Ignored when
    * TargetEdgeLength > 0.
    */
-  vtkSetClampMacro(TargetNumberOfElements, int, 4, 10000000);
+  vtkSetMacro(TargetNumberOfElements, int);
   vtkGetMacro(TargetNumberOfElements, int);
   ///@}
 
@@ -111,7 +111,7 @@ public:
    * volume of a regular tet of edge TargetEdgeLength); a larger estimate is refused with
    * an error giving the estimate, its memory and this limit. Raise it for larger meshes.
    */
-  vtkSetClampMacro(MaximumNumberOfElements, vtkIdType, 1, VTK_ID_MAX);
+  vtkSetMacro(MaximumNumberOfElements, vtkIdType);
   vtkGetMacro(MaximumNumberOfElements, vtkIdType);
   ///@}
 
@@ -120,13 +120,13 @@ public:
    * Target edge length in the units of the input (default 0: derived from
    * TargetNumberOfElements and the enclosed volume).
    */
-  vtkSetClampMacro(TargetEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(TargetEdgeLength, double);
   vtkGetMacro(TargetEdgeLength, double);
   ///@}
 
   ///@{
   /** 2 (default): VTK_QUADRATIC_TETRA; 1: VTK_TETRA on the same corner nodes. */
-  vtkSetClampMacro(ElementOrder, int, 1, 2);
+  vtkSetMacro(ElementOrder, int);
   vtkGetMacro(ElementOrder, int);
   ///@}
 
@@ -160,13 +160,13 @@ public:
 
   ///@{
   /** TetGen radius-edge ratio bound (default 1.5; TetGen's -q first value). */
-  vtkSetClampMacro(RadiusEdgeRatio, double, 1.05, 100.0);
+  vtkSetMacro(RadiusEdgeRatio, double);
   vtkGetMacro(RadiusEdgeRatio, double);
   ///@}
 
   ///@{
   /** TetGen minimum dihedral angle in degrees (default 10; TetGen's -q second value). */
-  vtkSetClampMacro(MinDihedralAngle, double, 0.0, 30.0);
+  vtkSetMacro(MinDihedralAngle, double);
   vtkGetMacro(MinDihedralAngle, double);
   ///@}
 
@@ -175,7 +175,7 @@ public:
    * Maximum distance from the fine surface to the coarse boundary, relative to the
    * bounding-box diagonal, above which a warning is issued (default 0.05).
    */
-  vtkSetClampMacro(SurfaceDeviationWarning, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(SurfaceDeviationWarning, double);
   vtkGetMacro(SurfaceDeviationWarning, double);
   ///@}
 
@@ -185,7 +185,7 @@ public:
    * their straight shape (default 0.02); below it their mid-edge nodes are pulled back.
    * 0 asks only for validity (det J > 0 everywhere).
    */
-  vtkSetClampMacro(CurvedQualityRatio, double, 0.0, 1.0);
+  vtkSetMacro(CurvedQualityRatio, double);
   vtkGetMacro(CurvedQualityRatio, double);
   ///@}
 
@@ -197,7 +197,7 @@ public:
    * whose straight shape is already below it stays straight there, and a warning gives
    * the count and the figures (field data `PoorElementCount`). 0: no floor.
    */
-  vtkSetClampMacro(MinimumQuality, double, 0.0, 1.0);
+  vtkSetMacro(MinimumQuality, double);
   vtkGetMacro(MinimumQuality, double);
   ///@}
 
@@ -208,7 +208,7 @@ public:
    * that a single open sheet becomes a solid about one element thick). Smaller values
    * follow the surface more closely and need more elements where the surface is a sheet.
    */
-  vtkSetClampMacro(EnvelopeTolerance, double, 0.0, 1.0);
+  vtkSetMacro(EnvelopeTolerance, double);
   vtkGetMacro(EnvelopeTolerance, double);
   ///@}
 
@@ -219,7 +219,7 @@ public:
    * seen in STL files, would otherwise leave false boundary edges). 0 merges only
    * coincident points.
    */
-  vtkSetClampMacro(MergeTolerance, double, 0.0, 0.01);
+  vtkSetMacro(MergeTolerance, double);
   vtkGetMacro(MergeTolerance, double);
   ///@}
 

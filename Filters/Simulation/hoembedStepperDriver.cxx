@@ -8,14 +8,69 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace hoembed
 {
 //------------------------------------------------------------------------------
+std::string CheckStepperProperty(const std::string& name, double value)
+{
+  const PropertyRange* r = FindPropertyRange(StepperRanges, name);
+  return r ? CheckPropertyRange(*r, value) : std::string();
+}
+
+namespace
+{
+std::string FirstError(const std::pair<const char*, double>* values, int n)
+{
+  for (int i = 0; i < n; ++i)
+  {
+    const std::string error = CheckStepperProperty(values[i].first, values[i].second);
+    if (!error.empty())
+      return error;
+  }
+  return std::string();
+}
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::CheckParameters(const StepperParameters& p)
+{
+  const std::pair<const char*, double> values[] = { { "YoungModulus", p.YoungModulus },
+    { "PoissonRatio", p.PoissonRatio }, { "Density", p.Density }, { "TimeStep", p.TimeStep },
+    { "RayleighMass", p.RayleighMass }, { "RayleighStiffness", p.RayleighStiffness },
+    { "SolverTolerance", p.SolverTolerance }, { "MaxSolverIterations", p.MaxSolverIterations } };
+  return FirstError(values, static_cast<int>(sizeof(values) / sizeof(values[0])));
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::CheckOptions(const StepperOptions& o)
+{
+  const std::pair<const char*, double> values[] = { { "Gravity", o.Gravity[0] },
+    { "Gravity", o.Gravity[1] }, { "Gravity", o.Gravity[2] },
+    { "NumberOfTimeSteps", o.NumberOfTimeSteps },
+    { "PrescribedSpeedLimit", o.PrescribedSpeedLimit },
+    { "FactorizationLag", o.FactorizationLag } };
+  return FirstError(values, static_cast<int>(sizeof(values) / sizeof(values[0])));
+}
+
+//------------------------------------------------------------------------------
 std::string StepperDriver::Build(
   const TetMeshInput& mesh, const StepperParameters& p, const StepperInputs& in)
 {
-  std::string error = this->Initialize(mesh, p);
+  std::string error = CheckParameters(p);
+  for (int i = 0; i < 3 && error.empty(); ++i)
+  {
+    error = CheckStepperProperty("Gravity", in.Gravity[i]);
+  }
+  if (error.empty())
+  {
+    error = CheckStepperProperty("PrescribedSpeedLimit", in.PrescribedSpeedLimit);
+  }
+  if (error.empty())
+  {
+    error = this->Initialize(mesh, p);
+  }
   if (error.empty())
   {
     error = this->SetClamps(mesh.Points, in.FixedValues, p);

@@ -15,6 +15,7 @@
 
 #include "hoembedCorotationalSolver.h"
 #include "hoembedFiltersSimulationModule.h"
+#include "hoembedPropertyRange.h"
 
 #include <functional>
 #include <string>
@@ -63,6 +64,31 @@ struct StepperOptions
   int FactorizationLag = 0;
 };
 
+/// The valid range of each numeric property of the stepper (StepperParameters and
+/// StepperOptions; Gravity: each component), written once: StepperDriver::Build and
+/// CheckParameters refuse a value outside it with its sentence; vtkCorotationalFEMStepper,
+/// the package (RANGES, check_range) and the ParaView XML's range domains (kept inside by
+/// a test) read it from here.
+constexpr PropertyRange StepperRanges[] = {
+  { "YoungModulus", 0, NoLimit, true, false, false },
+  { "PoissonRatio", -1, 0.5, true, true, false },
+  { "Density", 0, NoLimit, true, false, false },
+  { "TimeStep", 0, NoLimit, true, false, false },
+  { "RayleighMass", 0, NoLimit, false, false, false },
+  { "RayleighStiffness", 0, NoLimit, false, false, false },
+  { "SolverTolerance", 1e-16, 1, false, false, false },
+  { "MaxSolverIterations", 1, NoLimit, false, false, true },
+  { "Gravity", -NoLimit, NoLimit, false, false, false },
+  { "NumberOfTimeSteps", 0, NoLimit, false, false, true },
+  { "PrescribedSpeedLimit", 0, NoLimit, false, false, false },
+  { "FactorizationLag", 0, NoLimit, false, false, true },
+};
+
+/// The sentence refusing `value` for the property `name` (StepperRanges; "" when `value`
+/// is in its range, or `name` has none).
+HOEMBEDFILTERSSIMULATION_EXPORT std::string CheckStepperProperty(
+  const std::string& name, double value);
+
 /// The per-point inputs of a set-up (each nullptr: none), 1 or 3 values per point.
 struct StepperInputs
 {
@@ -83,6 +109,13 @@ public:
   /// Start. Returns the first error.
   std::string Build(const TetMeshInput& mesh, const StepperParameters& p,
     const StepperInputs& inputs);
+
+  /// The first property of `p` outside its StepperRanges range, as its sentence ("" when
+  /// all are valid). Build starts with it.
+  static std::string CheckParameters(const StepperParameters& p);
+  /// The same for the run's settings (Gravity, NumberOfTimeSteps, PrescribedSpeedLimit,
+  /// FactorizationLag).
+  static std::string CheckOptions(const StepperOptions& o);
 
   /// Rest validity of every cell of `mesh` (read with TetMeshInput::KeepPoints), then the
   /// solver's mesh, material and mass.

@@ -105,41 +105,29 @@ vtkCorotationalFEMStepper::~vtkCorotationalFEMStepper()
   this->SetFixedArrayName(nullptr);
 }
 
+// The driver's ranges (hoembed::StepperRanges): the set macros do not clamp, so that a bad
+// value is refused with the driver's sentence, not changed.
 bool vtkCorotationalFEMStepper::CheckProperties()
 {
-  if (!(this->YoungModulus > 0.0) || !std::isfinite(this->YoungModulus))
-  {
-    vtkErrorMacro("YoungModulus must be > 0 (got " << this->YoungModulus << ").");
-    return false;
-  }
-  if (!(this->PoissonRatio > -1.0 && this->PoissonRatio < 0.5))
-  {
-    vtkErrorMacro("PoissonRatio must be in (-1, 0.5) (got " << this->PoissonRatio << ").");
-    return false;
-  }
-  if (!(this->Density > 0.0) || !std::isfinite(this->Density))
-  {
-    vtkErrorMacro("Density must be > 0 (got " << this->Density << ").");
-    return false;
-  }
-  if (!(this->TimeStep > 0.0) || !std::isfinite(this->TimeStep))
-  {
-    vtkErrorMacro("TimeStep must be > 0 (got " << this->TimeStep << ").");
-    return false;
-  }
-  if (!(this->RayleighMass >= 0.0) || !(this->RayleighStiffness >= 0.0))
-  {
-    vtkErrorMacro("RayleighMass and RayleighStiffness must be >= 0 (got "
-      << this->RayleighMass << ", " << this->RayleighStiffness << ").");
-    return false;
-  }
+  hoembed::StepperParameters p;
+  this->GetParameters(p);
+  hoembed::StepperOptions o;
   for (int i = 0; i < 3; ++i)
   {
-    if (!std::isfinite(this->Gravity[i]))
-    {
-      vtkErrorMacro("Gravity must be finite.");
-      return false;
-    }
+    o.Gravity[i] = this->Gravity[i];
+  }
+  o.NumberOfTimeSteps = this->NumberOfTimeSteps;
+  o.PrescribedSpeedLimit = this->PrescribedSpeedLimit;
+  o.FactorizationLag = this->FactorizationLag;
+  std::string error = hoembed::StepperDriver::CheckParameters(p);
+  if (error.empty())
+  {
+    error = hoembed::StepperDriver::CheckOptions(o);
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return false;
   }
   return true;
 }
@@ -150,9 +138,10 @@ int vtkCorotationalFEMStepper::RequestInformation(
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  if (!(this->TimeStep > 0.0) || !std::isfinite(this->TimeStep))
+  if (!hoembed::CheckStepperProperty("TimeStep", this->TimeStep).empty() ||
+    !hoembed::CheckStepperProperty("NumberOfTimeSteps", this->NumberOfTimeSteps).empty())
   {
-    return 1; // reported by RequestData
+    return 1; // no time steps to advertise; the error is RequestData's (CheckProperties)
   }
   std::vector<double> times(static_cast<size_t>(this->NumberOfTimeSteps) + 1);
   for (size_t k = 0; k < times.size(); ++k)

@@ -152,7 +152,7 @@ public:
   /// Time step (> 0) and number of advertised steps.
   vtkSetMacro(TimeStep, double);
   vtkGetMacro(TimeStep, double);
-  vtkSetClampMacro(NumberOfTimeSteps, int, 0, VTK_INT_MAX);
+  vtkSetMacro(NumberOfTimeSteps, int);
   vtkGetMacro(NumberOfTimeSteps, int);
   ///@}
 
@@ -215,7 +215,7 @@ public:
   vtkSetMacro(BackgroundFactorization, bool);
   vtkGetMacro(BackgroundFactorization, bool);
   vtkBooleanMacro(BackgroundFactorization, bool);
-  vtkSetClampMacro(FactorizationLag, int, 0, VTK_INT_MAX);
+  vtkSetMacro(FactorizationLag, int);
   vtkGetMacro(FactorizationLag, int);
   ///@}
 
@@ -240,7 +240,7 @@ public:
   /// it per step, so that a target that jumps (a fast mouse) is followed stably. A load:
   /// in LiveMode a change does not restart. Interactive use: about half an element size
   /// per step (see hoembedCorotationalSolver.h).
-  vtkSetClampMacro(PrescribedSpeedLimit, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(PrescribedSpeedLimit, double);
   vtkGetMacro(PrescribedSpeedLimit, double);
   ///@}
   /// Nodal forces (3 components per input point; nullptr clears), added to the
@@ -260,9 +260,9 @@ public:
 
   ///@{
   /// Conjugate-gradient controls: relative residual and iteration cap per step.
-  vtkSetClampMacro(SolverTolerance, double, 1e-16, 1.0);
+  vtkSetMacro(SolverTolerance, double);
   vtkGetMacro(SolverTolerance, double);
-  vtkSetClampMacro(MaxSolverIterations, int, 1, VTK_INT_MAX);
+  vtkSetMacro(MaxSolverIterations, int);
   vtkGetMacro(MaxSolverIterations, int);
   ///@}
 

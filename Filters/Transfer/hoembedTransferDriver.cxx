@@ -224,6 +224,11 @@ std::string TransferDriver::BuildPlan(
   const TransferEmbedding& em, double faceTolerance, double meshLength)
 {
   this->PlanVersion = -1;
+  const std::string rangeError = CheckPropertyRange(TransferRanges[0], faceTolerance);
+  if (!rangeError.empty())
+  {
+    return rangeError;
+  }
   const std::int64_t numVerts = em.NumberOfVertices;
   const std::int64_t numCells = this->NumberOfCells;
   const bool offset = em.Method == EmbeddingMethod::NormalOffset;

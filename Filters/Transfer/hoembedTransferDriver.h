@@ -31,6 +31,7 @@
 
 #include "hoembedArrayNames.h"
 #include "hoembedFiltersTransferModule.h"
+#include "hoembedPropertyRange.h"
 #include "hoembedTetMeshInput.h"
 #include "hoembedTetMeshTopology.h"
 #include "hoembedTransferKernel.h"
@@ -138,6 +139,13 @@ struct TransferOptions
   /// BuildPlan's face tolerance: how close to 0 a parametric coordinate of a point on a
   /// boundary face may be
   double FaceTolerance = 1e-6;
+};
+
+/// The valid range of the transfer's numeric property, written once: BuildPlan refuses a
+/// value outside it with its sentence; the package (RANGES) and the ParaView XML's range
+/// domain (kept inside by a test) read it from here.
+constexpr PropertyRange TransferRanges[] = {
+  { "FaceTolerance", 0, 1, false, false, false },
 };
 
 class HOEMBEDFILTERSTRANSFER_EXPORT TransferDriver

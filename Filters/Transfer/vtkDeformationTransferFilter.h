@@ -170,7 +170,7 @@ public:
    * Largest |barycentric coordinate| of the opposite corner for which a point counts as
    * lying on a face, when the face is deduced (no `EmbeddingFace`); default 1e-6.
    */
-  vtkSetClampMacro(FaceTolerance, double, 0.0, 1.0);
+  vtkSetMacro(FaceTolerance, double);
   vtkGetMacro(FaceTolerance, double);
   ///@}
 

@@ -300,7 +300,7 @@ def test_stepper_errors():
         hoembed.simulate(mesh, prescribed=grab)
     with pytest.raises(ValueError, match="prescribed displacement"):
         hoembed.simulate(mesh, prescribed=(grab, (0, np.nan, 1)))
-    with pytest.raises(ValueError, match="prescribed_speed_limit must be finite and >= 0"):
+    with pytest.raises(ValueError, match="prescribed_speed_limit: PrescribedSpeedLimit must be >= 0"):
         hoembed.simulate(mesh, prescribed=(grab, (0, 0, 1)), prescribed_speed_limit=-1)
     cells = mesh.cell_connectivity.reshape(mesh.n_cells, -1).copy()
     cells[0, [0, 1]] = cells[0, [1, 0]]

@@ -246,6 +246,73 @@ def test_paraview_xml_defaults_are_the_filters():
     assert len(covered) == 41
 
 
+def test_paraview_xml_ranges_are_the_drivers():
+    """The XML's range domains are slider hints: each lies within its driver's valid range
+    (hoembed::MesherRanges, StepperRanges, read from the compiled module's RANGES), an end
+    the driver leaves open being the hint's end at most, so that the GUI never offers a
+    value the driver refuses. Properties without a driver range are listed: a new one
+    fails here until its driver states its range."""
+    import pathlib
+    import xml.etree.ElementTree as ET
+    from hoembed._hoembed import RANGES
+    xml = pathlib.Path(__file__).resolve().parents[2] / "Plugin" / "HOEmbed" / "HOEmbed.xml"
+    stage_of = {cls: stage for stage, cls in FILTERS.items()}
+    checked, without = set(), set()
+    for proxy in ET.parse(xml).getroot().iter("SourceProxy"):
+        stage = stage_of[proxy.attrib["class"]]
+        for prop in proxy:
+            for domain in prop:
+                if domain.tag not in ("IntRangeDomain", "DoubleRangeDomain"):
+                    continue
+                name = prop.attrib["command"][3:]
+                driver = RANGES.get(stage, {}).get(name)
+                if driver is None:
+                    without.add(name)
+                    continue
+                low, high, _, _, integer = driver
+                assert integer == (domain.tag == "IntRangeDomain"), name
+                hint_low, hint_high = domain.attrib.get("min"), domain.attrib.get("max")
+                if low is not None:
+                    assert hint_low is not None and float(hint_low) >= low, (name, hint_low, low)
+                if high is not None:
+                    assert hint_high is not None and float(hint_high) <= high, (
+                        name, hint_high, high)
+                checked.add(name)
+    assert {"TargetNumberOfElements", "MinimumQuality", "RadiusEdgeRatio", "YoungModulus",
+            "PoissonRatio", "Density", "TimeStep", "NumberOfTimeSteps"} <= checked
+    assert "NumberOfPartitions" in checked and "FaceTolerance" in checked
+    assert not without, without
+
+
+def test_filters_refuse_what_their_driver_refuses():
+    """No clamping set macro: a value outside the driver's range reaches the driver, whose
+    sentence the filter reports (RequestData fails, nothing is changed silently)."""
+    from hoembed._hoembed import check_range
+    sphere = vtkSphereSource()
+    sphere.Update()
+    mesher = hoembed.vtkTet10Mesher()
+    mesher.SetInputData(sphere.GetOutput())
+    mesher.SetTargetNumberOfElements(0)
+    assert mesher.GetTargetNumberOfElements() == 0
+    sentence = check_range("mesher", "TargetNumberOfElements", 0)
+    assert sentence.startswith("TargetNumberOfElements must be")
+    with pytest.raises(hoembed.HOEmbedError, match=re.escape(sentence)):
+        run_filter(mesher)
+    assert check_range("mesher", "TargetNumberOfElements", 4) == ""
+    # the stepper: a negative step count advertises no times and fails RequestData
+    import numpy as np
+    tet = pv.UnstructuredGrid({pv.CellType.TETRA: np.array([[0, 1, 2, 3]])},
+                              np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]))
+    stepper = hoembed.vtkCorotationalFEMStepper()
+    stepper.SetInputData(tet)
+    stepper.SetNumberOfTimeSteps(-1)
+    sentence = check_range("stepper", "NumberOfTimeSteps", -1)
+    with pytest.raises(hoembed.HOEmbedError, match=re.escape(sentence)):
+        run_filter(stepper)
+    with pytest.raises(ValueError, match="no range of Nope"):
+        check_range("stepper", "Nope", 1.0)
+
+
 def test_one_source_tree():
     """The package's Python files are one tree: the build tree's copies are those of
     Wrapping/Python/hoembed, and no other package source is left (Wrapping/Pip has only

@@ -10,6 +10,7 @@
 // are raised as RuntimeError; the Python side turns them into hoembed.HOEmbedError.
 #include "hoembedArrayNames.h"
 #include "hoembedEmbeddingDriver.h"
+#include "hoembedMesherDriver.h"
 #include "hoembedParallel.h"
 #include "hoembedStepperDriver.h"
 #include "hoembedTetMeshInput.h"
@@ -131,6 +132,22 @@ hoembed::TransferArrayShape Shape(const nb::object& o)
     shape.Tuples = ct.second;
   }
   return shape;
+}
+
+// A driver's range table as {name: (min, max, min_open, max_open, integer)}, None for
+// no bound (hoembed::NoLimit).
+template <std::size_t N>
+nb::dict Ranges(const hoembed::PropertyRange (&table)[N])
+{
+  nb::dict d;
+  auto bound = [](double v) -> nb::object {
+    if (v == hoembed::NoLimit || v == -hoembed::NoLimit)
+      return nb::object(nb::none());
+    return nb::object(nb::float_(v));
+  };
+  for (const hoembed::PropertyRange& r : table)
+    d[r.Name] = nb::make_tuple(bound(r.Min), bound(r.Max), r.MinOpen, r.MaxOpen, r.Integer);
+  return d;
 }
 
 struct Transfer
@@ -767,6 +784,29 @@ NB_MODULE(_hoembed, m)
 #undef HOEMBED_NAME
   m.attr("ARRAY_NAMES") = names;
   m.attr("DEFAULTS") = Defaults();
+  // The drivers' valid ranges (hoembed::MesherRanges, StepperRanges) and their check, so
+  // that the package refuses a bad argument with the driver's sentence before any work.
+  nb::dict ranges;
+  ranges["mesher"] = Ranges(hoembed::MesherRanges);
+  ranges["stepper"] = Ranges(hoembed::StepperRanges);
+  ranges["embedding"] = Ranges(hoembed::EmbeddingRanges);
+  ranges["transfer"] = Ranges(hoembed::TransferRanges);
+  m.attr("RANGES") = ranges;
+  m.def(
+    "check_range",
+    [](const std::string& driver, const std::string& name, double value) {
+      using hoembed::FindPropertyRange;
+      const hoembed::PropertyRange* r = driver == "mesher"
+        ? FindPropertyRange(hoembed::MesherRanges, name)
+        : driver == "stepper"   ? FindPropertyRange(hoembed::StepperRanges, name)
+        : driver == "embedding" ? FindPropertyRange(hoembed::EmbeddingRanges, name)
+        : driver == "transfer"  ? FindPropertyRange(hoembed::TransferRanges, name)
+                                : nullptr;
+      if (!r)
+        throw std::invalid_argument("check_range: the " + driver + " driver has no range of " + name);
+      return hoembed::CheckPropertyRange(*r, value);
+    },
+    "The driver's sentence refusing `value` for its property `name` ('' when valid).");
 
   m.def("number_of_threads", [] { return hoembed::ParallelThreadCount(); },
     "Threads the kernels' loops use (the wheel: HOEMBED_NUM_THREADS, else the hardware's; "

@@ -243,7 +243,18 @@ void CheckTetGenBoundFallsBack()
   services.MaxDistanceToTriangles = [](const std::vector<double>&, const std::vector<Id>&,
                                       const std::vector<double>&, Id) { return 0.0; };
   hoembed::MesherOptions options;
+  // an option outside its range (hoembed::MesherRanges) is refused before any work, with
+  // the value (no clamping anywhere: 0 elements is not turned into 4)
+  options.TargetNumberOfElements = 0;
+  hoembed::MesherResult refused = hoembed::RunMesher(pts, tris, options, services);
+  HOEMBED_CHECK(refused.Error == "TargetNumberOfElements must be an integer in [4, 10000000] "
+                                 "(got 0).", "got '%s'", refused.Error.c_str());
   options.TargetNumberOfElements = 500;
+  options.MinimumQuality = 1.5;
+  HOEMBED_CHECK(hoembed::CheckMesherOptions(options) ==
+      "MinimumQuality must be in [0, 1] (got 1.5).", "got '%s'",
+    hoembed::CheckMesherOptions(options).c_str());
+  options.MinimumQuality = hoembed::MesherOptions().MinimumQuality;
   hoembed::MesherResult plain = hoembed::RunMesher(pts, tris, options, services);
   HOEMBED_CHECK(plain.Error.empty() && !plain.Wrapped, "sphere: '%s', wrapped %d",
     plain.Error.c_str(), plain.Wrapped);

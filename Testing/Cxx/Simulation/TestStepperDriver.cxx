@@ -121,6 +121,20 @@ void TestErrors()
   hoembed::StepperDriver d;
   std::string e = Build(d, m, p, g);
   HOEMBED_CHECK(e == "ClampPlaneNormal must be a nonzero vector.", "got '%s'", e.c_str());
+  // a property outside its range (hoembed::StepperRanges) is refused first, with its value
+  p.PoissonRatio = 0.5;
+  hoembed::StepperDriver d0;
+  e = Build(d0, m, p, g);
+  HOEMBED_CHECK(e == "PoissonRatio must be in (-1, 0.5) (got 0.5).", "got '%s'", e.c_str());
+  p.PoissonRatio = hoembed::StepperParameters().PoissonRatio;
+  p.TimeStep = std::nan("");
+  e = hoembed::StepperDriver::CheckParameters(p);
+  HOEMBED_CHECK(e == "TimeStep must be > 0 (got nan).", "got '%s'", e.c_str());
+  p.TimeStep = hoembed::StepperParameters().TimeStep;
+  hoembed::StepperOptions o;
+  o.NumberOfTimeSteps = -1;
+  e = hoembed::StepperDriver::CheckOptions(o);
+  HOEMBED_CHECK(e == "NumberOfTimeSteps must be an integer >= 0 (got -1).", "got '%s'", e.c_str());
   // cell 0 inverted: its first two corners swapped
   std::swap(m.Connectivity[0], m.Connectivity[1]);
   p.ClampPlaneNormal[0] = 1.0;

@@ -7,7 +7,7 @@ import numpy as np
 from ._arrays import N
 from ._errors import (HOEmbedArgumentError, HOEmbedError, check_callable, check_dataset,
                       check_int, check_real, check_vector)
-from ._hoembed import DEFAULTS
+from ._hoembed import DEFAULTS, check_range
 
 # values of hoembed::EmbeddingMethod (= vtkEmbeddingCoordinatesFilter's Method)
 EMBED_METHODS = {"normal-offset": 0, "barycentric": 1}
@@ -73,9 +73,9 @@ Raises
 hoembed.HOEmbedError
     On bad input (empty, NaN, point ids out of range, no polygons, no triangle with
     an area), a TetGen failure, or a mesh estimated beyond the element limit. Bad
-    arguments (``n_elements`` < 1, ``order`` other than 1 or 2, NaN or out-of-range
-    quality bounds, a negative or NaN ``edge_length``, a surface that is not poly
-    data) raise ``hoembed._errors.HOEmbedArgumentError`` (a HOEmbedError and a
+    arguments (of the wrong type, a surface that is not poly data, or a value outside
+    the mesher's range, ``hoembed._hoembed.RANGES["mesher"]``, refused with the mesher's
+    sentence) raise ``hoembed._errors.HOEmbedArgumentError`` (a HOEmbedError and a
     ValueError) before the filter runs.
 
 Examples
@@ -96,23 +96,35 @@ def _with_defaults(doc, defaults):
 MESH_DOC = _with_defaults(MESH_DOC, DEFAULTS["mesher"])
 
 
+def driver_ranges(func, driver, values):
+    """Refuse a value outside its driver's range with the driver's sentence (hoembed::
+    MesherRanges, StepperRanges through check_range), before any driver runs: `values` is
+    {property: (argument name, value)}. Returns {property: value}."""
+    for prop, (arg, value) in values.items():
+        error = check_range(driver, prop, value)
+        if error:
+            raise HOEmbedArgumentError(f"{func}: {arg}: {error}")
+    return {prop: value for prop, (_, value) in values.items()}
+
+
 def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
                    radius_edge_ratio, min_dihedral_angle, progress):
-    """Check tet10_mesh()'s arguments: the same ranges as vtkTet10Mesher's setters, which
-    would clamp instead of refusing. Returns the vtkTet10Mesher properties they set."""
+    """Check tet10_mesh()'s arguments: their types here, their ranges by the mesher driver.
+    Returns the vtkTet10Mesher properties they set."""
     f = "tet10_mesh"
     check_dataset(f, "surface", surface, "vtkPolyData")
-    n_elements = check_int(f, "n_elements", n_elements, 1, 10_000_000)
-    edge_length = check_real(f, "edge_length", edge_length, 0.0)
-    order = check_int(f, "order", order, 1, 2)
     if not isinstance(curve_boundary, (bool, int)):
         raise HOEmbedArgumentError(f"{f}: curve_boundary must be True or False")
-    radius_edge_ratio = check_real(f, "radius_edge_ratio", radius_edge_ratio, 1.05, 100.0)
-    min_dihedral_angle = check_real(f, "min_dihedral_angle", min_dihedral_angle, 0.0, 30.0)
     check_callable(f, "progress", progress)
-    return dict(TargetNumberOfElements=n_elements, TargetEdgeLength=edge_length,
-                ElementOrder=order, CurveBoundary=bool(curve_boundary),
-                RadiusEdgeRatio=radius_edge_ratio, MinDihedralAngle=min_dihedral_angle)
+    props = driver_ranges(f, "mesher", dict(
+        TargetNumberOfElements=("n_elements", check_int(f, "n_elements", n_elements)),
+        TargetEdgeLength=("edge_length", check_real(f, "edge_length", edge_length, finite=False)),
+        ElementOrder=("order", check_int(f, "order", order)),
+        RadiusEdgeRatio=("radius_edge_ratio", check_real(
+            f, "radius_edge_ratio", radius_edge_ratio, finite=False)),
+        MinDihedralAngle=("min_dihedral_angle", check_real(
+            f, "min_dihedral_angle", min_dihedral_angle, finite=False))))
+    return dict(props, CurveBoundary=bool(curve_boundary))
 
 
 def embed_arguments(surface, fe_mesh, method, n_partitions, progress):
@@ -122,7 +134,8 @@ def embed_arguments(surface, fe_mesh, method, n_partitions, progress):
             f"embed: method must be one of {sorted(EMBED_METHODS)}, not {method!r}")
     check_dataset("embed", "surface", surface, "vtkPolyData")
     check_dataset("embed", "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
-    n_partitions = check_int("embed", "n_partitions", n_partitions, 0, 1 << 20)
+    n_partitions = driver_ranges("embed", "embedding", dict(NumberOfPartitions=(
+        "n_partitions", check_int("embed", "n_partitions", n_partitions))))["NumberOfPartitions"]
     check_callable("embed", "progress", progress)
     return EMBED_METHODS[method], n_partitions
 
@@ -139,23 +152,26 @@ def transfer_arguments(embedded_surface, deformed_mesh, normals):
 
 def simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity, rayleigh_mass,
                        rayleigh_stiffness, every, solver_tolerance, progress):
-    """Refuse what vtkCorotationalFEMStepper would clamp, or accept as NaN. Each message
-    names the argument and the stepper property it sets."""
+    """Their types here, their ranges by the stepper driver (its sentences name the
+    stepper property each argument sets), before the stepper runs."""
     f = "simulate"
     check_dataset(f, "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
+    gravity = check_vector(f, "gravity (Gravity)", gravity)
+    real = {"dt": ("TimeStep", dt), "young": ("YoungModulus", young),
+            "poisson": ("PoissonRatio", poisson), "density": ("Density", density),
+            "rayleigh_mass": ("RayleighMass", rayleigh_mass),
+            "rayleigh_stiffness": ("RayleighStiffness", rayleigh_stiffness),
+            "solver_tolerance": ("SolverTolerance", solver_tolerance)}
+    values = {prop: (arg, check_real(f, arg, value, finite=False))
+              for arg, (prop, value) in real.items()}
+    values["NumberOfTimeSteps"] = ("steps", check_int(f, "steps", steps))
+    props = driver_ranges(f, "stepper", values)
     return dict(
-        steps=check_int(f, "steps (NumberOfTimeSteps)", steps, 0),
-        dt=check_real(f, "dt (TimeStep)", dt, 0.0, low_open=True),
-        young=check_real(f, "young (YoungModulus)", young, 0.0, low_open=True),
-        poisson=check_real(f, "poisson (PoissonRatio)", poisson, -1.0, 0.5, True, True),
-        density=check_real(f, "density (Density)", density, 0.0, low_open=True),
-        gravity=check_vector(f, "gravity (Gravity)", gravity),
-        rayleigh_mass=check_real(f, "rayleigh_mass (RayleighMass)", rayleigh_mass, 0.0),
-        rayleigh_stiffness=check_real(f, "rayleigh_stiffness (RayleighStiffness)",
-                                      rayleigh_stiffness, 0.0),
-        every=check_int(f, "every", every, 1),
-        solver_tolerance=check_real(f, "solver_tolerance (SolverTolerance)", solver_tolerance,
-                                    1e-16, 1.0),
+        steps=props["NumberOfTimeSteps"], dt=props["TimeStep"], young=props["YoungModulus"],
+        poisson=props["PoissonRatio"], density=props["Density"], gravity=gravity,
+        rayleigh_mass=props["RayleighMass"], rayleigh_stiffness=props["RayleighStiffness"],
+        every=check_int(f, "every", every, 1),  # simulate()'s own argument
+        solver_tolerance=props["SolverTolerance"],
         progress=check_callable(f, "progress", progress))
 
 
@@ -182,9 +198,8 @@ def simulate_prescribed(prescribed, speed_limit, n_points):
         speed_limit = float(speed_limit)
     except (TypeError, ValueError):
         raise HOEmbedArgumentError("simulate: prescribed_speed_limit must be a number") from None
-    if not (np.isfinite(speed_limit) and speed_limit >= 0.0):
-        raise HOEmbedArgumentError(
-            f"simulate: prescribed_speed_limit must be finite and >= 0, got {speed_limit}")
+    driver_ranges("simulate", "stepper",
+                  dict(PrescribedSpeedLimit=("prescribed_speed_limit", speed_limit)))
     if prescribed is None:
         return None, None, speed_limit
     try:
@@ -325,10 +340,11 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
     ------
     hoembed.HOEmbedError
         On bad input (cells, clamps, non-finite state during integration). Bad arguments
-        (a non-positive or NaN ``dt``, ``young`` or ``density``, ``poisson`` outside
-        (-1, 0.5), negative ``steps``, ``every`` < 1, non-finite gravity, forces or initial
-        state, a mask of the wrong length) raise ``hoembed._errors.HOEmbedArgumentError``
-        (a HOEmbedError and a ValueError) before the stepper runs.
+        (a value outside the stepper's range, ``hoembed._hoembed.RANGES["stepper"]``,
+        e.g. a non-positive ``dt``, refused with the stepper's sentence; ``every`` < 1,
+        non-finite gravity, forces or initial state, a mask of the wrong length) raise
+        ``hoembed._errors.HOEmbedArgumentError`` (a HOEmbedError and a ValueError)
+        before the stepper runs.
 
     Examples
     --------

@@ -88,9 +88,8 @@ def run_filter(algorithm, warnings=None):
 
 
 # ---- argument checks of the pyvista-level functions ------------------------------------
-# VTK's clamp macros silently turn an out-of-range value into the nearest allowed one
-# (n_elements 0 becomes 4, order 3 becomes 2) and NaN passes most of them: the Python
-# functions refuse such values before any filter sees them.
+# Types and shapes are checked here; a value's range is its driver's (check_range of the
+# compiled module, hoembed::MesherRanges / StepperRanges), refused before any driver runs.
 
 class HOEmbedArgumentError(HOEmbedError, ValueError):
     """A bad argument of a pyvista-level function, refused before any filter runs.
@@ -115,8 +114,10 @@ def check_int(func, name, value, low=None, high=None):
     return value
 
 
-def check_real(func, name, value, low=None, high=None, low_open=False, high_open=False):
-    """``value`` as a finite float in the range (bounds closed unless ``*_open``)."""
+def check_real(func, name, value, low=None, high=None, low_open=False, high_open=False,
+               finite=True):
+    """``value`` as a float in the range (bounds closed unless ``*_open``), finite unless
+    ``finite`` is False (the caller then leaves the range to a driver's check_range)."""
     import math
     import numbers
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
@@ -130,7 +131,7 @@ def check_real(func, name, value, low=None, high=None, low_open=False, high_open
             raise HOEmbedArgumentError(f"{func}: {name} must be a number, got {value!r}") \
                 from None
     value = float(value)
-    bad = not math.isfinite(value)
+    bad = finite and not math.isfinite(value)
     bad = bad or (low is not None and (value <= low if low_open else value < low))
     bad = bad or (high is not None and (value >= high if high_open else value > high))
     if bad:

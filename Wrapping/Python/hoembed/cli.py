@@ -27,7 +27,7 @@ import numpy as np
 
 from ._arrays import N
 from ._checks import NORMAL_MODE_NAMES, NORMAL_MODES
-from ._hoembed import DEFAULTS
+from ._hoembed import DEFAULTS, check_range
 
 # the drivers' defaults (as the functions' and the filters'), where the commands take them
 _MESHER, _STEPPER, _TRANSFER = DEFAULTS["mesher"], DEFAULTS["stepper"], DEFAULTS["transfer"]
@@ -446,31 +446,26 @@ def _picture_isolated(path, *args, timeout=300):
     return None
 
 
-def _finite(args, name, low=None, high=None, low_open=True, high_open=True):
-    value = getattr(args, name)
-    flag = "--" + name.replace("_", "-")
-    ok = math.isfinite(value)
-    ok = ok and (low is None or (value > low if low_open else value >= low))
-    ok = ok and (high is None or (value < high if high_open else value <= high))
-    if not ok:
-        lo = "" if low is None else f"{'>' if low_open else '>='} {low:g}"
-        hi = "" if high is None else f"{'<' if high_open else '<='} {high:g}"
-        raise UsageError(f"{flag} must be a finite number {' and '.join(x for x in (lo, hi) if x)}"
-                         f", got {value!r}")
+# the options that set a driver's property: their ranges and sentences are the driver's
+_DRIVER_OPTIONS = (("elements", "mesher", "TargetNumberOfElements"),
+                   ("dt", "stepper", "TimeStep"), ("young", "stepper", "YoungModulus"),
+                   ("poisson", "stepper", "PoissonRatio"), ("density", "stepper", "Density"))
 
 
 def _check_options(args):
     """Every option, before anything is read, meshed or written."""
-    for name in ("elements", "steps"):
-        if getattr(args, name) <= 0:
-            raise UsageError(f"--{name} must be positive")
-    _finite(args, "dt", 0.0)
-    _finite(args, "young", 0.0)
-    _finite(args, "poisson", -1.0, 0.5)
-    _finite(args, "density", 0.0)
-    _finite(args, "clamp_fraction", 0.0, 1.0, high_open=False)
-    if not all(math.isfinite(g) for g in args.gravity):
-        raise UsageError(f"--gravity must be finite, got {args.gravity}")
+    if args.steps <= 0:  # the CLI's own rule (the stepper accepts 0 steps)
+        raise UsageError("--steps must be positive")
+    checks = [("--" + flag, driver, prop, getattr(args, flag))
+              for flag, driver, prop in _DRIVER_OPTIONS]
+    checks += [("--gravity", "stepper", "Gravity", g) for g in args.gravity]
+    for flag, driver, prop, value in checks:
+        error = check_range(driver, prop, value)
+        if error:
+            raise UsageError(f"{flag}: {error}")
+    if not (math.isfinite(args.clamp_fraction) and 0.0 < args.clamp_fraction <= 1.0):
+        raise UsageError(f"--clamp-fraction must be a finite number > 0 and <= 1, "
+                         f"got {args.clamp_fraction!r}")
     if args.clamp_sphere is not None:
         if not all(math.isfinite(v) for v in args.clamp_sphere) or args.clamp_sphere[3] <= 0:
             raise UsageError("--clamp-sphere must be finite with a positive radius, got "
