@@ -62,6 +62,11 @@ std::string StepperDriver::Initialize(const TetMeshInput& mesh, const StepperPar
       return o.str();
     }
   }
+  const std::string materialError = CheckMaterial(p);
+  if (!materialError.empty())
+  {
+    return materialError;
+  }
   std::string error;
   long long bad = -1;
   if (!this->Solver.Initialize(npc, nc, conn.data(), np, rest.data(), p.YoungModulus,
@@ -73,6 +78,84 @@ std::string StepperDriver::Initialize(const TetMeshInput& mesh, const StepperPar
       o << "Cell " << bad << ": ";
     }
     o << error << ".";
+    return o.str();
+  }
+  this->Solver.SetMaterial(p.Material, p.MooneyRivlinC10, p.MooneyRivlinC01);
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+const std::vector<std::string>& StepperDriver::MaterialNames()
+{
+  static const std::vector<std::string> names = { "corotated", "stvk", "neo-hookean",
+    "mooney-rivlin" };
+  return names;
+}
+
+//------------------------------------------------------------------------------
+int StepperDriver::MaterialIndex(const std::string& name)
+{
+  const auto& names = MaterialNames();
+  for (size_t k = 0; k < names.size(); ++k)
+  {
+    if (names[k] == name)
+    {
+      return static_cast<int>(k);
+    }
+  }
+  return -1;
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::ParseMaterial(const std::string& name, int& index)
+{
+  index = MaterialIndex(name);
+  if (index >= 0)
+  {
+    return std::string();
+  }
+  std::ostringstream o;
+  o << "Material '" << name << "' is not one of";
+  const auto& names = MaterialNames();
+  for (size_t k = 0; k < names.size(); ++k)
+  {
+    o << (k ? ", " : " ") << names[k];
+  }
+  o << ".";
+  return o.str();
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::CheckMaterial(const StepperParameters& p)
+{
+  std::ostringstream o;
+  o.precision(17);
+  const auto& names = MaterialNames();
+  if (p.Material < 0 || p.Material >= static_cast<int>(names.size()))
+  {
+    o << "Material must be one of";
+    for (size_t k = 0; k < names.size(); ++k)
+    {
+      o << (k ? ", " : " ") << k << " (" << names[k] << ")";
+    }
+    o << " (got " << p.Material << ").";
+    return o.str();
+  }
+  const double c10 = p.MooneyRivlinC10, c01 = p.MooneyRivlinC01;
+  if (!(c10 >= 0.0) || !(c01 >= 0.0) || !std::isfinite(c10) || !std::isfinite(c01))
+  {
+    o << "MooneyRivlinC10 and MooneyRivlinC01 must be finite and >= 0 (got " << c10 << ", "
+      << c01 << ").";
+    return o.str();
+  }
+  if (!(p.NewtonTolerance > 0.0) || !std::isfinite(p.NewtonTolerance))
+  {
+    o << "NewtonTolerance must be > 0 (got " << p.NewtonTolerance << ").";
+    return o.str();
+  }
+  if (p.MaxNewtonIterations < 1)
+  {
+    o << "MaxNewtonIterations must be >= 1 (got " << p.MaxNewtonIterations << ").";
     return o.str();
   }
   return std::string();
@@ -238,6 +321,7 @@ void StepperDriver::Start(const StepperParameters& p)
   this->Solver.SetTimeStep(p.TimeStep);
   this->Solver.SetRayleighDamping(p.RayleighMass, p.RayleighStiffness);
   this->Solver.SetSolverControls(p.SolverTolerance, p.MaxSolverIterations);
+  this->Solver.SetNewtonControls(p.NewtonTolerance, p.MaxNewtonIterations);
   this->Solver.SetState(this->InitialX.data(), this->InitialV.data());
   this->CurrentStep = 0;
   this->ResetRequested = false;
@@ -300,7 +384,9 @@ std::string StepperDriver::BuildSignature(
   {
     o << ' ' << p.ClampBox[i];
   }
-  o << ' ' << p.SolverTolerance << ' ' << p.MaxSolverIterations;
+  o << ' ' << p.SolverTolerance << ' ' << p.MaxSolverIterations << ' ' << p.Material << ' '
+    << p.MooneyRivlinC10 << ' ' << p.MooneyRivlinC01 << ' ' << p.NewtonTolerance << ' '
+    << p.MaxNewtonIterations;
   for (const char* name : arrayNames)
   {
     o << '\n' << (name ? std::string(name) : std::string("\x01"));

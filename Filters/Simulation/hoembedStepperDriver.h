@@ -42,6 +42,18 @@ struct StepperParameters
   double ClampPlaneNormal[3] = { 1.0, 0.0, 0.0 };
   bool UseClampBox = false;
   double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
+  /// the material, as hoembedHyperelasticMaterial.h's Material (0 corotated, 1 stvk,
+  /// 2 neo-hookean, 3 mooney-rivlin; StepperDriver::MaterialNames)
+  int Material = 0;
+  /// Mooney-Rivlin's C10, C01 (both 0: C10 = C01 = mu / 4 from E and nu)
+  double MooneyRivlinC10 = 0.0;
+  double MooneyRivlinC01 = 0.0;
+  /// Newton's stop rule for the hyperelastic materials (CorotationalSolver::
+  /// SetNewtonControls): iteration change <= tolerance * displacement of the step or
+  /// static solve; at most MaxNewtonIterations per step (1: one linearised solve per
+  /// step) or per static solve (which fails when it is not enough)
+  double NewtonTolerance = 1e-8;
+  int MaxNewtonIterations = 50;
 };
 
 /// The per-point inputs of a set-up (each nullptr: none), 1 or 3 values per point.
@@ -101,6 +113,17 @@ public:
   /// `progress` (may be empty) gets the fraction of the steps done.
   std::string Advance(long long k, bool staticSolve, double timeStep,
     const std::function<void(double)>& progress);
+
+  /// The material names, in Material order ("corotated", "stvk", "neo-hookean",
+  /// "mooney-rivlin"), and a name's index (-1: unknown).
+  static const std::vector<std::string>& MaterialNames();
+  static int MaterialIndex(const std::string& name);
+  /// `name`'s index into `index`, or the sentence refusing it (index then -1).
+  static std::string ParseMaterial(const std::string& name, int& index);
+  /// The rule for the material properties: Material one of MaterialNames, the
+  /// Mooney-Rivlin constants finite and >= 0 (with a positive sum when given), the Newton
+  /// controls (tolerance > 0, iterations >= 1). "" when they are valid.
+  static std::string CheckMaterial(const StepperParameters& p);
 
   /// Where the clamps' point array (FixedArrayName) was found, as the binding sees it.
   enum class FixedArrayKind

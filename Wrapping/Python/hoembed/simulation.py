@@ -71,7 +71,11 @@ def build_stepper(mesh, a, clamps, fixed_values, lumped_mass, static, external_f
                      np.ascontiguousarray(prescribed_mask, dtype=np.float64),
                      prescribed_displacement=None if prescribed_u is None else
                      np.ascontiguousarray(prescribed_u, dtype=np.float64).reshape(-1),
-                     prescribed_speed_limit=speed_limit)
+                     prescribed_speed_limit=speed_limit,
+                     material_name=a.get("material"),
+                     hyperelastic=None if a.get("material") is None else
+                     [float(a["mooney_rivlin"][0]), float(a["mooney_rivlin"][1]),
+                      float(a["newton_tolerance"]), float(a["max_newton_iterations"])])
     except RuntimeError as e:
         _fail(e)
     return driver
@@ -82,10 +86,14 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
              rayleigh_stiffness=0.01, external_force=None, initial_displacement=None,
              initial_velocity=None, lumped_mass=False, static=False, every=1,
              solver_tolerance=1e-4, progress=None, prescribed=None,
-             prescribed_speed_limit=0.0):
+             prescribed_speed_limit=0.0, material="corotated", mooney_rivlin=(0.0, 0.0),
+             newton_tolerance=1e-8, max_newton_iterations=50):
     a = simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity,
                            rayleigh_mass, rayleigh_stiffness, every, solver_tolerance,
                            progress)
+    # the law and Newton's controls: checked by the driver (its messages)
+    a.update(material=str(material), mooney_rivlin=tuple(mooney_rivlin),
+             newton_tolerance=newton_tolerance, max_newton_iterations=max_newton_iterations)
     steps, dt, every = a["steps"], a["dt"], a["every"]
     mesh = pyvista.wrap(fe_mesh)
     prescribed_mask, prescribed_u, speed = simulate_prescribed(
