@@ -127,8 +127,9 @@ T StressT(const HyperelasticLaw& law, const T* F, T* P)
           P[k] = s * F[k] + law.Lambda * Ja * c[k];
         }
       }
+      // minus its value at rest (a constant: zero energy at rest, like the other laws)
       return 0.5 * law.Mu * (Ic - 3.0) + 0.5 * law.Lambda * Ja * Ja -
-        0.5 * law.Mu * log(Ic + 1.0);
+        0.5 * law.Mu * log(Ic + 1.0) - law.Rest;
     }
     case Material::MooneyRivlin:
     {
@@ -192,6 +193,8 @@ HyperelasticLaw HyperelasticLaw::Make(
       law.Mu = 4.0 / 3.0 * mu;
       law.Lambda = lambda + 5.0 / 6.0 * mu;
       law.Alpha = 1.0 + 3.0 * law.Mu / (4.0 * law.Lambda);
+      law.Rest = 0.5 * law.Lambda * (1.0 - law.Alpha) * (1.0 - law.Alpha) -
+        0.5 * law.Mu * std::log(4.0);
       break;
     case Material::MooneyRivlin:
       law.Kappa = young / (3.0 * (1.0 - 2.0 * poisson));

@@ -15,7 +15,8 @@
  * - Stable Neo-Hookean (Smith et al. 2018, eq. 14 with its log term):
  *   Psi = mu'/2 (I_C - 3) + lambda'/2 (J - a)^2 - mu'/2 log(I_C + 1),
  *   a = 1 + 3 mu' / (4 lambda'), with the paper's re-parametrisation mu' = 4/3 mu and
- *   lambda' = lambda + 5/6 mu (its linearisation at F = I is then mu, lambda). Defined
+ *   lambda' = lambda + 5/6 mu (its linearisation at F = I is then mu, lambda), minus
+ *   its (constant) value at F = I so that the energy at rest is 0. Defined
  *   and smooth for every F, inverted ones included (J < 0 costs energy, no pole).
  * - Mooney-Rivlin (compressible, deviatoric invariants):
  *   Psi = C10 (J^-2/3 I_1 - 3) + C01 (J^-4/3 I_2 - 3) + kappa/2 (J - 1)^2; its shear
@@ -49,6 +50,7 @@ struct HOEMBEDFILTERSSIMULATION_EXPORT HyperelasticLaw
   Material Kind = Material::NeoHookean;
   double Mu = 0.0, Lambda = 0.0;    ///< StVK: Lame; Neo-Hookean: mu', lambda' above
   double Alpha = 1.0;               ///< Neo-Hookean rest-stability shift a
+  double Rest = 0.0;                ///< Neo-Hookean: the formula's value at F = I, subtracted
   double C10 = 0.0, C01 = 0.0, Kappa = 0.0; ///< Mooney-Rivlin
 
   /// The law's constants from E, nu (and c10, c01 for Mooney-Rivlin: both 0 = from E,

@@ -370,7 +370,19 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
     lo = std::min(lo, c);
     hi = std::max(hi, c);
   }
-  const double floor = 1e-13 * std::max(hi - lo, 1e-300);
+  const double floor = 1e-15 * std::max(hi - lo, 1e-300);
+  // the energy's round-off: its terms are of the order of the law's stiffness times the
+  // volume, and cancel at small strain (under a tiny load the decrease of an exact Newton
+  // step is below it, and a plain Armijo test would reject that step)
+  double volume = 0.0;
+  for (double w : I.HW)
+  {
+    volume += std::abs(w);
+  }
+  const double stiffness = std::abs(I.Law.Mu) + std::abs(I.Law.Lambda) + std::abs(I.Law.C10) +
+    std::abs(I.Law.C01) + std::abs(I.Law.Kappa);
+  const double noise = 1e-12 * stiffness * volume;
+  double previous = -1.0;
   const std::vector<double> start = I.x;
   double value = phi.Value(I.x, g.data());
   if (!std::isfinite(value))
@@ -422,7 +434,7 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
       // Armijo, with a round-off allowance: near the minimum Phi cannot resolve the
       // decrease of a tiny step
       if (std::isfinite(next) &&
-        next <= value + 1e-4 * t * slope + 1e-14 * std::abs(value))
+        next <= value + 1e-4 * t * slope + noise + 1e-14 * std::abs(value))
       {
         accepted = true;
         break;
@@ -444,11 +456,15 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
       step = std::max(step, std::abs(t * d[k]));
       moved = std::max(moved, std::abs(I.x[k] - start[k]));
     }
-    if (step <= tolerance * moved || step <= floor)
+    // converged; or stalled at round-off (no longer shrinking, far below the motion: the
+    // stress of a tiny strain is a difference of terms of the order of the stiffness)
+    if (step <= tolerance * moved || step <= floor ||
+      (previous >= 0.0 && step >= 0.5 * previous && step <= 1e-5 * moved))
     {
       ++it;
       return it;
     }
+    previous = step;
   }
   if (untilConverged && it >= maxIterations)
   {
