@@ -160,6 +160,45 @@ def conical_rule(m):
     return np.array(pts).T.copy(), np.array(wts)
 
 
+def hyperelastic_dynamic(mesh, order, material, E, nu, rho, g, held, dt, steps, tol=1e-12):
+    """Backward Euler without damping by scikit-fem: each step solves
+    M (u - u_n - dt v_n) / dt^2 + f_int(u) = f (consistent mass, body force rho * g) by
+    Newton, v = (u - u_n) / dt, the `held` points at rest. Returns the displacement per
+    VTK point after each step."""
+    from skfem import LinearForm, BilinearForm
+    from skfem.helpers import grad, ddot
+    basis, dofs = vector_basis(mesh, order, conical_rule(3 if order == 2 else 1))
+    psi = energy_density(material, E, nu)
+
+    @LinearForm
+    def internal(v, w):
+        return ddot(w["P"], grad(v))
+
+    @BilinearForm
+    def stiffness(u, v, w):
+        return np.einsum("ijkl...,kl...,ij...->...", w["A"], grad(u), grad(v))
+
+    _, M, f = elasticity(vector_basis(mesh, order)[0], E, nu, rho, g)
+    D = dofs[held].ravel()
+    u, v = np.zeros(basis.N), np.zeros(basis.N)
+    out = []
+    for _ in range(steps):
+        un = u.copy()
+        for it in range(60):
+            F = np.asarray(np.eye(3)[:, :, None, None] + grad(basis.interpolate(u)))
+            r = M @ (u - un - dt * v) / dt ** 2 + asm(internal, basis, P=_stress(psi, F)) - f
+            K = M / dt ** 2 + asm(stiffness, basis, A=_tangent(psi, F))
+            du = solve(*condense(K, -r, D=D))
+            u += du
+            if np.abs(du).max() <= tol * max(np.abs(u - un).max(), 1e-300):
+                break
+        else:
+            raise RuntimeError("scikit-fem Newton did not converge")
+        v = (u - un) / dt
+        out.append(u[dofs].copy())
+    return out
+
+
 def hyperelastic_static(mesh, order, material, E, nu, rho, g, held, targets, loads=8,
                         tol=1e-12):
     """Static equilibrium of `material` by scikit-fem: P`order` on `mesh`, body force

@@ -11,7 +11,7 @@ import hoembed
 from conftest import box_tet_mesh
 
 skfem = pytest.importorskip("skfem")
-from skfem_reference import hyperelastic_static  # noqa: E402
+from skfem_reference import hyperelastic_dynamic, hyperelastic_static  # noqa: E402
 
 MATERIALS = ("stvk", "neo-hookean", "mooney-rivlin")
 
@@ -60,6 +60,23 @@ def test_block_compression_matches_skfem(material, order):
     assert np.abs(ref[~held]).max() > 0.01  # it bulges
     rel = np.linalg.norm(u - ref) / np.linalg.norm(ref)
     assert rel < 1e-6, rel
+
+
+@pytest.mark.parametrize("material", MATERIALS)
+def test_dynamic_steps_match_skfem_backward_euler(material):
+    # the cantilever released under gravity, 8 undamped backward-Euler steps of 0.1 s
+    # into a large swing, Newton converged each step
+    E, nu, rho, g, dt = 1e6, 0.3, 1000.0, (0.0, 0.0, -3.0), 0.1
+    mesh, clamp = cantilever(2)
+    ref = hyperelastic_dynamic(mesh, 2, material, E, nu, rho, g, clamp, dt, 8)
+    frames = hoembed.simulate(mesh, steps=8, dt=dt, young=E, poisson=nu, density=rho,
+                              gravity=g, fixed=clamp.astype(np.uint8), rayleigh_mass=0.0,
+                              rayleigh_stiffness=0.0, material=material)
+    assert np.abs(ref[-1][:, 2]).max() > 0.5
+    for k in range(8):
+        u = frames[k + 1].point_data["Displacement"]
+        rel = np.linalg.norm(u - ref[k]) / np.linalg.norm(ref[k])
+        assert rel < 1e-6, (k, rel)
 
 
 @pytest.mark.parametrize("material", MATERIALS)
