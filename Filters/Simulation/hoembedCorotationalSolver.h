@@ -110,9 +110,12 @@
  * not positive definite, the Hessian of the per-quadrature-point tangents with their
  * negative eigenvalues clamped (positive semi-definite element Hessians, so the direction
  * is a descent direction); a backtracking Armijo line search on Phi (an inverted element
- * of Mooney-Rivlin has infinite energy: the search backs off); the system factorised
- * afresh each iteration (CHOLMOD supernodal when the build has it, else Eigen's simplicial
- * LLT). Psi is integrated with TetQuadrature(3) (27 points) on tet10, 1 point on tet4. The
+ * of Mooney-Rivlin has infinite energy: the search backs off); the system solved by a
+ * sparse Cholesky factor (CHOLMOD supernodal when the build has it, else Eigen's
+ * simplicial LLT), or, when it serves, CG preconditioned by the last factor (to 1e-6
+ * relative; a new factor after 25 iterations, at negative curvature or when the free set
+ * changed). Psi is integrated with TetQuadrature(3) (27 points) on tet10, 1 point on
+ * tet4. The
  * CG controls (SetSolverControls) and the preconditioner above are not used.
  *
  * Threading (vtkSMPTools; and one std::thread for the background factorisation, which

@@ -318,6 +318,7 @@ struct CorotationalSolver::Impl
     History.clear();
     HaveFactor = false;
     ++Generation; // a factor being computed in the background is of the old state
+    RestartNewton();
     LastIt = 0;
     ItAfterFactor = 0;
     IterationsSinceFactor = 0;
@@ -358,6 +359,7 @@ struct CorotationalSolver::Impl
   struct NewtonState;      // the factor and work arrays (defined in the .cxx)
   std::shared_ptr<NewtonState> Newton;
   void InitializeHyper();
+  void RestartNewton(); // forget the factor kept as CG preconditioner
   /// elastic energy at positions y (+infinity where the law is undefined)
   double HyperEnergy(const double* y) const;
   /// elastic forces' negative (gradient, 3 NP) and, when `blocks`, the Hessian in 3x3

@@ -239,7 +239,23 @@ double HyperelasticLaw::Tangent(const double F[9], double P[9], double A[81], bo
   // a Hessian: symmetric up to round-off, made exactly so (the eigen-solver and the
   // Cholesky factor read one triangle)
   T = (0.5 * (T + T.transpose())).eval();
+  // Positive definite after a shift by 1e-10 of its largest diagonal entry (a 9x9
+  // Cholesky, far cheaper than the eigensystem): kept, shifted (its rotation directions
+  // are singular at rest and round-off makes them slightly negative). Else the
+  // eigenvalue clamp.
+  bool definite = false;
   if (project)
+  {
+    const double shift = 1e-10 * T.diagonal().cwiseAbs().maxCoeff();
+    const Eigen::Matrix<double, 9, 9> Ts =
+      T + shift * Eigen::Matrix<double, 9, 9>::Identity();
+    definite = Eigen::LLT<Eigen::Matrix<double, 9, 9>>(Ts).info() == Eigen::Success;
+    if (definite)
+    {
+      T = Ts;
+    }
+  }
+  if (project && !definite)
   {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> es(T);
     const auto& lam = es.eigenvalues();

@@ -50,10 +50,14 @@
  * FixedArrayName "Fixed" (a missing "Fixed" array means no clamps; a missing array of
  * another name is an error, and so is an array of that name that is not numeric point
  * data: cell or field data, strings),
- * no force / initial arrays, no clamp plane or box.
+ * no force / initial arrays, no clamp plane or box, Material "corotated" (hyperelastic
+ * laws: Material below; MooneyRivlinC10/C01 0 = from E and nu, NewtonTolerance 1e-8,
+ * MaxNewtonIterations 50).
  *
  * Errors (vtkErrorMacro, empty output): PoissonRatio >= 0.5 or <= -1, YoungModulus <= 0,
- * Density <= 0, TimeStep <= 0, negative damping, unsupported or mixed cell types, an
+ * Density <= 0, TimeStep <= 0, negative damping, an unknown Material, negative
+ * Mooney-Rivlin constants, NewtonTolerance <= 0 or MaxNewtonIterations < 1, a static
+ * hyperelastic solve that does not converge, unsupported or mixed cell types, an
  * inverted or zero-volume rest element (named by cell id), missing or wrongly sized
  * arrays, a singular static problem, a non-finite state during integration (named by the
  * step).
@@ -297,7 +301,8 @@ public:
 
   ///@{
   /// Measurements of the last RequestData: steps taken, seconds spent in rotation
-  /// extraction, assembly and the linear solve, and CG iterations in total.
+  /// extraction, assembly and the linear solve, and CG iterations in total (hyperelastic
+  /// materials: Newton iterations, their time all in LastSolveTime).
   vtkGetMacro(LastNumberOfSteps, int);
   vtkGetMacro(LastRotationTime, double);
   vtkGetMacro(LastAssemblyTime, double);
