@@ -121,8 +121,8 @@ public:
   /// `name`'s index into `index`, or the sentence refusing it (index then -1).
   static std::string ParseMaterial(const std::string& name, int& index);
   /// The rule for the material properties: Material one of MaterialNames, the
-  /// Mooney-Rivlin constants finite and >= 0 (with a positive sum when given), the Newton
-  /// controls (tolerance > 0, iterations >= 1). "" when they are valid.
+  /// Mooney-Rivlin constants finite and >= 0 (both 0: from E and nu), the Newton controls
+  /// (tolerance > 0, iterations >= 1). "" when they are valid.
   static std::string CheckMaterial(const StepperParameters& p);
 
   /// Where the clamps' point array (FixedArrayName) was found, as the binding sees it.

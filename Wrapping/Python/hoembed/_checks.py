@@ -287,6 +287,17 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
         Distance per second the prescribed nodes move at most (0, default: no limit).
     static : bool
         Return the static equilibrium (one frame) instead of a time series.
+    material : str
+        ``"corotated"`` (default: co-rotated linear elasticity), ``"stvk"``,
+        ``"neo-hookean"`` (the stable Neo-Hookean of Smith et al. 2018, stable under
+        inversion) or ``"mooney-rivlin"``: hyperelastic laws with constants from ``young``
+        and ``poisson`` (their small-strain limit), stepped by Newton's method on the
+        backward-Euler potential (the stepper's Material).
+    mooney_rivlin : (C10, C01)
+        Mooney-Rivlin's constants (Pa); (0, 0), the default: both mu / 4.
+    newton_tolerance, max_newton_iterations : float, int
+        Newton's stop rule for the hyperelastic laws (defaults 1e-8 and 50; 1 iteration:
+        one linearised solve per step); a static solve fails when they do not suffice.
     every : int
         Keep every ``every``-th step as a frame.
     progress : callable, optional
@@ -304,7 +315,8 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
     Raises
     ------
     hoembed.HOEmbedError
-        On bad input (cells, clamps, non-finite state during integration). Bad arguments
+        On bad input (cells, clamps, non-finite state during integration, an unknown
+        ``material``, negative Mooney-Rivlin constants, bad Newton controls). Bad arguments
         (a non-positive or NaN ``dt``, ``young`` or ``density``, ``poisson`` outside
         (-1, 0.5), negative ``steps``, ``every`` < 1, non-finite gravity, forces or initial
         state, a mask of the wrong length) raise ``hoembed._errors.HOEmbedArgumentError``
