@@ -144,8 +144,13 @@ def test_defaults_are_the_drivers():
                          ("rayleigh_mass", "RayleighMass"),
                          ("rayleigh_stiffness", "RayleighStiffness"),
                          ("solver_tolerance", "SolverTolerance"),
-                         ("lumped_mass", "LumpedMass")):
+                         ("lumped_mass", "LumpedMass"),
+                         ("newton_tolerance", "NewtonTolerance"),
+                         ("max_newton_iterations", "MaxNewtonIterations")):
         assert getattr(stepper, "Get" + getter)() == defaults[name], getter
+    assert stepper.GetMaterialAsString() == defaults["material"]
+    assert (stepper.GetMooneyRivlinC10(), stepper.GetMooneyRivlinC01()) == \
+        defaults["mooney_rivlin"]
     mesher = hoembed.vtkTet10Mesher()
     assert mesher.GetMergeTolerance() == MESHER_SERVICE_SETTINGS["merge_tolerance"]
     assert (mesher.GetMaximumNumberOfElements()
