@@ -534,7 +534,9 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
       *backtracked = true;
     }
     I.x.swap(trial);
-    value = phi.Value(I.x, g.data());
+    // the gradient there only serves a next iteration (one Newton iteration per frame:
+    // none; the state is the same either way)
+    value = it + 1 < maxIterations ? phi.Value(I.x, g.data()) : next;
     double step = 0.0, moved = 0.0;
     for (long long k = 0; k < n3; ++k)
     {
