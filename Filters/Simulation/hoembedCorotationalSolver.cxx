@@ -276,6 +276,7 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   I.FExt.assign(3 * I.NP, 0.0);
   I.NodeRot.assign(9 * I.NP, 0.0);
   I.HaveFactor = false;
+  I.Mat = Material::Corotated;
   this->ResetState();
   this->ResetTimings();
   return true;
@@ -437,6 +438,10 @@ void CorotationalSolver::SetState(const double* positions, const double* velocit
 bool CorotationalSolver::Step()
 {
   Impl& I = *this->P;
+  if (I.Mat != Material::Corotated)
+  {
+    return I.HyperStep();
+  }
   const double dt = I.Dt;
   const double cM = I.StaticMode ? 0.0 : 1.0 + dt * I.Alpha;
   const double cK = dt * I.Beta + dt * dt;
@@ -622,6 +627,10 @@ bool CorotationalSolver::SolveStatic(int maxIterations, double tolerance, std::s
     error = "the static solve needs clamped nodes (a free body has no equilibrium)";
     return false;
   }
+  if (I.Mat != Material::Corotated)
+  {
+    return I.HyperStatic(I.NewtonMaxIt, I.NewtonTol, error);
+  }
   for (long long k = 0; k < 3 * I.NP && I.NumberPrescribed > 0; ++k)
   {
     if (I.PrescribedMask[k / 3])
@@ -752,6 +761,11 @@ void CorotationalSolver::ComputeNodalRotations(double* rotations) const
 void CorotationalSolver::ComputeVonMises(double* stress) const
 {
   Impl& I = *this->P;
+  if (I.Mat != Material::Corotated)
+  {
+    I.HyperVonMises(stress);
+    return;
+  }
   I.EnsureRotations();
   const int N = I.N;
   ParallelFor(I.NC, ParallelCells,
@@ -790,6 +804,10 @@ double CorotationalSolver::KineticEnergy() const
 double CorotationalSolver::StrainEnergy() const
 {
   Impl& I = *this->P;
+  if (I.Mat != Material::Corotated)
+  {
+    return I.HyperEnergy(I.x.data());
+  }
   I.EnsureRotations();
   const int N = I.N, D = I.D;
   double energy = 0.0;

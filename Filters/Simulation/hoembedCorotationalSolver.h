@@ -98,6 +98,26 @@
  * change between steps: the state (x, v) is kept. SolveStatic puts the prescribed nodes
  * on their targets and holds them.
  *
+ * Hyperelastic materials (SetMaterial: StVK, stable Neo-Hookean, Mooney-Rivlin;
+ * hoembedHyperelasticMaterial.h; hoembedHyperelasticSolver.cxx): a step minimises the
+ * backward-Euler incremental potential
+ *   Phi(x) = 1/(2 dt^2) |x - x_n - dt v_n|_M^2 + alpha/(2 dt) |x - x_n|_M^2
+ *          + beta/(2 dt) (x - x_n)^T K_n (x - x_n) + Psi(x) - f_ext^T x
+ * (K_n: the projected Hessian of Psi at the step's start, so the Rayleigh damping matches
+ * the co-rotated step's to first order), v_{n+1} = (x_{n+1} - x_n) / dt; SolveStatic
+ * minimises Psi(x) - f_ext^T x. Held DOFs (clamped, prescribed on their speed-limited
+ * targets) stay put. Newton: the exact Hessian (quadratic convergence), or, where that is
+ * not positive definite, the Hessian of the per-quadrature-point tangents with their
+ * negative eigenvalues clamped (positive semi-definite element Hessians, so the direction
+ * is a descent direction); a backtracking Armijo line search on Phi (an inverted element
+ * of Mooney-Rivlin has infinite energy: the search backs off); the system solved by a
+ * sparse Cholesky factor (CHOLMOD supernodal when the build has it, else Eigen's
+ * simplicial LLT), or, when it serves, CG preconditioned by the last factor (to 1e-6
+ * relative; a new factor after 25 iterations, at negative curvature or when the free set
+ * changed). Psi is integrated with TetQuadrature(3) (27 points) on tet10, 1 point on
+ * tet4. The
+ * CG controls (SetSolverControls) and the preconditioner above are not used.
+ *
  * Threading (vtkSMPTools; and one std::thread for the background factorisation, which
  * touches nothing but its own factor object until it is joined): rotations, the
  * assembly of S (two halves of the cells cut by
@@ -168,6 +188,18 @@ public:
   void SetTimeStep(double dt);
   void SetRayleighDamping(double alpha, double beta);
   void SetSolverControls(double relativeTolerance, int maxIterations);
+  /// The material (hoembedHyperelasticMaterial.h's Material as an int; after Initialize,
+  /// which resets it to Corotated): a hyperelastic one makes Step and SolveStatic Newton
+  /// solves (see "Hyperelastic materials" above) with the law's constants from the
+  /// Initialize's E and nu (and c10, c01 for Mooney-Rivlin; both 0: from E, nu).
+  void SetMaterial(int material, double c10, double c01);
+  /// Newton's stop rule (hyperelastic materials): the largest DOF change of an iteration
+  /// <= tolerance times the largest displacement since the start of the step (or solve);
+  /// a step stops after maxIterations (1: one linearised step per time step, the
+  /// interactive choice), a static solve fails then.
+  void SetNewtonControls(double tolerance, int maxIterations);
+  /// Newton iterations of the last step or static solve (hyperelastic materials).
+  int GetLastNewtonIterations() const;
 
   /// Back to rest: x = X, v = 0.
   void ResetState();

@@ -7,6 +7,7 @@
 
 #include "hoembedCorotationalSolver.h"
 
+#include "hoembedHyperelasticMaterial.h"
 #include "hoembedTetElementMatrices.h"
 
 #include "hoembedParallel.h"
@@ -317,6 +318,7 @@ struct CorotationalSolver::Impl
     History.clear();
     HaveFactor = false;
     ++Generation; // a factor being computed in the background is of the old state
+    RestartNewton();
     LastIt = 0;
     ItAfterFactor = 0;
     IterationsSinceFactor = 0;
@@ -344,6 +346,28 @@ struct CorotationalSolver::Impl
   double CM = 1.0, CK = 0.0;
   bool StaticMode = false; // steps without mass (static increments)
   RowMat MN;              // NP x NP scalar mass matrix
+  // Hyperelastic materials (hoembedHyperelasticSolver.cxx): Newton on the incremental
+  // potential instead of the co-rotated linearised step (Mat != Corotated).
+  Material Mat = Material::Corotated;
+  HyperelasticLaw Law;
+  int HQ = 0;              // quadrature points per cell
+  std::vector<double> HG;  // NC * HQ * N * 3: dN/dX at the quadrature points
+  std::vector<double> HW;  // NC * HQ: weight * det J
+  double NewtonTol = 1e-8;
+  int NewtonMaxIt = 50;
+  int LastNewtonIt = 0;
+  struct NewtonState;      // the factor and work arrays (defined in the .cxx)
+  std::shared_ptr<NewtonState> Newton;
+  void InitializeHyper();
+  void RestartNewton(); // forget the factor kept as CG preconditioner
+  /// elastic energy at positions y (+infinity where the law is undefined)
+  double HyperEnergy(const double* y) const;
+  /// elastic forces' negative (gradient, 3 NP) and, when `blocks`, the Hessian in 3x3
+  /// node blocks on MN's pattern (per-point tangent projected when `project`)
+  void HyperGradient(const double* y, double* grad, double* blocks, bool project) const;
+  bool HyperStep();
+  bool HyperStatic(int maxIterations, double tolerance, std::string& error);
+  void HyperVonMises(double* stress) const;
   void Mask(Eigen::VectorXd& r) const
   {
     for (long long k = 0; k < 3 * NP; ++k)

@@ -39,7 +39,15 @@ std::string StepperDriver::CheckParameters(const StepperParameters& p)
   const std::pair<const char*, double> values[] = { { "YoungModulus", p.YoungModulus },
     { "PoissonRatio", p.PoissonRatio }, { "Density", p.Density }, { "TimeStep", p.TimeStep },
     { "RayleighMass", p.RayleighMass }, { "RayleighStiffness", p.RayleighStiffness },
-    { "SolverTolerance", p.SolverTolerance }, { "MaxSolverIterations", p.MaxSolverIterations } };
+    { "SolverTolerance", p.SolverTolerance }, { "MaxSolverIterations", p.MaxSolverIterations },
+    { "MooneyRivlinC10", p.MooneyRivlinC10 }, { "MooneyRivlinC01", p.MooneyRivlinC01 },
+    { "NewtonTolerance", p.NewtonTolerance },
+    { "MaxNewtonIterations", static_cast<double>(p.MaxNewtonIterations) } };
+  const std::string material = CheckMaterial(p);
+  if (!material.empty())
+  {
+    return material;
+  }
   return FirstError(values, static_cast<int>(sizeof(values) / sizeof(values[0])));
 }
 
@@ -117,6 +125,11 @@ std::string StepperDriver::Initialize(const TetMeshInput& mesh, const StepperPar
       return o.str();
     }
   }
+  const std::string materialError = CheckMaterial(p);
+  if (!materialError.empty())
+  {
+    return materialError;
+  }
   std::string error;
   long long bad = -1;
   if (!this->Solver.Initialize(npc, nc, conn.data(), np, rest.data(), p.YoungModulus,
@@ -128,6 +141,67 @@ std::string StepperDriver::Initialize(const TetMeshInput& mesh, const StepperPar
       o << "Cell " << bad << ": ";
     }
     o << error << ".";
+    return o.str();
+  }
+  this->Solver.SetMaterial(p.Material, p.MooneyRivlinC10, p.MooneyRivlinC01);
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+const std::vector<std::string>& StepperDriver::MaterialNames()
+{
+  static const std::vector<std::string> names = { "corotated", "stvk", "neo-hookean",
+    "mooney-rivlin" };
+  return names;
+}
+
+//------------------------------------------------------------------------------
+int StepperDriver::MaterialIndex(const std::string& name)
+{
+  const auto& names = MaterialNames();
+  for (size_t k = 0; k < names.size(); ++k)
+  {
+    if (names[k] == name)
+    {
+      return static_cast<int>(k);
+    }
+  }
+  return -1;
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::ParseMaterial(const std::string& name, int& index)
+{
+  index = MaterialIndex(name);
+  if (index >= 0)
+  {
+    return std::string();
+  }
+  std::ostringstream o;
+  o << "Material '" << name << "' is not one of";
+  const auto& names = MaterialNames();
+  for (size_t k = 0; k < names.size(); ++k)
+  {
+    o << (k ? ", " : " ") << names[k];
+  }
+  o << ".";
+  return o.str();
+}
+
+//------------------------------------------------------------------------------
+std::string StepperDriver::CheckMaterial(const StepperParameters& p)
+{
+  std::ostringstream o;
+  o.precision(17);
+  const auto& names = MaterialNames();
+  if (p.Material < 0 || p.Material >= static_cast<int>(names.size()))
+  {
+    o << "Material must be one of";
+    for (size_t k = 0; k < names.size(); ++k)
+    {
+      o << (k ? ", " : " ") << k << " (" << names[k] << ")";
+    }
+    o << " (got " << p.Material << ").";
     return o.str();
   }
   return std::string();
@@ -293,6 +367,7 @@ void StepperDriver::Start(const StepperParameters& p)
   this->Solver.SetTimeStep(p.TimeStep);
   this->Solver.SetRayleighDamping(p.RayleighMass, p.RayleighStiffness);
   this->Solver.SetSolverControls(p.SolverTolerance, p.MaxSolverIterations);
+  this->Solver.SetNewtonControls(p.NewtonTolerance, p.MaxNewtonIterations);
   this->Solver.SetState(this->InitialX.data(), this->InitialV.data());
   this->CurrentStep = 0;
   this->ResetRequested = false;
@@ -355,7 +430,9 @@ std::string StepperDriver::BuildSignature(
   {
     o << ' ' << p.ClampBox[i];
   }
-  o << ' ' << p.SolverTolerance << ' ' << p.MaxSolverIterations;
+  o << ' ' << p.SolverTolerance << ' ' << p.MaxSolverIterations << ' ' << p.Material << ' '
+    << p.MooneyRivlinC10 << ' ' << p.MooneyRivlinC01 << ' ' << p.NewtonTolerance << ' '
+    << p.MaxNewtonIterations;
   for (const char* name : arrayNames)
   {
     o << '\n' << (name ? std::string(name) : std::string("\x01"));

@@ -43,6 +43,18 @@ struct StepperParameters
   double ClampPlaneNormal[3] = { 1.0, 0.0, 0.0 };
   bool UseClampBox = false;
   double ClampBox[6] = { 0.0, -1.0, 0.0, -1.0, 0.0, -1.0 };
+  /// the material, as hoembedHyperelasticMaterial.h's Material (0 corotated, 1 stvk,
+  /// 2 neo-hookean, 3 mooney-rivlin; StepperDriver::MaterialNames)
+  int Material = 0;
+  /// Mooney-Rivlin's C10, C01 (both 0: C10 = C01 = mu / 4 from E and nu)
+  double MooneyRivlinC10 = 0.0;
+  double MooneyRivlinC01 = 0.0;
+  /// Newton's stop rule for the hyperelastic materials (CorotationalSolver::
+  /// SetNewtonControls): iteration change <= tolerance * displacement of the step or
+  /// static solve; at most MaxNewtonIterations per step (1: one linearised solve per
+  /// step) or per static solve (which fails when it is not enough)
+  double NewtonTolerance = 1e-8;
+  int MaxNewtonIterations = 50;
 };
 
 /// The stepper's other settings and their defaults (vtkCorotationalFEMStepper's names):
@@ -82,6 +94,10 @@ constexpr PropertyRange StepperRanges[] = {
   { "NumberOfTimeSteps", 0, NoLimit, false, false, true },
   { "PrescribedSpeedLimit", 0, NoLimit, false, false, false },
   { "FactorizationLag", 0, NoLimit, false, false, true },
+  { "MooneyRivlinC10", 0, NoLimit, false, false, false },
+  { "MooneyRivlinC01", 0, NoLimit, false, false, false },
+  { "NewtonTolerance", 0, NoLimit, true, false, false },
+  { "MaxNewtonIterations", 1, NoLimit, false, false, true },
 };
 
 /// The sentence refusing `value` for the property `name` (StepperRanges; "" when `value`
@@ -153,6 +169,16 @@ public:
   /// `progress` (may be empty) gets the fraction of the steps done.
   std::string Advance(long long k, bool staticSolve, double timeStep,
     const std::function<void(double)>& progress);
+
+  /// The material names, in Material order ("corotated", "stvk", "neo-hookean",
+  /// "mooney-rivlin"), and a name's index (-1: unknown).
+  static const std::vector<std::string>& MaterialNames();
+  static int MaterialIndex(const std::string& name);
+  /// `name`'s index into `index`, or the sentence refusing it (index then -1).
+  static std::string ParseMaterial(const std::string& name, int& index);
+  /// Material one of MaterialNames ("" when it is; CheckParameters starts with it, and the
+  /// Mooney-Rivlin constants and Newton controls have their StepperRanges).
+  static std::string CheckMaterial(const StepperParameters& p);
 
   /// Where the clamps' point array (FixedArrayName) was found, as the binding sees it.
   enum class FixedArrayKind

@@ -71,6 +71,11 @@ vtkCorotationalFEMStepper::vtkCorotationalFEMStepper()
   this->RayleighStiffness = p.RayleighStiffness;
   this->SolverTolerance = p.SolverTolerance;
   this->MaxSolverIterations = p.MaxSolverIterations;
+  this->Material = p.Material;
+  this->MooneyRivlinC10 = p.MooneyRivlinC10;
+  this->MooneyRivlinC01 = p.MooneyRivlinC01;
+  this->NewtonTolerance = p.NewtonTolerance;
+  this->MaxNewtonIterations = p.MaxNewtonIterations;
   this->UseClampPlane = p.UseClampPlane;
   this->UseClampBox = p.UseClampBox;
   for (int i = 0; i < 3; ++i)
@@ -552,6 +557,28 @@ bool vtkCorotationalFEMStepper::Advance(long long k, vtkUnstructuredGrid* output
 }
 
 //------------------------------------------------------------------------------
+void vtkCorotationalFEMStepper::SetMaterial(const char* name)
+{
+  // an unknown name becomes -1, which the driver refuses again at the next update
+  int index = -1;
+  const std::string error = hoembed::StepperDriver::ParseMaterial(name ? name : "", index);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+  }
+  this->SetMaterial(index);
+}
+
+//------------------------------------------------------------------------------
+const char* vtkCorotationalFEMStepper::GetMaterialAsString()
+{
+  const auto& names = hoembed::StepperDriver::MaterialNames();
+  return this->Material >= 0 && this->Material < static_cast<int>(names.size())
+    ? names[this->Material].c_str()
+    : "unknown";
+}
+
+//------------------------------------------------------------------------------
 void vtkCorotationalFEMStepper::GetParameters(hoembed::StepperParameters& p) const
 {
   p.YoungModulus = this->YoungModulus;
@@ -563,6 +590,11 @@ void vtkCorotationalFEMStepper::GetParameters(hoembed::StepperParameters& p) con
   p.RayleighStiffness = this->RayleighStiffness;
   p.SolverTolerance = this->SolverTolerance;
   p.MaxSolverIterations = this->MaxSolverIterations;
+  p.Material = this->Material;
+  p.MooneyRivlinC10 = this->MooneyRivlinC10;
+  p.MooneyRivlinC01 = this->MooneyRivlinC01;
+  p.NewtonTolerance = this->NewtonTolerance;
+  p.MaxNewtonIterations = this->MaxNewtonIterations;
   p.UseClampPlane = this->UseClampPlane;
   p.UseClampBox = this->UseClampBox;
   for (int i = 0; i < 3; ++i)
@@ -666,6 +698,12 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
      << this->ClampBox[5] << ")\n";
   os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
   os << indent << "MaxSolverIterations: " << this->MaxSolverIterations << "\n";
+  os << indent << "Material: " << this->Material << " (" << this->GetMaterialAsString()
+     << ")\n";
+  os << indent << "MooneyRivlinC10: " << this->MooneyRivlinC10 << "\n";
+  os << indent << "MooneyRivlinC01: " << this->MooneyRivlinC01 << "\n";
+  os << indent << "NewtonTolerance: " << this->NewtonTolerance << "\n";
+  os << indent << "MaxNewtonIterations: " << this->MaxNewtonIterations << "\n";
   os << indent << "LiveMode: " << this->LiveMode << "\n";
   os << indent << "ComputeDiagnostics: " << this->ComputeDiagnostics << "\n";
   os << indent << "PrescribedSpeedLimit: " << this->PrescribedSpeedLimit << "\n";

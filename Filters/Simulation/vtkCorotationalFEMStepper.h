@@ -50,10 +50,14 @@
  * FixedArrayName "Fixed" (a missing "Fixed" array means no clamps; a missing array of
  * another name is an error, and so is an array of that name that is not numeric point
  * data: cell or field data, strings),
- * no force / initial arrays, no clamp plane or box.
+ * no force / initial arrays, no clamp plane or box, Material "corotated" (hyperelastic
+ * laws: Material below; MooneyRivlinC10/C01 0 = from E and nu, NewtonTolerance 1e-8,
+ * MaxNewtonIterations 50).
  *
  * Errors (vtkErrorMacro, empty output): PoissonRatio >= 0.5 or <= -1, YoungModulus <= 0,
- * Density <= 0, TimeStep <= 0, negative damping, unsupported or mixed cell types, an
+ * Density <= 0, TimeStep <= 0, negative damping, an unknown Material, negative
+ * Mooney-Rivlin constants, NewtonTolerance <= 0 or MaxNewtonIterations < 1, a static
+ * hyperelastic solve that does not converge, unsupported or mixed cell types, an
  * inverted or zero-volume rest element (named by cell id), missing or wrongly sized
  * arrays, a singular static problem, a non-finite state during integration (named by the
  * step).
@@ -267,8 +271,38 @@ public:
   ///@}
 
   ///@{
+  /// The material (hoembedHyperelasticMaterial.h for the energies and conversions):
+  /// 0 "corotated" (co-rotated linear elasticity, the default), 1 "stvk" (St. Venant-
+  /// Kirchhoff), 2 "neo-hookean" (the stable Neo-Hookean of Smith, de Goes and Kim 2018,
+  /// defined through inversion), 3 "mooney-rivlin". The hyperelastic ones take their
+  /// constants from YoungModulus and PoissonRatio (small-strain limit = linear
+  /// elasticity with them) and step by Newton's method on the backward-Euler potential
+  /// (hoembedCorotationalSolver.h). SetMaterial(name) takes the name; an unknown name
+  /// (or number) is refused at the next update with the driver's message.
+  vtkSetMacro(Material, int);
+  vtkGetMacro(Material, int);
+  void SetMaterial(const char* name);
+  const char* GetMaterialAsString();
+  /// Mooney-Rivlin's C10 and C01 (Pa); both 0 (the default): C10 = C01 = mu / 4 from
+  /// YoungModulus and PoissonRatio.
+  vtkSetMacro(MooneyRivlinC10, double);
+  vtkGetMacro(MooneyRivlinC10, double);
+  vtkSetMacro(MooneyRivlinC01, double);
+  vtkGetMacro(MooneyRivlinC01, double);
+  /// Newton's controls (hyperelastic materials): an iteration's largest DOF change <=
+  /// NewtonTolerance times the largest displacement of the step (default 1e-8); at most
+  /// MaxNewtonIterations per step (default 50; 1: one linearised solve per frame, the
+  /// interactive choice) or per static solve (which fails when they do not suffice).
+  vtkSetMacro(NewtonTolerance, double);
+  vtkGetMacro(NewtonTolerance, double);
+  vtkSetMacro(MaxNewtonIterations, int);
+  vtkGetMacro(MaxNewtonIterations, int);
+  ///@}
+
+  ///@{
   /// Measurements of the last RequestData: steps taken, seconds spent in rotation
-  /// extraction, assembly and the linear solve, and CG iterations in total.
+  /// extraction, assembly and the linear solve, and CG iterations in total (hyperelastic
+  /// materials: Newton iterations, their time all in LastSolveTime).
   vtkGetMacro(LastNumberOfSteps, int);
   vtkGetMacro(LastRotationTime, double);
   vtkGetMacro(LastAssemblyTime, double);
@@ -314,6 +348,11 @@ protected:
   double ClampBox[6];
   double SolverTolerance;
   int MaxSolverIterations;
+  int Material;
+  double MooneyRivlinC10;
+  double MooneyRivlinC01;
+  double NewtonTolerance;
+  int MaxNewtonIterations;
   bool LiveMode;
   bool ComputeDiagnostics;
   double PrescribedSpeedLimit;

@@ -69,3 +69,20 @@ def test_small_run_writes_series(tmp_path):
     assert last.n_points == pv.read(s).n_points
     fe = pv.get_reader(str(outdir / "fe_mesh.pvd"))
     assert len(fe.time_values) == 4
+
+
+def test_run_material(tmp_path):
+    # --material reaches the stepper (a hyperelastic law, same frames count); an unknown
+    # name is refused with the driver's sentence
+    s = tmp_path / "sphere.vtp"
+    pv.Sphere(radius=1.0, theta_resolution=30, phi_resolution=30).save(s)
+    outdir = tmp_path / "out"
+    out = run_cli("run", str(s), "--elements", "200", "--steps", "2", "--clamp-axis", "z",
+                  "--no-tet4", "--material", "neo-hookean", "--output", str(outdir))
+    assert out.returncode == 0, out.stderr
+    assert json.loads((outdir / "summary.json").read_text())["frames"] == 3
+    bad = run_cli("run", str(s), "--elements", "200", "--steps", "2", "--clamp-axis", "z",
+                  "--no-tet4", "--material", "rubber", "--output", str(tmp_path / "bad"))
+    assert bad.returncode != 0
+    assert "Material 'rubber' is not one of corotated, stvk, neo-hookean, mooney-rivlin" in \
+        bad.stderr + bad.stdout

@@ -149,11 +149,15 @@ KEYWORDS = {
                                  rayleigh_stiffness="RayleighStiffness",
                                  lumped_mass="LumpedMass", static="StaticSolve",
                                  solver_tolerance="SolverTolerance",
-                                 prescribed_speed_limit="PrescribedSpeedLimit")),
+                                 prescribed_speed_limit="PrescribedSpeedLimit",
+                                 material="Material",
+                                 newton_tolerance="NewtonTolerance",
+                                 max_newton_iterations="MaxNewtonIterations")),
 }
 # the functions' names of the enumerated values (the filters' enumerations)
 ENUM_VALUES = {"Method": {"normal-offset": 0, "barycentric": 1},
-               "NormalMode": {"recompute": 0, "rotate": 1, "deform": 2}}
+               "NormalMode": {"recompute": 0, "rotate": 1, "deform": 2},
+               "Material": {"corotated": 0, "stvk": 1, "neo-hookean": 2, "mooney-rivlin": 3}}
 
 
 def _same(a, b):
@@ -243,7 +247,7 @@ def test_paraview_xml_defaults_are_the_filters():
     assert {prop for cls, prop in covered if prop not in DEFAULTS[stage_of[cls]]} == {
         "OutputPointsPrecision", "ExternalForceArrayName", "InitialDisplacementArrayName",
         "InitialVelocityArrayName"}
-    assert len(covered) == 41
+    assert len(covered) == 46
 
 
 def test_paraview_xml_ranges_are_the_drivers():

@@ -239,6 +239,11 @@ nb::dict Defaults()
   HOEMBED_DEFAULT_VECTOR3(stepper, p, ClampPlaneOrigin);
   HOEMBED_DEFAULT_VECTOR3(stepper, p, ClampPlaneNormal);
   HOEMBED_DEFAULT(stepper, p, UseClampBox);
+  HOEMBED_DEFAULT(stepper, p, Material);
+  HOEMBED_DEFAULT(stepper, p, MooneyRivlinC10);
+  HOEMBED_DEFAULT(stepper, p, MooneyRivlinC01);
+  HOEMBED_DEFAULT(stepper, p, NewtonTolerance);
+  HOEMBED_DEFAULT(stepper, p, MaxNewtonIterations);
   stepper["ClampBox"] = nb::make_tuple(p.ClampBox[0], p.ClampBox[1], p.ClampBox[2],
     p.ClampBox[3], p.ClampBox[4], p.ClampBox[5]);
   HOEMBED_DEFAULT_VECTOR3(stepper, o, Gravity);
@@ -532,7 +537,8 @@ NB_MODULE(_hoembed, m)
         bool lumpedMass, bool staticSolve, const std::vector<double>& gravity,
         const std::vector<double>& clampPlane, const std::vector<double>& clampBox,
         nb::object fixed, nb::object forces, nb::object u0, nb::object v0,
-        nb::object prescribedMask, nb::object prescribedTargets, double prescribedSpeedLimit) {
+        nb::object prescribedMask, nb::object prescribedTargets, double prescribedSpeedLimit,
+        nb::object materialName, nb::object hyperelastic) {
         // material: E, nu, density, dt, Rayleigh mass, Rayleigh stiffness, solver tolerance
         if (material.size() != 7 || gravity.size() != 3 ||
           (!clampPlane.empty() && clampPlane.size() != 6) ||
@@ -546,6 +552,28 @@ NB_MODULE(_hoembed, m)
         p.RayleighMass = material[4];
         p.RayleighStiffness = material[5];
         p.SolverTolerance = material[6];
+        // the law (None: the driver's defaults): its name, and Mooney-Rivlin's C10, C01,
+        // Newton's tolerance and iteration cap
+        const hoembed::StepperParameters defaults;
+        p.Material = defaults.Material;
+        p.MooneyRivlinC10 = defaults.MooneyRivlinC10;
+        p.MooneyRivlinC01 = defaults.MooneyRivlinC01;
+        p.NewtonTolerance = defaults.NewtonTolerance;
+        p.MaxNewtonIterations = defaults.MaxNewtonIterations;
+        if (!materialName.is_none())
+          Check(hoembed::StepperDriver::ParseMaterial(
+            nb::cast<std::string>(materialName), p.Material));
+        if (!hyperelastic.is_none())
+        {
+          const auto h = nb::cast<std::vector<double>>(hyperelastic);
+          if (h.size() != 4)
+            throw std::invalid_argument("StepperDriver.build: wrong number of parameters");
+          p.MooneyRivlinC10 = h[0];
+          p.MooneyRivlinC01 = h[1];
+          p.NewtonTolerance = h[2];
+          // out of int's range: refused by the driver's rule as below 1
+          p.MaxNewtonIterations = (h[3] >= 1.0 && h[3] <= 2147483647.0) ? static_cast<int>(h[3]) : 0;
+        }
         p.LumpedMass = lumpedMass;
         p.UseClampPlane = !clampPlane.empty();
         for (int i = 0; p.UseClampPlane && i < 3; ++i)
@@ -615,7 +643,8 @@ NB_MODULE(_hoembed, m)
       nb::arg("initial_displacement").none(), nb::arg("initial_velocity").none(),
       nb::arg("prescribed_mask").none() = nb::none(),
       nb::arg("prescribed_displacement").none() = nb::none(),
-      nb::arg("prescribed_speed_limit") = hoembed::StepperOptions().PrescribedSpeedLimit)
+      nb::arg("prescribed_speed_limit") = hoembed::StepperOptions().PrescribedSpeedLimit,
+      nb::arg("material_name").none() = nb::none(), nb::arg("hyperelastic").none() = nb::none())
     .def(
       "advance",
       [](Stepper& st, long long k) {
@@ -784,6 +813,13 @@ NB_MODULE(_hoembed, m)
 #undef HOEMBED_NAME
   m.attr("ARRAY_NAMES") = names;
   m.attr("DEFAULTS") = Defaults();
+  // the stepper's material names by index (its Material property's enumeration)
+  nb::list materials;
+  for (const std::string& name : hoembed::StepperDriver::MaterialNames())
+  {
+    materials.append(name);
+  }
+  m.attr("MATERIALS") = nb::tuple(materials);
   // The drivers' valid ranges (hoembed::MesherRanges, StepperRanges) and their check, so
   // that the package refuses a bad argument with the driver's sentence before any work.
   nb::dict ranges;

@@ -315,10 +315,108 @@ void TestLiveClock()
   for (long long q = 0; q < 3 * n; ++q)
     HOEMBED_CHECK(d.Solver.GetPositions()[q] == m.Points[q], "reset: not at rest");
 }
+// The hyperelastic materials through the driver and the filter: the same frames bit for
+// bit (the filter's Material, set by name, reaches the driver); a rigid rotation of the
+// whole free body (initial displacement R X - X, no load) has no strain energy and stays
+// rigid over steps (a law that is not frame-invariant, or a wrong stress, would move it);
+// the material rules' sentences.
+void TestHyperelastic(int order)
+{
+  auto grid = MakeBoxTetMesh(4, 1, 1, 2.0, 0.5, 0.5, order);
+  const PlainMesh m = Plain(grid);
+  const long long n = static_cast<long long>(m.Points.size() / 3);
+  const double gravity[3] = { 0.0, -2.0, -9.81 };
+  const char* names[3] = { "stvk", "neo-hookean", "mooney-rivlin" };
+  for (int k = 1; k <= 3; ++k)
+  {
+    hoembed::StepperParameters p;
+    p.YoungModulus = 3e4;
+    p.TimeStep = 0.02;
+    p.UseClampPlane = true;
+    p.ClampPlaneNormal[0] = 1.0;
+    p.Material = k;
+    vtkNew<vtkCorotationalFEMStepper> filter;
+    filter->SetInputData(grid);
+    filter->SetYoungModulus(p.YoungModulus);
+    filter->SetTimeStep(p.TimeStep);
+    filter->SetNumberOfTimeSteps(10);
+    filter->SetUseClampPlane(true);
+    filter->SetClampPlaneNormal(1.0, 0.0, 0.0);
+    filter->SetGravity(gravity[0], gravity[1], gravity[2]);
+    filter->SetMaterial(names[k - 1]);
+    HOEMBED_CHECK(filter->GetMaterial() == k, "SetMaterial(%s) gave %d", names[k - 1],
+      filter->GetMaterial());
+    hoembed::StepperDriver d;
+    HOEMBED_CHECK(Build(d, m, p, gravity).empty(), "%s: driver set-up failed", names[k - 1]);
+    for (long long step : { 3, 6 })
+    {
+      filter->UpdateTimeStep(step * p.TimeStep);
+      HOEMBED_CHECK(d.Advance(step, false, p.TimeStep, {}).empty(), "driver step failed");
+      HOEMBED_CHECK(SamePositions(d, filter->GetOutput()),
+        "%s order %d step %lld: driver positions differ from the filter's", names[k - 1], order,
+        step);
+    }
+    double sag = 0.0;
+    for (long long q = 0; q < n; ++q)
+      sag = std::min(sag, d.Solver.GetPositions()[3 * q + 2] - m.Points[3 * q + 2]);
+    HOEMBED_CHECK(sag < -1e-3, "%s: the beam did not sag (%g)", names[k - 1], sag);
+
+    // rigid rotation by 60 degrees about (1, 1, 1) / sqrt(3), free body, no load
+    const double c = 0.5, s3 = std::sqrt(3.0) / 2.0, a = (1.0 - c) / 3.0, b = s3 / std::sqrt(3.0);
+    const double R[9] = { c + a, a - b, a + b, a + b, c + a, a - b, a - b, a + b, c + a };
+    std::vector<double> u0(3 * n), target(3 * n);
+    for (long long q = 0; q < n; ++q)
+      for (int i = 0; i < 3; ++i)
+      {
+        const double* X = &m.Points[3 * q];
+        target[3 * q + i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2];
+        u0[3 * q + i] = target[3 * q + i] - X[i];
+      }
+    hoembed::StepperParameters rp = p;
+    rp.UseClampPlane = false;
+    hoembed::TetMeshInput mesh;
+    HOEMBED_CHECK(mesh.Read(m.View(), hoembed::TetMeshInput::KeepPoints).empty(), "read");
+    hoembed::StepperInputs in;
+    in.InitialDisplacement = u0.data();
+    hoembed::StepperDriver r;
+    HOEMBED_CHECK(r.Build(mesh, rp, in).empty(), "rigid set-up failed");
+    HOEMBED_CHECK(std::abs(r.Solver.StrainEnergy()) <= 1e-9 * p.YoungModulus,
+      "%s: strain energy %g of a rigid rotation", names[k - 1], r.Solver.StrainEnergy());
+    HOEMBED_CHECK(r.Advance(4, false, p.TimeStep, {}).empty(), "rigid steps failed");
+    double dev = 0.0;
+    for (long long q = 0; q < 3 * n; ++q)
+      dev = std::max(dev, std::abs(r.Solver.GetPositions()[q] - target[q]));
+    HOEMBED_CHECK(dev <= 1e-10, "%s order %d: the rigidly rotated body moved by %g",
+      names[k - 1], order, dev);
+  }
+  // the rules
+  hoembed::StepperParameters p;
+  int index = 0;
+  HOEMBED_CHECK(hoembed::StepperDriver::ParseMaterial("rubber", index) ==
+      "Material 'rubber' is not one of corotated, stvk, neo-hookean, mooney-rivlin." &&
+      index == -1,
+    "ParseMaterial");
+  HOEMBED_CHECK(hoembed::StepperDriver::ParseMaterial("mooney-rivlin", index).empty() &&
+      index == 3,
+    "ParseMaterial(mooney-rivlin) = %d", index);
+  p.Material = 4;
+  HOEMBED_CHECK(hoembed::StepperDriver::CheckMaterial(p).find("Material must be one of 0 "
+                                                             "(corotated)") == 0,
+    "%s", hoembed::StepperDriver::CheckMaterial(p).c_str());
+  p.Material = 3;
+  p.MooneyRivlinC01 = std::nan("");
+  HOEMBED_CHECK(hoembed::StepperDriver::CheckParameters(p).find("MooneyRivlinC01") == 0,
+    "NaN C01 accepted");
+  hoembed::StepperDriver d;
+  HOEMBED_CHECK(Build(d, m, p, gravity).find("MooneyRivlinC01 must be") == 0,
+    "Build took a NaN C01");
+}
 } // namespace
 
 int main(int, char*[])
 {
+  TestHyperelastic(2);
+  TestHyperelastic(1);
   TestFramesEqualTheFilter(2);
   TestFramesEqualTheFilter(1);
   TestErrors();

@@ -322,6 +322,17 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
         <PrescribedSpeedLimit>; 0: no limit).
     static : bool
         Return the static equilibrium (one frame) instead of a time series.
+    material : str
+        ``"corotated"`` (default: co-rotated linear elasticity), ``"stvk"``,
+        ``"neo-hookean"`` (the stable Neo-Hookean of Smith et al. 2018, stable under
+        inversion) or ``"mooney-rivlin"``: hyperelastic laws with constants from ``young``
+        and ``poisson`` (their small-strain limit), stepped by Newton's method on the
+        backward-Euler potential (the stepper's Material).
+    mooney_rivlin : (C10, C01)
+        Mooney-Rivlin's constants (Pa); (0, 0), the default: both mu / 4.
+    newton_tolerance, max_newton_iterations : float, int
+        Newton's stop rule for the hyperelastic laws (defaults 1e-8 and 50; 1 iteration:
+        one linearised solve per step); a static solve fails when they do not suffice.
     every : int
         Keep every ``every``-th step as a frame.
     progress : callable, optional
@@ -339,12 +350,13 @@ SIMULATE_DOC = """Simulate a co-rotated tet10 (or tet4) FE mesh with implicit Eu
     Raises
     ------
     hoembed.HOEmbedError
-        On bad input (cells, clamps, non-finite state during integration). Bad arguments
-        (a value outside the stepper's range, ``hoembed._hoembed.RANGES["stepper"]``,
-        e.g. a non-positive ``dt``, refused with the stepper's sentence; ``every`` < 1,
-        non-finite gravity, forces or initial state, a mask of the wrong length) raise
-        ``hoembed._errors.HOEmbedArgumentError`` (a HOEmbedError and a ValueError)
-        before the stepper runs.
+        On bad input (cells, clamps, non-finite state during integration, an unknown
+        ``material``). Bad arguments (a value outside the stepper's range,
+        ``hoembed._hoembed.RANGES["stepper"]``, e.g. a non-positive ``dt``, negative
+        Mooney-Rivlin constants or bad Newton controls, refused with the stepper's sentence;
+        ``every`` < 1, non-finite gravity, forces or initial state, a mask of the wrong
+        length) raise ``hoembed._errors.HOEmbedArgumentError`` (a HOEmbedError and a
+        ValueError) before the stepper runs.
 
     Examples
     --------

@@ -82,6 +82,9 @@ def _parser():
                         help="Poisson's ratio")
         sp.add_argument("--density", type=float, default=_STEPPER["Density"],
                         help="density (kg/m^3)")
+        sp.add_argument("--material", default=None,
+                        help="corotated, stvk, neo-hookean or mooney-rivlin (default: the "
+                             "stepper's, corotated)")
         sp.add_argument("--gravity", type=float, nargs=3, default=defaults["gravity"],
                         metavar=("GX", "GY", "GZ"), help="gravity (m/s^2)")
         sp.add_argument("--steps", type=int, default=defaults["steps"], help="time steps")
@@ -366,7 +369,8 @@ def _simulate_and_transfer(hoembed, mesh, embedded, args, mask, label):
     frames, t_sim = _step(f"simulate ({label})", _simulate_progress(hoembed), mesh, steps=args.steps,
                           dt=args.dt, young=args.young, poisson=args.poisson,
                           density=args.density, gravity=tuple(args.gravity),
-                          fixed=mask.astype(np.uint8))
+                          fixed=mask.astype(np.uint8),
+                          **({} if args.material is None else {"material": args.material}))
     t0 = time.perf_counter()
     surfaces = []
     for f in frames:

@@ -9,7 +9,7 @@ from ._arrays import N
 from ._checks import (SIMULATE_DOC, simulate_arguments, simulate_clamps, simulate_frames,
                       simulate_prescribed, simulate_vector)
 from ._errors import HOEmbedError
-from ._hoembed import DEFAULTS, StepperDriver
+from ._hoembed import DEFAULTS, MATERIALS, StepperDriver
 
 __all__ = ["simulate"]
 # the keyword defaults: vtkCorotationalFEMStepper's, which are the driver's
@@ -74,7 +74,11 @@ def build_stepper(mesh, a, clamps, fixed_values, lumped_mass, static, external_f
                      np.ascontiguousarray(prescribed_mask, dtype=np.float64),
                      prescribed_displacement=None if prescribed_u is None else
                      np.ascontiguousarray(prescribed_u, dtype=np.float64).reshape(-1),
-                     prescribed_speed_limit=speed_limit)
+                     prescribed_speed_limit=speed_limit,
+                     material_name=a.get("material"),
+                     hyperelastic=None if a.get("material") is None else
+                     [float(a["mooney_rivlin"][0]), float(a["mooney_rivlin"][1]),
+                      float(a["newton_tolerance"]), float(a["max_newton_iterations"])])
     except RuntimeError as e:
         _fail(e)
     return driver
@@ -87,10 +91,17 @@ def simulate(fe_mesh, steps=_D["NumberOfTimeSteps"], dt=_D["TimeStep"],
              initial_displacement=None, initial_velocity=None, lumped_mass=_D["LumpedMass"],
              static=_D["StaticSolve"], every=1, solver_tolerance=_D["SolverTolerance"],
              progress=None, prescribed=None,
-             prescribed_speed_limit=_D["PrescribedSpeedLimit"]):
+             prescribed_speed_limit=_D["PrescribedSpeedLimit"],
+             material=MATERIALS[_D["Material"]],
+             mooney_rivlin=(_D["MooneyRivlinC10"], _D["MooneyRivlinC01"]),
+             newton_tolerance=_D["NewtonTolerance"],
+             max_newton_iterations=_D["MaxNewtonIterations"]):
     a = simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity,
                            rayleigh_mass, rayleigh_stiffness, every, solver_tolerance,
                            progress)
+    # the law and Newton's controls: checked by the driver (its messages)
+    a.update(material=str(material), mooney_rivlin=tuple(mooney_rivlin),
+             newton_tolerance=newton_tolerance, max_newton_iterations=max_newton_iterations)
     steps, dt, every = a["steps"], a["dt"], a["every"]
     mesh = pyvista.wrap(fe_mesh)
     prescribed_mask, prescribed_u, speed = simulate_prescribed(

@@ -1,0 +1,769 @@
+// hoembed::CorotationalSolver with a hyperelastic material (SetMaterial): Newton's method
+// on the backward-Euler incremental potential (or, static, on the potential energy), see
+// hoembedCorotationalSolver.h. Shares the solver's mesh, mass, loads, clamps and
+// prescribed motion; only the step and the static solve differ from the co-rotated ones.
+#include "hoembedCorotationalSolver.h"
+#include "hoembedCorotationalSolverImpl.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace hoembed
+{
+namespace
+{
+// The Newton systems are factorised directly (a fresh numeric factorisation per
+// iteration on the fixed pattern, symbolic analysis once): CHOLMOD's supernodal factor
+// when the build has it, else Eigen's simplicial one on an AMD ordering.
+#ifdef HOEMBED_HAVE_CHOLMOD
+using NewtonFactorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
+#else
+using NewtonFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+#endif
+// quadrature (hoembedTetElementMatrices.h, TetQuadrature): 3^3 points on tet10 (degree
+// 3; the integrands are not polynomial, the P2 references use the same rule), 1 on tet4
+// (F is constant on a straight tet4)
+int HyperRule(int N)
+{
+  return N == 10 ? 3 : 1;
+}
+} // namespace
+
+struct CorotationalSolver::Impl::NewtonState
+{
+  NewtonFactorization LLT;
+  bool Analyzed = false;
+  ColMat H; // the free-DOF system (non-free rows and columns: identity)
+  std::vector<double> Blocks, DampValues; // Hessian blocks; beta / dt K_n on A's values
+  bool HaveFactor = false; // LLT holds a factor of an earlier system with FactorFree
+  bool BlocksReady = false; // Blocks hold the (projected) Hessian at the solve's start
+  std::vector<char> FactorFree;
+};
+
+void CorotationalSolver::Impl::RestartNewton()
+{
+  if (Newton)
+  {
+    Newton->HaveFactor = false; // a restart from a state: the same trajectory every time
+  }
+}
+
+void CorotationalSolver::Impl::InitializeHyper()
+{
+  const int m = HyperRule(N);
+  std::vector<double> pc(3 * 216), w(216);
+  HQ = TetQuadrature(m, pc.data(), w.data());
+  HG.assign(NC * HQ * N * 3, 0.0);
+  HW.assign(NC * HQ, 0.0);
+  ParallelFor(NC, 64,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double xe[30];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        for (int a = 0; a < N; ++a)
+        {
+          for (int i = 0; i < 3; ++i)
+          {
+            xe[3 * a + i] = X[3 * Conn[e * N + a] + i];
+          }
+        }
+        for (int q = 0; q < HQ; ++q)
+        {
+          const double det = ShapeGradients(N, xe, &pc[3 * q], &HG[(e * HQ + q) * N * 3]);
+          HW[e * HQ + q] = w[q] * det;
+        }
+      }
+    });
+  if (!Newton)
+  {
+    Newton = std::make_shared<NewtonState>();
+  }
+  Newton->Analyzed = false;
+  Newton->HaveFactor = false;
+}
+
+namespace
+{
+// F = sum_a y_a (x) dN_a/dX (row-major)
+inline void DeformationGradient(int N, const int* conn, const double* y, const double* g, double* F)
+{
+  for (int k = 0; k < 9; ++k)
+  {
+    F[k] = 0.0;
+  }
+  for (int a = 0; a < N; ++a)
+  {
+    const double* ya = y + 3 * conn[a];
+    const double* ga = g + 3 * a;
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        F[3 * i + j] += ya[i] * ga[j];
+      }
+    }
+  }
+}
+} // namespace
+
+double CorotationalSolver::Impl::HyperEnergy(const double* y) const
+{
+  std::vector<double> per(NC, 0.0);
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double F[9];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        double s = 0.0;
+        for (int q = 0; q < HQ; ++q)
+        {
+          DeformationGradient(N, &Conn[e * N], y, &HG[(e * HQ + q) * N * 3], F);
+          s += HW[e * HQ + q] * Law.Energy(F);
+        }
+        per[e] = s;
+      }
+    });
+  double total = 0.0; // summed in cell order: the same bits on any thread count
+  for (double s : per)
+  {
+    total += s;
+  }
+  return total;
+}
+
+void CorotationalSolver::Impl::HyperGradient(
+  const double* y, double* grad, double* blocks, bool project) const
+{
+  std::vector<double> fe(NC * D, 0.0), he(blocks ? NC * D * D : 0, 0.0);
+  ParallelFor(NC, 64,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double F[9], P[9], A[81], T[27];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        double* f = &fe[e * D];
+        double* h = blocks ? &he[e * D * D] : nullptr;
+        for (int q = 0; q < HQ; ++q)
+        {
+          const double* g = &HG[(e * HQ + q) * N * 3];
+          const double w = HW[e * HQ + q];
+          DeformationGradient(N, &Conn[e * N], y, g, F);
+          if (h)
+          {
+            Law.Tangent(F, P, A, project);
+          }
+          else
+          {
+            Law.Stress(F, P);
+          }
+          for (int a = 0; a < N; ++a)
+          {
+            const double* ga = g + 3 * a;
+            for (int i = 0; i < 3; ++i)
+            {
+              f[3 * a + i] += w * (P[3 * i] * ga[0] + P[3 * i + 1] * ga[1] + P[3 * i + 2] * ga[2]);
+            }
+            if (!h)
+            {
+              continue;
+            }
+            // T[i][kl] = w sum_j A[ij][kl] g_aj, then H(ai, bk) += sum_l T[i][kl] g_bl
+            for (int i = 0; i < 3; ++i)
+            {
+              for (int kl = 0; kl < 9; ++kl)
+              {
+                T[9 * i + kl] = w *
+                  (A[(3 * i) * 9 + kl] * ga[0] + A[(3 * i + 1) * 9 + kl] * ga[1] +
+                    A[(3 * i + 2) * 9 + kl] * ga[2]);
+              }
+            }
+            for (int b = 0; b < N; ++b)
+            {
+              const double* gb = g + 3 * b;
+              for (int i = 0; i < 3; ++i)
+              {
+                for (int k = 0; k < 3; ++k)
+                {
+                  const double* t = &T[9 * i + 3 * k];
+                  h[(3 * a + i) * D + 3 * b + k] += t[0] * gb[0] + t[1] * gb[1] + t[2] * gb[2];
+                }
+              }
+            }
+          }
+        }
+      }
+    });
+  // scatter in cell order (deterministic)
+  std::fill(grad, grad + 3 * NP, 0.0);
+  if (blocks)
+  {
+    std::fill(blocks, blocks + 9 * MN.nonZeros(), 0.0);
+  }
+  for (long long e = 0; e < NC; ++e)
+  {
+    for (int a = 0; a < N; ++a)
+    {
+      const int pa = Conn[e * N + a];
+      for (int i = 0; i < 3; ++i)
+      {
+        grad[3 * pa + i] += fe[e * D + 3 * a + i];
+      }
+      if (!blocks)
+      {
+        continue;
+      }
+      for (int b = 0; b < N; ++b)
+      {
+        double* blk = blocks + 9 * static_cast<long long>(BlockOf[(e * N + a) * N + b]);
+        for (int i = 0; i < 3; ++i)
+        {
+          for (int k = 0; k < 3; ++k)
+          {
+            blk[3 * i + k] += he[(e * D + 3 * a + i) * D + 3 * b + k];
+          }
+        }
+      }
+    }
+  }
+}
+
+namespace
+{
+// The Newton loop shared by the step and the static solve. The potential is
+//   Phi(x) = cM/2 |x - xhat|_M^2 + a/2 |x - xn|_M^2 + 1/2 (x - xn)^T Kd (x - xn)
+//            + Psi(x) - f^T x
+// over the free DOFs (the others held where x has them): dynamic, cM = 1/dt^2,
+// xhat = xn + dt vn (backward Euler), a = alpha/dt (mass damping) and Kd = beta/dt times the
+// Hessian at the step's start (stiffness damping, frozen over the step); static, all 0.
+struct Potential
+{
+  CorotationalSolver::Impl& I;
+  double CM = 0.0, CA = 0.0;
+  const std::vector<double>* XHat = nullptr; // dynamic only
+  const std::vector<double>* XN = nullptr;
+  bool Damp = false; // I.Newton->DampValues hold beta/dt K_n (on A's values)
+
+  // Phi and, when g, its gradient (3 NP; zero on the held DOFs)
+  double Value(const std::vector<double>& x, double* g) const
+  {
+    const long long n3 = 3 * I.NP;
+    double phi = 0.0;
+    std::vector<double> r(n3, 0.0), mr(n3, 0.0);
+    if (g)
+    {
+      I.HyperGradient(x.data(), g, nullptr, false);
+      phi = I.HyperEnergy(x.data());
+    }
+    else
+    {
+      phi = I.HyperEnergy(x.data());
+    }
+    if (!std::isfinite(phi))
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+    for (long long k = 0; k < n3; ++k)
+    {
+      phi -= I.FExt[k] * x[k];
+      if (g)
+      {
+        g[k] -= I.FExt[k];
+      }
+    }
+    if (CM > 0.0 || CA > 0.0)
+    {
+      // cM (x - xhat) + a (x - xn), through M
+      for (long long k = 0; k < n3; ++k)
+      {
+        r[k] = CM * (x[k] - (*XHat)[k]);
+      }
+      std::vector<double> s(n3, 0.0);
+      for (long long k = 0; k < n3; ++k)
+      {
+        s[k] = x[k] - (*XN)[k];
+      }
+      I.MassApply(r.data(), 1.0, mr.data());
+      std::vector<double> ms(n3, 0.0);
+      I.MassApply(s.data(), 1.0, ms.data());
+      for (long long k = 0; k < n3; ++k)
+      {
+        phi += 0.5 * (x[k] - (*XHat)[k]) * mr[k] + 0.5 * CA * s[k] * ms[k];
+        if (g)
+        {
+          g[k] += mr[k] + CA * ms[k];
+        }
+      }
+      if (Damp)
+      {
+        const int* outer = I.A.outerIndexPtr();
+        const int* inner = I.A.innerIndexPtr();
+        const double* kd = I.Newton->DampValues.data();
+        for (long long rr = 0; rr < n3; ++rr)
+        {
+          double t = 0.0;
+          for (int k = outer[rr]; k < outer[rr + 1]; ++k)
+          {
+            t += kd[k] * s[inner[k]];
+          }
+          phi += 0.5 * s[rr] * t;
+          if (g)
+          {
+            g[rr] += t;
+          }
+        }
+      }
+    }
+    if (g)
+    {
+      for (long long k = 0; k < n3; ++k)
+      {
+        g[k] = I.Free[k] ? g[k] : 0.0;
+      }
+    }
+    return phi;
+  }
+};
+
+// A's values of the system cM' M + Kd + H(blocks) with the held DOFs' rows and columns
+// replaced by the identity, into ns.H (pattern of A, lower part read by the factor).
+void FillSystem(CorotationalSolver::Impl& I, double cMass, bool damp)
+{
+  auto& ns = *I.Newton;
+  if (ns.H.rows() != I.A.rows())
+  {
+    ns.H = I.A; // a symmetric pattern: the row-major A is its column-major transpose
+  }
+  const int* outer = I.A.outerIndexPtr();
+  const int* inner = I.A.innerIndexPtr();
+  double* hv = ns.H.valuePtr();
+  // ns.H is column-major with A's pattern transposed; A is symmetric in pattern and value,
+  // so value k of row r of A is value k of column r of H.
+  for (long long r = 0; r < 3 * I.NP; ++r)
+  {
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+    {
+      const int c = inner[k];
+      double v = 0.0;
+      if (I.Free[r] && I.Free[c])
+      {
+        const int s = I.AFromS[k];
+        v = (s >= 0 ? ns.Blocks[s] : 0.0) + cMass * I.MassValues[k] +
+          (damp ? ns.DampValues[k] : 0.0);
+      }
+      else if (r == c)
+      {
+        v = 1.0;
+      }
+      hv[k] = v;
+    }
+  }
+}
+} // namespace
+
+// d = -H^-1 g by CG on ns.H preconditioned by the last factor, to 1e-6 relative (an
+// inexact Newton direction: the stop rule, on the step, still decides convergence): false
+// (d unusable) after RefactorCG iterations or at negative curvature.
+constexpr int RefactorCG = 25;
+static bool PreconditionedCG(
+  CorotationalSolver::Impl& I, const Eigen::Map<const Eigen::VectorXd>& g, Eigen::VectorXd& d)
+{
+  auto& ns = *I.Newton;
+  const Eigen::Index n = g.size();
+  d = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd r = -g, z, p, q;
+  const double b = r.norm();
+  if (b == 0.0)
+  {
+    return true;
+  }
+  z = ns.LLT.solve(r);
+  p = z;
+  double rz = r.dot(z);
+  for (int k = 0; k < RefactorCG; ++k)
+  {
+    q = ns.H * p;
+    const double pq = p.dot(q);
+    if (!(pq > 0.0))
+    {
+      return false;
+    }
+    const double alpha = rz / pq;
+    d += alpha * p;
+    r -= alpha * q;
+    if (r.norm() <= 1e-6 * b)
+    {
+      return true;
+    }
+    z = ns.LLT.solve(r);
+    const double rz1 = r.dot(z);
+    p = z + (rz1 / rz) * p;
+    rz = rz1;
+  }
+  return false;
+}
+
+// One Newton solve from I.x (held DOFs already where they stay): exact Hessian first
+// (quadratic convergence), the per-point projected one where the exact one is not
+// positive definite; backtracking (Armijo) line search on Phi. Returns the iterations
+// (negative: failed, with `error`).
+static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass,
+  int maxIterations, double tolerance, bool untilConverged, std::string& error,
+  bool* backtracked = nullptr)
+{
+  auto& ns = *I.Newton;
+  const long long n3 = 3 * I.NP;
+  std::vector<double> g(n3), trial(n3);
+  // the scale of "no motion": a relative round-off floor of the mesh size
+  double lo = 1e300, hi = -1e300;
+  for (double c : I.X)
+  {
+    lo = std::min(lo, c);
+    hi = std::max(hi, c);
+  }
+  const double floor = 1e-15 * std::max(hi - lo, 1e-300);
+  // the energy's round-off: its terms are of the order of the law's stiffness times the
+  // volume, and cancel at small strain (under a tiny load the decrease of an exact Newton
+  // step is below it, and a plain Armijo test would reject that step)
+  double volume = 0.0;
+  for (double w : I.HW)
+  {
+    volume += std::abs(w);
+  }
+  const double stiffness = std::abs(I.Law.Mu) + std::abs(I.Law.Lambda) + std::abs(I.Law.C10) +
+    std::abs(I.Law.C01) + std::abs(I.Law.Kappa);
+  const double noise = 1e-12 * stiffness * volume;
+  double previous = -1.0;
+  const std::vector<double> start = I.x;
+  double value = phi.Value(I.x, g.data());
+  if (!std::isfinite(value))
+  {
+    error = "the energy is not finite at the start of the solve (an inverted element with a "
+            "material that is undefined there)";
+    return -1;
+  }
+  int it = 0;
+  for (; it < maxIterations; ++it)
+  {
+    Eigen::Map<const Eigen::VectorXd> gm(g.data(), n3);
+    Eigen::VectorXd d;
+    bool solved = false;
+    auto ta = Clock::now();
+    if (!ns.BlocksReady) // (the step's damping pass left the blocks at this x)
+    {
+      I.HyperGradient(I.x.data(), trial.data(), ns.Blocks.data(), false);
+    }
+    ns.BlocksReady = false;
+    FillSystem(I, cMass, phi.Damp);
+    I.T.Assembly += Seconds(ta, Clock::now());
+    // The last factor as the preconditioner of CG on the new system (a Hessian changes
+    // little between iterations and frames): a fresh factorisation costs tens of CG
+    // iterations on 3000 tet10. Refactorised when the CG needs more than RefactorCG
+    // iterations, meets negative curvature (exact Hessian not positive definite), or the
+    // free set changed. Deterministic (iteration counts, not times).
+    if (ns.HaveFactor && ns.FactorFree == I.Free)
+    {
+      solved = PreconditionedCG(I, gm, d);
+    }
+    for (int pass = 0; pass < 2 && !solved; ++pass)
+    {
+      if (pass == 1)
+      {
+        ta = Clock::now();
+        I.HyperGradient(I.x.data(), trial.data(), ns.Blocks.data(), true);
+        FillSystem(I, cMass, phi.Damp);
+        I.T.Assembly += Seconds(ta, Clock::now());
+      }
+      if (!ns.Analyzed)
+      {
+#ifdef HOEMBED_HAVE_CHOLMOD
+        ns.LLT.cholmod().print = 0; // a not positive definite exact Hessian is expected
+#endif
+        ns.LLT.analyzePattern(ns.H);
+        ns.Analyzed = true;
+      }
+      auto tf = Clock::now();
+      ns.LLT.factorize(ns.H);
+      I.T.Factorization += Seconds(tf, Clock::now());
+      I.T.Factorizations++;
+      solved = ns.LLT.info() == Eigen::Success;
+      ns.HaveFactor = solved;
+      ns.FactorFree = I.Free;
+      if (solved)
+      {
+        d = -ns.LLT.solve(gm);
+      }
+    }
+    if (!solved)
+    {
+      error = "the Newton system is singular (clamp more nodes)";
+      return -1;
+    }
+    for (long long k = 0; k < n3; ++k)
+    {
+      d[k] = I.Free[k] ? d[k] : 0.0;
+    }
+    const double slope = gm.dot(d);
+    double t = 1.0, next = value;
+    bool accepted = false;
+    for (int ls = 0; ls < 40; ++ls, t *= 0.5)
+    {
+      for (long long k = 0; k < n3; ++k)
+      {
+        trial[k] = I.x[k] + t * d[k];
+      }
+      next = phi.Value(trial, nullptr);
+      // Armijo, with a round-off allowance: near the minimum Phi cannot resolve the
+      // decrease of a tiny step
+      if (std::isfinite(next) &&
+        next <= value + 1e-4 * t * slope + noise + 1e-14 * std::abs(value))
+      {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted)
+    {
+      break; // no decrease left to find: at the minimum to round-off
+    }
+    if (backtracked && t < 1.0)
+    {
+      *backtracked = true;
+    }
+    I.x.swap(trial);
+    // the gradient there only serves a next iteration (one Newton iteration per frame:
+    // none; the state is the same either way)
+    value = it + 1 < maxIterations ? phi.Value(I.x, g.data()) : next;
+    double step = 0.0, moved = 0.0;
+    for (long long k = 0; k < n3; ++k)
+    {
+      step = std::max(step, std::abs(t * d[k]));
+      moved = std::max(moved, std::abs(I.x[k] - start[k]));
+    }
+    // converged; or stalled at round-off (no longer shrinking, far below the motion: the
+    // stress of a tiny strain is a difference of terms of the order of the stiffness)
+    if (step <= tolerance * moved || step <= floor ||
+      (previous >= 0.0 && step >= 0.5 * previous && step <= 1e-5 * moved))
+    {
+      ++it;
+      return it;
+    }
+    previous = step;
+  }
+  if (untilConverged && it >= maxIterations)
+  {
+    error = "Newton did not converge in MaxNewtonIterations iterations";
+    return -1;
+  }
+  return it;
+}
+
+bool CorotationalSolver::Impl::HyperStep()
+{
+  auto t0 = Clock::now();
+  const double dt = Dt;
+  const long long n3 = 3 * NP;
+  const std::vector<double> xn = x;
+  std::vector<double> xhat(n3);
+  for (long long k = 0; k < n3; ++k)
+  {
+    xhat[k] = x[k] + dt * v[k];
+  }
+  // held DOFs: prescribed ones on their (speed-limited) reach, clamped ones where they are
+  const double limit = PrescribedSpeed * dt;
+  for (long long p = 0; p < NP && NumberPrescribed > 0; ++p)
+  {
+    if (!PrescribedMask[p])
+    {
+      continue;
+    }
+    double d[3], n = 0.0;
+    for (int i = 0; i < 3; ++i)
+    {
+      d[i] = X[3 * p + i] + Target[3 * p + i] - x[3 * p + i];
+      n += d[i] * d[i];
+    }
+    n = std::sqrt(n);
+    const bool capped = PrescribedSpeed > 0.0 && n > limit;
+    for (int i = 0; i < 3; ++i)
+    {
+      x[3 * p + i] = capped ? x[3 * p + i] + d[i] * (limit / n) : X[3 * p + i] + Target[3 * p + i];
+    }
+  }
+  Potential phi{ *this };
+  phi.CM = 1.0 / (dt * dt);
+  phi.CA = Alpha / dt;
+  phi.XHat = &xhat;
+  phi.XN = &xn;
+  auto& ns = *Newton;
+  ns.Blocks.assign(9 * MN.nonZeros(), 0.0);
+  if (Beta > 0.0)
+  {
+    // stiffness damping: beta/dt times the (projected) Hessian at the step's start
+    std::vector<double> g(n3);
+    HyperGradient(x.data(), g.data(), ns.Blocks.data(), true);
+    ns.DampValues.assign(A.nonZeros(), 0.0);
+    for (long long k = 0; k < A.nonZeros(); ++k)
+    {
+      const int s = AFromS[k];
+      ns.DampValues[k] = s >= 0 ? Beta / dt * ns.Blocks[s] : 0.0;
+    }
+    phi.Damp = true;
+    ns.BlocksReady = true; // the first Newton iteration's Hessian (projected: positive
+                           // semi-definite, equal to the exact one where that is)
+  }
+  std::string error;
+  const int it = NewtonSolve(*this, phi, 1.0 / (dt * dt) + Alpha / dt, NewtonMaxIt, NewtonTol,
+    false, error);
+  LastNewtonIt = it;
+  bool finite = it >= 0;
+  for (long long k = 0; k < n3; ++k)
+  {
+    v[k] = (x[k] - xn[k]) / dt;
+    finite = finite && std::isfinite(x[k]) && std::isfinite(v[k]);
+  }
+  RotationsValid = false;
+  T.Solve += Seconds(t0, Clock::now());
+  T.Steps++;
+  T.Iterations += std::max(it, 0);
+  StepCount++;
+  return finite;
+}
+
+namespace
+{
+// det F > 0 at every quadrature point of the current positions
+bool AllPositive(const CorotationalSolver::Impl& I)
+{
+  double F[9];
+  for (long long e = 0; e < I.NC; ++e)
+  {
+    for (int q = 0; q < I.HQ; ++q)
+    {
+      DeformationGradient(I.N, &I.Conn[e * I.N], I.x.data(), &I.HG[(e * I.HQ + q) * I.N * 3], F);
+      const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+        F[2] * (F[3] * F[7] - F[4] * F[6]);
+      if (!(J > 0.0))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+} // namespace
+
+bool CorotationalSolver::Impl::HyperStatic(int maxIterations, double tolerance, std::string& error)
+{
+  // Continuation: the loads (forces and prescribed displacements) applied in S equal
+  // increments, each solved by Newton; S = 1, 2, 4, ... until every increment converges
+  // without line-search backtracking from a start without inverted quadrature points
+  // (the last try, 256 increments, accepts both). A large prescribed displacement applied at once can start from
+  // inverted elements (infinite Mooney-Rivlin energy), and St. Venant-Kirchhoff under 30%
+  // compression has more than one equilibrium: Newton from rest under the full load
+  // reached another one than the path of increasing load (which scikit-fem's incremental
+  // reference follows).
+  const std::vector<double> x0 = x, fFull = FExt;
+  std::vector<double> goal(3 * NP);
+  for (long long k = 0; k < 3 * NP; ++k)
+  {
+    goal[k] = (NumberPrescribed > 0 && PrescribedMask[k / 3]) ? X[k] + Target[k] : x0[k];
+  }
+  Potential phi{ *this };
+  Newton->Blocks.assign(9 * MN.nonZeros(), 0.0);
+  int total = 0;
+  bool ok = false;
+  for (int S = 1; S <= 256 && !ok; S *= 2)
+  {
+    x = x0;
+    ok = true;
+    total = 0;
+    error.clear();
+    for (int s = 1; s <= S && ok; ++s)
+    {
+      const double frac = static_cast<double>(s) / S;
+      for (long long k = 0; k < 3 * NP; ++k)
+      {
+        FExt[k] = frac * fFull[k];
+        if (!Free[k])
+        {
+          x[k] = x0[k] + frac * (goal[k] - x0[k]); // held: clamped ones stay (goal = x0)
+        }
+      }
+      if (S < 256 && !AllPositive(*this))
+      {
+        ok = false; // the increment inverts elements before it is solved
+        break;
+      }
+      bool backtracked = false;
+      const int it = NewtonSolve(*this, phi, 0.0, maxIterations, tolerance, true, error,
+        S < 256 ? &backtracked : nullptr);
+      ok = it >= 0 && !backtracked;
+      total += std::max(it, 0);
+    }
+  }
+  FExt = fFull;
+  LastNewtonIt = total;
+  std::fill(v.begin(), v.end(), 0.0);
+  std::fill(dv.begin(), dv.end(), 0.0);
+  RotationsValid = false;
+  return ok;
+}
+
+void CorotationalSolver::Impl::HyperVonMises(double* stress) const
+{
+  // Cauchy stress sigma = P F^T / J at the centroid (|J| floored: an inverted or flat
+  // element still gets a finite number)
+  ParallelFor(NC, ParallelCells,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      double F[9], P[9];
+      for (vtkIdType e = begin; e < end; ++e)
+      {
+        DeformationGradient(N, &Conn[e * N], x.data(), &G[e * N * 3], F);
+        Law.Stress(F, P);
+        const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+          F[2] * (F[3] * F[7] - F[4] * F[6]);
+        const double s = 1.0 / std::max(std::abs(J), 1e-12);
+        double sg[9];
+        for (int i = 0; i < 3; ++i)
+        {
+          for (int j = 0; j < 3; ++j)
+          {
+            sg[3 * i + j] =
+              s * (P[3 * i] * F[3 * j] + P[3 * i + 1] * F[3 * j + 1] + P[3 * i + 2] * F[3 * j + 2]);
+          }
+        }
+        const double a = sg[0] - sg[4], b = sg[4] - sg[8], c = sg[8] - sg[0];
+        const double vm = std::sqrt(0.5 * (a * a + b * b + c * c) +
+          3.0 * (sg[1] * sg[1] + sg[2] * sg[2] + sg[5] * sg[5]));
+        stress[e] = std::isfinite(vm) ? vm : 0.0;
+      }
+    });
+}
+
+void CorotationalSolver::SetMaterial(int material, double c10, double c01)
+{
+  Impl& I = *this->P;
+  I.Mat = static_cast<Material>(material);
+  if (I.Mat != Material::Corotated)
+  {
+    I.Law = HyperelasticLaw::Make(I.Mat, I.Young, I.Poisson, c10, c01);
+    I.InitializeHyper();
+  }
+}
+
+void CorotationalSolver::SetNewtonControls(double tolerance, int maxIterations)
+{
+  this->P->NewtonTol = tolerance;
+  this->P->NewtonMaxIt = std::max(1, maxIterations);
+}
+
+int CorotationalSolver::GetLastNewtonIterations() const
+{
+  return this->P->LastNewtonIt;
+}
+} // namespace hoembed
