@@ -331,7 +331,7 @@ def run_display(n, surface, out):
                FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3, "--display"]
         # Its own X server, which does not reset when its last client leaves: a process
         # connecting while the server reset failed ("bad X server connection") in about
-        # 1 of 5 runs on 3 processes here; none in 10 with -noreset.
+        # 1 of 5 runs on 3 processes here; none in 12 with -noreset.
         cmd = ["timeout", "-k", "10", DISPLAY_TIMEOUT, "xvfb-run", "-a", "-s",
                "-screen 0 1280x1024x24 -noreset"] + cmd
         r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True,
