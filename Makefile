@@ -58,12 +58,12 @@ build: setup configure
 	@$(PY) -c "import hoembed" && echo "[build] hoembed is importable from .venv"
 
 demo: build
-	xvfb-run -a -s "-screen 0 1600x1200x24" $(PY) -m hoembed demo --output output
+	xvfb-run -a -s "-screen 0 1600x1200x24 -noreset" $(PY) -m hoembed demo --output output
 
 test: test-unsanitized test-sanitize test-paraview test-pip
 
 test-unsanitized: build
-	cd $(BUILD_DIR) && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 1
+	cd $(BUILD_DIR) && xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j 1
 
 # libstdc++ is preloaded with the ASan runtime: Python does not link it, and ASan's
 # __cxa_throw interceptor must find it at start-up, or the first C++ exception (TetGen
@@ -102,8 +102,11 @@ paraview: setup
 	cmake --build $(PV_BUILD_DIR) -j $(JOBS)
 	@echo "[paraview] plugin in $(PV_BUILD_DIR)/lib/paraview-plugins/HOEmbed; run scripts/pvpython or scripts/pvbatch"
 
+# Xvfb with -noreset: without it the server resets when its last client leaves, and a
+# process connecting at that moment is refused ("bad X server connection": 7 of 35 MPI
+# display runs before).
 test-paraview: build paraview
-	xvfb-run -a -s "-screen 0 1280x1024x24" $(PY) -m pytest -v Plugin/Testing
+	xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" $(PY) -m pytest -v Plugin/Testing
 
 # setup: the Debian packages (compiler, CMake, Eigen, CGAL, GMP, MPFR); the TetGen sources
 # of `make build`, when there, serve the wheel too (else the wheel's build fetches them)

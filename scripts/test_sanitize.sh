@@ -13,7 +13,7 @@ sup="$root/Testing/sanitizers"
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:detect_odr_violation=0:suppressions=$sup/asan.supp"
 export LSAN_OPTIONS="suppressions=$sup/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$sup/ubsan.supp"
-XVFB=(xvfb-run -a -s "-screen 0 1280x1024x24")
+XVFB=(xvfb-run -a -s "-screen 0 1280x1024x24 -noreset")
 cd "$dir"
 start=$(date +%s)
 # The find_package example builds and installs a second copy: it tests packaging, not
