@@ -55,9 +55,9 @@ def main():
     ref_n = (48, 6, 6)
     ref, ref_dof, ref_t = tip_deflection(ref_n, 2)
     check, check_dof, _ = tip_deflection((40, 5, 5), 2)
-    I = H ** 4 / 12.0
+    inertia = H ** 4 / 12.0
     q = RHO * 9.81 * H * H
-    beam_theory = q * L ** 4 / (8 * E * I)
+    beam_theory = q * L ** 4 / (8 * E * inertia)
     rows = {1: [], 2: []}
     series = {1: [(8, 1, 1), (16, 2, 2), (24, 3, 3), (32, 4, 4), (48, 6, 6), (64, 8, 8), (96, 12, 12)],
               2: [(4, 1, 1), (8, 1, 1), (8, 2, 2), (16, 2, 2), (24, 3, 3), (32, 4, 4)]}

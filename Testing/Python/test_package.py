@@ -163,8 +163,13 @@ ENUM_VALUES = {"Method": {"normal-offset": 0, "barycentric": 1},
 def _same(a, b):
     """Equal as the XML, the filters and Python spell them: bools as 0/1, vectors as
     tuples, a null string as ""."""
-    norm = (lambda v: "" if v is None else tuple(v) if isinstance(v, (list, tuple))
-            else int(v) if isinstance(v, bool) else v)
+    def norm(v):
+        if v is None:
+            return ""
+        if isinstance(v, (list, tuple)):
+            return tuple(v)
+        return int(v) if isinstance(v, bool) else v
+
     return norm(a) == norm(b)
 
 
