@@ -657,8 +657,8 @@ void ApplyExtraCheck(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   }
   if (redo.empty())
     return;
-  CurvingResult again = CurveMidEdgeNodes(
-    out.Points, out.Conn, redo, redoTargets, options.QualityRatio, options.MinimumQuality,
+  CurvingResult again = CurveMidEdgeNodes(out.Points, out.Conn, redo, redoTargets,
+    options.QualityRatio, std::max(options.MinimumQuality, options.QualityTarget),
     options.ExtraCheck);
   std::vector<Id> edgeOf(nPts, -1);
   for (Id e = 0; e < nbe; ++e)
@@ -666,6 +666,49 @@ void ApplyExtraCheck(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   for (size_t k = 0; k < redo.size(); ++k)
     if (again.Alpha[k] < 1.0 && edgeOf[redo[k]] >= 0)
       curving.Alpha[edgeOf[redo[k]]] = std::min(curving.Alpha[edgeOf[redo[k]]], again.Alpha[k]);
+}
+
+// The quality target, after the second chances and before the extra check (which keeps it) (which search for surface points and free
+// node moves under the floor alone: asking them for the target costs 4 times the time and
+// brings back few nodes): every curved mid-edge node is put back straight and curved again
+// towards where it is, with the target as the floor (hoembed::Tet10RequiredQuality with
+// minQuality = max(floor, target)), so that each cell below min(target, its straight
+// quality) gets its nodes blended back towards straight, just enough (bisection), and
+// the others keep their shape. The bisection is on the nodes' own fraction, so the
+// result does not depend on the order of the cells beyond that of CurveMidEdgeNodes.
+void ApplyQualityTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  const CurvedMeshOptions& options, CurvingResult& curving)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  std::vector<Id> nodes;
+  std::vector<double> where;
+  for (Id m = quad.NumberOfCorners; m < nPts; ++m)
+  {
+    const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+    double mid[3];
+    bool moved = false;
+    for (int d = 0; d < 3; ++d)
+    {
+      mid[d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
+      moved = moved || out.Points[3 * m + d] != mid[d];
+    }
+    if (!moved)
+      continue;
+    nodes.push_back(m);
+    where.insert(where.end(), &out.Points[3 * m], &out.Points[3 * m] + 3);
+    for (int d = 0; d < 3; ++d)
+      out.Points[3 * m + d] = mid[d];
+  }
+  if (nodes.empty())
+    return;
+  const CurvingResult again = CurveMidEdgeNodes(out.Points, out.Conn, nodes, where,
+    options.QualityRatio, std::max(options.MinimumQuality, options.QualityTarget));
+  std::vector<Id> edgeOf(nPts, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  for (size_t k = 0; k < nodes.size(); ++k)
+    if (edgeOf[nodes[k]] >= 0)
+      curving.Alpha[edgeOf[nodes[k]]] *= again.Alpha[k];
 }
 
 // Every cell that `keep` refuses gets all its mid-edge nodes straight, and so on for the
@@ -1062,6 +1105,8 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   SecondChances(out, topo, quad, surface, options, targets, curving);
   if (aborted())
     return out;
+  if (options.QualityTarget > 0.0)
+    ApplyQualityTarget(out, quad, nbe, options, curving);
   if (options.ExtraCheck)
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);

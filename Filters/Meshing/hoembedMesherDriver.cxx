@@ -548,6 +548,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     curving.ProjectCorners = options.ProjectCorners && !straight;
     curving.QualityRatio = options.CurvedQualityRatio;
     curving.MinimumQuality = options.MinimumQuality;
+    curving.QualityTarget = options.CurvedQualityTarget;
     curving.ExtraCheck = services.ExtraCheck;
     // The envelope's corners lie at the offset from the surface, its straight mid-edge
     // nodes a little farther: surface points beyond twice the offset belong to parts the

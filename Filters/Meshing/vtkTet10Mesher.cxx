@@ -149,7 +149,10 @@ private:
 
 } // namespace
 
-vtkTet10Mesher::vtkTet10Mesher() = default;
+vtkTet10Mesher::vtkTet10Mesher()
+  : CurvedQualityTarget(hoembed::MesherOptions().CurvedQualityTarget)
+{
+}
 vtkTet10Mesher::~vtkTet10Mesher() = default;
 
 int vtkTet10Mesher::FillInputPortInformation(int, vtkInformation* info)
@@ -559,6 +562,7 @@ bool vtkTet10Mesher::CheckRequest(vtkPolyData*)
     { "RadiusEdgeRatio", this->RadiusEdgeRatio }, { "MinDihedralAngle", this->MinDihedralAngle },
     { "CurvedQualityRatio", this->CurvedQualityRatio },
     { "MinimumQuality", this->MinimumQuality },
+    { "CurvedQualityTarget", this->CurvedQualityTarget },
     { "SurfaceDeviationWarning", this->SurfaceDeviationWarning },
     { "EnvelopeTolerance", this->EnvelopeTolerance }, { "MergeTolerance", this->MergeTolerance } };
   for (const auto& p : props)
@@ -642,6 +646,7 @@ int vtkTet10Mesher::RequestData(
   options.SurfaceDeviationWarning = this->SurfaceDeviationWarning;
   options.CurvedQualityRatio = this->CurvedQualityRatio;
   options.MinimumQuality = this->MinimumQuality;
+  options.CurvedQualityTarget = this->CurvedQualityTarget;
   options.EnvelopeTolerance = this->EnvelopeTolerance;
   VTKServices services(fine);
   const hoembed::MesherResult result = hoembed::RunMesher(fineArrays.Points, fineArrays.Tris,
@@ -675,6 +680,7 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RadiusEdgeRatio: " << this->RadiusEdgeRatio << "\n";
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "CurvedQualityRatio: " << this->CurvedQualityRatio << "\n";
+  os << indent << "CurvedQualityTarget: " << this->CurvedQualityTarget << "\n";
   os << indent << "MinimumQuality: " << this->MinimumQuality << "\n";
   os << indent << "EnvelopeTolerance: " << this->EnvelopeTolerance << "\n";
   os << indent << "MergeTolerance: " << this->MergeTolerance << "\n";

@@ -203,6 +203,19 @@ public:
 
   ///@{
   /**
+   * Quality target of the curving (default 0.3, hoembed::MesherOptions): curving never
+   * takes an element below min(CurvedQualityTarget, its straight shape's minimum scaled
+   * Jacobian); the mid-edge nodes of an element that would go below are blended back
+   * towards their straight positions, just enough. Higher: better elements, a boundary
+   * that follows the surface less closely (the embedding's offsets make up for it).
+   * 0: only CurvedQualityRatio and MinimumQuality.
+   */
+  vtkSetClampMacro(CurvedQualityTarget, double, 0.0, 1.0);
+  vtkGetMacro(CurvedQualityTarget, double);
+  ///@}
+
+  ///@{
+  /**
    * Distance of the envelope from an input that is not a clean closed manifold, relative
    * to the bounding-box diagonal (default 0: a quarter of the target element size, so
    * that a single open sheet becomes a solid about one element thick). Smaller values
@@ -255,6 +268,7 @@ protected:
   double SurfaceDeviationWarning = 0.05;
   double CurvedQualityRatio = 0.02;
   double MinimumQuality = 0.05;
+  double CurvedQualityTarget; // the driver's default (hoembed::MesherOptions), set in the constructor
   double EnvelopeTolerance = 0.0;
   double MergeTolerance = 1e-6;
 

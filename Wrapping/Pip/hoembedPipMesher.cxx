@@ -166,6 +166,8 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
   o.CurveBoundary = nb::cast<bool>(opts["CurveBoundary"]);
   o.RadiusEdgeRatio = nb::cast<double>(opts["RadiusEdgeRatio"]);
   o.MinDihedralAngle = nb::cast<double>(opts["MinDihedralAngle"]);
+  if (opts.contains("CurvedQualityTarget")) // else the driver's default
+    o.CurvedQualityTarget = nb::cast<double>(opts["CurvedQualityTarget"]);
 
   // The read step, in vtkTet10Mesher's order: ids, size, then the surface itself.
   std::string error = hoembed::CheckSurfacePointIds(in);

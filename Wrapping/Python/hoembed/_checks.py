@@ -50,6 +50,9 @@ curve_boundary : bool
     Move boundary mid-edge nodes onto the surface (default True).
 radius_edge_ratio, min_dihedral_angle : float
     TetGen quality bounds (defaults 1.5 and 10 degrees).
+quality_target : float, optional
+    vtkTet10Mesher's CurvedQualityTarget in [0, 1]: curving never takes an element below
+    min(quality_target, its straight quality). None (default): the mesher's default.
 progress : callable, optional
     Called with a float in [0, 1] on the filter's progress events.
 
@@ -78,7 +81,7 @@ Examples
 
 
 def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                   radius_edge_ratio, min_dihedral_angle, progress):
+                   radius_edge_ratio, min_dihedral_angle, progress, quality_target=None):
     """Check tet10_mesh()'s arguments: the same ranges as vtkTet10Mesher's setters, which
     would clamp instead of refusing. Returns the vtkTet10Mesher properties they set."""
     f = "tet10_mesh"
@@ -91,9 +94,13 @@ def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
     radius_edge_ratio = check_real(f, "radius_edge_ratio", radius_edge_ratio, 1.05, 100.0)
     min_dihedral_angle = check_real(f, "min_dihedral_angle", min_dihedral_angle, 0.0, 30.0)
     check_callable(f, "progress", progress)
-    return dict(TargetNumberOfElements=n_elements, TargetEdgeLength=edge_length,
-                ElementOrder=order, CurveBoundary=bool(curve_boundary),
-                RadiusEdgeRatio=radius_edge_ratio, MinDihedralAngle=min_dihedral_angle)
+    options = dict(TargetNumberOfElements=n_elements, TargetEdgeLength=edge_length,
+                   ElementOrder=order, CurveBoundary=bool(curve_boundary),
+                   RadiusEdgeRatio=radius_edge_ratio, MinDihedralAngle=min_dihedral_angle)
+    if quality_target is not None:
+        options["CurvedQualityTarget"] = check_real(f, "quality_target", quality_target,
+                                                    0.0, 1.0)
+    return options
 
 
 def embed_arguments(surface, fe_mesh, method, n_partitions, progress):

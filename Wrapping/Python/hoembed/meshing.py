@@ -316,9 +316,10 @@ def _grid(r):
 
 
 def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundary=True,
-               radius_edge_ratio=1.5, min_dihedral_angle=10.0, progress=None):
+               radius_edge_ratio=1.5, min_dihedral_angle=10.0, progress=None,
+               quality_target=None):
     options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                             radius_edge_ratio, min_dihedral_angle, progress)
+                             radius_edge_ratio, min_dihedral_angle, progress, quality_target)
     r = _run(surface, options, progress)[0]
     if progress is not None:
         progress(1.0)
