@@ -430,6 +430,47 @@ bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& inv
   return invalid == 0;
 }
 
+// The count that would lift the poor cells to the floor: a sliver between two close parts
+// of the surface scores about their distance over the element size, so the element size
+// must shrink by the floor over the poor cells' median score, and the count grows with
+// the cube of that; at most 100 times the count made (`capped`). `edge` receives the
+// median edge length, `size` the edge length asked for.
+Id CountForThinParts(const MesherOptions& options, const MesherResult& out, double& edge,
+  double& size, bool& capped)
+{
+  const int npc = out.NodesPerCell;
+  const Id nTets = static_cast<Id>(out.Conn.size() / npc);
+  std::vector<double> edges, poor;
+  edges.reserve(nTets);
+  for (Id c = 0; c < nTets; ++c)
+  {
+    const double* x[4];
+    for (int a = 0; a < 4; ++a)
+      x[a] = &out.Points[3 * out.Conn[npc * c + a]];
+    double sum = 0.0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        sum += std::sqrt((x[a][0] - x[b][0]) * (x[a][0] - x[b][0]) +
+          (x[a][1] - x[b][1]) * (x[a][1] - x[b][1]) + (x[a][2] - x[b][2]) * (x[a][2] - x[b][2]));
+    edges.push_back(sum / 6.0);
+    if (out.MinScaledJacobian[c] < options.MinimumQuality)
+      poor.push_back(std::max(out.MinScaledJacobian[c], 0.0));
+  }
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + (v.size() - 1) / 2, v.end());
+    return v[(v.size() - 1) / 2];
+  };
+  edge = median(edges);
+  const double shrink = poor.empty() ? 1.0 : options.MinimumQuality / std::max(median(poor), 1e-12);
+  const double ratio = std::pow(shrink, 3.0);
+  capped = ratio > 100.0;
+  size = edge / (capped ? std::cbrt(100.0) : shrink);
+  // two significant digits, rounded up
+  const double count = std::min(100.0, ratio) * static_cast<double>(nTets);
+  const double unit = std::pow(10.0, std::floor(std::log10(count)) - 1.0);
+  return static_cast<Id>(std::ceil(count / unit) * unit);
+}
+
 // The distribution of the cells' minimum scaled Jacobian (minimum, 1st percentile,
 // median) and the cells below the floor. Curving never takes a cell below the floor
 // (hoembed::Tet10Acceptable): those left are straight shapes TetGen made that poor
@@ -449,14 +490,19 @@ void ReportQuality(const MesherOptions& options, MesherResult& out)
     std::lower_bound(q.begin(), q.end(), options.MinimumQuality) - q.begin());
   if (out.PoorElementCount > 0 && options.ElementOrder == 2 && options.CurveBoundary)
   {
+    double edge = 0.0, size = 0.0;
+    bool capped = false;
+    const Id suggested = CountForThinParts(options, out, edge, size, capped);
     std::ostringstream msg;
     msg << out.PoorElementCount << " of " << n
         << " elements have a minimum scaled Jacobian below MinimumQuality = "
         << options.MinimumQuality << " (worst " << q[0] << ", 1st percentile "
         << out.QualityQuantiles[1]
         << "): their straight shape from TetGen is already that poor (slivers where parts of "
-           "the surface come closer than the element size: thin parts); ask for more "
-           "elements, or a smaller TargetEdgeLength";
+           "the surface come closer than the element size: thin parts); "
+        << (capped ? "more than " : "about ") << suggested
+        << " elements (TargetNumberOfElements; TargetEdgeLength " << (capped ? "below " : "")
+        << size << ", now " << edge << ") would lift them to it";
     out.Warnings.push_back(msg.str());
   }
 }

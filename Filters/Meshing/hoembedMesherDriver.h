@@ -44,10 +44,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
   /// the mid-edge nodes of such elements are blended back towards straight, just enough
   /// (hoembed::CurvedMeshOptions::QualityTarget). Higher: better elements, a boundary
   /// that follows the surface less closely (the embedding's offsets make up for it).
-  /// 0.3 (default): on wrapped and thin inputs the median element rises from 0.1-0.2 to
-  /// about 0.3, while on a smooth sphere 96% of the boundary mid-edge nodes stay on the
-  /// surface (0.4: 85%; Benchmarks/RESULTS.md, mesher section).
-  double CurvedQualityTarget = 0.3;
+  /// 0.2 (default): on the wrapped and thin inputs whose median element was 0.09-0.19 it
+  /// becomes 0.20-0.29, while 97-99% of the boundary mid-edge nodes of smooth shapes stay
+  /// on the surface (0.3: 92-96%; Benchmarks/RESULTS.md, mesher section).
+  double CurvedQualityTarget = 0.2;
   /// Distance of the envelope from a surface that is not a clean closed manifold,
   /// relative to the bounding-box diagonal; 0 (default): a quarter of the target element
   /// size, so that a single sheet becomes a solid about one element thick.

@@ -203,7 +203,7 @@ public:
 
   ///@{
   /**
-   * Quality target of the curving (default 0.3, hoembed::MesherOptions): curving never
+   * Quality target of the curving (default 0.2, hoembed::MesherOptions): curving never
    * takes an element below min(CurvedQualityTarget, its straight shape's minimum scaled
    * Jacobian); the mid-edge nodes of an element that would go below are blended back
    * towards their straight positions, just enough. Higher: better elements, a boundary
