@@ -681,6 +681,18 @@ void ApplyQualityTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   const CurvedMeshOptions& options, CurvingResult& curving)
 {
   const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  const std::vector<double> before = out.Points;
+  auto quality = [&out](Id c) {
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    return Tet10MinScaledJacobian(x);
+  };
+  std::vector<double> qBefore(nTets);
+  for (Id c = 0; c < nTets; ++c)
+    qBefore[c] = quality(c);
   std::vector<Id> nodes;
   std::vector<double> where;
   for (Id m = quad.NumberOfCorners; m < nPts; ++m)
@@ -737,8 +749,32 @@ void ApplyQualityTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   std::vector<Id> edgeOf(nPts, -1);
   for (Id e = 0; e < nbe; ++e)
     edgeOf[quad.EdgeMid[e]] = e;
+  // A cell whose straight shape is below the floor may only keep the floor through its
+  // curved nodes, and the target asks nothing of it (min(target, straight)): where the
+  // blending of its neighbours' nodes took it below the floor, its nodes go back to where
+  // they were (once each; the safety net after this pass catches a neighbour left invalid).
+  std::vector<char> restored(nPts, 0);
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (Id c = 0; c < nTets; ++c)
+    {
+      if (!(qBefore[c] >= options.MinimumQuality) || quality(c) >= options.MinimumQuality)
+        continue;
+      for (int a = 4; a < 10; ++a)
+      {
+        const Id m = out.Conn[10 * c + a];
+        if (restored[m])
+          continue;
+        restored[m] = 1;
+        changed = true;
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = before[3 * m + d];
+      }
+    }
+  }
   for (size_t k = 0; k < nodes.size(); ++k)
-    if (edgeOf[nodes[k]] >= 0)
+    if (edgeOf[nodes[k]] >= 0 && !restored[nodes[k]])
       curving.Alpha[edgeOf[nodes[k]]] *= again.Alpha[k];
 }
 
