@@ -280,6 +280,88 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
   return tg;
 }
 
+// The closed inner shells (cavities) of a clean closed surface: its edge-connected
+// components whose signed volume has the sign opposite to the whole's (their triangles
+// face into the cavity). Empty for any other surface.
+std::vector<std::vector<Id>> CavityShells(
+  const std::vector<double>& points, const std::vector<Id>& tris, const FineSurfaceFacts& facts)
+{
+  std::vector<std::vector<Id>> shells;
+  const SurfaceCheck& c = facts.Check;
+  if (c.BoundaryEdges > 0 || c.NonManifoldEdges > 0 || c.InconsistentEdges > 0)
+    return shells;
+  const Id np = static_cast<Id>(points.size() / 3), nt = static_cast<Id>(tris.size() / 3);
+  std::vector<Id> parent(np);
+  for (Id i = 0; i < np; ++i)
+    parent[i] = i;
+  auto find = [&](Id i) {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (Id t = 0; t < nt; ++t)
+    for (int k = 1; k < 3; ++k)
+    {
+      const Id a = find(tris[3 * t]), b = find(tris[3 * t + k]);
+      if (a != b)
+        parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<double> volume(np, 0.0);
+  double total = 0.0;
+  for (Id t = 0; t < nt; ++t)
+  {
+    const double* a = &points[3 * tris[3 * t]];
+    const double* b = &points[3 * tris[3 * t + 1]];
+    const double* d = &points[3 * tris[3 * t + 2]];
+    const double v = (a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+                       a[2] * (b[0] * d[1] - b[1] * d[0])) / 6.0;
+    volume[find(tris[3 * t])] += v;
+    total += v;
+  }
+  std::vector<Id> slot(np, -1);
+  for (Id t = 0; t < nt; ++t)
+  {
+    const Id r = find(tris[3 * t]);
+    if (!(volume[r] * total < 0.0))
+      continue;
+    if (slot[r] < 0)
+    {
+      slot[r] = static_cast<Id>(shells.size());
+      shells.emplace_back();
+    }
+    shells[slot[r]].insert(shells[slot[r]].end(), &tris[3 * t], &tris[3 * t] + 3);
+  }
+  return shells;
+}
+
+// The envelope with the envelopes of the cavities `shells` (each wrapped on its own at the
+// same ball and offset, so in the material, then turned inside out): the flood fill of
+// the whole surface's envelope never reaches a cavity and fills it; TetGen
+// (hoembed::RunTetGen) leaves the inside of each inner envelope empty. False (and `wrap`
+// unchanged) when a cavity's envelope cannot be made.
+bool AddCavityEnvelopes(const std::vector<double>& finePoints,
+  const std::vector<std::vector<Id>>& shells, double ball, double off,
+  const SurfaceWrapLimits& limits, SurfaceWrapResult& wrap)
+{
+  SurfaceWrapResult all = wrap;
+  for (const std::vector<Id>& shell : shells)
+  {
+    const SurfaceWrapResult inner = WrapSurface(finePoints, shell, ball, off, limits);
+    if (!inner.Error.empty() || inner.Stopped || inner.Tris.empty())
+      return false;
+    const Id base = static_cast<Id>(all.Points.size() / 3);
+    all.Points.insert(all.Points.end(), inner.Points.begin(), inner.Points.end());
+    for (size_t t = 0; t < inner.Tris.size() / 3; ++t)
+    {
+      all.Tris.push_back(base + inner.Tris[3 * t]);
+      all.Tris.push_back(base + inner.Tris[3 * t + 2]);
+      all.Tris.push_back(base + inner.Tris[3 * t + 1]);
+    }
+  }
+  wrap = std::move(all);
+  return true;
+}
+
 // Step 2 for any other surface: an envelope (hoembed::WrapSurface: closed, manifold and
 // free of self-intersections by construction, so TetGen meshes it without the retries of
 // the coarsening) with a ball of the element size, so that its triangles have about that
@@ -300,12 +382,16 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
     return options.EnvelopeTolerance > 0.0 ? options.EnvelopeTolerance * diag : 0.25 * h;
   };
   // the envelope at ball size `ball` and offset `off`, checked; false with tg.Error set
-  auto wrapAt = [&](double ball, double off, SurfaceWrapResult& w, SurfaceCheck& check) {
+  auto limitsFor = [&](double ball) {
     SurfaceWrapLimits limits;
     limits.MaxGates = static_cast<std::uint64_t>(options.WrapMaxGates > 0.0
         ? options.WrapMaxGates
         : std::min(1e12, std::max(3e5, 60.0 * facts.Check.Area / (ball * ball))));
-    w = WrapSurface(finePoints, fineTris, ball, off, limits);
+    return limits;
+  };
+  const std::vector<std::vector<Id>> cavities = CavityShells(finePoints, fineTris, facts);
+  auto wrapAt = [&](double ball, double off, SurfaceWrapResult& w, SurfaceCheck& check) {
+    w = WrapSurface(finePoints, fineTris, ball, off, limitsFor(ball));
     if (w.Stopped)
     {
       tg.Stopped = true;
@@ -355,7 +441,19 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
       tg.Error = "the envelope is not a closed manifold (internal error)";
       return tg;
     }
-    TetGenResult run = TetrahedralizeAtSize(wrap.Points, wrap.Tris, h, options, params);
+    TetGenResult run;
+    if (!cavities.empty())
+    {
+      // with the cavities kept; if TetGen cannot (walls thinner than twice the offset make
+      // the envelopes cross), they are filled, as the envelope alone does
+      SurfaceWrapResult withCavities = wrap;
+      if (AddCavityEnvelopes(finePoints, cavities, h, off, limitsFor(h), withCavities))
+        run = TetrahedralizeAtSize(withCavities.Points, withCavities.Tris, h, options, params);
+      if (run.Tets.empty() && (run.Aborted || MeshingAbortRequested()))
+        return run;
+    }
+    if (run.Tets.empty())
+      run = TetrahedralizeAtSize(wrap.Points, wrap.Tris, h, options, params);
     if (run.Stopped)
       return run;
     if (!run.Error.empty())
