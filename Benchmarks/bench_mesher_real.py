@@ -100,6 +100,46 @@ def one_run(name, count, order, threads):
     return rec
 
 
+def print_table(results):
+    """Per input: the tet10 run at 1000 in full, then per count and order the spread."""
+    def q(r):
+        return f"{r['msj_min']:.3f} / {r['msj_p1']:.3f} / {r['msj_median']:.2f}"
+    print("| input | s | cells (÷ target) | MSJ min / 1% / median | < 0.05 | crossings found / "
+          "left / VTK | det J ≤ 0 (VTK) | path |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    for r in results:
+        if r["target"] != 1000 or r["order"] != 2:
+            continue
+        if "msj_min" not in r:
+            print(f"| {r['input']} | – | {r.get('error', '')[:60]} | | | | | |")
+            continue
+        print(f"| {r['input']} | {r['seconds']} | {r['cells']} ({r['ratio']:.2f}) | {q(r)} | "
+              f"{r['below_floor']} | {r['crossings_found']} / {r['crossings_left']} / "
+              f"{r.get('vtk_crossing_pairs', '–')} | {r['vtk_detj_nonpositive']} | "
+              f"{'envelope' if r['wrapped'] else 'coarsened'} |")
+    print()
+    print("| count, order | runs done / meshed | s max | cells ÷ target | median MSJ: "
+          "min / median over inputs | inputs < 0.2 | with cells < 0.05 | crossings left "
+          "/ VTK | det J ≤ 0 |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    keys = sorted({(r["target"], r["order"]) for r in results}, key=lambda k: (k[0], -k[1]))
+    for count, order in keys:
+        rs = [r for r in results if r["target"] == count and r["order"] == order]
+        ok = [r for r in rs if "msj_min" in r]
+        if not ok:
+            continue
+        med = sorted(r["msj_median"] for r in ok)
+        ratio = [r["ratio"] for r in ok]
+        print(f"| {count}, tet{10 if order == 2 else 4} | {len(rs)} / {len(ok)} | "
+              f"{max(r['seconds'] for r in ok):.1f} | {min(ratio):.2f}–{max(ratio):.2f} | "
+              f"{med[0]:.2f} / {med[(len(med) - 1) // 2]:.2f} | "
+              f"{sum(m < 0.2 for m in med)} | {sum(r['below_floor'] > 0 for r in ok)} | "
+              f"{sum(r['crossings_left'] for r in ok)} / "
+              f"{sum(r.get('vtk_crossing_pairs', 0) for r in ok)} | "
+              f"{sum(r['vtk_detj_nonpositive'] for r in ok)} |")
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--counts", type=int, nargs="+", default=[1000, 300, 4000, 10000])
@@ -109,7 +149,11 @@ def main():
     ap.add_argument("--only", nargs="*")
     ap.add_argument("--out", default="bench_mesher_real.json")
     ap.add_argument("--child", nargs=4)
+    ap.add_argument("--table", action="store_true",
+                    help="print the Markdown tables of RESULTS.md from the JSON of --out")
     args = ap.parse_args()
+    if args.table:
+        return print_table(json.loads((HERE / "results" / args.out).read_text()))
     if args.child:
         name, count, order, threads = args.child
         print("RESULT " + json.dumps(one_run(name, int(count), int(order), int(threads))))

@@ -11,7 +11,6 @@
 #include "hoembedVector3.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <array>
 #include <cmath>
 #include <limits>
