@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <map>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -165,6 +166,33 @@ bool KeepClosestCount(TetGenResult& run, const MesherOptions& options, double& h
   return false;
 }
 
+// Each triangle into four at its edge midpoints (one point per edge).
+void SplitTriangles(std::vector<double>& pts, std::vector<Id>& tris)
+{
+  std::map<std::pair<Id, Id>, Id> mid;
+  auto midpoint = [&](Id a, Id b) {
+    const std::pair<Id, Id> key(std::min(a, b), std::max(a, b));
+    auto it = mid.find(key);
+    if (it != mid.end())
+      return it->second;
+    const Id m = static_cast<Id>(pts.size() / 3);
+    for (int d = 0; d < 3; ++d)
+      pts.push_back(0.5 * (pts[3 * a + d] + pts[3 * b + d]));
+    mid.emplace(key, m);
+    return m;
+  };
+  std::vector<Id> out;
+  out.reserve(4 * tris.size());
+  for (size_t t = 0; t < tris.size() / 3; ++t)
+  {
+    const Id a = tris[3 * t], b = tris[3 * t + 1], c = tris[3 * t + 2];
+    const Id ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+    const Id four[12] = { a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca };
+    out.insert(out.end(), four, four + 12);
+  }
+  tris = std::move(out);
+}
+
 // Step 2: decimate the fine surface to the boundary of edge length h and mesh it with
 // TetGen; when a target number of elements is asked for, correct h from the count
 // obtained and keep the closest result. A decimation that folds (not a closed manifold,
@@ -219,6 +247,13 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
     {
       coarsePoints = finePoints;
       coarseTris = fineTris;
+      // Fewer triangles than the element size asks for (a low-poly input: a cube of 12):
+      // TetGen adds no points on the boundary (PreserveBoundary), so the count would stay
+      // far below the target; each triangle is split in four at its edge midpoints (on
+      // the surface, and shared, so the surface stays closed and manifold) until there are
+      // enough.
+      while (4.0 * static_cast<double>(coarseTris.size() / 3) <= 2.0 * nTri)
+        SplitTriangles(coarsePoints, coarseTris);
     }
     const Id ncp = static_cast<Id>(coarsePoints.size() / 3);
     const Id nct = static_cast<Id>(coarseTris.size() / 3);

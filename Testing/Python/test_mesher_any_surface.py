@@ -323,3 +323,14 @@ def test_poor_elements_warning_names_a_count(data_dir):
     assert mesh.n_cells < count <= 100 * mesh.n_cells and size < now
     finer = hoembed.tet10_mesh(surface, n_elements=count)
     assert int(finer.field_data["PoorElementCount"][0]) < poor
+
+
+@pytest.mark.parametrize("n", [300, 1000, 4000])
+def test_low_poly_input_reaches_the_count(n):
+    """A cube of 12 triangles: TetGen adds no point on the boundary (PreserveBoundary), so
+    its triangles are split until there are as many as the element size asks for; it gave
+    6 elements at any count."""
+    mesh = hoembed.tet10_mesh(pv.Cube().triangulate(), n_elements=n)
+    assert 0.7 * n <= mesh.n_cells <= 1.3 * n
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0
+    assert mesh.cell_data["MinScaledJacobian"].min() >= 0.05
