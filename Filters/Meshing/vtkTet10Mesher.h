@@ -54,7 +54,9 @@
  *    that keeps every element acceptable; corners may leave the surface slightly, only
  *    mid-edge nodes are put on it). Acceptable means valid and a minimum scaled Jacobian of
  *    at least CurvedQualityRatio times the straight shape's and at least MinimumQuality
- *    (unless the straight shape is worse: it is then kept).
+ *    (unless the straight shape is worse: it is then kept). Last, the mid-edge nodes of
+ *    elements below min(CurvedQualityTarget, their straight shape's) are blended back
+ *    towards straight (interior ones first), just enough.
  * 6. Memory order (hoembed::SpatialOrder): cells sorted along a Morton curve through
  *    their corner centroids, nodes numbered in the order those cells first use them, so
  *    elements near each other in space are near each other in the arrays (the embedding's
