@@ -1,6 +1,8 @@
 """vtkTet10Mesher on every surface of ../shared/data/meshes and ../shared/data/meshes-real
-(issue 27), plus generated thin cases, at one count (default 1000) and a count sweep
-(300 / 1000 / 4000 / 10000, tet10 and tet4) on a few.
+(issue 27), plus generated cases (a thin-ribbed beam, a cube with a cavity), at every
+count of --counts (default 300 1000 4000 10000) and order of --orders (default tet10, tet4),
+one thread (--threads). Runs go count by count (1000 tet10 first), so a sweep cut short
+still covers every input at the first counts.
 
 Per run, each in its own process with a time limit (a run past it is recorded as such):
 time, cells / target, the minimum / 1st percentile / median of the cell array
@@ -10,11 +12,12 @@ VTK's vtkQuadraticTetra derivatives (cells with det J <= 0 anywhere), and crossi
 of the curved boundary (Testing/Python/boundary_crossings.py: VTK's collision filter on
 the subdivided tri6 faces).
 
-    .venv/bin/python Benchmarks/bench_mesher_real.py [--count 1000] [--timeout 240]
-        [--no-sweep] [--only NAME ...]
+    .venv/bin/python Benchmarks/bench_mesher_real.py [--counts 1000 ...] [--orders 2 1]
+        [--timeout 240] [--threads 1] [--only NAME ...] [--out bench_mesher_real.json]
 
-JSON: Benchmarks/results/bench_mesher_real.json (written after every run). Skips cleanly
-without the data folders.
+JSON: Benchmarks/results/<--out> (written after every run). A run past the time limit is
+recorded as such, with the mesher's figures when only the checks ran out of time. Skips
+cleanly without the data folders.
 """
 import argparse
 import json
@@ -27,20 +30,25 @@ HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent
 DATA = [ROOT.parent / "shared" / "data" / "meshes", ROOT.parent / "shared" / "data" / "meshes-real"]
 SUFFIXES = {".obj", ".stl", ".ply", ".glb", ".gltf", ".vtp", ".vtk"}
-SWEEP = ["bunny_watertight.obj", "fertility.obj", "NO_PRINT_feeder_body.stl", "gen:ribbed_beam"]
+GENERATED = ["gen:ribbed_beam", "gen:cube_with_cavity"]
 
 
-def one_run(name, count, order):
-    """Runs in the child: mesh, measure, print one JSON line."""
+def one_run(name, count, order, threads):
+    """Runs in the child: mesh, measure, print JSON lines (PARTIAL before the checks)."""
     import numpy as np
     import pyvista as pv
     sys.path.insert(0, str(ROOT / "Testing" / "Python"))
+    from vtkmodules.vtkCommonCore import vtkSMPTools
     from vtkmodules.vtkCommonDataModel import vtkQuadraticTetra
     from hoembed.hoembedFiltersMeshing import vtkTet10Mesher
 
-    if name.startswith("gen:"):
+    vtkSMPTools.Initialize(threads)
+    if name == "gen:ribbed_beam":
         from test_mesher_thin import ribbed_beam
         surface = ribbed_beam()
+    elif name == "gen:cube_with_cavity":
+        from test_mesher_any_surface import cube_with_cavity
+        surface = cube_with_cavity()
     else:
         path = next(d / name for d in DATA if (d / name).exists())
         surface = pv.read(path)
@@ -56,7 +64,7 @@ def one_run(name, count, order):
     seconds = time.perf_counter() - t0
     grid = pv.wrap(alg.GetOutput())
     rec = dict(input=name, triangles=surface.n_cells, target=count, order=order,
-               seconds=round(seconds, 2), cells=grid.n_cells)
+               threads=threads, seconds=round(seconds, 2), cells=grid.n_cells)
     if grid.n_cells == 0:
         rec["error"] = "no output"
         return rec
@@ -68,6 +76,7 @@ def one_run(name, count, order):
                crossings_found=int(fd["BoundaryCrossingsFound"][0]),
                crossings_left=int(fd["BoundaryCrossingsLeft"][0]),
                wrapped=bool(fd["EnvelopeOffset"][0] > 0))
+    print("PARTIAL " + json.dumps(rec), flush=True)
     # det J on the quartic lattice with VTK's own tet10 derivatives
     npc = 10 if order == 2 else 4
     conn = grid.cells.reshape(grid.n_cells, -1)[:, 1:]
@@ -91,51 +100,104 @@ def one_run(name, count, order):
     return rec
 
 
+def print_table(results):
+    """Per input: the tet10 run at 1000 in full, then per count and order the spread."""
+    def q(r):
+        return f"{r['msj_min']:.3f} / {r['msj_p1']:.3f} / {r['msj_median']:.2f}"
+    print("| input | s | cells (÷ target) | MSJ min / 1% / median | < 0.05 | crossings found / "
+          "left / VTK | det J ≤ 0 (VTK) | path |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    for r in results:
+        if r["target"] != 1000 or r["order"] != 2:
+            continue
+        if "msj_min" not in r:
+            print(f"| {r['input']} | – | {r.get('error', '')[:60]} | | | | | |")
+            continue
+        print(f"| {r['input']} | {r['seconds']} | {r['cells']} ({r['ratio']:.2f}) | {q(r)} | "
+              f"{r['below_floor']} | {r['crossings_found']} / {r['crossings_left']} / "
+              f"{r.get('vtk_crossing_pairs', '–')} | {r['vtk_detj_nonpositive']} | "
+              f"{'envelope' if r['wrapped'] else 'coarsened'} |")
+    print()
+    print("| count, order | runs done / meshed | s max | cells ÷ target | median MSJ: "
+          "min / median over inputs | inputs < 0.2 | with cells < 0.05 | crossings left "
+          "/ VTK | det J ≤ 0 |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    keys = sorted({(r["target"], r["order"]) for r in results}, key=lambda k: (k[0], -k[1]))
+    for count, order in keys:
+        rs = [r for r in results if r["target"] == count and r["order"] == order]
+        ok = [r for r in rs if "msj_min" in r]
+        if not ok:
+            continue
+        med = sorted(r["msj_median"] for r in ok)
+        ratio = [r["ratio"] for r in ok]
+        print(f"| {count}, tet{10 if order == 2 else 4} | {len(rs)} / {len(ok)} | "
+              f"{max(r['seconds'] for r in ok):.1f} | {min(ratio):.2f}–{max(ratio):.2f} | "
+              f"{med[0]:.2f} / {med[(len(med) - 1) // 2]:.2f} | "
+              f"{sum(m < 0.2 for m in med)} | {sum(r['below_floor'] > 0 for r in ok)} | "
+              f"{sum(r['crossings_left'] for r in ok)} / "
+              f"{sum(r.get('vtk_crossing_pairs', 0) for r in ok)} | "
+              f"{sum(r['vtk_detj_nonpositive'] for r in ok)} |")
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--count", type=int, default=1000)
+    ap.add_argument("--counts", type=int, nargs="+", default=[1000, 300, 4000, 10000])
+    ap.add_argument("--orders", type=int, nargs="+", default=[2, 1])
     ap.add_argument("--timeout", type=float, default=240)
-    ap.add_argument("--no-sweep", action="store_true")
+    ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--only", nargs="*")
-    ap.add_argument("--child", nargs=3)
+    ap.add_argument("--out", default="bench_mesher_real.json")
+    ap.add_argument("--child", nargs=4)
+    ap.add_argument("--table", action="store_true",
+                    help="print the Markdown tables of RESULTS.md from the JSON of --out")
     args = ap.parse_args()
+    if args.table:
+        return print_table(json.loads((HERE / "results" / args.out).read_text()))
     if args.child:
-        print("RESULT " + json.dumps(one_run(args.child[0], int(args.child[1]), int(args.child[2]))))
+        name, count, order, threads = args.child
+        print("RESULT " + json.dumps(one_run(name, int(count), int(order), int(threads))))
         return 0
     if not all(d.is_dir() for d in DATA):
         print("bench_mesher_real: ../shared/data not found, skipped")
         return 0
     names = sorted(p.name for d in DATA for p in d.iterdir() if p.suffix.lower() in SUFFIXES)
-    names.append("gen:ribbed_beam")
-    runs = [(n, args.count, 2) for n in names]
-    if not args.no_sweep:
-        runs += [(n, c, o) for n in SWEEP for o in (2, 1) for c in (300, 1000, 4000, 10000)
-                 if not (c == args.count and o == 2)]
+    names += GENERATED
     if args.only:
-        runs = [r for r in runs if r[0] in args.only]
+        names = [n for n in names if n in args.only]
+    runs = [(n, c, o) for c in args.counts for o in args.orders for n in names]
     out_dir = HERE / "results"
     out_dir.mkdir(exist_ok=True)
     results = []
     for name, count, order in runs:
         t0 = time.perf_counter()
+        cmd = [sys.executable, __file__, "--child", name, str(count), str(order),
+               str(args.threads)]
         try:
-            p = subprocess.run([sys.executable, __file__, "--child", name, str(count), str(order)],
-                               capture_output=True, text=True, timeout=args.timeout)
-            lines = [ln for ln in p.stdout.splitlines() if ln.startswith("RESULT ")]
-            if lines:
-                rec = json.loads(lines[-1][7:])
-            else:
-                err = [ln for ln in p.stderr.splitlines() if "ERR" in ln or "Error" in ln]
-                rec = dict(input=name, target=count, order=order,
-                           error=(err[-1] if err else p.stderr[-300:]).strip()[-300:])
-            rec["warnings"] = [ln.split("WARN|", 1)[1].strip()[:200]
-                               for ln in p.stderr.splitlines() if "WARN|" in ln]
-        except subprocess.TimeoutExpired:
+            p = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
+            stdout, stderr = p.stdout, p.stderr
+            timed_out = False
+        except subprocess.TimeoutExpired as e:
+            stdout = e.stdout.decode() if isinstance(e.stdout, bytes) else (e.stdout or "")
+            stderr = e.stderr.decode() if isinstance(e.stderr, bytes) else (e.stderr or "")
+            timed_out = True
+        lines = [ln for ln in stdout.splitlines() if ln.startswith(("RESULT ", "PARTIAL "))]
+        if lines:
+            rec = json.loads(lines[-1].split(" ", 1)[1])
+            if timed_out:
+                rec["error"] = f"checks past the time limit {args.timeout} s"
+        elif timed_out:
             rec = dict(input=name, target=count, order=order, error=f"timeout {args.timeout} s")
+        else:
+            err = [ln for ln in stderr.splitlines() if "ERR" in ln or "Error" in ln]
+            rec = dict(input=name, target=count, order=order,
+                       error=(err[-1] if err else stderr[-300:]).strip()[-300:])
+        rec["warnings"] = [ln.split("WARN|", 1)[1].strip()[:300]
+                           for ln in stderr.splitlines() if "WARN|" in ln]
         rec["wall"] = round(time.perf_counter() - t0, 1)
         results.append(rec)
         print(json.dumps({k: v for k, v in rec.items() if k != "warnings"}), flush=True)
-        (out_dir / "bench_mesher_real.json").write_text(json.dumps(results, indent=1))
+        (out_dir / args.out).write_text(json.dumps(results, indent=1))
     return 0
 
 

@@ -13,7 +13,9 @@
  *    and pulled-back boundary nodes get a second chance at other nearby surface points,
  *    and a third by moving the corners and interior mid-edge nodes around them
  *    (hoembed::FitWithFreeNodes);
- * 5. pairs of curved boundary faces that cross (hoembed::FindCurvedFaceCrossings) get
+ * 5. the mid-edge nodes of elements below CurvedMeshOptions::QualityTarget (of their
+ *    straight quality) are blended back towards their straight positions, just enough;
+ * 6. pairs of curved boundary faces that cross (hoembed::FindCurvedFaceCrossings) get
  *    their mid-edge nodes pulled back until none is left.
  * The boundary edges whose mid-edge nodes stay pulled back are returned with their
  * surface targets (for diagnostics).
@@ -53,6 +55,10 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
   double QualityRatio = 0.1;  ///< see hoembed::Tet10Acceptable
   double MinimumQuality = 0.05; ///< see hoembed::Tet10Acceptable
   double SliverQuality = 0.2; ///< scaled Jacobian below which flat boundary tets go
+  /// Curving never takes an element below min(QualityTarget, its straight quality): after
+  /// the curving, the mid-edge nodes of the elements below it are blended back towards
+  /// their straight positions, just enough (hoembed::CurveMidEdgeNodes); 0: off.
+  double QualityTarget = 0.0;
   /// Surface points farther than this from a boundary node are not its target (the node
   /// stays where it is: an envelope bridging a hole or wrapping a sheet); 0: no limit.
   double MaxTargetDistance = 0.0;

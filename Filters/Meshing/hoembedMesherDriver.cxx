@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <map>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -165,6 +166,33 @@ bool KeepClosestCount(TetGenResult& run, const MesherOptions& options, double& h
   return false;
 }
 
+// Each triangle into four at its edge midpoints (one point per edge).
+void SplitTriangles(std::vector<double>& pts, std::vector<Id>& tris)
+{
+  std::map<std::pair<Id, Id>, Id> mid;
+  auto midpoint = [&](Id a, Id b) {
+    const std::pair<Id, Id> key(std::min(a, b), std::max(a, b));
+    auto it = mid.find(key);
+    if (it != mid.end())
+      return it->second;
+    const Id m = static_cast<Id>(pts.size() / 3);
+    for (int d = 0; d < 3; ++d)
+      pts.push_back(0.5 * (pts[3 * a + d] + pts[3 * b + d]));
+    mid.emplace(key, m);
+    return m;
+  };
+  std::vector<Id> out;
+  out.reserve(4 * tris.size());
+  for (size_t t = 0; t < tris.size() / 3; ++t)
+  {
+    const Id a = tris[3 * t], b = tris[3 * t + 1], c = tris[3 * t + 2];
+    const Id ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+    const Id four[12] = { a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca };
+    out.insert(out.end(), four, four + 12);
+  }
+  tris = std::move(out);
+}
+
 // Step 2: decimate the fine surface to the boundary of edge length h and mesh it with
 // TetGen; when a target number of elements is asked for, correct h from the count
 // obtained and keep the closest result. A decimation that folds (not a closed manifold,
@@ -219,6 +247,13 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
     {
       coarsePoints = finePoints;
       coarseTris = fineTris;
+      // Fewer triangles than the element size asks for (a low-poly input: a cube of 12):
+      // TetGen adds no points on the boundary (PreserveBoundary), so the count would stay
+      // far below the target; each triangle is split in four at its edge midpoints (on
+      // the surface, and shared, so the surface stays closed and manifold) until there are
+      // enough.
+      while (4.0 * static_cast<double>(coarseTris.size() / 3) <= 2.0 * nTri)
+        SplitTriangles(coarsePoints, coarseTris);
     }
     const Id ncp = static_cast<Id>(coarsePoints.size() / 3);
     const Id nct = static_cast<Id>(coarseTris.size() / 3);
@@ -280,6 +315,88 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
   return tg;
 }
 
+// The closed inner shells (cavities) of a clean closed surface: its edge-connected
+// components whose signed volume has the sign opposite to the whole's (their triangles
+// face into the cavity). Empty for any other surface.
+std::vector<std::vector<Id>> CavityShells(
+  const std::vector<double>& points, const std::vector<Id>& tris, const FineSurfaceFacts& facts)
+{
+  std::vector<std::vector<Id>> shells;
+  const SurfaceCheck& c = facts.Check;
+  if (c.BoundaryEdges > 0 || c.NonManifoldEdges > 0 || c.InconsistentEdges > 0)
+    return shells;
+  const Id np = static_cast<Id>(points.size() / 3), nt = static_cast<Id>(tris.size() / 3);
+  std::vector<Id> parent(np);
+  for (Id i = 0; i < np; ++i)
+    parent[i] = i;
+  auto find = [&](Id i) {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (Id t = 0; t < nt; ++t)
+    for (int k = 1; k < 3; ++k)
+    {
+      const Id a = find(tris[3 * t]), b = find(tris[3 * t + k]);
+      if (a != b)
+        parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<double> volume(np, 0.0);
+  double total = 0.0;
+  for (Id t = 0; t < nt; ++t)
+  {
+    const double* a = &points[3 * tris[3 * t]];
+    const double* b = &points[3 * tris[3 * t + 1]];
+    const double* d = &points[3 * tris[3 * t + 2]];
+    const double v = (a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+                       a[2] * (b[0] * d[1] - b[1] * d[0])) / 6.0;
+    volume[find(tris[3 * t])] += v;
+    total += v;
+  }
+  std::vector<Id> slot(np, -1);
+  for (Id t = 0; t < nt; ++t)
+  {
+    const Id r = find(tris[3 * t]);
+    if (!(volume[r] * total < 0.0))
+      continue;
+    if (slot[r] < 0)
+    {
+      slot[r] = static_cast<Id>(shells.size());
+      shells.emplace_back();
+    }
+    shells[slot[r]].insert(shells[slot[r]].end(), &tris[3 * t], &tris[3 * t] + 3);
+  }
+  return shells;
+}
+
+// The envelope with the envelopes of the cavities `shells` (each wrapped on its own at the
+// same ball and offset, so in the material, then turned inside out): the flood fill of
+// the whole surface's envelope never reaches a cavity and fills it; TetGen
+// (hoembed::RunTetGen) leaves the inside of each inner envelope empty. False (and `wrap`
+// unchanged) when a cavity's envelope cannot be made.
+bool AddCavityEnvelopes(const std::vector<double>& finePoints,
+  const std::vector<std::vector<Id>>& shells, double ball, double off,
+  const SurfaceWrapLimits& limits, SurfaceWrapResult& wrap)
+{
+  SurfaceWrapResult all = wrap;
+  for (const std::vector<Id>& shell : shells)
+  {
+    const SurfaceWrapResult inner = WrapSurface(finePoints, shell, ball, off, limits);
+    if (!inner.Error.empty() || inner.Stopped || inner.Tris.empty())
+      return false;
+    const Id base = static_cast<Id>(all.Points.size() / 3);
+    all.Points.insert(all.Points.end(), inner.Points.begin(), inner.Points.end());
+    for (size_t t = 0; t < inner.Tris.size() / 3; ++t)
+    {
+      all.Tris.push_back(base + inner.Tris[3 * t]);
+      all.Tris.push_back(base + inner.Tris[3 * t + 2]);
+      all.Tris.push_back(base + inner.Tris[3 * t + 1]);
+    }
+  }
+  wrap = std::move(all);
+  return true;
+}
+
 // Step 2 for any other surface: an envelope (hoembed::WrapSurface: closed, manifold and
 // free of self-intersections by construction, so TetGen meshes it without the retries of
 // the coarsening) with a ball of the element size, so that its triangles have about that
@@ -300,12 +417,16 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
     return options.EnvelopeTolerance > 0.0 ? options.EnvelopeTolerance * diag : 0.25 * h;
   };
   // the envelope at ball size `ball` and offset `off`, checked; false with tg.Error set
-  auto wrapAt = [&](double ball, double off, SurfaceWrapResult& w, SurfaceCheck& check) {
+  auto limitsFor = [&](double ball) {
     SurfaceWrapLimits limits;
     limits.MaxGates = static_cast<std::uint64_t>(options.WrapMaxGates > 0.0
         ? options.WrapMaxGates
         : std::min(1e12, std::max(3e5, 60.0 * facts.Check.Area / (ball * ball))));
-    w = WrapSurface(finePoints, fineTris, ball, off, limits);
+    return limits;
+  };
+  const std::vector<std::vector<Id>> cavities = CavityShells(finePoints, fineTris, facts);
+  auto wrapAt = [&](double ball, double off, SurfaceWrapResult& w, SurfaceCheck& check) {
+    w = WrapSurface(finePoints, fineTris, ball, off, limitsFor(ball));
     if (w.Stopped)
     {
       tg.Stopped = true;
@@ -355,7 +476,19 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
       tg.Error = "the envelope is not a closed manifold (internal error)";
       return tg;
     }
-    TetGenResult run = TetrahedralizeAtSize(wrap.Points, wrap.Tris, h, options, params);
+    TetGenResult run;
+    if (!cavities.empty())
+    {
+      // with the cavities kept; if TetGen cannot (walls thinner than twice the offset make
+      // the envelopes cross), they are filled, as the envelope alone does
+      SurfaceWrapResult withCavities = wrap;
+      if (AddCavityEnvelopes(finePoints, cavities, h, off, limitsFor(h), withCavities))
+        run = TetrahedralizeAtSize(withCavities.Points, withCavities.Tris, h, options, params);
+      if (run.Tets.empty() && (run.Aborted || MeshingAbortRequested()))
+        return run;
+    }
+    if (run.Tets.empty())
+      run = TetrahedralizeAtSize(wrap.Points, wrap.Tris, h, options, params);
     if (run.Stopped)
       return run;
     if (!run.Error.empty())
@@ -430,6 +563,47 @@ bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& inv
   return invalid == 0;
 }
 
+// The count that would lift the poor cells to the floor: a sliver between two close parts
+// of the surface scores about their distance over the element size, so the element size
+// must shrink by the floor over the poor cells' median score, and the count grows with
+// the cube of that; at most 100 times the count made (`capped`). `edge` receives the
+// median edge length, `size` the edge length asked for.
+Id CountForThinParts(const MesherOptions& options, const MesherResult& out, double& edge,
+  double& size, bool& capped)
+{
+  const int npc = out.NodesPerCell;
+  const Id nTets = static_cast<Id>(out.Conn.size() / npc);
+  std::vector<double> edges, poor;
+  edges.reserve(nTets);
+  for (Id c = 0; c < nTets; ++c)
+  {
+    const double* x[4];
+    for (int a = 0; a < 4; ++a)
+      x[a] = &out.Points[3 * out.Conn[npc * c + a]];
+    double sum = 0.0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        sum += std::sqrt((x[a][0] - x[b][0]) * (x[a][0] - x[b][0]) +
+          (x[a][1] - x[b][1]) * (x[a][1] - x[b][1]) + (x[a][2] - x[b][2]) * (x[a][2] - x[b][2]));
+    edges.push_back(sum / 6.0);
+    if (out.MinScaledJacobian[c] < options.MinimumQuality)
+      poor.push_back(std::max(out.MinScaledJacobian[c], 0.0));
+  }
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + (v.size() - 1) / 2, v.end());
+    return v[(v.size() - 1) / 2];
+  };
+  edge = median(edges);
+  const double shrink = poor.empty() ? 1.0 : options.MinimumQuality / std::max(median(poor), 1e-12);
+  const double ratio = std::pow(shrink, 3.0);
+  capped = ratio > 100.0;
+  size = edge / (capped ? std::cbrt(100.0) : shrink);
+  // two significant digits, rounded up
+  const double count = std::min(100.0, ratio) * static_cast<double>(nTets);
+  const double unit = std::pow(10.0, std::floor(std::log10(count)) - 1.0);
+  return static_cast<Id>(std::ceil(count / unit) * unit);
+}
+
 // The distribution of the cells' minimum scaled Jacobian (minimum, 1st percentile,
 // median) and the cells below the floor. Curving never takes a cell below the floor
 // (hoembed::Tet10Acceptable): those left are straight shapes TetGen made that poor
@@ -449,14 +623,19 @@ void ReportQuality(const MesherOptions& options, MesherResult& out)
     std::lower_bound(q.begin(), q.end(), options.MinimumQuality) - q.begin());
   if (out.PoorElementCount > 0 && options.ElementOrder == 2 && options.CurveBoundary)
   {
+    double edge = 0.0, size = 0.0;
+    bool capped = false;
+    const Id suggested = CountForThinParts(options, out, edge, size, capped);
     std::ostringstream msg;
     msg << out.PoorElementCount << " of " << n
         << " elements have a minimum scaled Jacobian below MinimumQuality = "
         << options.MinimumQuality << " (worst " << q[0] << ", 1st percentile "
         << out.QualityQuantiles[1]
         << "): their straight shape from TetGen is already that poor (slivers where parts of "
-           "the surface come closer than the element size: thin parts); ask for more "
-           "elements, or a smaller TargetEdgeLength";
+           "the surface come closer than the element size: thin parts); "
+        << (capped ? "more than " : "about ") << suggested
+        << " elements (TargetNumberOfElements; TargetEdgeLength " << (capped ? "below " : "")
+        << size << ", now " << edge << ") would lift them to it";
     out.Warnings.push_back(msg.str());
   }
 }
@@ -476,6 +655,7 @@ std::string CheckMesherOptions(const MesherOptions& o)
     { "RadiusEdgeRatio", o.RadiusEdgeRatio }, { "MinDihedralAngle", o.MinDihedralAngle },
     { "SurfaceDeviationWarning", o.SurfaceDeviationWarning },
     { "CurvedQualityRatio", o.CurvedQualityRatio }, { "MinimumQuality", o.MinimumQuality },
+    { "CurvedQualityTarget", o.CurvedQualityTarget },
     { "EnvelopeTolerance", o.EnvelopeTolerance }, { "Wrap", o.Wrap },
     { "WrapMaxGates", o.WrapMaxGates }, { "CoarseTetGenMaxCreated", o.CoarseTetGenMaxCreated }
   };
@@ -577,6 +757,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     curving.ProjectCorners = options.ProjectCorners && !straight;
     curving.QualityRatio = options.CurvedQualityRatio;
     curving.MinimumQuality = options.MinimumQuality;
+    curving.QualityTarget = options.CurvedQualityTarget;
     curving.ExtraCheck = services.ExtraCheck;
     // The envelope's corners lie at the offset from the surface, its straight mid-edge
     // nodes a little farther: surface points beyond twice the offset belong to parts the

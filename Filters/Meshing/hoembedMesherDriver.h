@@ -41,6 +41,14 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherOptions
   /// Floor of every curved element's minimum scaled Jacobian (hoembed::Tet10Acceptable);
   /// elements whose straight shape is below it are reported (PoorElementCount).
   double MinimumQuality = 0.05;
+  /// Curving never takes an element below min(CurvedQualityTarget, its straight quality):
+  /// the mid-edge nodes of such elements are blended back towards straight, just enough
+  /// (hoembed::CurvedMeshOptions::QualityTarget). Higher: better elements, a boundary
+  /// that follows the surface less closely (the embedding's offsets make up for it).
+  /// 0.2 (default): on the wrapped and thin inputs whose median element was 0.09-0.19 it
+  /// becomes 0.20-0.29, while 97-99% of the boundary mid-edge nodes of smooth shapes stay
+  /// on the surface (0.3: 92-96%; Benchmarks/RESULTS.md, mesher section).
+  double CurvedQualityTarget = 0.2;
   /// Distance of the envelope from a surface that is not a clean closed manifold,
   /// relative to the bounding-box diagonal; 0 (default): a quarter of the target element
   /// size, so that a single sheet becomes a solid about one element thick.
@@ -94,6 +102,7 @@ constexpr PropertyRange MesherRanges[] = {
   { "SurfaceDeviationWarning", 0, NoLimit, false, false, false },
   { "CurvedQualityRatio", 0, 1, false, false, false },
   { "MinimumQuality", 0, 1, false, false, false },
+  { "CurvedQualityTarget", 0, 1, false, false, false },
   { "EnvelopeTolerance", 0, 1, false, false, false },
   { "Wrap", -1, 1, false, false, true },
   { "WrapMaxGates", 0, NoLimit, false, false, false },

@@ -80,6 +80,100 @@ double SurfaceVolume(const std::vector<double>& pts, const std::vector<std::int6
   return v;
 }
 
+// A point inside each cavity of a closed surface: TetGen meshes the convex hull and
+// removes only what its exterior reaches, so the inside of a closed inner shell (a
+// component whose signed volume has the sign opposite to the whole surface's: its
+// triangles face into it) would be filled unless it is named as a hole. The point lies a
+// hundredth of the height of the shell's largest triangle off its centroid, on the side
+// its normal (times the whole surface's orientation) points to.
+std::vector<double> CavityPoints(const std::vector<double>& pts, const std::vector<std::int64_t>& tris)
+{
+  const size_t np = pts.size() / 3, nt = tris.size() / 3;
+  std::vector<size_t> parent(np);
+  for (size_t i = 0; i < np; ++i)
+    parent[i] = i;
+  auto find = [&](size_t i) {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 1; k < 3; ++k)
+    {
+      const size_t a = find(static_cast<size_t>(tris[3 * t])),
+                   b = find(static_cast<size_t>(tris[3 * t + k]));
+      if (a != b)
+        parent[std::max(a, b)] = std::min(a, b);
+    }
+  struct Shell
+  {
+    double Volume = 0.0, Area = -1.0;
+    size_t Largest = 0;
+  };
+  std::vector<Shell> shells(np);
+  double total = 0.0;
+  for (size_t t = 0; t < nt; ++t)
+  {
+    const double* a = &pts[3 * tris[3 * t]];
+    const double* b = &pts[3 * tris[3 * t + 1]];
+    const double* c = &pts[3 * tris[3 * t + 2]];
+    const double v = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                       a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+    double u[3], w[3], n[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      u[d] = b[d] - a[d];
+      w[d] = c[d] - a[d];
+    }
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    const double area = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    Shell& sh = shells[find(static_cast<size_t>(tris[3 * t]))];
+    sh.Volume += v;
+    total += v;
+    if (area > sh.Area)
+    {
+      sh.Area = area;
+      sh.Largest = t;
+    }
+  }
+  std::vector<double> holes;
+  for (size_t r = 0; r < np; ++r)
+  {
+    const Shell& sh = shells[r];
+    if (sh.Area <= 0.0 || !(sh.Volume * total < 0.0))
+      continue;
+    const std::int64_t* f = &tris[3 * sh.Largest];
+    double longest = 0.0, n[3], u[3], w[3], centroid[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      double e2 = 0.0;
+      for (int d = 0; d < 3; ++d)
+      {
+        const double e = pts[3 * f[(k + 1) % 3] + d] - pts[3 * f[k] + d];
+        e2 += e * e;
+      }
+      longest = std::max(longest, std::sqrt(e2));
+    }
+    for (int d = 0; d < 3; ++d)
+    {
+      u[d] = pts[3 * f[1] + d] - pts[3 * f[0] + d];
+      w[d] = pts[3 * f[2] + d] - pts[3 * f[0] + d];
+      centroid[d] = (pts[3 * f[0] + d] + pts[3 * f[1] + d] + pts[3 * f[2] + d]) / 3.0;
+    }
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    // |n| = 2 x area: a hundredth of the height on the longest edge (|n| / longest) along
+    // n / |n|
+    const double step = (total > 0.0 ? 0.01 : -0.01) / longest;
+    for (int d = 0; d < 3; ++d)
+      holes.push_back(centroid[d] + step * n[d]);
+  }
+  return holes;
+}
+
 std::string TetGenErrorText(int code)
 {
   switch (code)
@@ -257,6 +351,13 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
       {
         f.polygonlist[0].vertexlist[k] = static_cast<int>(tris[3 * t + k]);
       }
+    }
+    const std::vector<double> holes = CavityPoints(pts, tris);
+    if (!holes.empty())
+    {
+      in.numberofholes = static_cast<int>(holes.size() / 3);
+      in.holelist = new REAL[holes.size()];
+      std::copy(holes.begin(), holes.end(), in.holelist);
     }
     std::string switches = result.Switches;
     tetrahedralize(&switches[0], &in, &out);

@@ -164,6 +164,7 @@ vtkTet10Mesher::vtkTet10Mesher()
   this->SurfaceDeviationWarning = o.SurfaceDeviationWarning;
   this->CurvedQualityRatio = o.CurvedQualityRatio;
   this->MinimumQuality = o.MinimumQuality;
+  this->CurvedQualityTarget = o.CurvedQualityTarget;
   this->EnvelopeTolerance = o.EnvelopeTolerance;
   this->MergeTolerance = hoembed::MesherServiceSettings::MergeTolerance;
   this->MaximumNumberOfElements = hoembed::MesherServiceSettings::MaximumNumberOfElements;
@@ -590,6 +591,7 @@ bool vtkTet10Mesher::CheckRequest(vtkPolyData*)
     { "RadiusEdgeRatio", this->RadiusEdgeRatio }, { "MinDihedralAngle", this->MinDihedralAngle },
     { "CurvedQualityRatio", this->CurvedQualityRatio },
     { "MinimumQuality", this->MinimumQuality },
+    { "CurvedQualityTarget", this->CurvedQualityTarget },
     { "SurfaceDeviationWarning", this->SurfaceDeviationWarning },
     { "EnvelopeTolerance", this->EnvelopeTolerance }, { "MergeTolerance", this->MergeTolerance },
     { "TargetNumberOfElements", this->TargetNumberOfElements },
@@ -677,6 +679,7 @@ int vtkTet10Mesher::RequestData(
   options.SurfaceDeviationWarning = this->SurfaceDeviationWarning;
   options.CurvedQualityRatio = this->CurvedQualityRatio;
   options.MinimumQuality = this->MinimumQuality;
+  options.CurvedQualityTarget = this->CurvedQualityTarget;
   options.EnvelopeTolerance = this->EnvelopeTolerance;
   VTKServices services(fine);
   const hoembed::MesherResult result = hoembed::RunMesher(fineArrays.Points, fineArrays.Tris,
@@ -710,6 +713,7 @@ void vtkTet10Mesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RadiusEdgeRatio: " << this->RadiusEdgeRatio << "\n";
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "CurvedQualityRatio: " << this->CurvedQualityRatio << "\n";
+  os << indent << "CurvedQualityTarget: " << this->CurvedQualityTarget << "\n";
   os << indent << "MinimumQuality: " << this->MinimumQuality << "\n";
   os << indent << "EnvelopeTolerance: " << this->EnvelopeTolerance << "\n";
   os << indent << "MergeTolerance: " << this->MergeTolerance << "\n";

@@ -54,7 +54,9 @@
  *    that keeps every element acceptable; corners may leave the surface slightly, only
  *    mid-edge nodes are put on it). Acceptable means valid and a minimum scaled Jacobian of
  *    at least CurvedQualityRatio times the straight shape's and at least MinimumQuality
- *    (unless the straight shape is worse: it is then kept).
+ *    (unless the straight shape is worse: it is then kept). Last, the mid-edge nodes of
+ *    elements below min(CurvedQualityTarget, their straight shape's) are blended back
+ *    towards straight (interior ones first), just enough.
  * 6. Memory order (hoembed::SpatialOrder): cells sorted along a Morton curve through
  *    their corner centroids, nodes numbered in the order those cells first use them, so
  *    elements near each other in space are near each other in the arrays (the embedding's
@@ -203,6 +205,19 @@ public:
 
   ///@{
   /**
+   * Quality target of the curving (default 0.2, hoembed::MesherOptions): curving never
+   * takes an element below min(CurvedQualityTarget, its straight shape's minimum scaled
+   * Jacobian); the mid-edge nodes of an element that would go below are blended back
+   * towards their straight positions, just enough. Higher: better elements, a boundary
+   * that follows the surface less closely (the embedding's offsets make up for it).
+   * 0: only CurvedQualityRatio and MinimumQuality.
+   */
+  vtkSetMacro(CurvedQualityTarget, double);
+  vtkGetMacro(CurvedQualityTarget, double);
+  ///@}
+
+  ///@{
+  /**
    * Distance of the envelope from an input that is not a clean closed manifold, relative
    * to the bounding-box diagonal (default 0: a quarter of the target element size, so
    * that a single open sheet becomes a solid about one element thick). Smaller values
@@ -258,6 +273,7 @@ protected:
   double SurfaceDeviationWarning;
   double CurvedQualityRatio;
   double MinimumQuality;
+  double CurvedQualityTarget;
   double EnvelopeTolerance;
   double MergeTolerance;
 

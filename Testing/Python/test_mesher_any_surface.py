@@ -94,7 +94,9 @@ def test_input_class(name):
     inside = pts.select_enclosed_points(boundary, check_surface=False)["SelectedPoints"]
     dist = np.abs(pts.compute_implicit_distance(boundary)["implicit_distance"])
     worst = dist[inside == 0].max(initial=0.0) / surface.length
-    assert worst < 0.03, worst
+    # (the quality target, CurvedQualityTarget, leaves the boundary a little looser:
+    # 0.031 on `overlapping`)
+    assert worst < 0.035, worst
     print(name, mesh.n_cells, mesh.cell_data["MinScaledJacobian"].min(), worst,
           {k: mesh.field_data[k][0] for k in mesh.field_data.keys()})
 
@@ -267,3 +269,68 @@ def test_size_estimate_of_an_open_sheet():
         alg.SetMaximumNumberOfElements(1000)
         with pytest.raises(hoembed.HOEmbedError, match="MaximumNumberOfElements"):
             hoembed._errors.run_filter(alg)
+
+
+def cube_with_cavity(outer=1.0, inner=0.5):
+    """A clean closed solid with a closed inner shell (a cube inside a cube, the inner one's
+    triangles facing into the cavity): two components, 0.875 of volume."""
+    a = pv.Cube(x_length=outer, y_length=outer, z_length=outer).triangulate()
+    b = pv.Cube(x_length=inner, y_length=inner, z_length=inner).triangulate()
+    a, b = a.subdivide(2, "linear").clean(), b.subdivide(2, "linear").clean()
+    f = b.faces.reshape(-1, 4).copy()
+    f[:, 1:] = f[:, 1:][:, ::-1]
+    return a.merge(pv.PolyData(b.points, f.ravel()))
+
+
+@pytest.mark.parametrize("n", [300, 1000])
+def test_cavity_stays_empty(n):
+    """TetGen fills the inside of a closed inner shell unless it is named a hole: the run
+    used to fail its volume check, fall back to the envelope and fill the cavity."""
+    surface = cube_with_cavity()
+    assert surface.n_open_edges == 0 and surface.is_manifold
+    assert surface.volume == pytest.approx(0.875)
+    mesh = hoembed.tet10_mesh(surface, n_elements=n)
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0  # the coarsening path, no fallback
+    volume = mesh.compute_cell_sizes(length=False, area=False)["Volume"].sum()
+    assert volume == pytest.approx(0.875, rel=0.02)
+    probes = pv.PolyData(np.array([[0.0, 0, 0], [0.1, -0.15, 0.2], [0.4, 0.4, 0.4]]))
+    inside = probes.select_enclosed_points(mesh.extract_surface(nonlinear_subdivision=2),
+                                           check_surface=False)["SelectedPoints"]
+    assert list(inside) == [0, 0, 1]  # the cavity is empty, the material is not
+
+
+def test_poor_elements_warning_names_a_count(data_dir):
+    """Slivers TetGen leaves below the floor are named in a warning with the figures and
+    the count that would lift them (issue 27); meshing at that count does (bunny_lowres at
+    300: one sliver, about 1000 suggested)."""
+    import re
+    import warnings
+    path = data_dir / "bunny_lowres.obj"
+    if not path.exists():
+        pytest.skip(f"{path} not available")
+    surface = pv.read(path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mesh = hoembed.tet10_mesh(surface, n_elements=300)
+    poor = int(mesh.field_data["PoorElementCount"][0])
+    assert poor > 0  # the case exists to show the warning
+    text = [str(w.message) for w in caught if "MinimumQuality" in str(w.message)]
+    assert len(text) == 1 and f"{poor} of {mesh.n_cells} elements" in text[0], text
+    m = re.search(r"about (\d+) elements \(TargetNumberOfElements; TargetEdgeLength "
+                  r"([0-9.e+-]+), now ([0-9.e+-]+)\)", text[0])
+    assert m, text[0]
+    count, size, now = int(m.group(1)), float(m.group(2)), float(m.group(3))
+    assert mesh.n_cells < count <= 100 * mesh.n_cells and size < now
+    finer = hoembed.tet10_mesh(surface, n_elements=count)
+    assert int(finer.field_data["PoorElementCount"][0]) < poor
+
+
+@pytest.mark.parametrize("n", [300, 1000, 4000])
+def test_low_poly_input_reaches_the_count(n):
+    """A cube of 12 triangles: TetGen adds no point on the boundary (PreserveBoundary), so
+    its triangles are split until there are as many as the element size asks for; it gave
+    6 elements at any count."""
+    mesh = hoembed.tet10_mesh(pv.Cube().triangulate(), n_elements=n)
+    assert 0.7 * n <= mesh.n_cells <= 1.3 * n
+    assert mesh.field_data["EnvelopeOffset"][0] == 0.0
+    assert mesh.cell_data["MinScaledJacobian"].min() >= 0.05

@@ -138,7 +138,8 @@ KEYWORDS = {
                                   edge_length="TargetEdgeLength", order="ElementOrder",
                                   curve_boundary="CurveBoundary",
                                   radius_edge_ratio="RadiusEdgeRatio",
-                                  min_dihedral_angle="MinDihedralAngle")),
+                                  min_dihedral_angle="MinDihedralAngle",
+                                  quality_target="CurvedQualityTarget")),
     "embed": ("embedding", dict(method="Method", n_partitions="NumberOfPartitions")),
     "transfer": ("transfer", dict(normals="NormalMode",
                                   compute_point_normals="ComputePointNormals")),
@@ -252,7 +253,7 @@ def test_paraview_xml_defaults_are_the_filters():
     assert {prop for cls, prop in covered if prop not in DEFAULTS[stage_of[cls]]} == {
         "OutputPointsPrecision", "ExternalForceArrayName", "InitialDisplacementArrayName",
         "InitialVelocityArrayName"}
-    assert len(covered) == 46
+    assert len(covered) == 47
 
 
 def test_paraview_xml_ranges_are_the_drivers():

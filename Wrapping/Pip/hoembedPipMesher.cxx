@@ -166,6 +166,7 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
   o.CurveBoundary = nb::cast<bool>(opts["CurveBoundary"]);
   o.RadiusEdgeRatio = nb::cast<double>(opts["RadiusEdgeRatio"]);
   o.MinDihedralAngle = nb::cast<double>(opts["MinDihedralAngle"]);
+  o.CurvedQualityTarget = nb::cast<double>(opts["CurvedQualityTarget"]);
 
   // The read step, in vtkTet10Mesher's order: ids, size, then the surface itself.
   std::string error = hoembed::CheckSurfacePointIds(in);
@@ -248,6 +249,7 @@ nb::dict MesherDefaults()
   HOEMBED_DEFAULT(SurfaceDeviationWarning);
   HOEMBED_DEFAULT(CurvedQualityRatio);
   HOEMBED_DEFAULT(MinimumQuality);
+  HOEMBED_DEFAULT(CurvedQualityTarget);
   HOEMBED_DEFAULT(EnvelopeTolerance);
 #undef HOEMBED_DEFAULT
   d["MergeTolerance"] = S::MergeTolerance;

@@ -27,6 +27,7 @@
 #include "vtkTriangleFilter.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -270,11 +271,87 @@ void CheckTetGenBoundFallsBack()
   std::printf("TetGen bound: %zu cells through the envelope (%zu coarsened)\n",
     bounded.MinScaledJacobian.size(), plain.MinScaledJacobian.size());
 }
+
+// A clean closed sphere with a spherical cavity (the inner shell's triangles face into
+// it), meshed through its envelope (Wrap = 1, what a fallback does): the cavity stays
+// empty. The envelope flood-fills from outside and never reaches the cavity; it used to
+// be filled.
+void CheckEnvelopeKeepsCavity()
+{
+  auto sphere = [](double r) {
+    vtkNew<vtkSphereSource> src;
+    src->SetRadius(r);
+    src->SetThetaResolution(48);
+    src->SetPhiResolution(48);
+    vtkNew<vtkTriangleFilter> tri;
+    tri->SetInputConnection(src->GetOutputPort());
+    tri->Update();
+    vtkSmartPointer<vtkPolyData> pd = tri->GetOutput();
+    return pd;
+  };
+  std::vector<double> pts, inner;
+  std::vector<Id> tris, innerTris;
+  ToArrays(sphere(1.0), pts, tris);
+  ToArrays(sphere(0.5), inner, innerTris);
+  const Id base = static_cast<Id>(pts.size() / 3);
+  pts.insert(pts.end(), inner.begin(), inner.end());
+  for (size_t t = 0; t < innerTris.size() / 3; ++t)
+  {
+    tris.push_back(base + innerTris[3 * t]);
+    tris.push_back(base + innerTris[3 * t + 2]);
+    tris.push_back(base + innerTris[3 * t + 1]);
+  }
+  hoembed::MesherServices services;
+  services.Fine.Closest = [](const double x[3], double cp[3]) {
+    // the nearer of the two spheres
+    const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    const double onto = std::fabs(r - 1.0) < std::fabs(r - 0.5) ? 1.0 : 0.5;
+    for (int d = 0; d < 3; ++d)
+      cp[d] = r > 0.0 ? x[d] * onto / r : (d == 0 ? onto : 0.0);
+  };
+  services.Fine.Ray = [](const double*, const double*, double*) { return false; };
+  services.MaxDistanceToTriangles = [](const std::vector<double>&, const std::vector<Id>&,
+                                      const std::vector<double>&, Id) { return 0.0; };
+  hoembed::MesherOptions options;
+  options.TargetNumberOfElements = 1500;
+  options.Wrap = 1;
+  const hoembed::MesherResult r = hoembed::RunMesher(pts, tris, options, services);
+  HOEMBED_CHECK(r.Error.empty() && r.Wrapped, "cavity: '%s', wrapped %d", r.Error.c_str(),
+    r.Wrapped);
+  // straight volume of the corner tets, and no tet around the centre
+  double volume = 0.0;
+  Id aroundCentre = 0;
+  const int npc = r.NodesPerCell;
+  for (size_t c = 0; c < r.Conn.size() / npc; ++c)
+  {
+    const double* x[4];
+    for (int a = 0; a < 4; ++a)
+      x[a] = &r.Points[3 * r.Conn[npc * c + a]];
+    double e[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d)
+        e[k][d] = x[k + 1][d] - x[0][d];
+    volume += (e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) / 6.0;
+    for (int a = 0; a < 4; ++a)
+      aroundCentre += std::sqrt(x[a][0] * x[a][0] + x[a][1] * x[a][1] + x[a][2] * x[a][2]) < 0.4;
+  }
+  const double expected = 4.0 / 3.0 * 3.141592653589793 * (1.0 - 0.125);
+  HOEMBED_CHECK(aroundCentre == 0, "cavity: %lld tet corners inside the cavity",
+    static_cast<long long>(aroundCentre));
+  HOEMBED_CHECK(std::fabs(volume - expected) < 0.1 * expected,
+    "cavity: straight volume %g, the solid's %g (filled: %g)", volume, expected,
+    4.0 / 3.0 * 3.141592653589793);
+  std::printf("cavity through the envelope: %zu cells, straight volume %g (solid %g)\n",
+    r.MinScaledJacobian.size(), volume, expected);
+}
 } // namespace
 
 int main(int, char*[])
 {
   CheckTetGenBoundFallsBack();
+  CheckEnvelopeKeepsCavity();
   vtkSmartPointer<vtkPolyData> shell = ThinCups(3, 0.004);
   CheckWrapBounds(shell);
   CheckMesherAbort(shell);

@@ -58,6 +58,9 @@ curve_boundary : bool
     Move boundary mid-edge nodes onto the surface (default <CurveBoundary>).
 radius_edge_ratio, min_dihedral_angle : float
     TetGen quality bounds (defaults <RadiusEdgeRatio> and <MinDihedralAngle> degrees).
+quality_target : float
+    Curving never takes an element below min(quality_target, its straight shape's
+    minimum scaled Jacobian) (default <CurvedQualityTarget>).
 progress : callable, optional
     Called with a float in [0, 1] on the filter's progress events.
 
@@ -108,7 +111,7 @@ def driver_ranges(func, driver, values):
 
 
 def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                   radius_edge_ratio, min_dihedral_angle, progress):
+                   radius_edge_ratio, min_dihedral_angle, progress, quality_target):
     """Check tet10_mesh()'s arguments: their types here, their ranges by the mesher driver.
     Returns the vtkTet10Mesher properties they set."""
     f = "tet10_mesh"
@@ -123,7 +126,9 @@ def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
         RadiusEdgeRatio=("radius_edge_ratio", check_real(
             f, "radius_edge_ratio", radius_edge_ratio, finite=False)),
         MinDihedralAngle=("min_dihedral_angle", check_real(
-            f, "min_dihedral_angle", min_dihedral_angle, finite=False))))
+            f, "min_dihedral_angle", min_dihedral_angle, finite=False)),
+        CurvedQualityTarget=("quality_target", check_real(
+            f, "quality_target", quality_target, finite=False))))
     return dict(props, CurveBoundary=bool(curve_boundary))
 
 

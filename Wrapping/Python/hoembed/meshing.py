@@ -323,9 +323,10 @@ _D = DEFAULTS["mesher"]
 def tet10_mesh(surface, n_elements=_D["TargetNumberOfElements"],
                edge_length=_D["TargetEdgeLength"], order=_D["ElementOrder"],
                curve_boundary=_D["CurveBoundary"], radius_edge_ratio=_D["RadiusEdgeRatio"],
-               min_dihedral_angle=_D["MinDihedralAngle"], progress=None):
+               min_dihedral_angle=_D["MinDihedralAngle"], progress=None,
+               quality_target=_D["CurvedQualityTarget"]):
     options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                             radius_edge_ratio, min_dihedral_angle, progress)
+                             radius_edge_ratio, min_dihedral_angle, progress, quality_target)
     r = _run(surface, options, progress)[0]
     if progress is not None:
         progress(1.0)
