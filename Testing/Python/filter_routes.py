@@ -21,9 +21,9 @@ from hoembed._errors import HOEmbedError, run_filter
 
 
 def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundary=True,
-               radius_edge_ratio=1.5, min_dihedral_angle=10.0):
+               radius_edge_ratio=1.5, min_dihedral_angle=10.0, quality_target=0.2):
     options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                             radius_edge_ratio, min_dihedral_angle, None)
+                             radius_edge_ratio, min_dihedral_angle, None, quality_target)
     alg = hoembed.vtkTet10Mesher()
     alg.SetInputData(surface)
     for name, value in options.items():
