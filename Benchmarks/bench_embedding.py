@@ -30,6 +30,7 @@ fails on a surface. Results go to
 Benchmarks/results/bench_embedding.json (+ .png when matplotlib is there). Skips cleanly
 when the data folder is absent. The machine is shared: compare ratios, not absolute times.
 """
+
 import json
 import pathlib
 import sys
@@ -41,19 +42,24 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import reference, vtkSMPTools
 from vtkmodules.vtkCommonDataModel import vtkCellLocator, vtkStaticCellLocator
 from vtkmodules.vtkFiltersCore import vtkProbeFilter
-from vtkmodules.vtkFiltersModeling import vtkSelectEnclosedPoints
-from vtkmodules.vtkFiltersModeling import vtkLinearSubdivisionFilter
+from vtkmodules.vtkFiltersModeling import vtkLinearSubdivisionFilter, vtkSelectEnclosedPoints
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "Testing" / "Python"))
 import hoembed  # noqa: E402
-from voxel_tet_mesh import linear_copy, voxel_tet_mesh  # noqa: E402
-from test_embedding import inside_linear_tets  # noqa: E402
 from mesh_checks import distances_to_surface  # noqa: E402
+from test_embedding import inside_linear_tets  # noqa: E402
+from voxel_tet_mesh import linear_copy, voxel_tet_mesh  # noqa: E402
 
 DATA = ROOT.parent / "shared" / "data" / "meshes"
-SURFACES = ["bunny_watertight", "armadillo", "dragon", "fertility", "rocker-arm",
-            "scorpion_low_resolution"]
+SURFACES = [
+    "bunny_watertight",
+    "armadillo",
+    "dragon",
+    "fertility",
+    "rocker-arm",
+    "scorpion_low_resolution",
+]
 REPEATS = 3
 # Short runs are repeated for about BUDGET_S seconds in all (at most MAX_RUNS runs) and the
 # best is kept: bursts of load on this shared machine slow single runs by up to 1.5x, so a
@@ -208,10 +214,14 @@ def main():
     if not DATA.is_dir():
         print(json.dumps({"skipped": f"no data folder {DATA}"}))
         return 0
-    results = {"machine_note": "2 shared cores; ratios matter, absolute times are noisy; "
-                               "1-thread times are process CPU times, 2-thread times wall times",
-               "fe_meshes": "hoembed.tet10_mesh (voxel meshes where it fails)",
-               "surfaces": {}, "scaling": {}, "scaling_exponent": {}}
+    results = {
+        "machine_note": "2 shared cores; ratios matter, absolute times are noisy; "
+        "1-thread times are process CPU times, 2-thread times wall times",
+        "fe_meshes": "hoembed.tet10_mesh (voxel meshes where it fails)",
+        "surfaces": {},
+        "scaling": {},
+        "scaling_exponent": {},
+    }
     rng = np.random.default_rng(1)
     for name in SURFACES:
         path = DATA / f"{name}.obj"
@@ -238,7 +248,8 @@ def main():
             r["normal_offset_tet10_vps_1thr_mesh_prepared_once"] = s.n_points / t_once
             r["setup_seconds_tet10"] = time_setup(g10)
             r["normal_offset_tet10_vps_1thr_excluding_setup"] = s.n_points / max(
-                s.n_points / r["normal_offset_tet10_vps_1thr"] - r["setup_seconds_tet10"], 1e-9)
+                s.n_points / r["normal_offset_tet10_vps_1thr"] - r["setup_seconds_tet10"], 1e-9
+            )
             w1, w2 = time_speedup(s, g10)
             r["normal_offset_tet10_vps_1thr_wall"] = s.n_points / w1
             r["normal_offset_tet10_vps_2thr_alternating"] = s.n_points / w2
@@ -261,22 +272,30 @@ def main():
                 tp, valid = time_probe(s, g4)
                 r["vtk_probe_tet4_vps"] = s.n_points / tp
                 r["vtk_probe_valid_fraction"] = valid
-                r["ratio_ours_tet4_barycentric_vs_probe"] = r["barycentric_tet4_vps_1thr"] / r["vtk_probe_tet4_vps"]
-                r["ratio_ours_tet10_vs_probe_tet4"] = r["normal_offset_tet10_vps_1thr"] / r["vtk_probe_tet4_vps"]
+                r["ratio_ours_tet4_barycentric_vs_probe"] = (
+                    r["barycentric_tet4_vps_1thr"] / r["vtk_probe_tet4_vps"]
+                )
+                r["ratio_ours_tet10_vs_probe_tet4"] = (
+                    r["normal_offset_tet10_vps_1thr"] / r["vtk_probe_tet4_vps"]
+                )
                 # vtkCellLocator::FindClosestPoint on the curved tet10 grid, sample
                 sample = rng.choice(s.n_points, min(3000, s.n_points), replace=False)
                 tc, dv = vtk_closest_tet10(g10, s.points[sample])
                 exact = np.asarray(out10["EmbeddingClosestDistance"])[sample]
                 e = dv - exact
                 r["vtk_celllocator_tet10_vps"] = len(sample) / tc
-                r["ratio_ours_tet10_vs_celllocator"] = r["normal_offset_tet10_vps_1thr"] / r["vtk_celllocator_tet10_vps"]
+                r["ratio_ours_tet10_vs_celllocator"] = (
+                    r["normal_offset_tet10_vps_1thr"] / r["vtk_celllocator_tet10_vps"]
+                )
                 r["vtk_tet10_distance_error_max_over_diag"] = float(np.abs(e).max() / diag)
                 r["vtk_tet10_distance_error_mean_over_diag"] = float(np.abs(e).mean() / diag)
                 r["vtk_tet10_fraction_off_by_1e-8_diag"] = float(np.mean(np.abs(e) > 1e-8 * diag))
                 r["vtk_tet10_min_signed_error_over_diag"] = float(e.min() / diag)
             entry[key] = r
-        entry["time_ratio_fe3000_vs_fe1000"] = (entry["fe1000"]["normal_offset_tet10_vps_1thr"]
-                                                / entry["fe3000"]["normal_offset_tet10_vps_1thr"])
+        entry["time_ratio_fe3000_vs_fe1000"] = (
+            entry["fe1000"]["normal_offset_tet10_vps_1thr"]
+            / entry["fe3000"]["normal_offset_tet10_vps_1thr"]
+        )
         results["surfaces"][name] = entry
         print(name, json.dumps(entry, indent=1), flush=True)
 
@@ -309,7 +328,9 @@ def main():
                 row[f"vps_fe{n}"] = surf.n_points / t
                 row[f"cells_fe{n}"] = int(g.n_cells)
                 row[f"mean_iterations_fe{n}"] = float(np.mean(out["EmbeddingIterations"]))
-                row[f"mean_elements_visited_fe{n}"] = float(np.mean(out["EmbeddingElementsVisited"]))
+                row[f"mean_elements_visited_fe{n}"] = float(
+                    np.mean(out["EmbeddingElementsVisited"])
+                )
                 row[f"inside_fraction_fe{n}"] = float(np.mean(out["EmbeddingDistance"] == 0))
                 del out
             rows.append(row)
@@ -319,9 +340,11 @@ def main():
             for n in (1000, 3000):
                 b[f"time_ratio_vs_previous_fe{n}"] = b[f"seconds_fe{n}"] / a[f"seconds_fe{n}"]
                 b[f"per_vertex_time_ratio_vs_previous_fe{n}"] = (
-                    b[f"per_vertex_seconds_fe{n}"] / a[f"per_vertex_seconds_fe{n}"])
+                    b[f"per_vertex_seconds_fe{n}"] / a[f"per_vertex_seconds_fe{n}"]
+                )
                 b[f"iterations_ratio_vs_previous_fe{n}"] = (
-                    b[f"mean_iterations_fe{n}"] / a[f"mean_iterations_fe{n}"])
+                    b[f"mean_iterations_fe{n}"] / a[f"mean_iterations_fe{n}"]
+                )
         for row in rows:
             row["time_ratio_fe3000_vs_fe1000"] = row["seconds_fe3000"] / row["seconds_fe1000"]
         results["scaling"][name] = rows
@@ -331,7 +354,9 @@ def main():
         logn = np.log([r["vertices"] for r in rows])
         results["scaling_exponent"][name] = {
             f"{key}_fe{n}": float(np.polyfit(logn, np.log([r[f"{key}_fe{n}"] for r in rows]), 1)[0])
-            for key in ("seconds", "per_vertex_seconds") for n in (1000, 3000)}
+            for key in ("seconds", "per_vertex_seconds")
+            for n in (1000, 3000)
+        }
         print(name, "scaling exponent", json.dumps(results["scaling_exponent"][name]), flush=True)
         print(name, "scaling", json.dumps(rows, indent=1), flush=True)
 
@@ -340,8 +365,10 @@ def main():
     (out_dir / "bench_embedding.json").write_text(json.dumps(results, indent=1))
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, ax = plt.subplots(figsize=(5, 4))
         for name, rows in results["scaling"].items():
             v = [r["vertices"] for r in rows]

@@ -25,6 +25,7 @@ diagonal and residual <= 1e-10 of it. Benchmarks decide nothing: the JSON says.
 
 JSON: Benchmarks/results/bench_embedding_exact.json. Skips cleanly without the data folder.
 """
+
 import json
 import os
 import pathlib
@@ -42,8 +43,14 @@ from voxel_tet_mesh import linear_copy, voxel_tet_mesh  # noqa: E402
 
 DATA = ROOT.parent / "shared" / "data" / "meshes"
 TOOL = ROOT / "build" / "bin" / "hoembedEmbeddingExact"
-SURFACES = ["bunny_watertight", "armadillo", "dragon", "fertility", "rocker-arm",
-            "scorpion_low_resolution"]
+SURFACES = [
+    "bunny_watertight",
+    "armadillo",
+    "dragon",
+    "fertility",
+    "rocker-arm",
+    "scorpion_low_resolution",
+]
 SIZES = (1000, 3000)
 
 
@@ -59,8 +66,11 @@ def fe_meshes(surface, n_el):
 
 def run_tool(surface_file, mesh_file, method, threads):
     t = time.perf_counter()
-    p = subprocess.run([str(TOOL), str(surface_file), str(mesh_file), method, str(threads)],
-                       capture_output=True, text=True)
+    p = subprocess.run(
+        [str(TOOL), str(surface_file), str(mesh_file), method, str(threads)],
+        capture_output=True,
+        text=True,
+    )
     if p.returncode != 0:
         raise RuntimeError(f"{TOOL.name} failed ({p.returncode}): {p.stderr.strip()}")
     r = json.loads(p.stdout)
@@ -73,21 +83,34 @@ def main(names):
         print(json.dumps({"skipped": f"no data folder {DATA}"}))
         return 0
     if not TOOL.is_file():
-        print(f"{TOOL} is missing: build with `make build` (CMake option "
-              "HOEMBED_BUILD_BENCHMARKS=ON, the default)", file=sys.stderr)
+        print(
+            f"{TOOL} is missing: build with `make build` (CMake option "
+            "HOEMBED_BUILD_BENCHMARKS=ON, the default)",
+            file=sys.stderr,
+        )
         return 1
     threads = os.cpu_count() or 1
     t_all = time.perf_counter()
-    results = {"requirement": "for every vertex |d_filter - d_brute| <= 1e-8 diag and "
-                              "|v - (p + d n)| <= 1e-10 diag",
-               "brute_force": "certified best-first branch and bound over every boundary "
-                              "face (interval width <= 1e-11 diag), inside test by "
-                              "subdivision of every cell whose control box holds the vertex "
-                              "(control-box pruning, Newton per kept sub-tet), "
-                              "VTK EvaluatePosition as second opinion",
-               "threads": threads, "runs": []}
-    totals = {"vertices": 0, "checked": 0, "above_1e-8": 0, "residual_above_1e-10": 0,
-              "inside_mismatch_beyond_1e-8": 0, "max_err_rel": 0.0, "max_residual_rel": 0.0}
+    results = {
+        "requirement": "for every vertex |d_filter - d_brute| <= 1e-8 diag and "
+        "|v - (p + d n)| <= 1e-10 diag",
+        "brute_force": "certified best-first branch and bound over every boundary "
+        "face (interval width <= 1e-11 diag), inside test by "
+        "subdivision of every cell whose control box holds the vertex "
+        "(control-box pruning, Newton per kept sub-tet), "
+        "VTK EvaluatePosition as second opinion",
+        "threads": threads,
+        "runs": [],
+    }
+    totals = {
+        "vertices": 0,
+        "checked": 0,
+        "above_1e-8": 0,
+        "residual_above_1e-10": 0,
+        "inside_mismatch_beyond_1e-8": 0,
+        "max_err_rel": 0.0,
+        "max_residual_rel": 0.0,
+    }
     with tempfile.TemporaryDirectory() as tmp:
         tmp = pathlib.Path(tmp)
         for name in names or SURFACES:
@@ -101,13 +124,14 @@ def main(names):
                 t = time.perf_counter()
                 g10, g4, how = fe_meshes(s, n_el)
                 t_mesh = time.perf_counter() - t
-                for grid, method, label in ((g10, "normal-offset", "tet10"),
-                                            (g4, "barycentric", "tet4")):
+                for grid, method, label in (
+                    (g10, "normal-offset", "tet10"),
+                    (g4, "barycentric", "tet4"),
+                ):
                     gfile = tmp / f"{name}_{n_el}_{label}.vtu"
                     grid.save(gfile)
                     r = run_tool(sfile, gfile, method, threads)
-                    r.update(surface=name, target_cells=n_el, mesher=how,
-                             mesher_s=round(t_mesh, 2))
+                    r.update(surface=name, target_cells=n_el, mesher=how, mesher_s=round(t_mesh, 2))
                     results["runs"].append(r)
                     totals["vertices"] += r["surface_vertices"]
                     totals["checked"] += r["vertices_checked"]
@@ -115,24 +139,32 @@ def main(names):
                     totals["residual_above_1e-10"] += r["count_residual_above_1e-10"]
                     totals["inside_mismatch_beyond_1e-8"] += r["inside_mismatch_beyond_1e-8"]
                     totals["vertices_inside_undecided"] = (
-                        totals.get("vertices_inside_undecided", 0) + r["vertices_inside_undecided"])
+                        totals.get("vertices_inside_undecided", 0) + r["vertices_inside_undecided"]
+                    )
                     totals["filter_uncertified_points"] = (
-                        totals.get("filter_uncertified_points", 0) + r["filter_uncertified_points"])
+                        totals.get("filter_uncertified_points", 0) + r["filter_uncertified_points"]
+                    )
                     totals["max_err_rel"] = max(totals["max_err_rel"], r["max_dist_err_rel"])
-                    totals["max_residual_rel"] = max(totals["max_residual_rel"],
-                                                     r["max_residual_rel"])
-                    print(f"{name:24s} {n_el:5d} {label} {method:13s} cells {r['cells']:5d} "
-                          f"verts {r['vertices_checked']:6d}/{r['surface_vertices']:6d} "
-                          f"max|dd|/diag {r['max_dist_err_rel']:.2e} "
-                          f">1e-8: {r['count_dist_err_above_1e-8']} "
-                          f"max res/diag {r['max_residual_rel']:.2e} "
-                          f"in b/f {r['inside_brute']}/{r['inside_filter']} "
-                          f"filter {r['filter_wall_s']:.2f}s brute {r['brute_wall_s']:.1f}s",
-                          flush=True)
+                    totals["max_residual_rel"] = max(
+                        totals["max_residual_rel"], r["max_residual_rel"]
+                    )
+                    print(
+                        f"{name:24s} {n_el:5d} {label} {method:13s} cells {r['cells']:5d} "
+                        f"verts {r['vertices_checked']:6d}/{r['surface_vertices']:6d} "
+                        f"max|dd|/diag {r['max_dist_err_rel']:.2e} "
+                        f">1e-8: {r['count_dist_err_above_1e-8']} "
+                        f"max res/diag {r['max_residual_rel']:.2e} "
+                        f"in b/f {r['inside_brute']}/{r['inside_filter']} "
+                        f"filter {r['filter_wall_s']:.2f}s brute {r['brute_wall_s']:.1f}s",
+                        flush=True,
+                    )
     totals["all_vertices_checked"] = totals["checked"] == totals["vertices"]
-    totals["pass"] = (totals["all_vertices_checked"] and totals["above_1e-8"] == 0
-                      and totals["residual_above_1e-10"] == 0
-                      and totals["inside_mismatch_beyond_1e-8"] == 0)
+    totals["pass"] = (
+        totals["all_vertices_checked"]
+        and totals["above_1e-8"] == 0
+        and totals["residual_above_1e-10"] == 0
+        and totals["inside_mismatch_beyond_1e-8"] == 0
+    )
     totals["wall_s"] = round(time.perf_counter() - t_all, 1)
     results["totals"] = totals
     out = ROOT / "Benchmarks" / "results" / "bench_embedding_exact.json"

@@ -11,6 +11,7 @@ Benchmarks decide nothing: the JSON says.
 JSON: Benchmarks/results/bench_embedding_scale.json. The real surfaces are skipped
 without the data folder (the built-in thorny tail always runs).
 """
+
 import json
 import pathlib
 import sys
@@ -24,7 +25,7 @@ from hoembed._errors import run_filter  # noqa: E402
 from hoembed.hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter  # noqa: E402
 
 DATA = ROOT.parent / "shared" / "data" / "meshes"
-SCALES = [1e-9, 1e-7, 3e-7, 1e-5, 1e-3, 1e3, 1e5, 1e7, 1e9, 2.0 ** -30, 2.0 ** 30]
+SCALES = [1e-9, 1e-7, 3e-7, 1e-5, 1e-3, 1e3, 1e5, 1e7, 1e9, 2.0**-30, 2.0**30]
 
 
 def embed(surface, mesh):
@@ -48,26 +49,39 @@ def run(name, surface):
     rows = []
     for s in SCALES:
         out = embed(scaled(surface, s), scaled(mesh, s))
-        row = {"scale": s,
-               "max_residual": float(out["EmbeddingResidual"].max() / (s * diag)),
-               "max_distance_change": float(np.abs(out["EmbeddingDistance"] / s
-                                                   - ref["EmbeddingDistance"]).max() / diag),
-               "max_closest_distance_change": float(np.abs(
-                   out["EmbeddingClosestDistance"] / s - ref["EmbeddingClosestDistance"]).max()
-                   / diag),
-               "cells_changed": int((out["EmbeddingCellId"] != ref["EmbeddingCellId"]).sum()),
-               "fallback": int(out["EmbeddingFallback"].sum())}
+        row = {
+            "scale": s,
+            "max_residual": float(out["EmbeddingResidual"].max() / (s * diag)),
+            "max_distance_change": float(
+                np.abs(out["EmbeddingDistance"] / s - ref["EmbeddingDistance"]).max() / diag
+            ),
+            "max_closest_distance_change": float(
+                np.abs(out["EmbeddingClosestDistance"] / s - ref["EmbeddingClosestDistance"]).max()
+                / diag
+            ),
+            "cells_changed": int((out["EmbeddingCellId"] != ref["EmbeddingCellId"]).sum()),
+            "fallback": int(out["EmbeddingFallback"].sum()),
+        }
         if np.log2(s) == round(np.log2(s)):
             row["bitwise_identical"] = bool(
-                all(np.array_equal(out[a], ref[a]) for a in
-                    ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingFace"])
-                and all(np.array_equal(out[a] / s, ref[a]) for a in
-                        ["EmbeddingDistance", "EmbeddingResidual", "EmbeddingClosestDistance"]))
+                all(
+                    np.array_equal(out[a], ref[a])
+                    for a in ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingFace"]
+                )
+                and all(
+                    np.array_equal(out[a] / s, ref[a])
+                    for a in ["EmbeddingDistance", "EmbeddingResidual", "EmbeddingClosestDistance"]
+                )
+            )
         rows.append(row)
         print(name, row, flush=True)
-    return {"surface": name, "vertices": surface.n_points, "cells": mesh.n_cells,
-            "scale_1_max_residual": float(ref["EmbeddingResidual"].max() / diag),
-            "scales": rows}
+    return {
+        "surface": name,
+        "vertices": surface.n_points,
+        "cells": mesh.n_cells,
+        "scale_1_max_residual": float(ref["EmbeddingResidual"].max() / diag),
+        "scales": rows,
+    }
 
 
 def main(names):

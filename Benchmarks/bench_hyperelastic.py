@@ -12,6 +12,7 @@
    with the linear prediction; where they part.
 Writes Benchmarks/results/bench_hyperelastic.json.
 """
+
 import json
 import pathlib
 import sys
@@ -51,9 +52,12 @@ def frame_times(mesh, material, newton_iterations=None, frames=10):
         times.append(time.perf_counter() - t0)
         iterations.append(s.GetLastSolverIterations())
     tip = np.abs(np.asarray(s.GetOutput().GetPointData().GetArray("Displacement"))[:, 2]).max()
-    return dict(ms_per_frame_median=1e3 * float(np.median(times)),
-                ms_per_frame_mean=1e3 * float(np.mean(times)),
-                iterations_per_frame=float(np.mean(iterations)), tip_after=float(tip))
+    return dict(
+        ms_per_frame_median=1e3 * float(np.median(times)),
+        ms_per_frame_mean=1e3 * float(np.mean(times)),
+        iterations_per_frame=float(np.mean(iterations)),
+        tip_after=float(tip),
+    )
 
 
 def deflections():
@@ -66,16 +70,29 @@ def deflections():
         row = dict(g=g, linear=None)
         for material in ("corotated", "stvk", "neo-hookean", "mooney-rivlin"):
             try:
-                u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho,
-                                     gravity=(0.0, 0.0, -g), fixed=clamp.astype(np.uint8),
-                                     static=True, material=material)[0]
+                u = hoembed.simulate(
+                    mesh,
+                    young=E,
+                    poisson=nu,
+                    density=rho,
+                    gravity=(0.0, 0.0, -g),
+                    fixed=clamp.astype(np.uint8),
+                    static=True,
+                    material=material,
+                )[0]
                 row[material] = float(-u.point_data["Displacement"][:, 2].min())
             except hoembed.HOEmbedError:
                 row[material] = None
         # linear elasticity = the co-rotated answer at a tiny load, scaled
-        small = hoembed.simulate(mesh, young=E * 1e6, poisson=nu, density=rho,
-                                 gravity=(0.0, 0.0, -g), fixed=clamp.astype(np.uint8),
-                                 static=True)[0]
+        small = hoembed.simulate(
+            mesh,
+            young=E * 1e6,
+            poisson=nu,
+            density=rho,
+            gravity=(0.0, 0.0, -g),
+            fixed=clamp.astype(np.uint8),
+            static=True,
+        )[0]
         row["linear"] = 1e6 * float(-small.point_data["Displacement"][:, 2].min())
         rows.append(row)
         print(row, flush=True)
@@ -85,10 +102,12 @@ def deflections():
 def main():
     mesh = box_tet_mesh((20, 5, 5), (4.0, 1.0, 1.0), 2)
     out = dict(cells=mesh.n_cells, dof=3 * mesh.n_points, frames={})
-    for label, material, it in (("corotated", "corotated", None),
-                                ("neo-hookean, 1 Newton iteration", "neo-hookean", 1),
-                                ("neo-hookean, converged", "neo-hookean", None),
-                                ("corotated (again)", "corotated", None)):
+    for label, material, it in (
+        ("corotated", "corotated", None),
+        ("neo-hookean, 1 Newton iteration", "neo-hookean", 1),
+        ("neo-hookean, converged", "neo-hookean", None),
+        ("corotated (again)", "corotated", None),
+    ):
         out["frames"][label] = frame_times(mesh, material, it)
         print(label, out["frames"][label], flush=True)
     out["deflection"] = deflections()

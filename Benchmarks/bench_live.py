@@ -48,18 +48,18 @@ other mode; grab_release_worst_ms: the worst frame of the grab/release runs with
 background factorisation, as `hoembed live` runs; bytes_per_frame and
 stream_ms_per_frame against stream_bandwidth_GBps).
 """
+
 import argparse
 import json
 import os
 import pathlib
 import time
 
+import hoembed
 import numpy as np
 import pyvista as pv
-from vtkmodules.vtkCommonCore import vtkSMPTools
-
-import hoembed
 from hoembed.live import LiveApp, LiveSession, default_clamp
+from vtkmodules.vtkCommonCore import vtkSMPTools
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "results"
 
@@ -96,11 +96,20 @@ def run_pass(session, frames, app=None):
             stages = dict(app.stages)
         t1, c1 = time.perf_counter(), time.process_time()
         t = st.timings
-        rows.append(dict(
-            wall=t1 - t0, cpu=c1 - c0, step=stages["step"], transfer=stages["transfer"],
-            rotation=t["rotation"], assembly=t["assembly"], solve=t["solve"],
-            factorization=t["factorization"], factorizations=t["factorizations"],
-            iterations=t["iterations"]))
+        rows.append(
+            dict(
+                wall=t1 - t0,
+                cpu=c1 - c0,
+                step=stages["step"],
+                transfer=stages["transfer"],
+                rotation=t["rotation"],
+                assembly=t["assembly"],
+                solve=t["solve"],
+                factorization=t["factorization"],
+                factorizations=t["factorizations"],
+                iterations=t["iterations"],
+            )
+        )
     session.release()
     return rows, len(ids)
 
@@ -124,9 +133,16 @@ def grab_release(session, mode, drag_frames, free_frames):
         t0 = time.perf_counter()
         session.step()
         t = st.timings
-        rows.append(dict(kind=kind, wall=time.perf_counter() - t0,
-                         iterations=t["iterations"], factorizations=t["factorizations"],
-                         background=t["background_factorizations"]))
+        rows.append(
+            dict(
+                kind=kind,
+                wall=time.perf_counter() - t0,
+                iterations=t["iterations"],
+                factorizations=t["factorizations"],
+                background=t["background_factorizations"],
+            )
+        )
+
     for k, a in enumerate(ang):
         session.drag(tip + np.array([0.0, np.sin(a), 1.0 - np.cos(a)]))
         frame("grab" if k == 0 else "drag")
@@ -143,21 +159,20 @@ def grab_release_summary(runs):
     rows = [r for run in runs for r in run]
     for kind in ("grab", "release"):
         w = [1e3 * r["wall"] for r in rows if r["kind"] == kind]
-        out[f"{kind}_frame_ms"] = {"median": float(np.median(w)), "max": float(np.max(w)),
-                                   "all": w}
+        out[f"{kind}_frame_ms"] = {"median": float(np.median(w)), "max": float(np.max(w)), "all": w}
         out[f"{kind}_iterations"] = [r["iterations"] for r in rows if r["kind"] == kind]
     for kind in ("drag", "free"):
         w = [1e3 * r["wall"] for r in rows if r["kind"] == kind]
         out[f"{kind}_frame_ms"] = {"median": float(np.median(w)), "max": float(np.max(w))}
-        out[f"{kind}_iterations_mean"] = float(np.mean([r["iterations"] for r in rows
-                                                        if r["kind"] == kind]))
+        out[f"{kind}_iterations_mean"] = float(
+            np.mean([r["iterations"] for r in rows if r["kind"] == kind])
+        )
     out["worst_frame_ms"] = float(max(1e3 * r["wall"] for r in rows))
     out["synchronous_factorizations"] = int(sum(r["factorizations"] for r in rows))
     out["background_factorizations"] = int(sum(r["background"] for r in rows))
     taken = []
     for run in runs:  # frames from the grab until the grab's own factor was taken
-        k = next((i for i, r in enumerate(run) if r["background"] or r["factorizations"]),
-                 None)
+        k = next((i for i, r in enumerate(run) if r["background"] or r["factorizations"]), None)
         taken.append(k)
     out["grab_factor_taken_after_frames"] = taken
     return out
@@ -167,10 +182,16 @@ def summarise(rows, skip):
     grab = rows[0]  # the frame of the grab: factorises for the new constraint set
     rows = rows[skip:]
     col = {k: [r[k] for r in rows] for k in rows[0]}
-    out = {k: stats(col[k]) for k in ("wall", "cpu", "step", "transfer", "rotation",
-                                      "assembly", "solve")}
-    out["step_other"] = stats(np.array(col["step"]) - np.array(col["rotation"])
-                              - np.array(col["assembly"]) - np.array(col["solve"]))
+    out = {
+        k: stats(col[k])
+        for k in ("wall", "cpu", "step", "transfer", "rotation", "assembly", "solve")
+    }
+    out["step_other"] = stats(
+        np.array(col["step"])
+        - np.array(col["rotation"])
+        - np.array(col["assembly"])
+        - np.array(col["solve"])
+    )
     out["iterations_mean"] = float(np.mean(col["iterations"]))
     out["factorizations"] = int(np.sum(col["factorizations"]))
     out["frames"] = len(rows)
@@ -205,8 +226,10 @@ def frame_bytes(fine, point_bytes):
         # points gathered (each once at best); vertex pass: offsets 8, ids 4 per incident
         # triangle (3 per triangle in all) and the triangle normals read back (each once
         # at best), 12 bytes written per vertex
-        "normals_recompute": nt * (8 + 24 + 24) + nv * 3 * point_bytes
-        + nv * (8 + 12) + nt * (3 * 4 + 24),
+        "normals_recompute": nt * (8 + 24 + 24)
+        + nv * 3 * point_bytes
+        + nv * (8 + 12)
+        + nt * (3 * 4 + 24),
     }
 
 
@@ -215,21 +238,35 @@ def main():
     ap.add_argument("--frames", type=int, default=60)
     ap.add_argument("--vertices", type=int, default=1_000_000)
     ap.add_argument("--elements", type=int, default=3000)
-    ap.add_argument("--grab-repeats", type=int, default=3,
-                    help="grab/release runs per mode (synchronous, background); 0: none")
+    ap.add_argument(
+        "--grab-repeats",
+        type=int,
+        default=3,
+        help="grab/release runs per mode (synchronous, background); 0: none",
+    )
     ap.add_argument("--drag-frames", type=int, default=60)
-    ap.add_argument("--passes", default="1,2",
-                    help="thread counts of the frame-time passes ('' for none)")
-    ap.add_argument("--point-normals", choices=("transform", "recompute"),
-                    default="transform",
-                    help="the session's point_normals of the frame_ms passes (its default; "
-                         "the other is timed beside it on 2 threads)")
-    ap.add_argument("--float-points", action="store_true",
-                    help="single precision surface points (the session's transfer writes "
-                         "the embedded surface's point type)")
-    ap.add_argument("--save", metavar="DIR",
-                    help="also write the FE mesh and the embedded surface (DIR/fe.vtu, "
-                         "DIR/embedded.vtp: the inputs of build/bin/hoembedTransferBench)")
+    ap.add_argument(
+        "--passes", default="1,2", help="thread counts of the frame-time passes ('' for none)"
+    )
+    ap.add_argument(
+        "--point-normals",
+        choices=("transform", "recompute"),
+        default="transform",
+        help="the session's point_normals of the frame_ms passes (its default; "
+        "the other is timed beside it on 2 threads)",
+    )
+    ap.add_argument(
+        "--float-points",
+        action="store_true",
+        help="single precision surface points (the session's transfer writes "
+        "the embedded surface's point type)",
+    )
+    ap.add_argument(
+        "--save",
+        metavar="DIR",
+        help="also write the FE mesh and the embedded surface (DIR/fe.vtu, "
+        "DIR/embedded.vtp: the inputs of build/bin/hoembedTransferBench)",
+    )
     args = ap.parse_args()
     bandwidth = stream_bandwidth()
     load_start = os.getloadavg()
@@ -249,16 +286,25 @@ def main():
         # the plan keeps the surface's point type for its output (the rest normals of
         # transform mode are then those of the rounded points, as the filter's)
         embedded.points = np.asarray(embedded.points, dtype=np.float32)
-    session = LiveSession(fe, embedded, fixed=default_clamp(fe, builtin=True),
-                          point_normals=args.point_normals)
+    session = LiveSession(
+        fe, embedded, fixed=default_clamp(fe, builtin=True), point_normals=args.point_normals
+    )
     modes = ("recompute", "transform")
     point_bytes = session.transfer.points.dtype.itemsize
     threads0 = vtkSMPTools.GetEstimatedNumberOfThreads()
-    result = {"vertices": int(fine.n_points), "triangles": int(fine.n_cells),
-              "elements": int(fe.n_cells), "fe_nodes": int(fe.n_points),
-              "frames": args.frames, "setup_s": setup, "load_average_start": load_start,
-              "point_normals": args.point_normals, "output_point_bytes": point_bytes,
-              "stream_bandwidth_GBps": bandwidth / 1e9, "passes": {}}
+    result = {
+        "vertices": int(fine.n_points),
+        "triangles": int(fine.n_cells),
+        "elements": int(fe.n_cells),
+        "fe_nodes": int(fe.n_points),
+        "frames": args.frames,
+        "setup_s": setup,
+        "load_average_start": load_start,
+        "point_normals": args.point_normals,
+        "output_point_bytes": point_bytes,
+        "stream_bandwidth_GBps": bandwidth / 1e9,
+        "passes": {},
+    }
     skip = min(5, args.frames // 4)
     for threads in [int(t) for t in args.passes.split(",") if t]:
         vtkSMPTools.Initialize(threads)
@@ -268,7 +314,8 @@ def main():
         rows, _ = run_pass(session, args.frames)
         session.point_normals = args.point_normals
         result["passes"][f"{threads} thread{'s' if threads > 1 else ''}, no point normals"] = (
-            summarise(rows, skip))
+            summarise(rows, skip)
+        )
         result["grabbed_nodes"] = grabbed
         if threads == 2:  # the other point normals mode, beside it
             other = next(m for m in modes if m != args.point_normals)
@@ -290,10 +337,13 @@ def main():
         cos = np.clip(np.einsum("ij,ij->i", normals["recompute"], normals["transform"]), -1, 1)
         ang = np.degrees(np.arccos(cos))
         result["normals_angle_deg"] = {
-            "median": float(np.median(ang)), "p99": float(np.percentile(ang, 99)),
-            "p999": float(np.percentile(ang, 99.9)), "max": float(ang.max()),
+            "median": float(np.median(ang)),
+            "p99": float(np.percentile(ang, 99)),
+            "p999": float(np.percentile(ang, 99.9)),
+            "max": float(ang.max()),
             "inverted_elements": int(session.transfer.driver.number_of_inverted_cells),
-            "folded_normals": int(folded)}
+            "folded_normals": int(folded),
+        }
         session.release()
     if args.grab_repeats > 0:
         # the grab/release stall: synchronous refactorisation against the background
@@ -343,35 +393,58 @@ def main():
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "bench_live.json").write_text(json.dumps(result, indent=1))
     for name, p in result["passes"].items():
-        print(f"{name:<45} frame {p['wall']['median_ms']:6.1f} ms (cpu {p['cpu']['median_ms']:6.1f})"
-              f"  step {p['step']['median_ms']:5.1f} [rot {p['rotation']['median_ms']:.1f} "
-              f"asm {p['assembly']['median_ms']:.1f} solve {p['solve']['median_ms']:.1f} "
-              f"other {p['step_other']['median_ms']:.1f}; {p['iterations_mean']:.1f} it]"
-              f"  transfer {p['transfer']['median_ms']:5.1f}"
-              + (f"  render {p['render']['median_ms']:.1f}" if "render" in p else "")
-              + f"  grab frame {p['grab_frame_ms']:.0f}")
+        print(
+            f"{name:<45} frame {p['wall']['median_ms']:6.1f} ms (cpu {p['cpu']['median_ms']:6.1f})"
+            f"  step {p['step']['median_ms']:5.1f} [rot {p['rotation']['median_ms']:.1f} "
+            f"asm {p['assembly']['median_ms']:.1f} solve {p['solve']['median_ms']:.1f} "
+            f"other {p['step_other']['median_ms']:.1f}; {p['iterations_mean']:.1f} it]"
+            f"  transfer {p['transfer']['median_ms']:5.1f}"
+            + (f"  render {p['render']['median_ms']:.1f}" if "render" in p else "")
+            + f"  grab frame {p['grab_frame_ms']:.0f}"
+        )
     for mode, g in result.get("grab_release", {}).items():
         if mode == "drag_frames":
             continue
-        print(f"grab/release, {mode:<12} grab frame {g['grab_frame_ms']['median']:6.1f} ms "
-              f"(max {g['grab_frame_ms']['max']:.1f}), release frame "
-              f"{g['release_frame_ms']['median']:6.1f} ms (max {g['release_frame_ms']['max']:.1f}), "
-              f"drag {g['drag_frame_ms']['median']:.1f} ms ({g['drag_iterations_mean']:.1f} it), "
-              f"free {g['free_frame_ms']['median']:.1f} ms ({g['free_iterations_mean']:.1f} it), "
-              f"worst frame {g['worst_frame_ms']:.1f} ms, factor taken after "
-              f"{g['grab_factor_taken_after_frames']} frames")
+        print(
+            f"grab/release, {mode:<12} grab frame {g['grab_frame_ms']['median']:6.1f} ms "
+            f"(max {g['grab_frame_ms']['max']:.1f}), release frame "
+            f"{g['release_frame_ms']['median']:6.1f} ms (max {g['release_frame_ms']['max']:.1f}), "
+            f"drag {g['drag_frame_ms']['median']:.1f} ms ({g['drag_iterations_mean']:.1f} it), "
+            f"free {g['free_frame_ms']['median']:.1f} ms ({g['free_iterations_mean']:.1f} it), "
+            f"worst frame {g['worst_frame_ms']:.1f} ms, factor taken after "
+            f"{g['grab_factor_taken_after_frames']} frames"
+        )
     if "bytes_per_frame" in result:
         for k, v in result["bytes_per_frame"].items():
-            print(f"bytes per frame, {k:<18} {v / 1e6:7.1f} MB = "
-                  f"{result['stream_ms_per_frame'][k]:.2f} ms at the stream bandwidth "
-                  f"{bandwidth / 1e9:.1f} GB/s (numpy copy, read + write)")
+            print(
+                f"bytes per frame, {k:<18} {v / 1e6:7.1f} MB = "
+                f"{result['stream_ms_per_frame'][k]:.2f} ms at the stream bandwidth "
+                f"{bandwidth / 1e9:.1f} GB/s (numpy copy, read + write)"
+            )
     # the last line: the figures of the issue, in one object (bench_live.json has all)
-    keys = ("frame_ms", "vertices", "elements", "point_normals", "step_ms", "solve_ms",
-            "assembly_ms", "transfer_ms", "normals_ms", "frame_ms_recompute_normals",
-            "normals_ms_recompute", "frame_ms_transform_normals", "normals_ms_transform",
-            "frame_ms_1_thread", "grab_release_worst_ms", "normals_angle_deg", "bytes_per_frame",
-            "stream_bandwidth_GBps", "stream_ms_per_frame", "load_average_start",
-            "load_average_end")
+    keys = (
+        "frame_ms",
+        "vertices",
+        "elements",
+        "point_normals",
+        "step_ms",
+        "solve_ms",
+        "assembly_ms",
+        "transfer_ms",
+        "normals_ms",
+        "frame_ms_recompute_normals",
+        "normals_ms_recompute",
+        "frame_ms_transform_normals",
+        "normals_ms_transform",
+        "frame_ms_1_thread",
+        "grab_release_worst_ms",
+        "normals_angle_deg",
+        "bytes_per_frame",
+        "stream_bandwidth_GBps",
+        "stream_ms_per_frame",
+        "load_average_start",
+        "load_average_end",
+    )
     print(json.dumps({k: result[k] for k in keys if k in result}))
 
 

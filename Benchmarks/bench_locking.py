@@ -9,6 +9,7 @@ DOF curves, and for each tet10 mesh the DOF a tet4 mesh needs for the same error
 so, when no tet4 mesh is that accurate). The paper reports up to 40x.
 Writes Benchmarks/results/bench_locking.json and bench_locking.png.
 """
+
 import json
 import pathlib
 import sys
@@ -29,8 +30,15 @@ E, NU, RHO = 1.0e9, 0.49, 1000.0
 def tip_deflection(n, order):
     mesh = box_tet_mesh(n, (L, H, H), order)
     t0 = time.perf_counter()
-    f = hoembed.simulate(mesh, young=E, poisson=NU, density=RHO, gravity=(0, 0, -9.81),
-                         fixed={"plane": ((0, 0, 0), (1, 0, 0))}, static=True)[0]
+    f = hoembed.simulate(
+        mesh,
+        young=E,
+        poisson=NU,
+        density=RHO,
+        gravity=(0, 0, -9.81),
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+        static=True,
+    )[0]
     dt = time.perf_counter() - t0
     tip = np.isclose(mesh.points[:, 0], L)
     return -float(f.point_data["Displacement"][tip, 2].mean()), 3 * mesh.n_points, dt
@@ -55,17 +63,26 @@ def main():
     ref_n = (48, 6, 6)
     ref, ref_dof, ref_t = tip_deflection(ref_n, 2)
     check, check_dof, _ = tip_deflection((40, 5, 5), 2)
-    inertia = H ** 4 / 12.0
+    inertia = H**4 / 12.0
     q = RHO * 9.81 * H * H
-    beam_theory = q * L ** 4 / (8 * E * inertia)
+    beam_theory = q * L**4 / (8 * E * inertia)
     rows = {1: [], 2: []}
-    series = {1: [(8, 1, 1), (16, 2, 2), (24, 3, 3), (32, 4, 4), (48, 6, 6), (64, 8, 8), (96, 12, 12)],
-              2: [(4, 1, 1), (8, 1, 1), (8, 2, 2), (16, 2, 2), (24, 3, 3), (32, 4, 4)]}
+    series = {
+        1: [(8, 1, 1), (16, 2, 2), (24, 3, 3), (32, 4, 4), (48, 6, 6), (64, 8, 8), (96, 12, 12)],
+        2: [(4, 1, 1), (8, 1, 1), (8, 2, 2), (16, 2, 2), (24, 3, 3), (32, 4, 4)],
+    }
     for order, meshes in series.items():
         for n in meshes:
             tip, dof, secs = tip_deflection(n, order)
-            rows[order].append({"n": list(n), "dof": dof, "tip": tip,
-                                "rel_error": abs(tip - ref) / ref, "solve_s": secs})
+            rows[order].append(
+                {
+                    "n": list(n),
+                    "dof": dof,
+                    "tip": tip,
+                    "rel_error": abs(tip - ref) / ref,
+                    "solve_s": secs,
+                }
+            )
     d4 = np.array([r["dof"] for r in rows[1]], float)
     e4 = np.array([r["rel_error"] for r in rows[1]], float)
     ratios = []
@@ -79,10 +96,16 @@ def main():
     result = {
         "benchmark": "bench_locking",
         "beam": {"length": L, "height": H, "young": E, "poisson": NU, "density": RHO},
-        "reference": {"order": 2, "n": list(ref_n), "dof": ref_dof, "tip": ref,
-                      "solve_s": ref_t, "next_coarser_tet10_tip": check,
-                      "next_coarser_rel_diff": abs(check - ref) / ref,
-                      "euler_bernoulli_tip": beam_theory},
+        "reference": {
+            "order": 2,
+            "n": list(ref_n),
+            "dof": ref_dof,
+            "tip": ref,
+            "solve_s": ref_t,
+            "next_coarser_tet10_tip": check,
+            "next_coarser_rel_diff": abs(check - ref) / ref,
+            "euler_bernoulli_tip": beam_theory,
+        },
         "tet4": rows[1],
         "tet10": rows[2],
         "max_tet4_dof_ratio_interpolated": max(interp) if interp else None,
@@ -93,12 +116,18 @@ def main():
     (out / "bench_locking.json").write_text(json.dumps(result, indent=2))
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, ax = plt.subplots(figsize=(6, 4.5))
         for order, lab, mk in ((1, "tet4", "o-"), (2, "tet10", "s-")):
-            ax.loglog([r["dof"] for r in rows[order]], [r["rel_error"] for r in rows[order]],
-                      mk, label=lab)
+            ax.loglog(
+                [r["dof"] for r in rows[order]],
+                [r["rel_error"] for r in rows[order]],
+                mk,
+                label=lab,
+            )
         ax.set_xlabel("degrees of freedom")
         ax.set_ylabel("relative tip-deflection error")
         ax.set_title(f"Cantilever under gravity, nu = {NU}")

@@ -4,6 +4,7 @@
 
 Writes Benchmarks/results/bench_mesher.json (and prints it). Skips when ../shared is absent.
 """
+
 import argparse
 import json
 import pathlib
@@ -17,12 +18,23 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "Testing" / "Python"))
 import hoembed  # noqa: E402
 from boundary_crossings import crossing_face_pairs  # noqa: E402
-from mesh_checks import (boundary_mid_nodes, distances_to_surface, straight_volumes,  # noqa: E402
-                         surface_volume, tet10_volumes)
+from mesh_checks import (  # noqa: E402
+    boundary_mid_nodes,
+    distances_to_surface,
+    straight_volumes,
+    surface_volume,
+    tet10_volumes,
+)
 
 DATA = HERE.parent.parent / "shared" / "data" / "meshes"
-MESHES = ["bunny_watertight", "armadillo", "fertility", "rocker-arm", "scorpion_low_resolution",
-          "dragon"]
+MESHES = [
+    "bunny_watertight",
+    "armadillo",
+    "fertility",
+    "rocker-arm",
+    "scorpion_low_resolution",
+    "dragon",
+]
 
 
 def field(mesh, name):
@@ -49,13 +61,18 @@ def measure(name, surface, n):
     v_curved = float(tet10_volumes(mesh).sum())
     v_straight = float(straight_volumes(mesh).sum())
     return dict(
-        mesh=name, target=n, seconds=round(seconds, 3), cells=mesh.n_cells, points=mesh.n_points,
+        mesh=name,
+        target=n,
+        seconds=round(seconds, 3),
+        cells=mesh.n_cells,
+        points=mesh.n_points,
         surface_triangles=surface.n_cells,
         min_scaled_jacobian=float(mesh.cell_data["MinScaledJacobian"].min()),
         # per-cell minimum over the cubic lattice (20 points) of the curved tet10, det J > 0
         # proven by the Bernstein bound: minimum, 1st percentile, median
-        scaled_jacobian_min_p1_median=[float(x) for x in np.percentile(
-            mesh.cell_data["MinScaledJacobian"], [0, 1, 50])],
+        scaled_jacobian_min_p1_median=[
+            float(x) for x in np.percentile(mesh.cell_data["MinScaledJacobian"], [0, 1, 50])
+        ],
         cells_below_0_05=int(np.sum(mesh.cell_data["MinScaledJacobian"] < 0.05)),
         cell_ratio_to_target=round(mesh.n_cells / n, 3),
         boundary_mid_nodes=int(len(mids)),
@@ -67,7 +84,8 @@ def measure(name, surface, n):
         max_surface_deviation=float(mesh.field_data["MaxSurfaceDeviation"][0]),
         volume_error_curved=(v_curved - v_fine) / v_fine,
         volume_error_straight=(v_straight - v_fine) / v_fine,
-        warnings=warnings)
+        warnings=warnings,
+    )
 
 
 def main():

@@ -19,6 +19,7 @@ JSON: Benchmarks/results/<--out> (written after every run). A run past the time 
 recorded as such, with the mesher's figures when only the checks ran out of time. Skips
 cleanly without the data folders.
 """
+
 import argparse
 import json
 import pathlib
@@ -37,17 +38,20 @@ def one_run(name, count, order, threads):
     """Runs in the child: mesh, measure, print JSON lines (PARTIAL before the checks)."""
     import numpy as np
     import pyvista as pv
+
     sys.path.insert(0, str(ROOT / "Testing" / "Python"))
+    from hoembed.hoembedFiltersMeshing import vtkTet10Mesher
     from vtkmodules.vtkCommonCore import vtkSMPTools
     from vtkmodules.vtkCommonDataModel import vtkQuadraticTetra
-    from hoembed.hoembedFiltersMeshing import vtkTet10Mesher
 
     vtkSMPTools.Initialize(threads)
     if name == "gen:ribbed_beam":
         from test_mesher_thin import ribbed_beam
+
         surface = ribbed_beam()
     elif name == "gen:cube_with_cavity":
         from test_mesher_any_surface import cube_with_cavity
+
         surface = cube_with_cavity()
     else:
         path = next(d / name for d in DATA if (d / name).exists())
@@ -63,26 +67,42 @@ def one_run(name, count, order, threads):
     alg.Update()
     seconds = time.perf_counter() - t0
     grid = pv.wrap(alg.GetOutput())
-    rec = dict(input=name, triangles=surface.n_cells, target=count, order=order,
-               threads=threads, seconds=round(seconds, 2), cells=grid.n_cells)
+    rec = dict(
+        input=name,
+        triangles=surface.n_cells,
+        target=count,
+        order=order,
+        threads=threads,
+        seconds=round(seconds, 2),
+        cells=grid.n_cells,
+    )
     if grid.n_cells == 0:
         rec["error"] = "no output"
         return rec
     fd = grid.field_data
     q = np.sort(np.asarray(grid.cell_data["MinScaledJacobian"]))
-    rec.update(ratio=round(grid.n_cells / count, 3), msj_min=float(q[0]),
-               msj_p1=float(q[int(0.01 * (len(q) - 1) + 0.5)]), msj_median=float(q[(len(q) - 1) // 2]),
-               below_floor=int((q < 0.05).sum()),
-               crossings_found=int(fd["BoundaryCrossingsFound"][0]),
-               crossings_left=int(fd["BoundaryCrossingsLeft"][0]),
-               wrapped=bool(fd["EnvelopeOffset"][0] > 0))
+    rec.update(
+        ratio=round(grid.n_cells / count, 3),
+        msj_min=float(q[0]),
+        msj_p1=float(q[int(0.01 * (len(q) - 1) + 0.5)]),
+        msj_median=float(q[(len(q) - 1) // 2]),
+        below_floor=int((q < 0.05).sum()),
+        crossings_found=int(fd["BoundaryCrossingsFound"][0]),
+        crossings_left=int(fd["BoundaryCrossingsLeft"][0]),
+        wrapped=bool(fd["EnvelopeOffset"][0] > 0),
+    )
     print("PARTIAL " + json.dumps(rec), flush=True)
     # det J on the quartic lattice with VTK's own tet10 derivatives
     npc = 10 if order == 2 else 4
     conn = grid.cells.reshape(grid.n_cells, -1)[:, 1:]
     X = grid.points[conn]
-    lattice = [(i / 4, j / 4, k / 4) for i in range(5) for j in range(5) for k in range(5)
-               if i + j + k <= 4]
+    lattice = [
+        (i / 4, j / 4, k / 4)
+        for i in range(5)
+        for j in range(5)
+        for k in range(5)
+        if i + j + k <= 4
+    ]
     worst = np.full(grid.n_cells, np.inf)
     for p in lattice:
         if npc == 10:
@@ -96,16 +116,21 @@ def one_run(name, count, order, threads):
     rec["vtk_detj_nonpositive"] = int((worst <= 0).sum())
     if order == 2:
         from boundary_crossings import crossing_face_pairs
+
         rec["vtk_crossing_pairs"] = len(crossing_face_pairs(grid))
     return rec
 
 
 def print_table(results):
     """Per input: the tet10 run at 1000 in full, then per count and order the spread."""
+
     def q(r):
         return f"{r['msj_min']:.3f} / {r['msj_p1']:.3f} / {r['msj_median']:.2f}"
-    print("| input | s | cells (÷ target) | MSJ min / 1% / median | < 0.05 | crossings found / "
-          "left / VTK | det J ≤ 0 (VTK) | path |")
+
+    print(
+        "| input | s | cells (÷ target) | MSJ min / 1% / median | < 0.05 | crossings found / "
+        "left / VTK | det J ≤ 0 (VTK) | path |"
+    )
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for r in results:
         if r["target"] != 1000 or r["order"] != 2:
@@ -113,15 +138,20 @@ def print_table(results):
         if "msj_min" not in r:
             print(f"| {r['input']} | – | {r.get('error', '')[:60]} | | | | | |")
             continue
-        print(f"| {r['input']} | {r['seconds']} | {r['cells']} ({r['ratio']:.2f}) | {q(r)} | "
-              f"{r['below_floor']} | {r['crossings_found']} / {r['crossings_left']} / "
-              f"{r.get('vtk_crossing_pairs', '–')} | {r['vtk_detj_nonpositive']} | "
-              f"{'envelope' if r['wrapped'] else 'coarsened'} |")
+        print(
+            f"| {r['input']} | {r['seconds']} | {r['cells']} ({r['ratio']:.2f}) | {q(r)} | "
+            f"{r['below_floor']} | {r['crossings_found']} / {r['crossings_left']} / "
+            f"{r.get('vtk_crossing_pairs', '–')} | {r['vtk_detj_nonpositive']} | "
+            f"{'envelope' if r['wrapped'] else 'coarsened'} |"
+        )
     print()
-    print("| count, order | runs done / meshed | s max | cells ÷ target | median MSJ: "
-          "min / median over inputs | inputs < 0.2 | with cells < 0.05 | crossings left "
-          "/ VTK | det J ≤ 0 |")
+    print(
+        "| count, order | runs done / meshed | s max | cells ÷ target | median MSJ: "
+        "min / median over inputs | inputs < 0.2 | with cells < 0.05 | crossings left "
+        "/ VTK | det J ≤ 0 |"
+    )
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+
     def unchecked(rs):
         n = sum("vtk_detj_nonpositive" not in r for r in rs)
         return f" ({n} unchecked: time limit)" if n else ""
@@ -134,14 +164,16 @@ def print_table(results):
             continue
         med = sorted(r["msj_median"] for r in ok)
         ratio = [r["ratio"] for r in ok]
-        print(f"| {count}, tet{10 if order == 2 else 4} | {len(rs)} / {len(ok)} | "
-              f"{max(r['seconds'] for r in ok):.1f} | {min(ratio):.2f}–{max(ratio):.2f} | "
-              f"{med[0]:.2f} / {med[(len(med) - 1) // 2]:.2f} | "
-              f"{sum(m < 0.2 for m in med)} | {sum(r['below_floor'] > 0 for r in ok)} | "
-              f"{sum(r['crossings_left'] for r in ok)} / "
-              f"{sum(r.get('vtk_crossing_pairs', 0) for r in ok)} | "
-              f"{sum(r.get('vtk_detj_nonpositive', 0) for r in ok)}"
-              f"{unchecked(ok)} |")
+        print(
+            f"| {count}, tet{10 if order == 2 else 4} | {len(rs)} / {len(ok)} | "
+            f"{max(r['seconds'] for r in ok):.1f} | {min(ratio):.2f}–{max(ratio):.2f} | "
+            f"{med[0]:.2f} / {med[(len(med) - 1) // 2]:.2f} | "
+            f"{sum(m < 0.2 for m in med)} | {sum(r['below_floor'] > 0 for r in ok)} | "
+            f"{sum(r['crossings_left'] for r in ok)} / "
+            f"{sum(r.get('vtk_crossing_pairs', 0) for r in ok)} | "
+            f"{sum(r.get('vtk_detj_nonpositive', 0) for r in ok)}"
+            f"{unchecked(ok)} |"
+        )
     return 0
 
 
@@ -154,8 +186,11 @@ def main():
     ap.add_argument("--only", nargs="*")
     ap.add_argument("--out", default="bench_mesher_real.json")
     ap.add_argument("--child", nargs=4)
-    ap.add_argument("--table", action="store_true",
-                    help="print the Markdown tables of RESULTS.md from the JSON of --out")
+    ap.add_argument(
+        "--table",
+        action="store_true",
+        help="print the Markdown tables of RESULTS.md from the JSON of --out",
+    )
     args = ap.parse_args()
     if args.table:
         return print_table(json.loads((HERE / "results" / args.out).read_text()))
@@ -176,8 +211,7 @@ def main():
     results = []
     for name, count, order in runs:
         t0 = time.perf_counter()
-        cmd = [sys.executable, __file__, "--child", name, str(count), str(order),
-               str(args.threads)]
+        cmd = [sys.executable, __file__, "--child", name, str(count), str(order), str(args.threads)]
         try:
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
             stdout, stderr = p.stdout, p.stderr
@@ -195,10 +229,15 @@ def main():
             rec = dict(input=name, target=count, order=order, error=f"timeout {args.timeout} s")
         else:
             err = [ln for ln in stderr.splitlines() if "ERR" in ln or "Error" in ln]
-            rec = dict(input=name, target=count, order=order,
-                       error=(err[-1] if err else stderr[-300:]).strip()[-300:])
-        rec["warnings"] = [ln.split("WARN|", 1)[1].strip()[:300]
-                           for ln in stderr.splitlines() if "WARN|" in ln]
+            rec = dict(
+                input=name,
+                target=count,
+                order=order,
+                error=(err[-1] if err else stderr[-300:]).strip()[-300:],
+            )
+        rec["warnings"] = [
+            ln.split("WARN|", 1)[1].strip()[:300] for ln in stderr.splitlines() if "WARN|" in ln
+        ]
         rec["wall"] = round(time.perf_counter() - t0, 1)
         results.append(rec)
         print(json.dumps({k: v for k, v in rec.items() if k != "warnings"}), flush=True)

@@ -17,6 +17,7 @@ rigidly moved mesh finite.
 
 JSON: Benchmarks/results/bench_mesher_robust.json. Skips cleanly without the data folder.
 """
+
 import argparse
 import json
 import os
@@ -75,8 +76,14 @@ def nested():
 
 def fin():
     a = load("fandisk")
-    plane = pv.Plane(center=a.center, direction=(1, 1, 0), i_size=0.8 * a.length,
-                     j_size=0.3 * a.length, i_resolution=20, j_resolution=8).triangulate()
+    plane = pv.Plane(
+        center=a.center,
+        direction=(1, 1, 0),
+        i_size=0.8 * a.length,
+        j_size=0.3 * a.length,
+        i_resolution=20,
+        j_resolution=8,
+    ).triangulate()
     return a.merge(plane, merge_points=False)
 
 
@@ -88,8 +95,11 @@ def duplicated():
 def union():
     a = load("bunny_lowres")
     b = load("armadillo_lowres")
-    b.points = (b.points - b.center) * (0.6 * a.length / b.length) + a.center + \
-        np.array([0.25, 0, 0]) * a.length
+    b.points = (
+        (b.points - b.center) * (0.6 * a.length / b.length)
+        + a.center
+        + np.array([0.25, 0, 0]) * a.length
+    )
     return a.merge(b, merge_points=False)
 
 
@@ -121,15 +131,22 @@ CASES = {
 
 def exactness(surface, mesh, tmp):
     from bench_embedding_exact import TOOL, run_tool
+
     if not TOOL.is_file():
         return dict(skipped=f"{TOOL} missing")
     sfile, gfile = tmp / "s.vtp", tmp / "g.vtu"
     surface.save(sfile)
     mesh.save(gfile)
     r = run_tool(sfile, gfile, "normal-offset", os.cpu_count() or 1)
-    keys = ["surface_vertices", "vertices_checked", "count_dist_err_above_1e-8",
-            "count_residual_above_1e-10", "max_dist_err_rel", "max_residual_rel",
-            "vertices_inside_undecided"]
+    keys = [
+        "surface_vertices",
+        "vertices_checked",
+        "count_dist_err_above_1e-8",
+        "count_residual_above_1e-10",
+        "max_dist_err_rel",
+        "max_residual_rel",
+        "vertices_inside_undecided",
+    ]
     return {k: r[k] for k in keys if k in r}
 
 
@@ -161,16 +178,20 @@ def measure(name, make, n, tmp, exact):
     states = vtk_cell_validator_states(mesh)
     fd = {k: np.asarray(mesh.field_data[k][0]).tolist() for k in mesh.field_data.keys()}
     row.update(
-        completed=True, seconds=round(seconds, 3),
+        completed=True,
+        seconds=round(seconds, 3),
         seconds_per_100k_triangles=round(seconds * 1e5 / max(1, surface.n_cells), 3),
-        cells=mesh.n_cells, count_ratio=round(mesh.n_cells / n, 3),
+        cells=mesh.n_cells,
+        count_ratio=round(mesh.n_cells / n, 3),
         min_scaled_jacobian=float(q.min()),
         msj_quantiles={p: float(np.quantile(q, p / 100)) for p in (1, 5, 50)},
         cells_below_0_05=int((q < 0.05).sum()),
         bernstein_valid=bool(q.min() > 0),
         vtk_validator_invalid=int(np.count_nonzero(states & 0b100111)),
         vtk_boundary_crossings=len(crossing_face_pairs(mesh)),
-        field_data=fd, warnings=warnings)
+        field_data=fd,
+        warnings=warnings,
+    )
     if exact:
         row["exactness"] = exactness(surface, mesh, tmp)
     row["transfer_finite"] = transfer_finite(surface, mesh)
@@ -193,16 +214,28 @@ def main():
             row = measure(name, CASES[name], args.elements, pathlib.Path(tmp), not args.no_exact)
             rows.append(row)
             print(json.dumps(row), flush=True)
-    ok = [r for r in rows if r.get("completed") and r["bernstein_valid"] and
-          r["vtk_validator_invalid"] == 0 and r["vtk_boundary_crossings"] == 0 and
-          r["transfer_finite"] and r.get("exactness", {}).get("count_dist_err_above_1e-8", 0) == 0]
-    summary = dict(cases=len(rows), all_checks_passed=len(ok),
-                   worst_seconds_per_100k_triangles=max(
-                       (r["seconds_per_100k_triangles"] for r in rows if r.get("completed")),
-                       default=None))
+    ok = [
+        r
+        for r in rows
+        if r.get("completed")
+        and r["bernstein_valid"]
+        and r["vtk_validator_invalid"] == 0
+        and r["vtk_boundary_crossings"] == 0
+        and r["transfer_finite"]
+        and r.get("exactness", {}).get("count_dist_err_above_1e-8", 0) == 0
+    ]
+    summary = dict(
+        cases=len(rows),
+        all_checks_passed=len(ok),
+        worst_seconds_per_100k_triangles=max(
+            (r["seconds_per_100k_triangles"] for r in rows if r.get("completed")), default=None
+        ),
+    )
     out = pathlib.Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(dict(benchmark="mesher_robust", summary=summary, rows=rows), indent=1))
+    out.write_text(
+        json.dumps(dict(benchmark="mesher_robust", summary=summary, rows=rows), indent=1)
+    )
     print(json.dumps(summary))
     print(f"wrote {out}")
     return 0

@@ -18,6 +18,7 @@ JSON in Benchmarks/results/bench_mpi.json. Needs `make paraview`.
 
     xvfb-run -a .venv/bin/python Benchmarks/bench_mpi.py [--theta 2000 --phi 1002]
 """
+
 import argparse
 import json
 import os
@@ -40,18 +41,31 @@ def cpu_summary(runs):
     give (the busier process against 1 process), and how much of its wall time each
     process had a core (CPU / wall: below 1, it waited for one)."""
     med = statistics.median
-    work = {n: [[p["embedding_cpu_s"] + p["transfer_cpu_s"] for p in r["per_process"]] for r in v]
-            for n, v in runs.items()}
-    emb = {n: [[p["embedding_cpu_s"] for p in r["per_process"]] for r in v] for n, v in runs.items()}
-    share = {n: [min((p["embedding_cpu_s"] + p["transfer_cpu_s"]) /
-                     (p["embedding_local_s"] + p["transfer_local_s"]) for p in r["per_process"])
-                 for r in v] for n, v in runs.items()}
+    work = {
+        n: [[p["embedding_cpu_s"] + p["transfer_cpu_s"] for p in r["per_process"]] for r in v]
+        for n, v in runs.items()
+    }
+    emb = {
+        n: [[p["embedding_cpu_s"] for p in r["per_process"]] for r in v] for n, v in runs.items()
+    }
+    share = {
+        n: [
+            min(
+                (p["embedding_cpu_s"] + p["transfer_cpu_s"])
+                / (p["embedding_local_s"] + p["transfer_local_s"])
+                for p in r["per_process"]
+            )
+            for r in v
+        ]
+        for n, v in runs.items()
+    }
     one = med(w[0] for w in work[1])
     return {
         "cpu_1proc_embedding_plus_transfer_s_median": one,
         "cpu_2proc_per_process_s_median": [med(w[k] for w in work[2]) for k in range(2)],
         "cpu_2proc_extra_over_1proc_s_median": med(sum(w) for w in work[2]) - one,
-        "cpu_2proc_extra_embedding_s_median": med(sum(w) for w in emb[2]) - med(w[0] for w in emb[1]),
+        "cpu_2proc_extra_embedding_s_median": med(sum(w) for w in emb[2])
+        - med(w[0] for w in emb[1]),
         "speedup_2proc_cpu_bound": one / med(max(w) for w in work[2]),
         "cpu_share_of_wall_min_process": {n: v for n, v in share.items()},
     }
@@ -60,20 +74,29 @@ def cpu_summary(runs):
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--theta", type=int, default=2000)
-    p.add_argument("--phi", type=int, default=1002)      # 2000 * 1000 + 2 vertices
+    p.add_argument("--phi", type=int, default=1002)  # 2000 * 1000 + 2 vertices
     p.add_argument("--frames", type=int, default=10)
     p.add_argument("--elements", type=int, default=1000)
     p.add_argument("--repeats", type=int, default=2)
-    p.add_argument("--perf", metavar="DIR",
-                   help="record each process with `perf record` (DWARF call graphs) into "
-                        "DIR/perf.N.REP.RANK "
-                        "(the timed parts only: the embedding and the transfer re-runs)")
-    p.add_argument("--perf-parts", default="embedding,transfer",
-                   help="what --perf records: embedding, transfer, frame (the proxy's update "
-                        "of each frame: the stepper's step and the transfer), comma-separated")
-    p.add_argument("--mesh-fine", action="store_true",
-                   help="mesh the fine surface itself (gathered; minutes at 2M vertices) "
-                        "instead of the same shape at 200 x 102")
+    p.add_argument(
+        "--perf",
+        metavar="DIR",
+        help="record each process with `perf record` (DWARF call graphs) into "
+        "DIR/perf.N.REP.RANK "
+        "(the timed parts only: the embedding and the transfer re-runs)",
+    )
+    p.add_argument(
+        "--perf-parts",
+        default="embedding,transfer",
+        help="what --perf records: embedding, transfer, frame (the proxy's update "
+        "of each frame: the stepper's step and the transfer), comma-separated",
+    )
+    p.add_argument(
+        "--mesh-fine",
+        action="store_true",
+        help="mesh the fine surface itself (gathered; minutes at 2M vertices) "
+        "instead of the same shape at 200 x 102",
+    )
     args = p.parse_args()
     if not (ROOT / "build-paraview" / "build" / "lib" / "paraview-plugins" / "HOEmbed").is_dir():
         print("bench_mpi: the ParaView plugin is not built (make paraview); skipped")
@@ -93,33 +116,60 @@ def main():
                     os.makedirs(args.perf, exist_ok=True)
                     # started paused (-D -1); pv_bench_pieces.py enables it over the timed
                     # parts only, through the control fifo named by HOEMBED_PERF_CTL
-                    prefix = ["sh", "-c", 'f="$0.$OMPI_COMM_WORLD_RANK"; rm -f "$f.ctl" "$f.ack"; '
-                              'mkfifo "$f.ctl" "$f.ack"; export HOEMBED_PERF_CTL="$f"; '
-                              'exec perf record -q --call-graph dwarf,16384 -F 499 -D -1 '
-                              '--control "fifo:$f.ctl,$f.ack" -o "$f" -- "$@"',
-                              str(pathlib.Path(args.perf).resolve() / f"perf.{n}.{rep}")]
-                cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(n)] + prefix + [
-                       str(ROOT / "scripts" / "pvbatch"), "--mpi", "--symmetric",
-                       str(HERE / "pv_bench_pieces.py"), str(pvtp), str(out),
-                       str(args.frames), str(args.elements)] + ([str(coarse)] if coarse else [])
+                    prefix = [
+                        "sh",
+                        "-c",
+                        'f="$0.$OMPI_COMM_WORLD_RANK"; rm -f "$f.ctl" "$f.ack"; '
+                        'mkfifo "$f.ctl" "$f.ack"; export HOEMBED_PERF_CTL="$f"; '
+                        "exec perf record -q --call-graph dwarf,16384 -F 499 -D -1 "
+                        '--control "fifo:$f.ctl,$f.ack" -o "$f" -- "$@"',
+                        str(pathlib.Path(args.perf).resolve() / f"perf.{n}.{rep}"),
+                    ]
+                cmd = (
+                    ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(n)]
+                    + prefix
+                    + [
+                        str(ROOT / "scripts" / "pvbatch"),
+                        "--mpi",
+                        "--symmetric",
+                        str(HERE / "pv_bench_pieces.py"),
+                        str(pvtp),
+                        str(out),
+                        str(args.frames),
+                        str(args.elements),
+                    ]
+                    + ([str(coarse)] if coarse else [])
+                )
                 load_before = os.getloadavg()
                 r = subprocess.run(cmd, capture_output=True, text=True, env=env)
                 if r.returncode != 0:
                     print(r.stdout[-2000:], r.stderr[-2000:])
                     return 1
-                runs[n].append(dict(json.loads(out.read_text()), load_avg_before=load_before,
-                                    load_avg_after=os.getloadavg()))
+                runs[n].append(
+                    dict(
+                        json.loads(out.read_text()),
+                        load_avg_before=load_before,
+                        load_avg_after=os.getloadavg(),
+                    )
+                )
                 print(n, runs[n][-1], flush=True)
     best = {n: min(v, key=lambda x: x["embedding_plus_transfer_s"]) for n, v in runs.items()}
     result = {
         "surface_vertices": args.theta * (args.phi - 2) + 2,
-        "frames": args.frames, "target_elements": args.elements, "threads_per_process": 1,
-        "mesher_input": "the fine surface, gathered" if args.mesh_fine else "the same shape, 200 x 102",
-        "runs": runs, "best": best,
-        "speedup_2proc_embedding_plus_transfer":
-            best[1]["embedding_plus_transfer_s"] / best[2]["embedding_plus_transfer_s"],
-        "speedup_2proc_embedding": min(r["embedding_s"] for r in runs[1]) / min(r["embedding_s"] for r in runs[2]),
-        "speedup_2proc_transfer": min(r["transfer_s"] for r in runs[1]) / min(r["transfer_s"] for r in runs[2]),
+        "frames": args.frames,
+        "target_elements": args.elements,
+        "threads_per_process": 1,
+        "mesher_input": "the fine surface, gathered"
+        if args.mesh_fine
+        else "the same shape, 200 x 102",
+        "runs": runs,
+        "best": best,
+        "speedup_2proc_embedding_plus_transfer": best[1]["embedding_plus_transfer_s"]
+        / best[2]["embedding_plus_transfer_s"],
+        "speedup_2proc_embedding": min(r["embedding_s"] for r in runs[1])
+        / min(r["embedding_s"] for r in runs[2]),
+        "speedup_2proc_transfer": min(r["transfer_s"] for r in runs[1])
+        / min(r["transfer_s"] for r in runs[2]),
     }
     result.update(cpu_summary(runs))
     (HERE / "results").mkdir(exist_ok=True)

@@ -49,51 +49,67 @@ Skips cleanly (exit 0, a note in the JSON) when the mesh folder is absent.
 
 Usage: .venv/bin/python Benchmarks/bench_shape_real.py [mesh ...]
 """
+
 import json
 import os
 import pathlib
 import sys
 import time
 
+import hoembed
 import numpy as np
 import pyvista as pv
-
-import hoembed
 
 HERE = pathlib.Path(__file__).resolve().parent
 RESULTS = HERE / "results"
 MESH_DIR = HERE.parent.parent / "shared" / "data" / "meshes"
 
-N_ELEMENTS = 1000          # tet10 elements
-REFERENCE_FACTOR = 8       # the fine reference mesh has this many times more tet10 elements
+N_ELEMENTS = 1000  # tet10 elements
+REFERENCE_FACTOR = 8  # the fine reference mesh has this many times more tet10 elements
 TARGET_DISPLACEMENT = 0.10  # largest tet10 nodal displacement / bbox diagonal
 NU, RHO, G = 0.49, 1000.0, 9.81
-FAR = 0.01                 # "far outside": closest distance to the FE mesh > FAR * diagonal
+FAR = 0.01  # "far outside": closest distance to the FE mesh > FAR * diagonal
 
 # Which part is clamped (nodes within `fraction` of the extent from one end of `axis`)
 # and where gravity points, per mesh (the models' own frames: y is up in all three).
 CASES = {
-    "armadillo": dict(axis=1, side="min", fraction=0.12, gravity=(0.0, 0.0, -1.0),
-                      view=((1.0, 0.3, 0.4), (0.0, 1.0, 0.0)),
-                      what="feet clamped (lowest 12% in y), gravity along -z: the body "
-                           "leans forward"),
-    "scorpion_low_resolution": dict(axis=1, side="min", fraction=0.10, gravity=(0.0, -1.0, 0.0),
-                                    view=((1.0, 0.5, 0.6), (0.0, 1.0, 0.0)),
-                                    what="legs clamped (lowest 10% in y), gravity along -y: "
-                                         "the raised tail and claws sag"),
-    "dragon": dict(axis=2, side="min", fraction=0.15, gravity=(0.0, -1.0, 0.0),
-                   view=((1.0, 0.3, 0.1), (0.0, 1.0, 0.0)),
-                   what="one end clamped (lowest 15% in z), gravity along -y: a cantilever"),
+    "armadillo": dict(
+        axis=1,
+        side="min",
+        fraction=0.12,
+        gravity=(0.0, 0.0, -1.0),
+        view=((1.0, 0.3, 0.4), (0.0, 1.0, 0.0)),
+        what="feet clamped (lowest 12% in y), gravity along -z: the body leans forward",
+    ),
+    "scorpion_low_resolution": dict(
+        axis=1,
+        side="min",
+        fraction=0.10,
+        gravity=(0.0, -1.0, 0.0),
+        view=((1.0, 0.5, 0.6), (0.0, 1.0, 0.0)),
+        what="legs clamped (lowest 10% in y), gravity along -y: the raised tail and claws sag",
+    ),
+    "dragon": dict(
+        axis=2,
+        side="min",
+        fraction=0.15,
+        gravity=(0.0, -1.0, 0.0),
+        view=((1.0, 0.3, 0.1), (0.0, 1.0, 0.0)),
+        what="one end clamped (lowest 15% in z), gravity along -y: a cantilever",
+    ),
 }
 
 # (label, FE mesh, embedding method, normals mode of the transfer)
-VARIANTS = [("tet4 + barycentric", "tet4", "barycentric", "recompute"),
-            ("tet10 + barycentric", "tet10", "barycentric", "recompute"),
-            ("tet10 + normal-offset", "tet10", "normal-offset", "recompute"),
-            ("tet10 + normal-offset, deformed normals", "tet10", "normal-offset", "deform")]
+VARIANTS = [
+    ("tet4 + barycentric", "tet4", "barycentric", "recompute"),
+    ("tet10 + barycentric", "tet10", "barycentric", "recompute"),
+    ("tet10 + normal-offset", "tet10", "normal-offset", "recompute"),
+    ("tet10 + normal-offset, deformed normals", "tet10", "normal-offset", "deform"),
+]
 
 
 # ---------------------------------------------------------------- shape distortion
+
 
 def triangles_of(surface):
     faces = np.asarray(surface.faces).reshape(-1, 4)
@@ -141,8 +157,9 @@ class ShapeDistortion:
         self.used = self.degree > 0
         deg = np.maximum(self.degree, 1)
         # RMS rest edge length of the one-ring: a uniform scaling by s then reads |s - 1|
-        self.edge_scale = np.sqrt(np.bincount(i, weights=np.einsum("ea,ea->e", self.a, self.a),
-                                              minlength=n) / deg)
+        self.edge_scale = np.sqrt(
+            np.bincount(i, weights=np.einsum("ea,ea->e", self.a, self.a), minlength=n) / deg
+        )
         self.rest_normals, self.good_tris = unit_normals(self.x, tris)
 
     def __call__(self, deformed_points):
@@ -174,19 +191,24 @@ def summary(values, mask=None):
     v = values if mask is None else values[mask]
     if v.size == 0:
         return None
-    return {"rms": float(np.sqrt(np.mean(v ** 2))), "p95": float(np.percentile(v, 95)),
-            "max": float(v.max())}
+    return {
+        "rms": float(np.sqrt(np.mean(v**2))),
+        "p95": float(np.percentile(v, 95)),
+        "max": float(v.max()),
+    }
 
 
 # ---------------------------------------------------------------- pipeline pieces
+
 
 def cells_without_face_neighbour(mesh):
     """Ids of cells that share no corner face with another cell (attached to the rest by
     an edge or a node at most: a zero-energy hinge mode)."""
     npc = 10 if mesh.celltypes[0] == pv.CellType.QUADRATIC_TETRA else 4
     corners = np.asarray(mesh.cells).reshape(-1, npc + 1)[:, 1:5]
-    faces = np.concatenate([np.sort(corners[:, f], axis=1)
-                            for f in ([0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3])])
+    faces = np.concatenate(
+        [np.sort(corners[:, f], axis=1) for f in ([0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3])]
+    )
     _, inverse, counts = np.unique(faces, axis=0, return_inverse=True, return_counts=True)
     shared = (counts[inverse.reshape(-1)] > 1).reshape(4, -1).any(axis=0)
     return np.flatnonzero(~shared).tolist() if len(corners) > 1 else []
@@ -209,8 +231,9 @@ def clamp_mask(mesh, case):
 
 def static_solve(mesh, mask, young, gravity_scale, case):
     g = tuple(G * gravity_scale * c for c in case["gravity"])
-    frame = hoembed.simulate(mesh, young=young, poisson=NU, density=RHO, gravity=g,
-                             fixed=mask, static=True)[0]
+    frame = hoembed.simulate(
+        mesh, young=young, poisson=NU, density=RHO, gravity=g, fixed=mask, static=True
+    )[0]
     return frame, float(np.linalg.norm(frame.point_data["Displacement"], axis=1).max())
 
 
@@ -241,9 +264,16 @@ def run_case(name, case, render):
     x = np.asarray(surface.points, dtype=float)
     tris = triangles_of(surface)
     diag = float(np.linalg.norm(x.max(axis=0) - x.min(axis=0)))
-    out = {"surface": {"file": path.name, "points": int(surface.n_points),
-                       "triangles": int(surface.n_cells), "bbox_diagonal": diag},
-           "load_case": case["what"], "seconds": {}}
+    out = {
+        "surface": {
+            "file": path.name,
+            "points": int(surface.n_points),
+            "triangles": int(surface.n_cells),
+            "bbox_diagonal": diag,
+        },
+        "load_case": case["what"],
+        "seconds": {},
+    }
     sec = out["seconds"]
 
     notes = out.setdefault("notes", [])
@@ -258,8 +288,10 @@ def run_case(name, case, render):
             bad = cells_without_face_neighbour(mesh)
             if not bad:
                 return mesh, t
-            notes.append(f"{what} mesh for n_elements={n}: {len(bad)} cell(s) sharing no face "
-                         f"with any other cell (e.g. cell {bad[0]}): remeshed")
+            notes.append(
+                f"{what} mesh for n_elements={n}: {len(bad)} cell(s) sharing no face "
+                f"with any other cell (e.g. cell {bad[0]}): remeshed"
+            )
             n = int(round(n * 1.03))
         raise RuntimeError(f"{what} mesh: cells attached by less than a face")
 
@@ -274,14 +306,17 @@ def run_case(name, case, render):
         t4 += t4b
     sec["mesh_tet4"] = t4
     meshes = {"tet10": mesh10, "tet4": mesh4}
-    out["fe_meshes"] = {k: {"cells": int(m.n_cells), "nodes": int(m.n_points),
-                            "dof": 3 * int(m.n_points)} for k, m in meshes.items()}
+    out["fe_meshes"] = {
+        k: {"cells": int(m.n_cells), "nodes": int(m.n_points), "dof": 3 * int(m.n_points)}
+        for k, m in meshes.items()
+    }
 
     embedded = {}
     for label, kind, method, _ in VARIANTS:
         if (kind, method) not in embedded:
             embedded[kind, method], sec[f"embed {kind} {method}"] = timed(
-                hoembed.embed, surface, meshes[kind], method=method)
+                hoembed.embed, surface, meshes[kind], method=method
+            )
 
     # Loads: Young's modulus from a probe solve of the tet10 mesh (linear regime), then
     # gravity scaled on each mesh to hit the target displacement exactly.
@@ -293,12 +328,15 @@ def run_case(name, case, render):
     young = probe_e * u_probe / target
     frame10, u10, s10, hist10 = matched_solve(mesh10, masks["tet10"], young, case, target)
     frame4_same, u4_same = static_solve(mesh4, masks["tet4"], young, s10, case)
-    frame4, u4, s4, hist4 = matched_solve(mesh4, masks["tet4"], young, case, u10,
-                                          scale0=s10 * u10 / u4_same)
+    frame4, u4, s4, hist4 = matched_solve(
+        mesh4, masks["tet4"], young, case, u10, scale0=s10 * u10 / u4_same
+    )
     sec["simulate (static, all solves)"] = time.perf_counter() - t0
     frames = {"tet10": frame10, "tet4": frame4}
     out["load"] = {
-        "young_modulus": young, "poisson": NU, "density": RHO,
+        "young_modulus": young,
+        "poisson": NU,
+        "density": RHO,
         "gravity_direction": list(case["gravity"]),
         "clamped_nodes": {k: int(m.sum()) for k, m in masks.items()},
         "target_max_displacement_rel_diag": TARGET_DISPLACEMENT,
@@ -310,8 +348,8 @@ def run_case(name, case, render):
         "tet4_max_displacement_rel_diag": u4 / diag,
         "secant_history": {"tet10": hist10, "tet4": hist4},
         "note": "tet4 locks at nu = 0.49: its gravity is raised by tet4_load_factor so that "
-                "its largest nodal displacement equals the tet10 one (as the paper raised "
-                "the force on its linear meshes)",
+        "its largest nodal displacement equals the tet10 one (as the paper raised "
+        "the force on its linear meshes)",
     }
 
     from_input = ShapeDistortion(x, tris)
@@ -321,8 +359,9 @@ def run_case(name, case, render):
         emb = embedded[kind, method]
         warn = []
         rest, _ = timed(hoembed.transfer, emb, meshes[kind])
-        moved, sec[f"transfer {label}"] = timed(hoembed.transfer, emb, frames[kind],
-                                                normals=normals, warnings=warn)
+        moved, sec[f"transfer {label}"] = timed(
+            hoembed.transfer, emb, frames[kind], normals=normals, warnings=warn
+        )
         r0 = np.asarray(rest.points, dtype=float)
         y = np.asarray(moved.points, dtype=float)
         # the deformation's distortion: from this variant's own rest state (what it shows
@@ -339,13 +378,14 @@ def run_case(name, case, render):
         disp = np.linalg.norm(y - r0, axis=1)
         resid = np.asarray(emb.point_data["EmbeddingResidual"])
         out["variants"][label] = {
-            "fe": kind, "mapping": method,
+            "fe": kind,
+            "mapping": method,
             "max_embedding_residual_rel_diag": float(resid.max() / diag),
             "vertices_with_residual_above_1e-8_diag": int((resid > 1e-8 * diag).sum()),
             "identity_transfer_max_error_rel_diag": float(np.abs(r0 - x).max() / diag),
             "vertices_outside_fe_mesh": int(outside.sum()),
             "surface_max_displacement_rel_diag": float(disp.max() / diag),
-            "surface_rms_displacement_rel_diag": float(np.sqrt(np.mean(disp ** 2)) / diag),
+            "surface_rms_displacement_rel_diag": float(np.sqrt(np.mean(disp**2)) / diag),
             "local_distortion_rel_edge": summary(vd[used]),
             "local_distortion_rel_edge_outside_vertices": summary(vd, outside & used),
             "vertices_far_outside": int(far.sum()),
@@ -364,22 +404,29 @@ def run_case(name, case, render):
         fields[label] = vd
     ref = out["variants"]["tet10 + normal-offset"]
     out["ratios_vs_tet10_normal_offset"] = {
-        label: {f"{q} {s}": v[q][s] / ref[q][s] if ref[q][s] > 0 else None
-                for q in ("local_distortion_rel_edge", "normal_change_deg")
-                for s in ("rms", "p95")}
-        for label, v in out["variants"].items() if label != "tet10 + normal-offset"}
+        label: {
+            f"{q} {s}": v[q][s] / ref[q][s] if ref[q][s] > 0 else None
+            for q in ("local_distortion_rel_edge", "normal_change_deg")
+            for s in ("rms", "p95")
+        }
+        for label, v in out["variants"].items()
+        if label != "tet10 + normal-offset"
+    }
 
-    runs = [(label, embedded[kind, method], frames[kind], normals)
-            for label, kind, method, normals in VARIANTS]
-    runs.append(("tet4 + barycentric, same load", embedded["tet4", "barycentric"], frame4_same,
-                 "recompute"))
-    ref_fields, out["vs_fine_reference"] = fine_reference(surface, case, young, s10, fe_mesh,
-                                                          runs, diag, sec)
+    runs = [
+        (label, embedded[kind, method], frames[kind], normals)
+        for label, kind, method, normals in VARIANTS
+    ]
+    runs.append(
+        ("tet4 + barycentric, same load", embedded["tet4", "barycentric"], frame4_same, "recompute")
+    )
+    ref_fields, out["vs_fine_reference"] = fine_reference(
+        surface, case, young, s10, fe_mesh, runs, diag, sec
+    )
 
     if render:
         try:
-            out["picture"] = str(picture(name, surface, deformed, fields, ref_fields, frames,
-                                         out))
+            out["picture"] = str(picture(name, surface, deformed, fields, ref_fields, frames, out))
         except Exception as exc:  # rendering problems must not lose the numbers
             out["picture"] = f"not rendered: {exc}"
     return out
@@ -390,8 +437,9 @@ def fine_reference(surface, case, young, gravity_scale, fe_mesh, runs, diag, sec
     a REFERENCE_FACTOR x finer tet10 mesh under the same load (see the module docstring)."""
     ref_mesh, sec["mesh_reference"] = fe_mesh(REFERENCE_FACTOR * N_ELEMENTS, 2, "reference")
     t0 = time.perf_counter()
-    ref_frame, u_ref = static_solve(ref_mesh, clamp_mask(ref_mesh, case), young, gravity_scale,
-                                    case)
+    ref_frame, u_ref = static_solve(
+        ref_mesh, clamp_mask(ref_mesh, case), young, gravity_scale, case
+    )
     sec["simulate reference (static)"] = time.perf_counter() - t0
     ref_surfaces = {}
     for method in ("normal-offset", "barycentric"):
@@ -408,26 +456,38 @@ def fine_reference(surface, case, young, gravity_scale, fe_mesh, runs, diag, sec
         vd, na = shape(y)
         if label:
             fields[label] = vd
-        return {"position_error_rel_diag": summary(err / diag),
-                "position_error_rel_max_displacement": summary(err / u_ref),
-                "local_shape_error_rel_edge": summary(vd[shape.used]),
-                "normal_error_deg": summary(na[shape.good_tris])}
+        return {
+            "position_error_rel_diag": summary(err / diag),
+            "position_error_rel_max_displacement": summary(err / u_ref),
+            "local_shape_error_rel_edge": summary(vd[shape.used]),
+            "normal_error_deg": summary(na[shape.good_tris]),
+        }
 
     variants = {}
     for label, emb, frame, normals in runs:
         y = np.asarray(hoembed.transfer(emb, frame, normals=normals).points, dtype=float)
         variants[label] = compare(y, label)
     return fields, {
-        "reference_mesh": {"cells": int(ref_mesh.n_cells), "nodes": int(ref_mesh.n_points),
-                           "dof": 3 * int(ref_mesh.n_points)},
+        "reference_mesh": {
+            "cells": int(ref_mesh.n_cells),
+            "nodes": int(ref_mesh.n_points),
+            "dof": 3 * int(ref_mesh.n_points),
+        },
         "reference_max_displacement_rel_diag": u_ref / diag,
         "reference_mapping_difference": compare(ref_surfaces["barycentric"]),
         "variants": variants,
         "ratios_vs_tet10_normal_offset": {
-            label: {q: v[q]["rms"] / variants["tet10 + normal-offset"][q]["rms"]
-                    for q in ("position_error_rel_diag", "local_shape_error_rel_edge",
-                              "normal_error_deg")}
-            for label, v in variants.items() if label != "tet10 + normal-offset"},
+            label: {
+                q: v[q]["rms"] / variants["tet10 + normal-offset"][q]["rms"]
+                for q in (
+                    "position_error_rel_diag",
+                    "local_shape_error_rel_edge",
+                    "normal_error_deg",
+                )
+            }
+            for label, v in variants.items()
+            if label != "tet10 + normal-offset"
+        },
     }
 
 
@@ -437,34 +497,61 @@ def picture(name, surface, deformed, fields, ref_fields, frames, out):
     shape error against the fine reference simulation (bottom); the deformed FE mesh's
     edges faintly, and the rest surface as a ghost."""
     pv.OFF_SCREEN = True
-    rows = [("distortion", fields, "local_distortion_rel_edge", "distortion / edge",
-             lambda label: out["variants"][label]),
-            ("shape error vs fine reference", ref_fields, "local_shape_error_rel_edge",
-             "shape error / edge", lambda label: out["vs_fine_reference"]["variants"][label])]
-    pl = pv.Plotter(off_screen=True, shape=(2, len(VARIANTS)), window_size=(3200, 1600),
-                    border=False)
+    rows = [
+        (
+            "distortion",
+            fields,
+            "local_distortion_rel_edge",
+            "distortion / edge",
+            lambda label: out["variants"][label],
+        ),
+        (
+            "shape error vs fine reference",
+            ref_fields,
+            "local_shape_error_rel_edge",
+            "shape error / edge",
+            lambda label: out["vs_fine_reference"]["variants"][label],
+        ),
+    ]
+    pl = pv.Plotter(
+        off_screen=True, shape=(2, len(VARIANTS)), window_size=(3200, 1600), border=False
+    )
     view, up = CASES[name]["view"]
     for row, (what, values, key, bar, stats) in enumerate(rows):
         # colour range from the two methods the paper compares (tet10 + barycentric, with
         # its rest-state error, saturates)
-        clim = [0.0, max(float(np.percentile(values[label], 99.0)) for label in
-                         ("tet4 + barycentric", "tet10 + normal-offset"))]
+        clim = [
+            0.0,
+            max(
+                float(np.percentile(values[label], 99.0))
+                for label in ("tet4 + barycentric", "tet10 + normal-offset")
+            ),
+        ]
         for col, (label, kind, _, _) in enumerate(VARIANTS):
             pl.subplot(row, col)
             s = deformed[label].copy()
             s.clear_data()
             s.point_data[what] = values[label]
             pl.add_mesh(surface, color="white", opacity=0.12)
-            pl.add_mesh(s, scalars=what, clim=clim, cmap="inferno", smooth_shading=True,
-                        show_scalar_bar=(col == len(VARIANTS) - 1),
-                        scalar_bar_args=dict(title=bar, n_labels=4, fmt="%.3f",
-                                             position_x=0.25, width=0.5))
-            pl.add_mesh(frames[kind].extract_all_edges(), color="steelblue", opacity=0.08,
-                        line_width=1)
+            pl.add_mesh(
+                s,
+                scalars=what,
+                clim=clim,
+                cmap="inferno",
+                smooth_shading=True,
+                show_scalar_bar=(col == len(VARIANTS) - 1),
+                scalar_bar_args=dict(title=bar, n_labels=4, fmt="%.3f", position_x=0.25, width=0.5),
+            )
+            pl.add_mesh(
+                frames[kind].extract_all_edges(), color="steelblue", opacity=0.08, line_width=1
+            )
             st = stats(label)[key]
             fe = out["fe_meshes"][kind]
-            pl.add_text(f"{label} ({fe['cells']} cells, {fe['nodes']} nodes)\n"
-                        f"{what}: RMS {st['rms']:.4f}, p95 {st['p95']:.4f}", font_size=10)
+            pl.add_text(
+                f"{label} ({fe['cells']} cells, {fe['nodes']} nodes)\n"
+                f"{what}: RMS {st['rms']:.4f}, p95 {st['p95']:.4f}",
+                font_size=10,
+            )
             pl.view_vector(view, viewup=up)
             pl.reset_camera()
             pl.camera.zoom(1.25)
@@ -478,29 +565,34 @@ def picture(name, surface, deformed, fields, ref_fields, frames, out):
 def main(names=None):
     names = names or list(CASES)
     RESULTS.mkdir(exist_ok=True)
-    result = {"setting": {
-        "tet10_elements_target": N_ELEMENTS, "poisson": NU,
-        "target_max_displacement_rel_diag": TARGET_DISPLACEMENT,
-        "solve": "static co-rotated equilibrium (hoembed.simulate(static=True))",
-        "metrics": {
-            "local_distortion_rel_edge": "per fine vertex: RMS over its one-ring edges of "
-                                         "|R e - e'| after the best local rotation R "
-                                         "(Kabsch), / the RMS length of those rest edges; "
-                                         "rest = the variant's own transfer onto the "
-                                         "undeformed FE mesh",
-            "normal_change_deg": "per fine triangle: angle between the deformed normal and "
-                                 "the rest normal rotated by the rotation fitted on its "
-                                 "three vertices' one-rings",
-            "vs_input_surface": "the same from the input surface (adds the rest-state error)",
-            "vs_fine_reference": f"errors against the fine surface carried by a "
-                                 f"{REFERENCE_FACTOR}x finer tet10 simulation under the "
-                                 "same load: vertex positions, one-ring shape (as above, "
-                                 "from the reference to the variant), triangle normals",
-            "outside": "vertices whose closest point on their FE mesh is at a positive "
-                       "distance (not inside the FE mesh); triangles with such a vertex",
-            "far": f"vertices farther than {FAR} x the bounding-box diagonal from their FE "
-                   "mesh (surface detail the FE mesh does not cover)",
-        }}, "meshes": {}}
+    result = {
+        "setting": {
+            "tet10_elements_target": N_ELEMENTS,
+            "poisson": NU,
+            "target_max_displacement_rel_diag": TARGET_DISPLACEMENT,
+            "solve": "static co-rotated equilibrium (hoembed.simulate(static=True))",
+            "metrics": {
+                "local_distortion_rel_edge": "per fine vertex: RMS over its one-ring edges of "
+                "|R e - e'| after the best local rotation R "
+                "(Kabsch), / the RMS length of those rest edges; "
+                "rest = the variant's own transfer onto the "
+                "undeformed FE mesh",
+                "normal_change_deg": "per fine triangle: angle between the deformed normal and "
+                "the rest normal rotated by the rotation fitted on its "
+                "three vertices' one-rings",
+                "vs_input_surface": "the same from the input surface (adds the rest-state error)",
+                "vs_fine_reference": f"errors against the fine surface carried by a "
+                f"{REFERENCE_FACTOR}x finer tet10 simulation under the "
+                "same load: vertex positions, one-ring shape (as above, "
+                "from the reference to the variant), triangle normals",
+                "outside": "vertices whose closest point on their FE mesh is at a positive "
+                "distance (not inside the FE mesh); triangles with such a vertex",
+                "far": f"vertices farther than {FAR} x the bounding-box diagonal from their FE "
+                "mesh (surface detail the FE mesh does not cover)",
+            },
+        },
+        "meshes": {},
+    }
     if not MESH_DIR.is_dir():
         result["skipped"] = f"mesh folder {MESH_DIR} absent"
         print(json.dumps(result, indent=2))

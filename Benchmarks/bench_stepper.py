@@ -14,6 +14,7 @@ Targets from the issue: >= 2000 steps/s (small), >= 60 steps/s (large).
 The machine is shared: compare `cpu_ms_per_step` (process CPU time; on 1 thread the
 honest cost of a step) and take the 2-thread wall rate as what an idle machine gives.
 """
+
 import json
 import os
 import pathlib
@@ -138,23 +139,32 @@ def main():
         ("box 7x2x2 tet10 (~170 elements)", (7, 2, 2), (0.14, 0.04, 0.04), 2000, 200, 2000.0),
         ("box 10x10x5 tet10 (3000 elements)", (10, 10, 5), (0.2, 0.2, 0.1), 60, 10, 60.0),
     ]
-    data = pathlib.Path(os.environ.get("HOEMBED_DATA_DIR") or
-                        HERE.parent.parent / "shared" / "data" / "meshes")
+    data = pathlib.Path(
+        os.environ.get("HOEMBED_DATA_DIR") or HERE.parent.parent / "shared" / "data" / "meshes"
+    )
     if (data / "bunny_lowres.obj").is_file():
         import pyvista as pv
+
         surf = pv.read(str(data / "bunny_lowres.obj"))
         for n_el, steps, frames, target in ((90, 2000, 200, 2000.0), (2800, 60, 10, 60.0)):
             mesh = hoembed.tet10_mesh(surf, n_elements=n_el)
             ymin = mesh.bounds[2]
             clamp = ((0.0, ymin + 0.01, 0.0), (0.0, 1.0, 0.0))  # the bottom 1 cm
-            cases.append((f"bunny_lowres tet10 ({mesh.n_cells} elements)", mesh,
-                          ((0.0, -9.81, 0.0), clamp), steps, frames, target))
+            cases.append(
+                (
+                    f"bunny_lowres tet10 ({mesh.n_cells} elements)",
+                    mesh,
+                    ((0.0, -9.81, 0.0), clamp),
+                    steps,
+                    frames,
+                    target,
+                )
+            )
     else:
         results["real_meshes"] = f"skipped: {data} absent"
     for label, n, size, steps, frames, target in cases:
         ref = None
-        for tol, threads in ((TIGHT_TOLERANCE, 2), (DEFAULT_TOLERANCE, 1),
-                             (DEFAULT_TOLERANCE, 2)):
+        for tol, threads in ((TIGHT_TOLERANCE, 2), (DEFAULT_TOLERANCE, 1), (DEFAULT_TOLERANCE, 2)):
             u, row = bench(label, n, size, steps, frames, target, tol, threads)
             if ref is None:
                 ref = u
@@ -162,18 +172,21 @@ def main():
             results["runs"].append(row)
             print(json.dumps(row), flush=True)
     vtkSMPTools.Initialize(0)
-    print("\nmesh | tol | threads | steps/s | cpu ms/step | rotation / assembly / solve "
-          "(factorisation) ms | CG it/step | rel. diff to 1e-10")
+    print(
+        "\nmesh | tol | threads | steps/s | cpu ms/step | rotation / assembly / solve "
+        "(factorisation) ms | CG it/step | rel. diff to 1e-10"
+    )
     for r in results["runs"]:
-        print(f"{r['mesh']} | {r['solver_tolerance']:g} | {r['threads']} | "
-              f"{r['steps_per_s']:.1f} | {r['cpu_ms_per_step']:.2f} | "
-              f"{r['ms_rotation_per_step']:.2f} / {r['ms_assembly_per_step']:.2f} / "
-              f"{r['ms_solve_per_step']:.2f} ({r['ms_factorization_per_step']:.2f}) | "
-              f"{r['cg_iterations_per_step']:.2f} | {r['rel_diff_to_tol_1e-10']:.1e}")
+        print(
+            f"{r['mesh']} | {r['solver_tolerance']:g} | {r['threads']} | "
+            f"{r['steps_per_s']:.1f} | {r['cpu_ms_per_step']:.2f} | "
+            f"{r['ms_rotation_per_step']:.2f} / {r['ms_assembly_per_step']:.2f} / "
+            f"{r['ms_solve_per_step']:.2f} ({r['ms_factorization_per_step']:.2f}) | "
+            f"{r['cg_iterations_per_step']:.2f} | {r['rel_diff_to_tol_1e-10']:.1e}"
+        )
     out = HERE / "results"
     out.mkdir(exist_ok=True)
     (out / "bench_stepper.json").write_text(json.dumps(results, indent=2))
-
 
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ vtkEmbeddingCoordinatesFilter). Timings: median and minimum over
 frames (this machine is shared: the minimum is the less noisy figure).
 Writes Benchmarks/results/bench_transfer.json and prints it.
 """
+
 import json
 import os
 import pathlib
@@ -86,12 +87,28 @@ def weight_matrices(surf, mesh):
     l0 = 1 - r - s - t
     n = surf.n_points
     w4 = np.stack([l0, r, s, t], axis=1)
-    W4 = sp.csr_matrix((w4.ravel(), conn[cell, :4].ravel(), np.arange(0, 4 * n + 1, 4)),
-                       shape=(n, mesh.n_points))
-    w10 = np.stack([l0 * (2 * l0 - 1), r * (2 * r - 1), s * (2 * s - 1), t * (2 * t - 1),
-                    4 * l0 * r, 4 * r * s, 4 * s * l0, 4 * l0 * t, 4 * r * t, 4 * s * t], axis=1)
-    W10 = sp.csr_matrix((w10.ravel(), conn[cell, :10].ravel(), np.arange(0, 10 * n + 1, 10)),
-                        shape=(n, mesh.n_points))
+    W4 = sp.csr_matrix(
+        (w4.ravel(), conn[cell, :4].ravel(), np.arange(0, 4 * n + 1, 4)), shape=(n, mesh.n_points)
+    )
+    w10 = np.stack(
+        [
+            l0 * (2 * l0 - 1),
+            r * (2 * r - 1),
+            s * (2 * s - 1),
+            t * (2 * t - 1),
+            4 * l0 * r,
+            4 * r * s,
+            4 * s * l0,
+            4 * l0 * t,
+            4 * r * t,
+            4 * s * t,
+        ],
+        axis=1,
+    )
+    W10 = sp.csr_matrix(
+        (w10.ravel(), conn[cell, :10].ravel(), np.arange(0, 10 * n + 1, 10)),
+        shape=(n, mesh.n_points),
+    )
     return W4, W10
 
 
@@ -133,10 +150,28 @@ def main(spacing=0.125 / 22, n_frames=10):
     surf_no = tb.embed(mesh10, (8, 4, 4), SIZE, v, p, nrm, d, tris, "normal-offset")
     surf_b10 = tb.embed(mesh10, (8, 4, 4), SIZE, v, p, nrm, d, tris, "barycentric")
     surf_b4 = tb.embed(mesh4, (16, 8, 8), SIZE, v, p, nrm, d, tris, "barycentric")
-    frames10 = [tb.bend_twist(np.asarray(mesh10.points), LENGTH, WIDTH, radius=3.0, twist=0.2,
-                              amount=(k + 1) / n_frames) for k in range(n_frames)]
-    frames4 = [tb.bend_twist(np.asarray(mesh4.points), LENGTH, WIDTH, radius=3.0, twist=0.2,
-                             amount=(k + 1) / n_frames) for k in range(n_frames)]
+    frames10 = [
+        tb.bend_twist(
+            np.asarray(mesh10.points),
+            LENGTH,
+            WIDTH,
+            radius=3.0,
+            twist=0.2,
+            amount=(k + 1) / n_frames,
+        )
+        for k in range(n_frames)
+    ]
+    frames4 = [
+        tb.bend_twist(
+            np.asarray(mesh4.points),
+            LENGTH,
+            WIDTH,
+            radius=3.0,
+            twist=0.2,
+            amount=(k + 1) / n_frames,
+        )
+        for k in range(n_frames)
+    ]
     rot = mesh10.copy()
     rot.point_data["NodalRotation"] = np.tile(np.eye(3).ravel(), (rot.n_points, 1))
     rot.point_data["Displacement"] = np.zeros((rot.n_points, 3))
@@ -144,13 +179,15 @@ def main(spacing=0.125 / 22, n_frames=10):
     smp = vcore.vtkSMPTools
     result = {
         "setting": {
-            "surface_vertices": int(surf_no.n_points), "surface_triangles": int(len(tris)),
+            "surface_vertices": int(surf_no.n_points),
+            "surface_triangles": int(len(tris)),
             "offset_vertices": int((d != 0).sum()),
             "fe_mesh_tet10": {"cells": int(mesh10.n_cells), "nodes": int(mesh10.n_points)},
             "fe_mesh_tet4": {"cells": int(mesh4.n_cells), "nodes": int(mesh4.n_points)},
             "smp_backend": smp.GetBackend() if hasattr(smp, "GetBackend") else "?",
             "smp_threads": int(smp.GetEstimatedNumberOfThreads()),
-            "cpus": os.cpu_count(), "load_average_at_start": list(os.getloadavg()),
+            "cpus": os.cpu_count(),
+            "load_average_at_start": list(os.getloadavg()),
             "embedding": "analytic (Benchmarks/thorny_beam.py)",
         },
         "transfer": {},
@@ -159,10 +196,10 @@ def main(spacing=0.125 / 22, n_frames=10):
     T = result["transfer"]
     T["normal-offset tet10"] = time_filter(surf_no, mesh10, frames10)
     T["normal-offset tet10, rotated normals"] = time_filter(surf_no, rot, frames10, mode="rotate")
-    T["normal-offset tet10, deformed normals"] = time_filter(surf_no, rot.copy(), frames10,
-                                                            mode="deform")
-    T["normal-offset tet10, + point normals"] = time_filter(surf_no, mesh10, frames10,
-                                                           normals=True)
+    T["normal-offset tet10, deformed normals"] = time_filter(
+        surf_no, rot.copy(), frames10, mode="deform"
+    )
+    T["normal-offset tet10, + point normals"] = time_filter(surf_no, mesh10, frames10, normals=True)
     T["normal-offset tet10, float output"] = time_filter(surf_no, mesh10, frames10, single=True)
     T["barycentric tet10"] = time_filter(surf_b10, mesh10, frames10)
     T["barycentric tet4"] = time_filter(surf_b4, mesh4, frames4)
@@ -177,28 +214,30 @@ def main(spacing=0.125 / 22, n_frames=10):
     B["vtkTransformPolyDataFilter (rotation)"] = time_vtk_transform(surf_no, 3 * n_frames)
     ref = T["normal-offset tet10"]
     result["ratios"] = {
-        "normal-offset tet10 / csr4 (median)":
-            ref["median_ms"] / B["scipy csr 4 weights/row @ (n_nodes x 3)"]["median_ms"],
-        "normal-offset tet10 / csr4 (min)":
-            ref["min_ms"] / B["scipy csr 4 weights/row @ (n_nodes x 3)"]["min_ms"],
-        "normal-offset tet10 / csr10 (min)":
-            ref["min_ms"] / B["scipy csr 10 weights/row @ (n_nodes x 3)"]["min_ms"],
-        "normal-offset tet10 / vtkTransformPolyDataFilter (min)":
-            ref["min_ms"] / B["vtkTransformPolyDataFilter (rotation)"]["min_ms"],
-        "barycentric tet4 / csr4 (min)":
-            T["barycentric tet4"]["min_ms"] / B["scipy csr 4 weights/row @ (n_nodes x 3)"]["min_ms"],
+        "normal-offset tet10 / csr4 (median)": ref["median_ms"]
+        / B["scipy csr 4 weights/row @ (n_nodes x 3)"]["median_ms"],
+        "normal-offset tet10 / csr4 (min)": ref["min_ms"]
+        / B["scipy csr 4 weights/row @ (n_nodes x 3)"]["min_ms"],
+        "normal-offset tet10 / csr10 (min)": ref["min_ms"]
+        / B["scipy csr 10 weights/row @ (n_nodes x 3)"]["min_ms"],
+        "normal-offset tet10 / vtkTransformPolyDataFilter (min)": ref["min_ms"]
+        / B["vtkTransformPolyDataFilter (rotation)"]["min_ms"],
+        "barycentric tet4 / csr4 (min)": T["barycentric tet4"]["min_ms"]
+        / B["scipy csr 4 weights/row @ (n_nodes x 3)"]["min_ms"],
     }
     one = T["normal-offset tet10, 1 thread"]
     csr4 = B["scipy csr 4 weights/row @ (n_nodes x 3)"]
     result["ratios"]["normal-offset tet10 1 thread / csr4, CPU time (min)"] = (
-        one["cpu_min_ms"] / csr4["cpu_min_ms"])
+        one["cpu_min_ms"] / csr4["cpu_min_ms"]
+    )
     # On an idle 2-core machine a frame takes about the 1-thread CPU time / 2 (the loop
     # splits evenly); a loaded machine stretches wall-clock times.
     result["estimated_idle_2core_frame_ms"] = one["cpu_min_ms"] / 2.0
     result["targets"] = {
         "per_frame_ms_at_most_20 (median wall-clock)": ref["median_ms"] <= 20.0,
         "per_frame_ms_at_most_20 (estimated idle 2 cores)": one["cpu_min_ms"] / 2.0 <= 20.0,
-        "at_most_2x_csr4_floor (median)": result["ratios"]["normal-offset tet10 / csr4 (median)"] <= 2.0,
+        "at_most_2x_csr4_floor (median)": result["ratios"]["normal-offset tet10 / csr4 (median)"]
+        <= 2.0,
     }
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "bench_transfer.json").write_text(json.dumps(result, indent=2))

@@ -30,11 +30,11 @@ run with --embedding-filter (results then in bench_transfer_shape_filter.json).
 Writes Benchmarks/results/bench_transfer_shape.json (and a .png picture when rendering
 works) and prints the JSON.
 """
+
 import json
 import os
 import pathlib
 import sys
-import time
 
 import numpy as np
 import pyvista as pv
@@ -55,17 +55,18 @@ def triangle_normals(points, tris):
 
 def errors(out, exact, tris, thorn_vertex, thorn_tri, diag):
     e = np.linalg.norm(out - exact, axis=1)
-    cosang = np.clip(np.einsum("ij,ij->i", triangle_normals(out, tris),
-                               triangle_normals(exact, tris)), -1.0, 1.0)
+    cosang = np.clip(
+        np.einsum("ij,ij->i", triangle_normals(out, tris), triangle_normals(exact, tris)), -1.0, 1.0
+    )
     ang = np.degrees(np.arccos(cosang))
     return {
-        "rms_error": float(np.sqrt(np.mean(e ** 2))),
+        "rms_error": float(np.sqrt(np.mean(e**2))),
         "max_error": float(e.max()),
         "rms_error_thorns": float(np.sqrt(np.mean(e[thorn_vertex] ** 2))),
         "max_error_thorns": float(e[thorn_vertex].max()),
-        "rms_error_rel_diag": float(np.sqrt(np.mean(e ** 2)) / diag),
+        "rms_error_rel_diag": float(np.sqrt(np.mean(e**2)) / diag),
         "max_error_rel_diag": float(e.max() / diag),
-        "normal_rms_deg": float(np.sqrt(np.mean(ang ** 2))),
+        "normal_rms_deg": float(np.sqrt(np.mean(ang**2))),
         "normal_max_deg": float(ang.max()),
         "normal_rms_deg_thorns": float(np.sqrt(np.mean(ang[thorn_tri] ** 2))),
         "normal_max_deg_thorns": float(ang[thorn_tri].max()),
@@ -97,8 +98,9 @@ def normal_offset_floor(p, nrm, d, kw, eps=1e-6):
 
 def jacobians(x, kw, eps=1e-6):
     """D phi at the points x (central differences), shape (n, 3, 3)."""
-    return np.stack([(phi(x + eps * e, **kw) - phi(x - eps * e, **kw)) / (2 * eps)
-                     for e in np.eye(3)], axis=2)
+    return np.stack(
+        [(phi(x + eps * e, **kw) - phi(x - eps * e, **kw)) / (2 * eps) for e in np.eye(3)], axis=2
+    )
 
 
 def deformed_mesh(mesh, kw):
@@ -115,12 +117,14 @@ def deformed_mesh(mesh, kw):
 
 
 # (label, embedding key, normals mode of the transfer)
-TRANSFERS = [("normal-offset tet10", "normal-offset tet10", "recompute"),
-             ("barycentric tet10", "barycentric tet10", "recompute"),
-             ("barycentric tet4", "barycentric tet4", "recompute"),
-             ("normal-offset tet4", "normal-offset tet4", "recompute"),
-             ("normal-offset tet10, rotated normals", "normal-offset tet10", "rotate"),
-             ("normal-offset tet10, deformed normals", "normal-offset tet10", "deform")]
+TRANSFERS = [
+    ("normal-offset tet10", "normal-offset tet10", "recompute"),
+    ("barycentric tet10", "barycentric tet10", "recompute"),
+    ("barycentric tet4", "barycentric tet4", "recompute"),
+    ("normal-offset tet4", "normal-offset tet4", "recompute"),
+    ("normal-offset tet10, rotated normals", "normal-offset tet10", "rotate"),
+    ("normal-offset tet10, deformed normals", "normal-offset tet10", "deform"),
+]
 
 
 def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
@@ -131,23 +135,37 @@ def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
         "tet10": ((8, 4, 4), tb.box_mesh((8, 4, 4), SIZE, 2)),
         "tet4": ((16, 8, 8), tb.box_mesh((16, 8, 8), SIZE, 1)),
     }
-    variants = [("normal-offset", "tet10"), ("barycentric", "tet10"),
-                ("barycentric", "tet4"), ("normal-offset", "tet4")]
+    variants = [
+        ("normal-offset", "tet10"),
+        ("barycentric", "tet10"),
+        ("barycentric", "tet4"),
+        ("normal-offset", "tet4"),
+    ]
     diag = float(np.linalg.norm(v.max(axis=0) - v.min(axis=0)))
     result = {
         "setting": {
-            "beam": list(SIZE), "fine_vertices": int(len(v)), "fine_triangles": int(len(tris)),
-            "thorn_vertices": int(thorn_vertex.sum()), "thorn_height": height,
+            "beam": list(SIZE),
+            "fine_vertices": int(len(v)),
+            "fine_triangles": int(len(tris)),
+            "thorn_vertices": int(thorn_vertex.sum()),
+            "thorn_height": height,
             "thorns": "cones of radius 0.1, 2 rows per long face, pitch 0.25 (smaller than an "
-                      "element: tet10 cells span 1 x 0.25 x 0.25)",
-            "deformations": {k: {"bend_radius": kw["radius"], "twist_rad_per_unit": kw["twist"]}
-                             for k, kw in DEFORMATIONS.items()},
-            "meshes": {k: {"cubes": list(n), "cells": int(m.n_cells), "nodes": int(m.n_points)}
-                       for k, (n, m) in meshes.items()},
-            "embedding": ("vtkEmbeddingCoordinatesFilter (hoembed.embed)" if use_filter else
-                          "analytic (orthogonal projection on a straight box mesh; thorns "
-                          "only over faces whose smooth normal is the exact face normal), "
-                          "not vtkEmbeddingCoordinatesFilter"),
+            "element: tet10 cells span 1 x 0.25 x 0.25)",
+            "deformations": {
+                k: {"bend_radius": kw["radius"], "twist_rad_per_unit": kw["twist"]}
+                for k, kw in DEFORMATIONS.items()
+            },
+            "meshes": {
+                k: {"cubes": list(n), "cells": int(m.n_cells), "nodes": int(m.n_points)}
+                for k, (n, m) in meshes.items()
+            },
+            "embedding": (
+                "vtkEmbeddingCoordinatesFilter (hoembed.embed)"
+                if use_filter
+                else "analytic (orthogonal projection on a straight box mesh; thorns "
+                "only over faces whose smooth normal is the exact face normal), "
+                "not vtkEmbeddingCoordinatesFilter"
+            ),
             "bbox_diagonal": diag,
         },
         "identity_error_rel_diag": {},
@@ -157,15 +175,19 @@ def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
     for method, kind in variants:
         n, mesh = meshes[kind]
         if use_filter:
-            fine = pv.PolyData(v, faces=np.hstack([np.full((len(tris), 1), 3), tris]).ravel(), deep=True)
+            fine = pv.PolyData(
+                v, faces=np.hstack([np.full((len(tris), 1), 3), tris]).ravel(), deep=True
+            )
             surf = hoembed.embed(fine, mesh, method=method)
             result.setdefault("embedding_max_residual_rel_diag", {})[f"{method} {kind}"] = float(
-                np.max(surf.point_data["EmbeddingResidual"]) / diag)
+                np.max(surf.point_data["EmbeddingResidual"]) / diag
+            )
         else:
             surf = tb.embed(mesh, n, SIZE, v, p, nrm, d, tris, method)
         rest = hoembed.transfer(surf, mesh)
         result["identity_error_rel_diag"][f"{method} {kind}"] = float(
-            np.abs(np.asarray(rest.points) - v).max() / diag)
+            np.abs(np.asarray(rest.points) - v).max() / diag
+        )
         surfaces[f"{method} {kind}"] = (mesh, surf)
     outputs = {}
     for name, kw in DEFORMATIONS.items():
@@ -174,21 +196,31 @@ def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
         moved = {key: deformed_mesh(mesh, kw) for key, (mesh, _) in surfaces.items()}
         for label, key, normals in TRANSFERS:
             warn = []
-            out = np.asarray(hoembed.transfer(surfaces[key][1], moved[key], normals=normals,
-                                              warnings=warn).points)
+            out = np.asarray(
+                hoembed.transfer(
+                    surfaces[key][1], moved[key], normals=normals, warnings=warn
+                ).points
+            )
             if warn:
                 raise RuntimeError(f"{label}: {warn}")
             outputs[(name, label)] = out
             res["variants"][label] = errors(out, exact, tris, thorn_vertex, thorn_tri, diag)
         floor = normal_offset_floor(p, nrm, d, kw)
-        res["normal_offset_model_floor"] = errors(floor, exact, tris, thorn_vertex, thorn_tri,
-                                                  diag)
+        res["normal_offset_model_floor"] = errors(floor, exact, tris, thorn_vertex, thorn_tri, diag)
         ref = res["variants"]["normal-offset tet10"]
         res["ratios_vs_normal_offset_tet10"] = {
-            k: {m: (s[m] / ref[m] if ref[m] > 0 else None)
-                for m in ("rms_error", "max_error", "max_error_thorns", "normal_rms_deg",
-                          "normal_max_deg")}
-            for k, s in res["variants"].items() if k != "normal-offset tet10"
+            k: {
+                m: (s[m] / ref[m] if ref[m] > 0 else None)
+                for m in (
+                    "rms_error",
+                    "max_error",
+                    "max_error_thorns",
+                    "normal_rms_deg",
+                    "normal_max_deg",
+                )
+            }
+            for k, s in res["variants"].items()
+            if k != "normal-offset tet10"
         }
         result["deformations"][name] = res
     RESULTS.mkdir(exist_ok=True)
@@ -196,13 +228,20 @@ def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
         result["picture"] = "not rendered: no display (run under xvfb-run)"
     elif render:
         try:
-            result["picture"] = str(picture(v, tris, phi(v, **DEFORMATIONS["strong bend"]),
-                                            {k: outputs[("strong bend", k)] for k in surfaces},
-                                            RESULTS))
+            result["picture"] = str(
+                picture(
+                    v,
+                    tris,
+                    phi(v, **DEFORMATIONS["strong bend"]),
+                    {k: outputs[("strong bend", k)] for k in surfaces},
+                    RESULTS,
+                )
+            )
         except Exception as exc:  # rendering problems must not lose the numbers
             result["picture"] = f"not rendered: {exc}"
-    path = RESULTS / ("bench_transfer_shape_filter.json" if use_filter else
-                      "bench_transfer_shape.json")
+    path = RESULTS / (
+        "bench_transfer_shape_filter.json" if use_filter else "bench_transfer_shape.json"
+    )
     path.write_text(json.dumps(result, indent=2))
     print(json.dumps(result, indent=2))
     return result
@@ -211,6 +250,7 @@ def main(spacing=0.0125, height=0.3, render=True, use_filter=False):
 def picture(v, tris, exact, outputs, folder):
     """The middle of the bent beam, coloured by the distance to phi(v), per variant."""
     import pyvista as pv
+
     keys = ["normal-offset tet10", "barycentric tet10", "barycentric tet4"]
     pl = pv.Plotter(off_screen=True, shape=(1, 3), window_size=(1800, 650))
     sel = (v[:, 0] > 3.0) & (v[:, 0] < 5.0)
@@ -221,8 +261,14 @@ def picture(v, tris, exact, outputs, folder):
         pl.subplot(0, i)
         m = pv.PolyData(outputs[k], faces=sub_faces, deep=True)
         m.point_data["error"] = np.linalg.norm(outputs[k] - exact, axis=1)
-        pl.add_mesh(m, scalars="error", clim=clim, cmap="viridis", smooth_shading=False,
-                    show_scalar_bar=(i == 2))
+        pl.add_mesh(
+            m,
+            scalars="error",
+            clim=clim,
+            cmap="viridis",
+            smooth_shading=False,
+            show_scalar_bar=(i == 2),
+        )
         pl.add_text(k, font_size=12)
         pl.view_xz()
         pl.camera.zoom(1.3)

@@ -18,6 +18,7 @@ strips, float32 points; not cleaned first) and its error messages on bad inputs.
 `compare` prints each array that differs (bit patterns, NaN included) or is
 missing on one side, and exits 1 if any does.
 """
+
 import argparse
 import json
 import os
@@ -29,14 +30,19 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_DATA = os.path.normpath(os.path.join(HERE, "..", "..", "shared", "data", "meshes"))
 # surface -> elements asked of the mesher (thin parts need more to mesh at all)
-SURFACES = {"bunny_lowres.obj": 1, "fertility.obj": 1, "rocker-arm.obj": 1,
-            "scorpion_low_resolution.obj": 3}
+SURFACES = {
+    "bunny_lowres.obj": 1,
+    "fertility.obj": 1,
+    "rocker-arm.obj": 1,
+    "scorpion_low_resolution.obj": 3,
+}
 
 
 def _arrays(prefix, ds, out):
     """Every array of a VTK/pyvista dataset under prefix/..."""
     import pyvista
     from vtkmodules.util.numpy_support import vtk_to_numpy
+
     ds = pyvista.wrap(ds)
     out[f"{prefix}/points"] = np.array(ds.points)
     if isinstance(ds, pyvista.UnstructuredGrid):
@@ -44,8 +50,11 @@ def _arrays(prefix, ds, out):
         out[f"{prefix}/celltypes"] = np.array(ds.celltypes)
     elif isinstance(ds, pyvista.PolyData):
         out[f"{prefix}/faces"] = np.array(ds.faces)
-    for kind, data in (("point", ds.GetPointData()), ("cell", ds.GetCellData()),
-                       ("field", ds.GetFieldData())):
+    for kind, data in (
+        ("point", ds.GetPointData()),
+        ("cell", ds.GetCellData()),
+        ("field", ds.GetFieldData()),
+    ):
         for i in range(data.GetNumberOfArrays()):
             arr = data.GetAbstractArray(i)
             name = arr.GetName()
@@ -57,16 +66,18 @@ def _arrays(prefix, ds, out):
 
 
 def _dump(path, data_dir, elements):
-    import pyvista
     import hoembed
+    import pyvista
+
     out = {}
     cases = [("thorny", hoembed.thorny_tail(rings=120, sectors=48), elements)]
     if os.path.isdir(data_dir):
         for name in SURFACES:
             f = os.path.join(data_dir, name)
             if os.path.exists(f):
-                cases.append((os.path.splitext(name)[0], pyvista.read(f),
-                              SURFACES[name] * elements))
+                cases.append(
+                    (os.path.splitext(name)[0], pyvista.read(f), SURFACES[name] * elements)
+                )
     for index, (name, surface, n_elements) in enumerate(cases):
         surface = surface.triangulate().clean()
         orders = (2, 1) if index == 0 else (2,)
@@ -78,14 +89,27 @@ def _dump(path, data_dir, elements):
             box = (*fe.bounds[:4], lo, lo + 0.2 * (hi - lo))
             box = (box[0] - 1, box[1] + 1, box[2] - 1, box[3] + 1, box[4] - 1, box[5])
             size = max(np.ptp(np.asarray(fe.points), axis=0))
-            frames = hoembed.simulate(fe, steps=3, dt=0.02, young=3e4, poisson=0.45,
-                                      density=1000.0, gravity=(0.0, 0.0, -9.81 * size),
-                                      fixed={"box": box})
+            frames = hoembed.simulate(
+                fe,
+                steps=3,
+                dt=0.02,
+                young=3e4,
+                poisson=0.45,
+                density=1000.0,
+                gravity=(0.0, 0.0, -9.81 * size),
+                fixed={"box": box},
+            )
             for k, frame in enumerate(frames):
                 _arrays(f"{tag}/step{k}", frame, out)
             try:
-                static = hoembed.simulate(fe, young=1e6, poisson=0.45, static=True,
-                                          gravity=(0.0, 0.0, -0.02 * size), fixed={"box": box})
+                static = hoembed.simulate(
+                    fe,
+                    young=1e6,
+                    poisson=0.45,
+                    static=True,
+                    gravity=(0.0, 0.0, -0.02 * size),
+                    fixed={"box": box},
+                )
                 _arrays(f"{tag}/static", static[-1], out)
             except hoembed.HOEmbedError as e:  # an error is an output too (address dropped)
                 out[f"{tag}/static/error"] = np.array([str(e).split("): ", 1)[-1]])
@@ -95,8 +119,9 @@ def _dump(path, data_dir, elements):
                 embedded = hoembed.embed(surface, fe, method=method)
                 _arrays(f"{tag}/{method}/embedded", embedded, out)
                 for mode in ("recompute", "rotate", "deform"):
-                    moved = hoembed.transfer(embedded, frames[-1], normals=mode,
-                                             compute_point_normals=True, warnings=[])
+                    moved = hoembed.transfer(
+                        embedded, frames[-1], normals=mode, compute_point_normals=True, warnings=[]
+                    )
                     _arrays(f"{tag}/{method}/transfer-{mode}", moved, out)
     _read_step(out)
     np.savez_compressed(path, **out)
@@ -107,8 +132,9 @@ def read_step_surfaces():
     """Surfaces that exercise the mesher's read step: quads (split along the shorter
     diagonal), polygons of more than 4 points (ear cut), strips (decomposed), float32
     points with an unused far point and a point merge; and bad inputs."""
-    import pyvista
     import hoembed
+    import pyvista
+
     cube = pyvista.Cube(x_length=1.0, y_length=0.7, z_length=0.5)
     quads = pyvista.Box(level=3, quads=True)
     cylinder = pyvista.Cylinder(resolution=12, capping=True)  # 12-gon caps
@@ -116,20 +142,29 @@ def read_step_surfaces():
     f32 = hoembed.thorny_tail(rings=40, sectors=16)
     pts = np.vstack([np.asarray(f32.points), [[50.0, 0.0, 0.0]]]).astype(np.float32)
     f32 = pyvista.PolyData(pts, f32.faces)
-    good = {"cube_quads": cube, "box_quads": quads, "cylinder_polygons": cylinder,
-            "sphere_strips": strips, "tail_float32": f32}
+    good = {
+        "cube_quads": cube,
+        "box_quads": quads,
+        "cylinder_polygons": cylinder,
+        "sphere_strips": strips,
+        "tail_float32": f32,
+    }
     nan = pyvista.Sphere()
     nan.points[5] = np.nan
-    bad_ids = pyvista.PolyData(np.asarray(pyvista.Sphere().points)[:10],
-                               np.array([3, 0, 1, 42]))
-    bad = {"empty": pyvista.PolyData(), "nan": nan, "ids": bad_ids,
-           "lines": pyvista.Line(), "degenerate": pyvista.PolyData(
-               np.zeros((3, 3)), np.array([3, 0, 1, 2]))}
+    bad_ids = pyvista.PolyData(np.asarray(pyvista.Sphere().points)[:10], np.array([3, 0, 1, 42]))
+    bad = {
+        "empty": pyvista.PolyData(),
+        "nan": nan,
+        "ids": bad_ids,
+        "lines": pyvista.Line(),
+        "degenerate": pyvista.PolyData(np.zeros((3, 3)), np.array([3, 0, 1, 2])),
+    }
     return good, bad
 
 
 def _read_step(out):
     import hoembed
+
     good, bad = read_step_surfaces()
     for name, surface in good.items():
         fe = hoembed.tet10_mesh(surface, n_elements=200)
@@ -177,7 +212,9 @@ def _compare(a_path, b_path):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     sub = p.add_subparsers(dest="cmd", required=True)
     d = sub.add_parser("dump", help="run the stages and save every array to an .npz")
     d.add_argument("output")
@@ -191,8 +228,18 @@ def main(argv=None):
     if args.cmd == "compare":
         return _compare(args.a, args.b)
     if args.python and os.path.abspath(args.python) != os.path.abspath(sys.executable):
-        return subprocess.call([args.python, os.path.abspath(__file__), "dump", args.output,
-                                "--data", args.data, "--elements", str(args.elements)])
+        return subprocess.call(
+            [
+                args.python,
+                os.path.abspath(__file__),
+                "dump",
+                args.output,
+                "--data",
+                args.data,
+                "--elements",
+                str(args.elements),
+            ]
+        )
     _dump(args.output, args.data, args.elements)
     return 0
 

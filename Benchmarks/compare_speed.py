@@ -15,6 +15,7 @@ shared machine); the ratio B/A is the median over rounds of the per-round ratio 
 faster). JSON on stdout and in
 Benchmarks/results/compare_speed.json.
 """
+
 import argparse
 import json
 import os
@@ -29,16 +30,25 @@ DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "meshes"
 
 
 def worker(surface_name, elements, repeats, subdivide):
-    import pyvista
     import hoembed
+    import pyvista
+
     path = DEFAULT_DATA / surface_name
-    surface = (pyvista.read(str(path)) if path.exists() else hoembed.thorny_tail()).triangulate().clean()
+    surface = (
+        (pyvista.read(str(path)) if path.exists() else hoembed.thorny_tail()).triangulate().clean()
+    )
     fe = hoembed.tet10_mesh(surface, n_elements=elements)
     if subdivide:  # a finer surface in the same mesh (each level: 4x the triangles)
         surface = surface.subdivide(subdivide, subfilter="linear")
     lo, hi = fe.bounds[4], fe.bounds[5]
-    box = (fe.bounds[0] - 1, fe.bounds[1] + 1, fe.bounds[2] - 1, fe.bounds[3] + 1, lo - 1,
-           lo + 0.2 * (hi - lo))
+    box = (
+        fe.bounds[0] - 1,
+        fe.bounds[1] + 1,
+        fe.bounds[2] - 1,
+        fe.bounds[3] + 1,
+        lo - 1,
+        lo + 0.2 * (hi - lo),
+    )
     frame = hoembed.simulate(fe, steps=3, dt=0.02, young=3e4, fixed={"box": box})[-1]
     out = {"vertices": surface.n_points, "cells": fe.n_cells}
 
@@ -67,19 +77,24 @@ def worker(surface_name, elements, repeats, subdivide):
             frame.GetPoints().Modified()
             frame.Modified()
             f.Update()
+
         best(f"transfer_{mode}", one, 10 * repeats)
     return out
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("--a", help="interpreter of build A (the reference)")
     p.add_argument("--b", help="interpreter of build B")
     p.add_argument("--rounds", type=int, default=4)
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--surface", default="bunny_watertight.obj")
     p.add_argument("--elements", type=int, default=1000)
-    p.add_argument("--subdivide", type=int, default=0, help="linear subdivision levels of the surface")
+    p.add_argument(
+        "--subdivide", type=int, default=0, help="linear subdivision levels of the surface"
+    )
     p.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.worker:
@@ -87,19 +102,41 @@ def main(argv=None):
         return 0
     runs = {"a": [], "b": []}
     for r in range(args.rounds):
-        for which in (("a", "b") if r % 2 == 0 else ("b", "a")):
+        for which in ("a", "b") if r % 2 == 0 else ("b", "a"):
             exe = args.a if which == "a" else args.b
-            res = subprocess.run([exe, os.path.abspath(__file__), "--worker", "--surface", args.surface,
-                                  "--elements", str(args.elements), "--repeats", str(args.repeats),
-                                  "--subdivide", str(args.subdivide)],
-                                 capture_output=True, text=True, check=True)
+            res = subprocess.run(
+                [
+                    exe,
+                    os.path.abspath(__file__),
+                    "--worker",
+                    "--surface",
+                    args.surface,
+                    "--elements",
+                    str(args.elements),
+                    "--repeats",
+                    str(args.repeats),
+                    "--subdivide",
+                    str(args.subdivide),
+                ],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
             runs[which].append(json.loads(res.stdout.strip().splitlines()[-1]))
             print(which, runs[which][-1], file=sys.stderr)
     keys = [k for k in runs["a"][0] if k.startswith(("embed", "transfer", "cpu_"))]
-    summary = {"a": args.a, "b": args.b, "surface": args.surface, "subdivide": args.subdivide,
-               "rounds": args.rounds,
-               "vertices": runs["a"][0]["vertices"], "cells": runs["a"][0]["cells"], "ratio_b_over_a": {},
-               "a_min_s": {}, "b_min_s": {}}
+    summary = {
+        "a": args.a,
+        "b": args.b,
+        "surface": args.surface,
+        "subdivide": args.subdivide,
+        "rounds": args.rounds,
+        "vertices": runs["a"][0]["vertices"],
+        "cells": runs["a"][0]["cells"],
+        "ratio_b_over_a": {},
+        "a_min_s": {},
+        "b_min_s": {},
+    }
     for k in keys:
         ratios = [rb[k] / ra[k] for ra, rb in zip(runs["a"], runs["b"])]
         summary["ratio_b_over_a"][k] = round(statistics.median(ratios), 4)

@@ -16,18 +16,29 @@ With MESH_SURFACE the mesher meshes that (coarser) surface of the same shape ins
 gathering the fine one: reading, meshing and a first embedding of a 2M-vertex surface took 411 s in
 a 1-process run (the embedding is ~2 s of it), none of which the timed part includes.
 """
+
 import json
 import os
 import resource
 import sys
 import time
 
-from paraview.simple import (HOEmbedCorotationalFEMStepper, HOEmbedDeformationTransfer,
-                             HOEmbedEmbeddingCoordinates, HOEmbedTet10Mesher, OpenDataFile)
+from paraview.simple import (
+    HOEmbedCorotationalFEMStepper,
+    HOEmbedDeformationTransfer,
+    HOEmbedEmbeddingCoordinates,
+    HOEmbedTet10Mesher,
+    OpenDataFile,
+)
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as SDDP
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
 
-surface_file, out_file, frames, elements = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
+surface_file, out_file, frames, elements = (
+    sys.argv[1],
+    sys.argv[2],
+    int(sys.argv[3]),
+    int(sys.argv[4]),
+)
 mesh_surface_file = sys.argv[5] if len(sys.argv) > 5 else None
 ctrl = vtkMultiProcessController.GetGlobalController()
 rank, size = ctrl.GetLocalProcessId(), ctrl.GetNumberOfProcesses()
@@ -47,15 +58,21 @@ def cpu():
 
 # Per process: wall time to its own end of each timed part (before the barrier: the
 # difference to the barrier's time is waiting for the other process) and its CPU time.
-mine = {"embedding_local_s": 0.0, "embedding_cpu_s": 0.0,
-        "transfer_local_s": 0.0, "transfer_cpu_s": 0.0,
-        "frame_update_local_s": 0.0, "frame_update_cpu_s": 0.0}
+mine = {
+    "embedding_local_s": 0.0,
+    "embedding_cpu_s": 0.0,
+    "transfer_local_s": 0.0,
+    "transfer_cpu_s": 0.0,
+    "frame_update_local_s": 0.0,
+    "frame_update_cpu_s": 0.0,
+}
 
 
 class Perf:
     """`perf record` under bench_mpi.py --perf: enabled over the parts named in
     HOEMBED_PERF_PARTS only (embedding, transfer: the timed re-runs; frame: the proxy's
     update of each frame, the stepper's step and the transfer)."""
+
     def __init__(self):
         base = os.environ.get("HOEMBED_PERF_CTL")
         self.parts = os.environ.get("HOEMBED_PERF_PARTS", "embedding,transfer").split(",")
@@ -74,16 +91,23 @@ surface = OpenDataFile(surface_file)
 mesh_surface = OpenDataFile(mesh_surface_file) if mesh_surface_file else surface
 mesher = HOEmbedTet10Mesher(Input=mesh_surface, TargetNumberOfElements=elements)
 embedded = HOEmbedEmbeddingCoordinates(Surface=surface, Mesh=mesher)
-stepper = HOEmbedCorotationalFEMStepper(Input=mesher, TimeStep=0.02, NumberOfTimeSteps=frames,
-                                        YoungModulus=3e4, PoissonRatio=0.45, UseClampPlane=1,
-                                        ClampPlaneOrigin=[-0.6, 0, 0], ClampPlaneNormal=[1, 0, 0])
+stepper = HOEmbedCorotationalFEMStepper(
+    Input=mesher,
+    TimeStep=0.02,
+    NumberOfTimeSteps=frames,
+    YoungModulus=3e4,
+    PoissonRatio=0.45,
+    UseClampPlane=1,
+    ClampPlaneOrigin=[-0.6, 0, 0],
+    ClampPlaneNormal=[1, 0, 0],
+)
 transfer = HOEmbedDeformationTransfer(Surface=embedded, Mesh=stepper)
 
 # The mesh is prepared anew in every timed embedding (as for a new surface).
 embedded.ReuseMeshPreparation = 0
 t0 = time.perf_counter()
-mine["rss_start_mb"] = rss_mb()   # ParaView, Python and the plugin loaded
-embedded.UpdatePipeline()          # read, gather + mesh, and a first embedding (untimed)
+mine["rss_start_mb"] = rss_mb()  # ParaView, Python and the plugin loaded
+embedded.UpdatePipeline()  # read, gather + mesh, and a first embedding (untimed)
 mine["rss_after_embedding_mb"] = rss_mb()
 ctrl.Barrier()
 t1 = time.perf_counter()
@@ -112,7 +136,7 @@ for t in times:
     a = time.perf_counter()
     perf.set(True, "frame")
     c0 = cpu()
-    transfer.UpdatePipeline(t)         # the stepper's step (replicated) and the transfer
+    transfer.UpdatePipeline(t)  # the stepper's step (replicated) and the transfer
     perf.set(False, "frame")
     mine["frame_update_local_s"] += time.perf_counter() - a
     mine["frame_update_cpu_s"] += cpu() - c0
@@ -134,15 +158,24 @@ local_points = emb_obj.GetOutputDataObject(0).GetNumberOfPoints()
 assert tr_obj.GetOutputDataObject(0).GetNumberOfPoints() == local_points
 mine["surface_points"] = local_points
 mine["ghost_levels_requested"] = ghosts
-mine["rss_end_mb"] = rss_mb()      # + the stepper and the transferred surface
+mine["rss_end_mb"] = rss_mb()  # + the stepper and the transferred surface
 mine["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 with open(f"{out_file}.rank{rank}", "w") as f:
     json.dump(mine, f)
 ctrl.Barrier()
 if rank == 0:
     with open(out_file, "w") as f:
-        json.dump({"processes": size, "read_mesh_first_embedding_s": t1 - t0, "embedding_s": t2 - t1,
-                   "transfer_s": transfer_s, "transfer_frames": frames, "stepper_s": stepper_s,
-                   "embedding_plus_transfer_s": (t2 - t1) + transfer_s,
-                   "surface_points_rank0": local_points,
-                   "per_process": [json.load(open(f"{out_file}.rank{r}")) for r in range(size)]}, f)
+        json.dump(
+            {
+                "processes": size,
+                "read_mesh_first_embedding_s": t1 - t0,
+                "embedding_s": t2 - t1,
+                "transfer_s": transfer_s,
+                "transfer_frames": frames,
+                "stepper_s": stepper_s,
+                "embedding_plus_transfer_s": (t2 - t1) + transfer_s,
+                "surface_points_rank0": local_points,
+                "per_process": [json.load(open(f"{out_file}.rank{r}")) for r in range(size)],
+            },
+            f,
+        )

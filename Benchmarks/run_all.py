@@ -8,17 +8,28 @@ Which script gives which figure of Benchmarks/RESULTS.md is said there, section 
 section. The scripts in NOT_RUN are not run by default (the reason is printed); name one
 to run it with its default options.
 """
+
 import pathlib
 import subprocess
 import sys
 import time
 
 HERE = pathlib.Path(__file__).resolve().parent
-SCRIPTS = ["bench_mesher", "bench_mesher_robust", "bench_mesher_real", "bench_embedding",
-           "bench_embedding_exact", "bench_embedding_scale", "bench_transfer",
-           "bench_transfer_shape", "bench_stepper", "bench_locking", "bench_shape_real",
-           "bench_live",   # the rendered pass only under a display (xvfb-run, as above)
-           "bench_pip"]    # skips itself without the pip venv of `make test-pip`
+SCRIPTS = [
+    "bench_mesher",
+    "bench_mesher_robust",
+    "bench_mesher_real",
+    "bench_embedding",
+    "bench_embedding_exact",
+    "bench_embedding_scale",
+    "bench_transfer",
+    "bench_transfer_shape",
+    "bench_stepper",
+    "bench_locking",
+    "bench_shape_real",
+    "bench_live",  # the rendered pass only under a display (xvfb-run, as above)
+    "bench_pip",
+]  # skips itself without the pip venv of `make test-pip`
 NOT_RUN = {
     "bench_mpi": "needs `make paraview` and mpirun (2 processes, pvbatch); run it by name",
     "pv_bench_pieces": "run by bench_mpi under mpirun, not alone",

@@ -12,6 +12,7 @@ and the stored (cell, parametric coordinates, local face, d) satisfy v = p + d n
 round-off. Barycentric embeddings store the parametric coordinates of v itself in the
 cell of p (extrapolated outside it: exact at rest since straight cells are affine).
 """
+
 import itertools
 
 import numpy as np
@@ -26,8 +27,9 @@ TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
 def box_mesh(n, size, order):
     """Box [0,size] split into n cubes of 6 Kuhn tets (same layout as the tests' box)."""
     nx, ny, nz = n
-    g = np.stack(np.meshgrid(*[np.linspace(0, s, k + 1) for s, k in zip(size, n)],
-                             indexing="ij"), axis=-1)
+    g = np.stack(
+        np.meshgrid(*[np.linspace(0, s, k + 1) for s, k in zip(size, n)], indexing="ij"), axis=-1
+    )
     pts = g.transpose(2, 1, 0, 3).reshape(-1, 3)
     kk, jj, ii = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
     base = np.stack([ii.ravel(), jj.ravel(), kk.ravel()], axis=1)  # cube order k, j, i
@@ -39,8 +41,9 @@ def box_mesh(n, size, order):
             c = c.copy()
             c[:, a] = 1
             ids.append(base + c)
-        tets.append(np.stack([(q[:, 2] * (ny + 1) + q[:, 1]) * (nx + 1) + q[:, 0] for q in ids],
-                             axis=1))
+        tets.append(
+            np.stack([(q[:, 2] * (ny + 1) + q[:, 1]) * (nx + 1) + q[:, 0] for q in ids], axis=1)
+        )
     tets = np.stack(tets, axis=1).reshape(-1, 4)  # cube-major, then permutation
     e = pts[tets[:, 1:]] - pts[tets[:, :1]]
     neg = np.linalg.det(e) < 0
@@ -57,7 +60,9 @@ def box_mesh(n, size, order):
         ctype = pv.CellType.TETRA
     k = conn.shape[1]
     cells = np.hstack([np.full((len(conn), 1), k), conn]).ravel().astype(np.int64)
-    return pv.UnstructuredGrid(cells, np.full(len(conn), ctype, np.uint8), pts.astype(float), deep=True)
+    return pv.UnstructuredGrid(
+        cells, np.full(len(conn), ctype, np.uint8), pts.astype(float), deep=True
+    )
 
 
 def fingerprint(mesh):
@@ -71,8 +76,17 @@ def fingerprint(mesh):
     return f"{h:016x}"
 
 
-def thorny_beam_surface(length=8.0, width=1.0, spacing=0.0125, height=0.3, radius=0.1,
-                        pitch=0.25, rows=(0.375, 0.625), clear=1.0, base_offset=0.0):
+def thorny_beam_surface(
+    length=8.0,
+    width=1.0,
+    spacing=0.0125,
+    height=0.3,
+    radius=0.1,
+    pitch=0.25,
+    rows=(0.375, 0.625),
+    clear=1.0,
+    base_offset=0.0,
+):
     """Fine surface of the beam [0,length]x[0,width]^2 with cone thorns on the 4 long faces.
 
     Returns (points v, rest points p on the box, normals n, d, triangles) where v = p + d n.
@@ -110,14 +124,19 @@ def thorny_beam_surface(length=8.0, width=1.0, spacing=0.0125, height=0.3, radiu
     L, W = length, width
     nl, nw = int(round(L / spacing)), int(round(W / spacing))
     ex, ey, ez = np.eye(3)
-    sheet(np.zeros(3), L * ex, W * ey, nl, nw, -ez, True)        # z = 0
-    sheet(W * ez, L * ex, W * ey, nl, nw, ez, True)              # z = W
-    sheet(np.zeros(3), L * ex, W * ez, nl, nw, -ey, True)        # y = 0
-    sheet(W * ey, L * ex, W * ez, nl, nw, ey, True)              # y = W
-    sheet(np.zeros(3), W * ey, W * ez, nw, nw, -ex, False)       # x = 0
-    sheet(L * ex, W * ey, W * ez, nw, nw, ex, False)             # x = L
-    return (np.vstack(verts), np.vstack(bases), np.vstack(normals), np.concatenate(dists),
-            np.vstack(tris))
+    sheet(np.zeros(3), L * ex, W * ey, nl, nw, -ez, True)  # z = 0
+    sheet(W * ez, L * ex, W * ey, nl, nw, ez, True)  # z = W
+    sheet(np.zeros(3), L * ex, W * ez, nl, nw, -ey, True)  # y = 0
+    sheet(W * ey, L * ex, W * ez, nl, nw, ey, True)  # y = W
+    sheet(np.zeros(3), W * ey, W * ez, nw, nw, -ex, False)  # x = 0
+    sheet(L * ex, W * ey, W * ez, nw, nw, ex, False)  # x = L
+    return (
+        np.vstack(verts),
+        np.vstack(bases),
+        np.vstack(normals),
+        np.concatenate(dists),
+        np.vstack(tris),
+    )
 
 
 def _locate(mesh, n, size, p, axis=None, chunk=200000):
@@ -138,16 +157,17 @@ def _locate(mesh, n, size, p, axis=None, chunk=200000):
     lam = np.empty((len(p), 4))
     faces = np.full(len(p), -1, np.int8)
     for s in range(0, len(p), chunk):
-        q = p[s:s + chunk]
+        q = p[s : s + chunk]
         m = len(q)
         ijk = np.clip(np.floor(q / h).astype(np.int64), 0, n - 1)
         cube = (ijk[:, 2] * n[1] + ijk[:, 1]) * n[0] + ijk[:, 0]
         cand = cube[:, None] * 6 + np.arange(6)[None, :]
-        l123 = np.einsum("cij,cj->ci", Tinv[cand.ravel()],
-                         np.repeat(q, 6, axis=0) - x0[cand.ravel()]).reshape(-1, 6, 3)
+        l123 = np.einsum(
+            "cij,cj->ci", Tinv[cand.ravel()], np.repeat(q, 6, axis=0) - x0[cand.ravel()]
+        ).reshape(-1, 6, 3)
         lm = np.concatenate([1.0 - l123.sum(axis=2, keepdims=True), l123], axis=2)
         score = lm.min(axis=2)  # (m, 6): >= 0 where the tet contains p
-        ax = axis[s:s + chunk]
+        ax = axis[s : s + chunk]
         onface = ax >= 0
         # For points on a box plane: the (tet, face) whose 3 corners lie in that plane.
         cc = X[conn[cand]]  # (m, 6, 4, 3)
@@ -163,9 +183,9 @@ def _locate(mesh, n, size, p, axis=None, chunk=200000):
         best = np.where(onface & has, pick // 4, score.argmax(axis=1))
         if (onface & ~has).any():
             raise RuntimeError("a point on the box boundary has no boundary face")
-        cells[s:s + chunk] = cand[np.arange(m), best]
-        lam[s:s + chunk] = lm[np.arange(m), best]
-        faces[s:s + chunk] = np.where(onface, pick % 4, -1)
+        cells[s : s + chunk] = cand[np.arange(m), best]
+        lam[s : s + chunk] = lm[np.arange(m), best]
+        faces[s : s + chunk] = np.where(onface, pick % 4, -1)
     return cells, lam, faces, Tinv, x0
 
 

@@ -1,4 +1,5 @@
 """Make the build tree's hoembed package importable from the venv (a .pth file)."""
+
 import pathlib
 import sys
 import sysconfig

@@ -64,7 +64,8 @@ int main(int argc, char* argv[])
   if (argc < 3)
   {
     std::fprintf(stderr,
-      "usage: %s surface.vtp mesh.vtu [normal-offset|barycentric] [threads] [vertex to explain]\n", argv[0]);
+      "usage: %s surface.vtp mesh.vtu [normal-offset|barycentric] [threads] [vertex to explain]\n",
+      argv[0]);
     return 2;
   }
   const int method = (argc > 3 && std::strcmp(argv[3], "barycentric") == 0) ? 1 : 0;
@@ -167,9 +168,10 @@ int main(int argc, char* argv[])
   {
     double v[3];
     surface->GetPoint(explain, v);
-    std::fprintf(stderr, "vertex %ld at %.17g %.17g %.17g: filter distance %.17g cell %lld face %d\n",
-      explain, v[0], v[1], v[2], closest->GetValue(explain),
-      static_cast<long long>(cellId->GetValue(explain)), int(face->GetValue(explain)));
+    std::fprintf(stderr,
+      "vertex %ld at %.17g %.17g %.17g: filter distance %.17g cell %lld face %d\n", explain, v[0],
+      v[1], v[2], closest->GetValue(explain), static_cast<long long>(cellId->GetValue(explain)),
+      int(face->GetValue(explain)));
     hoembed_exact::ExplainInside(em, v);
   }
 
@@ -221,7 +223,8 @@ int main(int argc, char* argv[])
   // statistics
   long above8 = 0, above10 = 0, above12 = 0, outsideCert = 0, insideMismatch = 0,
        insideMismatchMaterial = 0, bruteInside = 0, filterInside = 0, vtkDis = 0, depthLim = 0,
-       nodeLim = 0, belowLower = 0, vtkVertexDis = 0, vtkOnlyInside = 0, res10 = 0, resReported = 0, nanCount = 0;
+       nodeLim = 0, belowLower = 0, vtkVertexDis = 0, vtkOnlyInside = 0, res10 = 0, resReported = 0,
+       nanCount = 0;
   double maxErr = 0.0, maxRes = 0.0, maxCert = 0.0, maxResDiff = 0.0;
   long totalNodes = 0, maxNodes = 0, insideUndecided = 0, maxInsideNodes = 0;
   std::vector<std::pair<double, Id>> worst;
@@ -271,8 +274,8 @@ int main(int argc, char* argv[])
     resReported += !(res->GetValue(i) <= 1e-10 * diag);
     maxResDiff = std::max(maxResDiff, std::fabs(res->GetValue(i) - residual[i]) / diag);
   }
-  std::partial_sort(worst.begin(), worst.begin() + std::min<size_t>(8, worst.size()),
-    worst.end(), [](const std::pair<double, Id>& a, const std::pair<double, Id>& b) {
+  std::partial_sort(worst.begin(), worst.begin() + std::min<size_t>(8, worst.size()), worst.end(),
+    [](const std::pair<double, Id>& a, const std::pair<double, Id>& b) {
       return a.first > b.first;
     });
   std::printf("{\n  \"method\": \"%s\", \"cell_type\": \"tet%d\", \"cells\": %lld, "
@@ -288,23 +291,24 @@ int main(int argc, char* argv[])
   std::printf("  \"max_dist_err_rel\": %.3e, \"count_dist_err_above_1e-8\": %ld, "
               "\"count_dist_err_above_1e-10\": %ld, \"count_dist_err_above_1e-12\": %ld,\n",
     maxErr, above8, above10, above12);
-  std::printf("  \"count_outside_certified_interval\": %ld, \"count_filter_below_lower_bound\": %ld, "
-              "\"max_certificate_width_rel\": %.3e,\n",
+  std::printf(
+    "  \"count_outside_certified_interval\": %ld, \"count_filter_below_lower_bound\": %ld, "
+    "\"max_certificate_width_rel\": %.3e,\n",
     outsideCert, belowLower, maxCert);
   std::printf("  \"max_residual_rel\": %.3e, \"count_residual_above_1e-10\": %ld, "
               "\"count_reported_residual_above_1e-10\": %ld, "
               "\"max_reported_vs_recomputed_residual_rel\": %.3e, \"non_finite\": %ld,\n",
     maxRes, res10, resReported, maxResDiff, nanCount);
-  std::printf("  \"inside_brute\": %ld, \"inside_filter\": %ld, \"inside_mismatch\": %ld, "
-              "\"inside_mismatch_beyond_1e-8\": %ld,\n  \"vertices_with_vtk_cell_disagreement\": %ld, "
-              "\"vertices_vtk_inside_verdict_differs\": %ld, \"vertices_inside_only_for_vtk\": %ld,\n",
+  std::printf(
+    "  \"inside_brute\": %ld, \"inside_filter\": %ld, \"inside_mismatch\": %ld, "
+    "\"inside_mismatch_beyond_1e-8\": %ld,\n  \"vertices_with_vtk_cell_disagreement\": %ld, "
+    "\"vertices_vtk_inside_verdict_differs\": %ld, \"vertices_inside_only_for_vtk\": %ld,\n",
     bruteInside, filterInside, insideMismatch, insideMismatchMaterial, vtkDis, vtkVertexDis,
     vtkOnlyInside);
   std::printf("  \"bb_nodes_mean\": %.1f, \"bb_nodes_max\": %ld, \"vertices_depth_limited\": %ld, "
               "\"vertices_node_limited\": %ld,\n  \"vertices_inside_undecided\": %ld, "
               "\"inside_subtets_max\": %ld,\n",
-    double(totalNodes) / double(nv), maxNodes, depthLim, nodeLim, insideUndecided,
-    maxInsideNodes);
+    double(totalNodes) / double(nv), maxNodes, depthLim, nodeLim, insideUndecided, maxInsideNodes);
   std::printf("  \"vtk_verdict_differs\": [");
   for (size_t k = 0; k < vtkVerdict.size(); ++k)
   {

@@ -89,8 +89,8 @@ double TriangleDistance(const V3& p, const V3& a, const V3& b, const V3& c)
     if (side(ab, ap) >= 0.0 && side(bc, bp) >= 0.0 && side(ca, cp) >= 0.0)
       return std::fabs(Dot(ap, n)) / std::sqrt(n2);
   }
-  return std::min(SegmentDistance(p, a, b),
-    std::min(SegmentDistance(p, b, c), SegmentDistance(p, c, a)));
+  return std::min(
+    SegmentDistance(p, a, b), std::min(SegmentDistance(p, b, c), SegmentDistance(p, c, a)));
 }
 
 double BoxDistance(const double* box, const double v[3])
@@ -187,8 +187,8 @@ PatchEval Evaluate(const SubPatch& S, double s, double t)
   PatchEval r;
   for (int d = 0; d < 3; ++d)
   {
-    r.X[d] = S.C[0][d] + S.C[1][d] * s + S.C[2][d] * t + S.C[3][d] * s * s +
-      S.C[4][d] * s * t + S.C[5][d] * t * t;
+    r.X[d] = S.C[0][d] + S.C[1][d] * s + S.C[2][d] * t + S.C[3][d] * s * s + S.C[4][d] * s * t +
+      S.C[5][d] * t * t;
     r.Js[d] = S.C[1][d] + 2.0 * S.C[3][d] * s + S.C[4][d] * t;
     r.Jt[d] = S.C[2][d] + S.C[4][d] * s + 2.0 * S.C[5][d] * t;
   }
@@ -422,8 +422,8 @@ double Invert(const ExactMesh& M, Id c, const double v[3], double pc[3])
 {
   double x[3], J[3][3];
   CellMap(M, c, pc, x, J);
-  double r = std::sqrt((x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
-    (x[2] - v[2]) * (x[2] - v[2]));
+  double r = std::sqrt(
+    (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) + (x[2] - v[2]) * (x[2] - v[2]));
   for (int it = 0; it < 60 && r > 0.0; ++it)
   {
     const double f[3] = { v[0] - x[0], v[1] - x[1], v[2] - x[2] };
@@ -517,9 +517,9 @@ bool InvertBySubdivision(const ExactMesh& M, Id c, const double v[3], double tol
     {
       const double* a = x[EdgeCorners[e][0]];
       const double* b = x[EdgeCorners[e][1]];
-      GrowBox(box, { 2.0 * x[4 + e][0] - 0.5 * (a[0] + b[0]),
-                     2.0 * x[4 + e][1] - 0.5 * (a[1] + b[1]),
-                     2.0 * x[4 + e][2] - 0.5 * (a[2] + b[2]) });
+      GrowBox(box,
+        { 2.0 * x[4 + e][0] - 0.5 * (a[0] + b[0]), 2.0 * x[4 + e][1] - 0.5 * (a[1] + b[1]),
+          2.0 * x[4 + e][2] - 0.5 * (a[2] + b[2]) });
     }
     if (BoxDistance(box, v) > tol)
       continue;
@@ -542,9 +542,9 @@ bool InvertBySubdivision(const ExactMesh& M, Id c, const double v[3], double tol
     // red refinement: four corner tets and the inner octahedron cut along m02 - m13
     // (q[4..9] are the mids of edges 01 12 20 03 13 23)
     const int m01 = 4, m12 = 5, m02 = 6, m03 = 7, m13 = 8, m23 = 9;
-    const int children[8][4] = { { 0, m01, m02, m03 }, { m01, 1, m12, m13 },
-      { m02, m12, 2, m23 }, { m03, m13, m23, 3 }, { m02, m13, m01, m12 },
-      { m02, m13, m12, m23 }, { m02, m13, m23, m03 }, { m02, m13, m03, m01 } };
+    const int children[8][4] = { { 0, m01, m02, m03 }, { m01, 1, m12, m13 }, { m02, m12, 2, m23 },
+      { m03, m13, m23, 3 }, { m02, m13, m01, m12 }, { m02, m13, m12, m23 }, { m02, m13, m23, m03 },
+      { m02, m13, m03, m01 } };
     for (const auto& ch : children)
     {
       SubTet s;
@@ -560,8 +560,8 @@ bool InvertBySubdivision(const ExactMesh& M, Id c, const double v[3], double tol
 
 // VTK's own EvaluatePosition of v in cell c (its nodes copied into `cell`): the return
 // code, the parametric coordinates and the squared distance.
-int VtkEvaluate(const ExactMesh& M, Id c, vtkCell* cell, const double v[3], double pcv[3],
-  double& d2)
+int VtkEvaluate(
+  const ExactMesh& M, Id c, vtkCell* cell, const double v[3], double pcv[3], double& d2)
 {
   const int npc = M.NodesPerCell;
   const Id* n = &M.Cells[npc * c];
@@ -631,10 +631,12 @@ std::string ExactMesh::Build(
   const Id nf = this->NumberOfFaces();
   this->FaceBox.assign(6 * nf, 0.0);
   for (Id f = 0; f < nf; ++f)
-    ControlPointBox(*this, &this->Faces[6 * f], 3, this->Faces[6 * f + 3] >= 0, &this->FaceBox[6 * f]);
+    ControlPointBox(
+      *this, &this->Faces[6 * f], 3, this->Faces[6 * f + 3] >= 0, &this->FaceBox[6 * f]);
   this->CellBox.assign(6 * numberOfCells, 0.0);
   for (Id c = 0; c < numberOfCells; ++c)
-    ControlPointBox(*this, &this->Cells[nodesPerCell * c], 4, nodesPerCell == 10, &this->CellBox[6 * c]);
+    ControlPointBox(
+      *this, &this->Cells[nodesPerCell * c], 4, nodesPerCell == 10, &this->CellBox[6 * c]);
   return std::string();
 }
 
@@ -644,8 +646,8 @@ void ExactCellPoint(const ExactMesh& M, Id c, const double pc[3], double x[3])
   CellMap(M, c, pc, x, J);
 }
 
-void ExactBoundaryDistance(const ExactMesh& M, const double v[3], const ExactOptions& opt,
-  ExactScratch& S, ExactResult& res)
+void ExactBoundaryDistance(
+  const ExactMesh& M, const double v[3], const ExactOptions& opt, ExactScratch& S, ExactResult& res)
 {
   const V3 p = { v[0], v[1], v[2] };
   const double tol = opt.CertifyTolerance * M.Diagonal;
@@ -791,8 +793,8 @@ void ExplainInside(const ExactMesh& M, const double v[3])
       double pc[3] = { 0, 0, 0 };
       long nodes = 0;
       int undecided = 0;
-      const bool in = InvertBySubdivision(M, c, v, 1e-12 * M.Diagonal, opt.InsideMaxDepth,
-        opt.InsideMaxNodes, pc, nodes, undecided);
+      const bool in = InvertBySubdivision(
+        M, c, v, 1e-12 * M.Diagonal, opt.InsideMaxDepth, opt.InsideMaxNodes, pc, nodes, undecided);
       std::fprintf(stderr, " subdivision(%s", in ? "inside" : "outside");
       if (in)
         std::fprintf(stderr, " at %.6g %.6g %.6g", pc[0], pc[1], pc[2]);
@@ -805,8 +807,8 @@ void ExplainInside(const ExactMesh& M, const double v[3])
   }
 }
 
-void ExactDistance(const ExactMesh& M, const double v[3], const ExactOptions& opt,
-  ExactScratch& S, ExactResult& res)
+void ExactDistance(
+  const ExactMesh& M, const double v[3], const ExactOptions& opt, ExactScratch& S, ExactResult& res)
 {
   ExactBoundaryDistance(M, v, opt, S, res);
   res.Inside = false;
@@ -825,14 +827,14 @@ void ExactDistance(const ExactMesh& M, const double v[3], const ExactOptions& op
       continue;
     ++res.CandidateCells;
     double pc[3];
-    const bool own = InvertBySubdivision(M, c, v, tolInside, opt.InsideMaxDepth,
-      opt.InsideMaxNodes, pc, res.InsideNodes, res.InsideUndecided);
+    const bool own = InvertBySubdivision(M, c, v, tolInside, opt.InsideMaxDepth, opt.InsideMaxNodes,
+      pc, res.InsideNodes, res.InsideUndecided);
     // VTK's own inversion, with a strict reading of its parametric coordinates
     double pcv[3], d2;
     const int ret = VtkEvaluate(M, c, cell, v, pcv, d2);
     const double slackPc = 1e-9;
-    const bool vtkIn = ret == 1 && pcv[0] >= -slackPc && pcv[1] >= -slackPc &&
-      pcv[2] >= -slackPc && pcv[0] + pcv[1] + pcv[2] <= 1.0 + slackPc;
+    const bool vtkIn = ret == 1 && pcv[0] >= -slackPc && pcv[1] >= -slackPc && pcv[2] >= -slackPc &&
+      pcv[0] + pcv[1] + pcv[2] <= 1.0 + slackPc;
     res.InsideCellsOwn += own;
     res.InsideCellsVtk += vtkIn;
     res.InsideVtk = res.InsideVtk || vtkIn;

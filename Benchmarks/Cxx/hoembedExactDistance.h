@@ -62,9 +62,12 @@ struct ExactMesh
   double Diagonal = 0.0;       ///< bounding-box diagonal of the nodes
 
   /// Faces used by exactly one cell are boundary faces. Returns "" or the problem.
-  std::string Build(const double* points, Id numberOfPoints, const Id* cells,
-    Id numberOfCells, int nodesPerCell);
-  Id NumberOfFaces() const { return static_cast<Id>(this->Faces.size() / 6); }
+  std::string Build(
+    const double* points, Id numberOfPoints, const Id* cells, Id numberOfCells, int nodesPerCell);
+  Id NumberOfFaces() const
+  {
+    return static_cast<Id>(this->Faces.size() / 6);
+  }
 };
 
 struct ExactOptions
@@ -82,19 +85,22 @@ struct ExactResult
   double Lower = 0.0; ///< certified lower bound of the boundary distance
   Id Face = -1;
   double UV[2] = { 0, 0 };
-  bool Inside = false;  ///< a cell contains the point (own Newton inversion)
+  bool Inside = false; ///< a cell contains the point (own Newton inversion)
   Id InsideCell = -1;
-  int InsideCellsVtk = 0;  ///< cells VTK's EvaluatePosition puts the point in
-  int InsideCellsOwn = 0;  ///< cells the own inversion puts the point in
-  int CandidateCells = 0;  ///< cells whose control box holds the point
+  int InsideCellsVtk = 0; ///< cells VTK's EvaluatePosition puts the point in
+  int InsideCellsOwn = 0; ///< cells the own inversion puts the point in
+  int CandidateCells = 0; ///< cells whose control box holds the point
   int VtkDisagreements = 0;
-  bool InsideVtk = false;  ///< some cell contains the point according to VTK
-  long Nodes = 0;          ///< branch-and-bound nodes processed
-  int DepthLimited = 0;    ///< nodes that hit MaxDepth unresolved
+  bool InsideVtk = false; ///< some cell contains the point according to VTK
+  long Nodes = 0;         ///< branch-and-bound nodes processed
+  int DepthLimited = 0;   ///< nodes that hit MaxDepth unresolved
   bool NodeLimited = false;
   long InsideNodes = 0;    ///< sub-tets visited by the inside test, all cells
   int InsideUndecided = 0; ///< sub-tets left holding the point at the limits, all cells
-  double Distance() const { return this->Inside ? 0.0 : this->Upper; }
+  double Distance() const
+  {
+    return this->Inside ? 0.0 : this->Upper;
+  }
 };
 
 struct ExactScratch
@@ -105,7 +111,10 @@ struct ExactScratch
     Id Face;
     double Q[3][2];
     int Depth; // -1: a face not yet evaluated (Key is its box bound)
-    bool operator<(const Item& o) const { return this->Key > o.Key; } // min-heap
+    bool operator<(const Item& o) const
+    {
+      return this->Key > o.Key;
+    } // min-heap
   };
   std::vector<Item> Heap;
   vtkNew<vtkQuadraticTetra> Tet10;

@@ -4,12 +4,12 @@ mid-drag: tet10 + normal-offset (left) and tet4 + barycentric (right), FE mesh s
 
     xvfb-run -a .venv/bin/python Examples/Python/live_drag.py [out.png]
 """
+
 import sys
 
+import hoembed
 import numpy as np
 import pyvista as pv
-
-import hoembed
 
 out = sys.argv[1] if len(sys.argv) > 1 else "live_drag.png"
 pl = pv.Plotter(window_size=(900, 480), off_screen=False)

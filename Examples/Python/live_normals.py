@@ -14,26 +14,37 @@ panel.
 (a 24-bit screen: xvfb-run's default 8-bit one dithers, and the two pictures then differ
 everywhere by the dithering)
 """
+
 import argparse
 
+import hoembed
 import numpy as np
 import pyvista as pv
-
-import hoembed
 from hoembed.live import LiveSession, default_clamp
 
 ap = argparse.ArgumentParser()
 ap.add_argument("out", nargs="?", default="live_normals.png")
-ap.add_argument("--vertices", type=int, default=0,
-                help="fine surface vertices (default: the built-in tail as `hoembed live`)")
-ap.add_argument("--amplitude", type=float, default=1.0,
-                help="radius of the tip's circle (bench_live.py's drag: 1, a tenth of the tail)")
+ap.add_argument(
+    "--vertices",
+    type=int,
+    default=0,
+    help="fine surface vertices (default: the built-in tail as `hoembed live`)",
+)
+ap.add_argument(
+    "--amplitude",
+    type=float,
+    default=1.0,
+    help="radius of the tip's circle (bench_live.py's drag: 1, a tenth of the tail)",
+)
 args = ap.parse_args()
 
 coarse = hoembed.thorny_tail()
 fe = hoembed.tet10_mesh(coarse, n_elements=1000)
-fine = coarse if args.vertices <= 0 else hoembed.thorny_tail(
-    rings=max(8, round(args.vertices / 512)), sectors=512)
+fine = (
+    coarse
+    if args.vertices <= 0
+    else hoembed.thorny_tail(rings=max(8, round(args.vertices / 512)), sectors=512)
+)
 session = LiveSession(fe, hoembed.embed(fine, fe), fixed=default_clamp(fe, builtin=True))
 pos = session.positions()
 tip = pos[np.argmax(pos[:, 0])]
@@ -57,9 +68,11 @@ assert np.array_equal(recomputed.points, transformed.points)
 a = np.asarray(recomputed.point_data["Normals"], float)
 b = np.asarray(transformed.point_data["Normals"], float)
 ang = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0)))
-stats = (f"angle transformed vs recomputed: median {np.median(ang):.3f}, 99th percentile "
-         f"{np.percentile(ang, 99):.2f}, max {ang.max():.1f} degrees "
-         f"({recomputed.n_points} vertices)")
+stats = (
+    f"angle transformed vs recomputed: median {np.median(ang):.3f}, 99th percentile "
+    f"{np.percentile(ang, 99):.2f}, max {ang.max():.1f} degrees "
+    f"({recomputed.n_points} vertices)"
+)
 
 
 def render(mesh, label):
@@ -93,6 +106,8 @@ w = vio.vtkPNGWriter()
 w.SetFileName(args.out)
 w.SetInputData(img)
 w.Write()
-print(f"wrote {args.out}: {stats}; picture difference: max {diff.max()}, "
-      f"mean {diff.mean():.3f}, pixels differing by more than 8: "
-      f"{np.count_nonzero(diff.max(axis=2) > 8)} of {diff.shape[0] * diff.shape[1]}")
+print(
+    f"wrote {args.out}: {stats}; picture difference: max {diff.max()}, "
+    f"mean {diff.mean():.3f}, pixels differing by more than 8: "
+    f"{np.count_nonzero(diff.max(axis=2) > 8)} of {diff.shape[0] * diff.shape[1]}"
+)

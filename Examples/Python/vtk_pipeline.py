@@ -5,11 +5,11 @@
 A sphere source feeds the mesher and the embedding filter; the stepper's time steps flow
 through the transfer filter into the time-series writer, which requests every step.
 """
+
 import sys
 
-from vtkmodules.vtkFiltersSources import vtkSphereSource
-
 import hoembed
+from vtkmodules.vtkFiltersSources import vtkSphereSource
 
 out = sys.argv[1] if len(sys.argv) > 1 else "vtk_pipeline_output"
 

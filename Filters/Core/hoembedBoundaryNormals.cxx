@@ -11,8 +11,6 @@ namespace
 {
 using Id = TetMeshTopology::Id;
 
-
-
 double Norm(const double a[3])
 {
   return std::sqrt(Dot(a, a));
@@ -165,8 +163,8 @@ void ComputeBoundaryNodeNormals(const TetMeshTopology& topo, const double* point
   }
 }
 
-double InterpolateBoundaryNormal(const TetMeshTopology& topo, const double* nodalNormals,
-  Id face, const double uv[2], double n[3], double unnormalized[3])
+double InterpolateBoundaryNormal(const TetMeshTopology& topo, const double* nodalNormals, Id face,
+  const double uv[2], double n[3], double unnormalized[3])
 {
   const int npf = topo.GetNodesPerFace();
   const Id* fn = &topo.BoundaryFaceNodes[face * npf];

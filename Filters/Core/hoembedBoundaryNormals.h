@@ -32,9 +32,8 @@ HOEMBEDCORE_EXPORT void ComputeBoundaryNodeNormals(
 /**
  * Position and exact tangents of boundary face `face` at (u, v): x, dx/du, dx/dv.
  */
-HOEMBEDCORE_EXPORT void EvaluateBoundaryFace(const TetMeshTopology& topo,
-  const double* points, TetMeshTopology::Id face, const double uv[2], double x[3],
-  double xu[3], double xv[3]);
+HOEMBEDCORE_EXPORT void EvaluateBoundaryFace(const TetMeshTopology& topo, const double* points,
+  TetMeshTopology::Id face, const double uv[2], double x[3], double xu[3], double xv[3]);
 
 /**
  * Smooth normal at (u, v) of boundary face `face`: sum_I N_I(u, v) nbar_I, then

@@ -151,7 +151,6 @@ double SubTetLowerBound(const double* x, const double c[4][3], int depth)
   return std::max(best, lo); // the parent's bound is valid too
 }
 
-
 // Whether every sub-tet that SubTetLowerBound(x, c, depth) would look at, down to the
 // leaves it stops at, has all its Bernstein coefficients above `margin` (computed from
 // the corner Jacobians G of the whole element; the sub-tet's are their affine
@@ -179,7 +178,6 @@ bool SubTetClearlyPositive(const double G[4][3][3], const double c[4][3], int de
   }
   return true;
 }
-
 
 double Det3(const double J[3][3])
 {
@@ -416,26 +414,26 @@ void DetBernsteinCoefficients(const double G[4][3][3], double b[20])
       6.0;
   };
   // multi-indices (counts of corners 0..3) in the documented order
-  b[0] = P[0];               // 3000
-  b[1] = T2[0][3];           // 2001
-  b[2] = T2[3][0];           // 1002
-  b[3] = P[3];               // 0003
-  b[4] = T2[0][2];           // 2010
-  b[5] = triple(0, 2, 3);    // 1011
-  b[6] = T2[3][2];           // 0012
-  b[7] = T2[2][0];           // 1020
-  b[8] = T2[2][3];           // 0021
-  b[9] = P[2];               // 0030
-  b[10] = T2[0][1];          // 2100
-  b[11] = triple(0, 1, 3);   // 1101
-  b[12] = T2[3][1];          // 0102
-  b[13] = triple(0, 1, 2);   // 1110
-  b[14] = triple(1, 2, 3);   // 0111
-  b[15] = T2[2][1];          // 0120
-  b[16] = T2[1][0];          // 1200
-  b[17] = T2[1][3];          // 0201
-  b[18] = T2[1][2];          // 0210
-  b[19] = P[1];              // 0300
+  b[0] = P[0];             // 3000
+  b[1] = T2[0][3];         // 2001
+  b[2] = T2[3][0];         // 1002
+  b[3] = P[3];             // 0003
+  b[4] = T2[0][2];         // 2010
+  b[5] = triple(0, 2, 3);  // 1011
+  b[6] = T2[3][2];         // 0012
+  b[7] = T2[2][0];         // 1020
+  b[8] = T2[2][3];         // 0021
+  b[9] = P[2];             // 0030
+  b[10] = T2[0][1];        // 2100
+  b[11] = triple(0, 1, 3); // 1101
+  b[12] = T2[3][1];        // 0102
+  b[13] = triple(0, 1, 2); // 1110
+  b[14] = triple(1, 2, 3); // 0111
+  b[15] = T2[2][1];        // 0120
+  b[16] = T2[1][0];        // 1200
+  b[17] = T2[1][3];        // 0201
+  b[18] = T2[1][2];        // 0210
+  b[19] = P[1];            // 0300
 }
 
 double DetBernsteinMin(const double G[4][3][3], double* hiOut)

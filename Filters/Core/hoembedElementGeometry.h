@@ -10,9 +10,9 @@
  * Bernstein basis; their minimum is a lower bound of det J over the whole element
  * (Bernstein polynomials are non-negative and sum to one), and the bound is sharp at the
  * corners (up to a round-off allowance of 1e-12 of the largest coefficient, subtracted so
- * that a positive bound is positive for the exact polynomial too). `Tet10JacobianBounds` computes that bound, refined by de Casteljau subdivision
- * where it is not conclusive, so `Tet10IsValid` never accepts an element whose det J
- * reaches zero anywhere inside it.
+ * that a positive bound is positive for the exact polynomial too). `Tet10JacobianBounds` computes
+ * that bound, refined by de Casteljau subdivision where it is not conclusive, so `Tet10IsValid`
+ * never accepts an element whose det J reaches zero anywhere inside it.
  */
 #ifndef hoembedElementGeometry_h
 #define hoembedElementGeometry_h

@@ -25,7 +25,10 @@ public:
   void AddCell(std::int64_t cellType, const std::int64_t* ids, int numberOfIds);
   /// 16 lowercase hex digits.
   std::string Hex() const;
-  std::uint64_t Value() const { return this->Hash; }
+  std::uint64_t Value() const
+  {
+    return this->Hash;
+  }
 
 private:
   void Add(std::int64_t v);

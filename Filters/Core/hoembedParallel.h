@@ -72,7 +72,10 @@ template <typename T>
 class ThreadLocal
 {
 public:
-  T& Local() { return this->Storage.Local(); }
+  T& Local()
+  {
+    return this->Storage.Local();
+  }
 
 private:
   vtkSMPThreadLocal<T> Storage;
@@ -258,7 +261,10 @@ void ParallelLoop(I begin, I end, I grain, F&& f)
     struct Restore
     {
       bool Saved;
-      ~Restore() { InLoop() = this->Saved; }
+      ~Restore()
+      {
+        InLoop() = this->Saved;
+      }
     } restore{ saved };
     (*rg.Body)(static_cast<I>(rg.Begin + b), static_cast<I>(rg.Begin + e));
   };
@@ -287,10 +293,7 @@ template <typename T>
 class ThreadLocal
 {
 public:
-  ThreadLocal()
-    : Slots(parallel_detail::NumberOfThreads())
-  {
-  }
+  ThreadLocal() : Slots(parallel_detail::NumberOfThreads()) {}
   T& Local()
   {
     std::unique_ptr<T>& slot = this->Slots[parallel_detail::WorkerIndex()];

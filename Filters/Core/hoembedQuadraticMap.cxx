@@ -44,7 +44,6 @@ void MakeTriangleMap(const double* x, int n, QuadraticMap& m)
   }
 }
 
-
 namespace
 {
 // b / F^2 for the Jacobians G at the 4 corners of a tet over which J is affine: b the

@@ -53,8 +53,7 @@ HOEMBEDCORE_EXPORT bool Tet10JacobianProvablyPositive(const QuadraticMap& m);
  * the smallest singular value of J is >= 2 b / F^2 (s1 s2 <= F^2 / 2) and
  * |x(xi) - x(eta)| >= 2 b / F^2 * dist(eta, T) for every xi in T. False: not proven.
  */
-HOEMBEDCORE_EXPORT bool TetMapExcludes(
-  const QuadraticMap& m, const double eta[3], double reach);
+HOEMBEDCORE_EXPORT bool TetMapExcludes(const QuadraticMap& m, const double eta[3], double reach);
 
 /// The reference tet scaled by this factor about its centroid is where
 /// TetMapExclusionRate bounds the Jacobian.

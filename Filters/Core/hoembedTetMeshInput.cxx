@@ -117,11 +117,10 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
   }
   this->CellType = type0;
   this->NodesPerCell = type0 == QuadraticTetra ? 10 : 4;
-  const std::string cells = has64
-    ? ReadCells(in.Offsets64, in.Connectivity64, in.CellTypes, in.NumberOfCells,
-        in.NumberOfPoints, *this)
-    : ReadCells(in.Offsets32, in.Connectivity32, in.CellTypes, in.NumberOfCells,
-        in.NumberOfPoints, *this);
+  const std::string cells = has64 ? ReadCells(in.Offsets64, in.Connectivity64, in.CellTypes,
+                                      in.NumberOfCells, in.NumberOfPoints, *this)
+                                  : ReadCells(in.Offsets32, in.Connectivity32, in.CellTypes,
+                                      in.NumberOfCells, in.NumberOfPoints, *this);
   if (!cells.empty())
   {
     return cells;

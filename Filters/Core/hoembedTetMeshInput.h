@@ -62,8 +62,8 @@ public:
   enum Keep
   {
     KeepTopology = 0,
-    KeepPoints = 1,      ///< the points as doubles (Points)
-    KeepFingerprint = 2  ///< the fingerprint (Fingerprint)
+    KeepPoints = 1,     ///< the points as doubles (Points)
+    KeepFingerprint = 2 ///< the fingerprint (Fingerprint)
   };
 
   /// Read and check; the empty string on success, else one sentence naming the problem

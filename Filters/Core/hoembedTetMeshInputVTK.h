@@ -24,7 +24,8 @@ namespace hoembed
 {
 /// The coordinates of `pts` without a copy when they are doubles or floats (`d` or `f`
 /// set, the other null); other types are converted into `scratch` (`d` points there).
-inline void ViewPoints(vtkPoints* pts, const double*& d, const float*& f, std::vector<double>& scratch)
+inline void ViewPoints(
+  vtkPoints* pts, const double*& d, const float*& f, std::vector<double>& scratch)
 {
   d = nullptr;
   f = nullptr;
@@ -83,13 +84,15 @@ inline TetMeshArrays ViewTetMesh(
     a.CellTypes = types->GetPointer(0);
     if (cells->IsStorage64Bit())
     {
-      a.Offsets64 = reinterpret_cast<const std::int64_t*>(cells->GetOffsetsArray64()->GetPointer(0));
+      a.Offsets64 =
+        reinterpret_cast<const std::int64_t*>(cells->GetOffsetsArray64()->GetPointer(0));
       a.Connectivity64 =
         reinterpret_cast<const std::int64_t*>(cells->GetConnectivityArray64()->GetPointer(0));
     }
     else
     {
-      a.Offsets32 = reinterpret_cast<const std::int32_t*>(cells->GetOffsetsArray32()->GetPointer(0));
+      a.Offsets32 =
+        reinterpret_cast<const std::int32_t*>(cells->GetOffsetsArray32()->GetPointer(0));
       a.Connectivity32 =
         reinterpret_cast<const std::int32_t*>(cells->GetConnectivityArray32()->GetPointer(0));
     }

@@ -18,7 +18,8 @@ template <typename T, typename Make>
 void BucketByFirst(
   Id numberOfItems, Id numberOfPoints, Make make, std::vector<Id>& offsets, std::vector<T>& sorted)
 {
-  BuildCsr(numberOfPoints,
+  BuildCsr(
+    numberOfPoints,
     [&](auto&& emit) {
       T it;
       for (Id i = 0; i < numberOfItems; ++i)
@@ -119,8 +120,8 @@ std::string TetMeshTopology::BuildImpl(
       if (cell[i] < 0 || cell[i] >= numberOfPoints)
       {
         std::ostringstream os;
-        os << "cell " << c << " refers to point " << cell[i] << ", outside [0, "
-           << numberOfPoints << ")";
+        os << "cell " << c << " refers to point " << cell[i] << ", outside [0, " << numberOfPoints
+           << ")";
         return os.str();
       }
       if (lastCell[cell[i]] == c)
@@ -136,7 +137,8 @@ std::string TetMeshTopology::BuildImpl(
   // Face neighbours.
   std::vector<Id>& offsets = this->BucketOffsets;
   std::vector<Keyed<3>>& sorted = this->SortedFaces;
-  BucketByFirst(4 * numberOfCells, numberOfPoints,
+  BucketByFirst(
+    4 * numberOfCells, numberOfPoints,
     [conn, nodesPerCell](Id item, Keyed<3>& k) {
       const Id* cell = conn + (item / 4) * nodesPerCell;
       const int* fn = TetFaceNodes[item % 4];
@@ -203,8 +205,8 @@ std::string TetMeshTopology::BuildImpl(
   this->BoundaryFaceNodes.clear();
   this->CellBoundaryFace.assign(4 * numberOfCells, -1);
   {
-    const Id count = static_cast<Id>(
-      std::count(this->FaceNeighbor.begin(), this->FaceNeighbor.end(), Id(-1)));
+    const Id count =
+      static_cast<Id>(std::count(this->FaceNeighbor.begin(), this->FaceNeighbor.end(), Id(-1)));
     this->BoundaryFaceCell.reserve(count);
     this->BoundaryFaceLocal.reserve(count);
     this->BoundaryFaceNodes.reserve(count * npf);
@@ -227,7 +229,8 @@ std::string TetMeshTopology::BuildImpl(
 
   // Boundary edges and the neighbours across them.
   std::vector<Keyed<2>>& sortedEdges = this->SortedEdges;
-  BucketByFirst(3 * nbf, numberOfPoints,
+  BucketByFirst(
+    3 * nbf, numberOfPoints,
     [this, npf](Id item, Keyed<2>& k) {
       const Id* fn = &this->BoundaryFaceNodes[(item / 3) * npf];
       const int e = static_cast<int>(item % 3);
@@ -271,7 +274,8 @@ std::string TetMeshTopology::BuildImpl(
   }
 
   // Boundary faces around each node.
-  BuildCsr(numberOfPoints,
+  BuildCsr(
+    numberOfPoints,
     [&](auto&& emit) {
       for (Id b = 0; b < nbf; ++b)
         for (int a = 0; a < npf; ++a)

@@ -48,8 +48,14 @@ public:
   std::vector<Id> BoundaryFaceCell;
   std::vector<int> BoundaryFaceLocal;
   std::vector<Id> BoundaryFaceNodes;
-  Id GetNumberOfBoundaryFaces() const { return static_cast<Id>(BoundaryFaceCell.size()); }
-  int GetNodesPerFace() const { return NodesPerCell == 10 ? 6 : 3; }
+  Id GetNumberOfBoundaryFaces() const
+  {
+    return static_cast<Id>(BoundaryFaceCell.size());
+  }
+  int GetNodesPerFace() const
+  {
+    return NodesPerCell == 10 ? 6 : 3;
+  }
 
   /// 3 per boundary face: the boundary face across edge ab, bc, ca; -1 when the edge has
   /// no other boundary face or more than one (non-manifold boundary edge).
@@ -59,13 +65,19 @@ public:
 
   /// Unique boundary edges: 2 corner ids each (+ the mid node for tet10, else -1).
   std::vector<Id> BoundaryEdgeNodes; // 3 per edge: a, b, mid
-  Id GetNumberOfBoundaryEdges() const { return static_cast<Id>(BoundaryEdgeNodes.size() / 3); }
+  Id GetNumberOfBoundaryEdges() const
+  {
+    return static_cast<Id>(BoundaryEdgeNodes.size() / 3);
+  }
 
   /// Boundary faces around each node (CSR): faces of node i are
   /// NodeFaces[NodeFaceOffsets[i] .. NodeFaceOffsets[i+1]).
   std::vector<Id> NodeFaceOffsets;
   std::vector<Id> NodeFaces;
-  bool IsBoundaryNode(Id i) const { return NodeFaceOffsets[i + 1] > NodeFaceOffsets[i]; }
+  bool IsBoundaryNode(Id i) const
+  {
+    return NodeFaceOffsets[i + 1] > NodeFaceOffsets[i];
+  }
 
 private:
   std::string BuildImpl(const Id* conn, Id numberOfCells, int nodesPerCell, Id numberOfPoints);

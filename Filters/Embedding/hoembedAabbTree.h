@@ -40,7 +40,8 @@ public:
     const Pair vxy = { v[0], v[1] };
     const Pair below = lanes::Load(b) - vxy, above = vxy - lanes::Load(b + 3);
     const Pair e = (below > zero ? below : zero) + (above > zero ? above : zero);
-    const double ez = (b[2] - v[2] > 0.0 ? b[2] - v[2] : 0.0) + (v[2] - b[5] > 0.0 ? v[2] - b[5] : 0.0);
+    const double ez =
+      (b[2] - v[2] > 0.0 ? b[2] - v[2] : 0.0) + (v[2] - b[5] > 0.0 ? v[2] - b[5] : 0.0);
     return e[0] * e[0] + e[1] * e[1] + ez * ez;
   }
 
@@ -101,7 +102,10 @@ public:
   /// Items whose box contains v (grown by tol), appended to `out`.
   void Containing(const double v[3], double tol, std::vector<Id>& out) const;
 
-  Id GetNumberOfItems() const { return static_cast<Id>(this->Items.size()); }
+  Id GetNumberOfItems() const
+  {
+    return static_cast<Id>(this->Items.size());
+  }
 
 private:
   struct Node

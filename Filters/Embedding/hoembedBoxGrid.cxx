@@ -42,8 +42,8 @@ void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
   for (int d = 0; d < 3; ++d)
   {
     this->Origin[d] = lo[d];
-    this->Dims[d] = static_cast<int>(
-      std::min(1024.0, std::max(1.0, std::ceil((hi[d] - lo[d]) / size))));
+    this->Dims[d] =
+      static_cast<int>(std::min(1024.0, std::max(1.0, std::ceil((hi[d] - lo[d]) / size))));
   }
   this->InvSize = 1.0 / size;
   const Id bins = static_cast<Id>(this->Dims[0]) * this->Dims[1] * this->Dims[2];
@@ -55,7 +55,8 @@ void BoxGrid::Build(const std::vector<double>& boxes, double binsPerItem)
         for (int x = first[0]; x <= last[0]; ++x)
           f((static_cast<Id>(z) * this->Dims[1] + y) * this->Dims[0] + x);
   };
-  BuildCsr(bins,
+  BuildCsr(
+    bins,
     [&](auto&& emit) {
       for (Id i = 0; i < n; ++i)
         forBins(i, [&](Id b) { emit(b, static_cast<std::int32_t>(i)); });

@@ -68,7 +68,8 @@ public:
     int first[3], last[3];
     this->BinRange(qlo, qhi, first, last);
     if (static_cast<double>(last[0] - first[0] + 1) * (last[1] - first[1] + 1) *
-        (last[2] - first[2] + 1) > maxBins)
+        (last[2] - first[2] + 1) >
+      maxBins)
       return false;
     const bool single = first[0] == last[0] && first[1] == last[1] && first[2] == last[2];
     const std::int32_t* items = this->Items.data(); // (read once: `visit` writes memory)
@@ -123,7 +124,7 @@ private:
   double Origin[3] = { 0, 0, 0 };
   double InvSize = 0.0;
   int Dims[3] = { 0, 0, 0 };
-  std::vector<Id> Offsets; ///< per bin, into Items (CSR)
+  std::vector<Id> Offsets;         ///< per bin, into Items (CSR)
   std::vector<std::int32_t> Items; ///< item ids (fewer than 2^31 items: half the memory)
   std::vector<double> ItemBoxes;
 };

@@ -51,11 +51,11 @@ template <int N>
 struct ActiveSetTables
 {
   static constexpr int NC = N + 1;
-  int M[1 << NC];             // number of free directions
-  double Z[1 << NC][N][N];    // Z[mask][col][component]
-  int NA[1 << NC];            // number of active constraints
-  int Which[1 << NC][NC];     // active constraint indices
-  double P[1 << NC][NC][N];   // multipliers: mu_a = sum_i P[a][i] g_i
+  int M[1 << NC];           // number of free directions
+  double Z[1 << NC][N][N];  // Z[mask][col][component]
+  int NA[1 << NC];          // number of active constraints
+  int Which[1 << NC][NC];   // active constraint indices
+  double P[1 << NC][NC][N]; // multipliers: mu_a = sum_i P[a][i] g_i
   bool Valid[1 << NC];
 
   ActiveSetTables()
@@ -85,7 +85,7 @@ struct ActiveSetTables
       // orthonormal basis U of the active normals, then Z completing it
       double U[N][N];
       int nu = 0;
-      auto orth = [&](double w[N], double (*B)[N], int nb) {
+      auto orth = [&](double w[N], double(*B)[N], int nb) {
         for (int b = 0; b < nb; ++b)
         {
           double c = 0.0;
@@ -285,8 +285,8 @@ inline bool SolveReduced(int m, const double H[3][3], const double* b, double* y
 // would pass that state through memory in the innermost loop of the embedding (every
 // outside vertex runs it), and the loop's control flow would be spread over them.
 template <int N>
-void Solve(const QuadraticMap& m, const double v[3], const double* start,
-  ClosestPointResult& res, int maxIterations)
+void Solve(const QuadraticMap& m, const double v[3], const double* start, ClosestPointResult& res,
+  int maxIterations)
 {
   constexpr int NC = N + 1;
   const ActiveSetTables<N>& T = Tables<N>();
@@ -552,12 +552,11 @@ void Solve(const QuadraticMap& m, const double v[3], const double* start,
 
 } // namespace
 
-
 namespace
 {
 // A converged answer of the patch fast paths: parameters xi, point x, squared distance f.
-void SetPatchResult(const double xi[2], const double x[3], double f, int active,
-  int iterations, ClosestPointResult& res)
+void SetPatchResult(const double xi[2], const double x[3], double f, int active, int iterations,
+  ClosestPointResult& res)
 {
   res.Param[0] = xi[0];
   res.Param[1] = xi[1];
@@ -657,8 +656,8 @@ bool InteriorNewton2(const QuadraticMap& m, const double v[3], const double* sta
 // constraint is not negative (as in the active-set solver: >= -1e-10 of the gradient):
 // then the result is a KKT point with that one constraint active. Otherwise the caller
 // runs the active-set solver.
-bool EdgeNewton2(const QuadraticMap& m, const double v[3], int k, double t0,
-  ClosestPointResult& res)
+bool EdgeNewton2(
+  const QuadraticMap& m, const double v[3], int k, double t0, ClosestPointResult& res)
 {
   static const double Dir[3][2] = { { 0, 1 }, { 1, 0 }, { -1, 1 } };
   const double* dir = Dir[k];

@@ -35,8 +35,8 @@ struct ClosestPointResult
 {
   double Param[3] = { 0, 0, 0 }; ///< (u, v) or (r, s, t), inside the simplex
   double Point[3] = { 0, 0, 0 };
-  double Distance2 = 0.0;        ///< squared distance |x(Param) - v|^2
-  int Active = 0;                ///< constraint bits, see the file comment
+  double Distance2 = 0.0; ///< squared distance |x(Param) - v|^2
+  int Active = 0;         ///< constraint bits, see the file comment
   int Iterations = 0;
   bool Converged = false;
 };
@@ -63,7 +63,8 @@ HOEMBEDFILTERSEMBEDDING_EXPORT bool ClosestPointOnTriangle(
  * Dim 2, the closest point of v on the flat triangle; Dim 3, the linear tet's
  * barycentric coordinates of v, clamped into the simplex.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT void LinearStart(const QuadraticMap& m, const double v[3], double* start);
+HOEMBEDFILTERSEMBEDDING_EXPORT void LinearStart(
+  const QuadraticMap& m, const double v[3], double* start);
 
 /**
  * Unconstrained inverse of a tet map: find pc with x(pc) = v (pc may leave the element:
@@ -88,9 +89,8 @@ HOEMBEDFILTERSEMBEDDING_EXPORT double InvertTetMap(const QuadraticMap& m, const 
  * the iteration left the face through edge e (0: ab, 1: bc, 2: ca); uv then lies on that
  * edge), -1 when it failed (singular or no progress). `iterations` is incremented.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT int SolveNormalOffset(const QuadraticMap& x,
-  const QuadraticMap& s, const double p[3], double uv[2], double& d, double tol,
-  int& iterations, int maxIterations = 40);
+HOEMBEDFILTERSEMBEDDING_EXPORT int SolveNormalOffset(const QuadraticMap& x, const QuadraticMap& s,
+  const double p[3], double uv[2], double& d, double tol, int& iterations, int maxIterations = 40);
 /**
  * The offset of v from the point x(pc) of a tet map in parametric units: q with
  * J(pc) q = v - x(pc), J = dx/dpc. x(pc) + J(pc) q rebuilds v to round-off, and a

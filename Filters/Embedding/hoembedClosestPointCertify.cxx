@@ -35,7 +35,8 @@ double TriangleDistance(const double p[3], const double a[3], const double b[3],
   const double ap[3] = { p[0] - a[0], p[1] - a[1], p[2] - a[2] };
   double st[2];
   if (!ClosestPointOnTriangle(ap, ab, ac, st))
-    return std::min({ SegmentDistance(p, a, b), SegmentDistance(p, b, c), SegmentDistance(p, c, a) });
+    return std::min(
+      { SegmentDistance(p, a, b), SegmentDistance(p, b, c), SegmentDistance(p, c, a) });
   const double q[3] = { a[0] + st[0] * ab[0] + st[1] * ac[0], a[1] + st[0] * ab[1] + st[1] * ac[1],
     a[2] + st[0] * ab[2] + st[1] * ac[2] };
   return Dist(p, q);
@@ -352,15 +353,15 @@ bool CertifyClosestPointOnPatch(const QuadraticMap& m, const double v[3], double
   return true;
 }
 
-bool SolutionCertified(const QuadraticMap& m, const double v[3], double incumbent2,
-  double tol, const ClosestPointResult& r)
+bool SolutionCertified(const QuadraticMap& m, const double v[3], double incumbent2, double tol,
+  const ClosestPointResult& r)
 {
   const Expansion e(m, v, r.Param);
   return e.Resolves(m, RootTriangle, std::sqrt(std::min(e.F, incumbent2)) - tol);
 }
 
-bool PatchFartherThan(const QuadraticMap& m, const double v[3], const double uv[2],
-  double incumbent2, double tol)
+bool PatchFartherThan(
+  const QuadraticMap& m, const double v[3], const double uv[2], double incumbent2, double tol)
 {
   const Expansion e(m, v, uv);
   return e.F >= incumbent2 && e.Resolves(m, RootTriangle, std::sqrt(incumbent2) - tol);

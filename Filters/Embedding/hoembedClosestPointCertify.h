@@ -59,16 +59,16 @@ HOEMBEDFILTERSEMBEDDING_EXPORT bool CertifyClosestPointOnPatch(const QuadraticMa
  * only a local solution makes the bound tight. False: not proven (then
  * CertifyClosestPointOnPatch decides).
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT bool SolutionCertified(const QuadraticMap& m,
-  const double v[3], double incumbent2, double tol, const ClosestPointResult& r);
+HOEMBEDFILTERSEMBEDDING_EXPORT bool SolutionCertified(const QuadraticMap& m, const double v[3],
+  double incumbent2, double tol, const ClosestPointResult& r);
 /**
  * True when no point of the patch `m` (Dim 2) is nearer to `v` than sqrt(incumbent2) - tol,
  * proven by the expansion at the parametric point `uv` (any point, e.g. the closest
  * point of the flat triangle) without solving: lets a search skip faces that cannot
  * improve its best distance. False: not proven.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT bool PatchFartherThan(const QuadraticMap& m, const double v[3],
-  const double uv[2], double incumbent2, double tol);
+HOEMBEDFILTERSEMBEDDING_EXPORT bool PatchFartherThan(
+  const QuadraticMap& m, const double v[3], const double uv[2], double incumbent2, double tol);
 
 } // namespace hoembed
 

@@ -149,8 +149,8 @@ double InvertTetMap(const QuadraticMap& m, const double v[3], double pc[3], int&
     }
     if (!accepted)
       break;
-    const double step = std::max({ std::fabs(pc[0] - pt[0]), std::fabs(pc[1] - pt[1]),
-      std::fabs(pc[2] - pt[2]) });
+    const double step =
+      std::max({ std::fabs(pc[0] - pt[0]), std::fabs(pc[1] - pt[1]), std::fabs(pc[2] - pt[2]) });
     for (int i = 0; i < 3; ++i)
     {
       pc[i] = pt[i];

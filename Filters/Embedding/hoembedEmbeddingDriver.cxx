@@ -58,7 +58,8 @@ std::string EmbeddingDriver::PrepareMesh(const TetMeshArrays& arrays, bool valid
   if (firstInvalid < ncells)
   {
     msg << "The FE mesh has an inverted or degenerate element: cell " << firstInvalid
-        << " has a non-positive Jacobian determinant" << (npc == 10 ? " somewhere inside it." : ".");
+        << " has a non-positive Jacobian determinant"
+        << (npc == 10 ? " somewhere inside it." : ".");
     return msg.str();
   }
   if (!err.empty())
@@ -90,8 +91,8 @@ std::string EmbeddingDriver::PrepareAndOrder(
       if (task == 0 && mesh)
         meshError = this->PrepareMesh(*mesh, validateElements);
       else if (task == 1 && this->SurfaceError.empty())
-        OrderSurface(this->SurfacePoints.data(), this->NumberOfPoints, this->Triangles,
-          partitions, &this->Order, this->Flood);
+        OrderSurface(this->SurfacePoints.data(), this->NumberOfPoints, this->Triangles, partitions,
+          &this->Order, this->Flood);
     }
   });
   if (!meshError.empty())
@@ -108,7 +109,8 @@ void EmbeddingDriver::Embed(int method, const std::function<void(double)>& progr
   FloodSurface(this->Mesh, method, this->Results, progress, nullptr, this->Flood);
 }
 
-std::string EmbeddingDriver::WriteArrays(const EmbeddingOutputArrays& out, EmbeddingSummary& summary) const
+std::string EmbeddingDriver::WriteArrays(
+  const EmbeddingOutputArrays& out, EmbeddingSummary& summary) const
 {
   const Id ns = this->NumberOfPoints;
   const std::vector<VertexEmbedding>& res = this->Results;
@@ -202,8 +204,8 @@ void EmbeddingDriver::WriteFallbackOffsets(double* out) const
     {
       double q[3] = { 0, 0, 0 };
       if (res[k].Fallback) // the q of its residual (EmbedVertex), computed again
-        TetMapOffset(this->Mesh.CellMaps[res[k].Cell], res[k].PC,
-          &this->SurfacePoints[3 * order[k]], q);
+        TetMapOffset(
+          this->Mesh.CellMaps[res[k].Cell], res[k].PC, &this->SurfacePoints[3 * order[k]], q);
       for (int d = 0; d < 3; ++d)
         out[3 * order[k] + d] = q[d];
     }
@@ -249,9 +251,8 @@ std::vector<std::string> EmbeddingWarnings(const EmbeddingSummary& summary)
   {
     std::ostringstream o;
     o << summary.Inexact << " surface point(s) (e.g. point " << summary.FirstInexact
-      << ") are not reproduced by their embedding: EmbeddingResidual up to "
-      << summary.MaxResidual << " of the mesh's diagonal (tolerance " << ResidualTolerance
-      << ")";
+      << ") are not reproduced by their embedding: EmbeddingResidual up to " << summary.MaxResidual
+      << " of the mesh's diagonal (tolerance " << ResidualTolerance << ")";
     if (summary.Method == EMBED_BARYCENTRIC)
     {
       o << "; they lie outside the mesh, where the barycentric method extrapolates the "

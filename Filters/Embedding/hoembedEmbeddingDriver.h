@@ -37,15 +37,15 @@ namespace hoembed
 /// Where WriteArrays puts the results: one value (or 3) per surface point, in its order.
 struct EmbeddingOutputArrays
 {
-  std::int64_t* CellId = nullptr;           ///< EmbeddingCellId
-  double* ParametricCoords = nullptr;       ///< EmbeddingParametricCoords (3 per point)
-  double* Distance = nullptr;               ///< EmbeddingDistance
-  double* Residual = nullptr;               ///< EmbeddingResidual
-  double* ClosestDistance = nullptr;        ///< EmbeddingClosestDistance
-  signed char* Face = nullptr;              ///< EmbeddingFace (-1 for barycentric)
-  int* Iterations = nullptr;                ///< EmbeddingIterations
-  int* Visited = nullptr;                   ///< EmbeddingElementsVisited
-  unsigned char* Fallback = nullptr;        ///< EmbeddingFallback
+  std::int64_t* CellId = nullptr;     ///< EmbeddingCellId
+  double* ParametricCoords = nullptr; ///< EmbeddingParametricCoords (3 per point)
+  double* Distance = nullptr;         ///< EmbeddingDistance
+  double* Residual = nullptr;         ///< EmbeddingResidual
+  double* ClosestDistance = nullptr;  ///< EmbeddingClosestDistance
+  signed char* Face = nullptr;        ///< EmbeddingFace (-1 for barycentric)
+  int* Iterations = nullptr;          ///< EmbeddingIterations
+  int* Visited = nullptr;             ///< EmbeddingElementsVisited
+  unsigned char* Fallback = nullptr;  ///< EmbeddingFallback
 };
 
 /// What WriteArrays found (first*: the lowest surface point id, -1 when none).
@@ -104,11 +104,20 @@ public:
   /// A mesh error is reported before a surface (triangle) error.
   std::string PrepareAndOrder(const TetMeshArrays* mesh, bool validateElements, int partitions);
   /// Forget the prepared mesh (after a failure, or to force a new preparation).
-  void ForgetMesh() { this->Fingerprint.clear(); }
-  const std::string& GetFingerprint() const { return this->Fingerprint; }
+  void ForgetMesh()
+  {
+    this->Fingerprint.clear();
+  }
+  const std::string& GetFingerprint() const
+  {
+    return this->Fingerprint;
+  }
   /// Step 3. `method`: EMBED_NORMAL_OFFSET or EMBED_BARYCENTRIC.
   void Embed(int method, const std::function<void(double)>& progress);
-  std::int64_t GetNumberOfPoints() const { return this->NumberOfPoints; }
+  std::int64_t GetNumberOfPoints() const
+  {
+    return this->NumberOfPoints;
+  }
   /// Step 4: the results into `out` (every array given); an error names the first point
   /// with a non-finite result.
   std::string WriteArrays(const EmbeddingOutputArrays& out, EmbeddingSummary& summary) const;

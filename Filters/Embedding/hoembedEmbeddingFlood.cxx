@@ -117,8 +117,8 @@ struct FloodContext
           if (this->Owner[w] != static_cast<int>(p))
             continue;
           if (!this->Done[w])
-            this->Embed(w,
-              hv >= 0 ? (*this->Out)[hv].AsHint(this->Points + 3 * hv) : VertexHint(), s);
+            this->Embed(
+              w, hv >= 0 ? (*this->Out)[hv].AsHint(this->Points + 3 * hv) : VertexHint(), s);
           const double dw = (*this->Out)[w].ClosestDistance;
           if (dt < 0.0)
             dt = std::max(2.0 * dw, floor);
@@ -171,7 +171,8 @@ void VertexTriangles(const std::vector<Id>& tris, Id numberOfPoints, std::vector
   std::vector<std::int32_t>& list)
 {
   const Id ntri = static_cast<Id>(tris.size() / 3);
-  BuildCsr(numberOfPoints,
+  BuildCsr(
+    numberOfPoints,
     [&](auto&& emit) {
       for (Id t = 0; t < ntri; ++t)
         for (int j = 0; j < 3; ++j)
@@ -195,10 +196,7 @@ struct EmbedWorkspace::Impl
   std::vector<Id>* VertexOrder = nullptr; // the caller's (new -> input ids), or null: OldId
 };
 
-EmbedWorkspace::EmbedWorkspace()
-  : Internal(new Impl)
-{
-}
+EmbedWorkspace::EmbedWorkspace() : Internal(new Impl) {}
 
 EmbedWorkspace::~EmbedWorkspace() = default;
 
@@ -208,10 +206,9 @@ std::size_t EmbedWorkspace::GetCapacityInBytes() const
   const FloodContext& c = w.Context;
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(w.Offsets) + bytes(w.NewId) + bytes(w.OldId) + bytes(w.Triangles) +
-    bytes(w.Isolated) + bytes(w.VertexTris) + bytes(w.Order) + bytes(w.Queued) +
-    bytes(w.Expanded) + bytes(w.Points) + bytes(w.Results) + bytes(c.VertexTriOffsets) +
-    bytes(c.VertexTris) + bytes(c.Owner) + bytes(c.TriangleState) + bytes(c.Done) +
-    bytes(c.Expanded);
+    bytes(w.Isolated) + bytes(w.VertexTris) + bytes(w.Order) + bytes(w.Queued) + bytes(w.Expanded) +
+    bytes(w.Points) + bytes(w.Results) + bytes(c.VertexTriOffsets) + bytes(c.VertexTris) +
+    bytes(c.Owner) + bytes(c.TriangleState) + bytes(c.Done) + bytes(c.Expanded);
 }
 
 void EmbedWorkspace::Release()
@@ -417,10 +414,10 @@ void FloodSurface(const EmbeddingMesh& mesh, int method, std::vector<VertexEmbed
   }
 }
 
-void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points,
-  Id numberOfPoints, const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out,
-  int numberOfPartitions, const std::function<void(double)>& progress, FloodStatistics* stats,
-  std::vector<Id>* vertexOrder, EmbedWorkspace* workspace)
+void EmbedSurface(const EmbeddingMesh& mesh, int method, const double* points, Id numberOfPoints,
+  const std::vector<Id>& triangles, std::vector<VertexEmbedding>& out, int numberOfPartitions,
+  const std::function<void(double)>& progress, FloodStatistics* stats, std::vector<Id>* vertexOrder,
+  EmbedWorkspace* workspace)
 {
   EmbedWorkspace local;
   EmbedWorkspace& ws = workspace ? *workspace : local;

@@ -35,7 +35,7 @@ namespace hoembed
 struct FloodStatistics
 {
   EmbeddingMesh::Id Partitions = 0;
-  EmbeddingMesh::Id Seeds = 0;          ///< floods started (>= connected components)
+  EmbeddingMesh::Id Seeds = 0;           ///< floods started (>= connected components)
   EmbeddingMesh::Id ThresholdRaises = 0; ///< times d_t was raised
   EmbeddingMesh::Id IsolatedVertices = 0;
 };
@@ -93,8 +93,7 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedSurface(const EmbeddingMesh& mesh, int 
  */
 HOEMBEDFILTERSEMBEDDING_EXPORT void OrderSurface(const double* points,
   EmbeddingMesh::Id numberOfPoints, const std::vector<EmbeddingMesh::Id>& triangles,
-  int numberOfPartitions, std::vector<EmbeddingMesh::Id>* vertexOrder,
-  EmbedWorkspace& workspace);
+  int numberOfPartitions, std::vector<EmbeddingMesh::Id>* vertexOrder, EmbedWorkspace& workspace);
 HOEMBEDFILTERSEMBEDDING_EXPORT void FloodSurface(const EmbeddingMesh& mesh, int method,
   std::vector<VertexEmbedding>& out, const std::function<void(double)>& progress,
   FloodStatistics* stats, EmbedWorkspace& workspace);

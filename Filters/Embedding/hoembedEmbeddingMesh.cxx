@@ -12,15 +12,14 @@
 #include <limits>
 #include <utility>
 
-
 namespace hoembed
 {
 namespace
 {
 // Box of the Bezier control points of a quadratic Lagrange simplex: corners as they are,
 // edge controls 2 m - (a + b) / 2.
-void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner,
-  const int (*edges)[2], int nedges, bool quadratic, double* box)
+void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner, const int (*edges)[2],
+  int nedges, bool quadratic, double* box)
 {
   for (int d = 0; d < 3; ++d)
   {
@@ -49,7 +48,8 @@ void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner,
     add(c);
   }
   // a hair of slack for round-off in the callers' distance comparisons
-  const double pad = 1e-12 * std::max({ box[3] - box[0], box[4] - box[1], box[5] - box[2], 1e-300 });
+  const double pad =
+    1e-12 * std::max({ box[3] - box[0], box[4] - box[1], box[5] - box[2], 1e-300 });
   for (int d = 0; d < 3; ++d)
   {
     box[d] -= pad;
@@ -58,7 +58,6 @@ void ControlBox(const double* pts, const EmbeddingMesh::Id* ids, int ncorner,
 }
 
 const int TriEdges[3][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 } };
-
 
 // Squared distance from p to the triangle (a, b, c); 0 (no bound) when degenerate.
 double PointTriangleDistance2(const double* p, const double* a, const double* b, const double* c)
@@ -109,7 +108,8 @@ void CellControlBox(const double cp[10][3], int n, double* box)
       box[d] = std::min(box[d], cp[k][d]);
       box[d + 3] = std::max(box[d + 3], cp[k][d]);
     }
-  const double pad = 1e-12 * std::max({ box[3] - box[0], box[4] - box[1], box[5] - box[2], 1e-300 });
+  const double pad =
+    1e-12 * std::max({ box[3] - box[0], box[4] - box[1], box[5] - box[2], 1e-300 });
   for (int d = 0; d < 3; ++d)
   {
     box[d] -= pad;
@@ -119,9 +119,9 @@ void CellControlBox(const double cp[10][3], int n, double* box)
 
 using Id = EmbeddingMesh::Id;
 
-
 // Cell maps, boxes, barycentric forms and the cell grid of `mesh` (node ids in range);
-// with `firstInvalid`, the lowest cell that fails TetIsValid (the one validity proof) (numberOfCells if none).
+// with `firstInvalid`, the lowest cell that fails TetIsValid (the one validity proof)
+// (numberOfCells if none).
 void BuildCellData(EmbeddingMesh& mesh, const double* points, const Id* conn, Id numberOfCells,
   int nodesPerCell, Id* firstInvalid)
 {
@@ -266,8 +266,8 @@ int EmbeddingMesh::CellExitFace(Id c, const double v[3], double tol) const
   return corner < 0 ? -1 : TetCornerOppositeFace[corner];
 }
 
-std::string EmbeddingMesh::Build(const double* points, Id numberOfPoints, const Id* conn,
-  Id numberOfCells, int nodesPerCell)
+std::string EmbeddingMesh::Build(
+  const double* points, Id numberOfPoints, const Id* conn, Id numberOfCells, int nodesPerCell)
 {
   if (numberOfPoints < 0 || numberOfCells < 0 || nodesPerCell < 0)
     return this->Topology.Build(conn, numberOfCells, nodesPerCell, numberOfPoints);

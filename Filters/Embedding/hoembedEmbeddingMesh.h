@@ -36,11 +36,11 @@ public:
    * `conn` nodesPerCell ids per cell in VTK order. Returns "" or a description of the
    * problem (topology errors of TetMeshTopology::Build, no boundary). Threading: the cell
    * data (maps, boxes, barycentric forms, cell grid) and the boundary data (topology, normals, face
-   * maps, face grid) are built as two parallel tasks (hoembedParallel.h), each parallel per item; the
-   * result does not depend on the number of threads.
+   * maps, face grid) are built as two parallel tasks (hoembedParallel.h), each parallel per item;
+   * the result does not depend on the number of threads.
    */
-  std::string Build(const double* points, Id numberOfPoints, const Id* conn,
-    Id numberOfCells, int nodesPerCell);
+  std::string Build(
+    const double* points, Id numberOfPoints, const Id* conn, Id numberOfCells, int nodesPerCell);
   /// The same, taking over the node coordinates (3 per node) and the connectivity
   /// (nodesPerCell per cell) without copying them (pass rvalues).
   std::string Build(std::vector<double> points, std::vector<Id> conn, int nodesPerCell);
@@ -78,8 +78,8 @@ public:
   /// A box tree over the boundary faces (long-range queries: points far from the mesh),
   /// built at its first use, by one thread, the others waiting (thread safe).
   const AabbTree& GetFaceTree() const;
-  BoxGrid FaceGrid; ///< the face boxes (32 bins per face): short-range queries
-  BoxGrid CellGrid; ///< over the cells' control-point boxes
+  BoxGrid FaceGrid;      ///< the face boxes (32 bins per face): short-range queries
+  BoxGrid CellGrid;      ///< over the cells' control-point boxes
   double Diagonal = 0.0; ///< bounding-box diagonal of the mesh nodes
   /// Working memory of Prepare (the boxes the grids and the tree are built from), kept
   /// for the next preparation.
@@ -94,8 +94,10 @@ private:
   mutable std::atomic<bool> FaceTreeBuilt{ false };
 
 public:
-
-  int NodesPerCell() const { return this->Topology.NodesPerCell; }
+  int NodesPerCell() const
+  {
+    return this->Topology.NodesPerCell;
+  }
 
   /// Lower bound of the squared distance from v to boundary face f: the face lies within
   /// [lo, hi] of its corner plane (FaceSlabs) and within t of the straight triangle in

@@ -15,9 +15,9 @@ namespace
 {
 using Id = EmbeddingMesh::Id;
 
-constexpr double InsideTolerance = 1e-11;    // of the diagonal
+constexpr double InsideTolerance = 1e-11;     // of the diagonal
 constexpr double CorrectionTolerance = 1e-12; // of the diagonal
-constexpr double CertifyTolerance = 1e-10;   // of the diagonal: closest point on a patch
+constexpr double CertifyTolerance = 1e-10;    // of the diagonal: closest point on a patch
 constexpr int MaxWalk = 64;
 constexpr int MaxGridBins = 8; // face grid queries up to 2 x 2 x 2 bins
 
@@ -161,9 +161,8 @@ void RetryFace(const EmbeddingMesh& M, const double v[3], const SearchScratch::S
 }
 
 // `bound`: FaceLowerBound2(f, v) when the caller has it, else < 0
-void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start,
-  double bound, BoundaryHit& best, VertexEmbedding& out, SearchScratch& S,
-  int* activeOut = nullptr)
+void SolveFace(const EmbeddingMesh& M, const double v[3], Id f, const double* start, double bound,
+  BoundaryHit& best, VertexEmbedding& out, SearchScratch& S, int* activeOut = nullptr)
 {
   ClosestPointResult r;
   double linear[2];
@@ -305,8 +304,7 @@ bool LocateCell(const EmbeddingMesh& M, const double v[3], Id start, bool useCel
     const double res = InvertTetMap(M.CellMaps[c], v, pc, its, 8, outsideStop);
     out.Iterations += its;
     ++out.Visited;
-    if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 &&
-      pc[0] + pc[1] + pc[2] <= 1.0)
+    if (res <= tol && pc[0] >= 0.0 && pc[1] >= 0.0 && pc[2] >= 0.0 && pc[0] + pc[1] + pc[2] <= 1.0)
     {
       out.Cell = c;
       for (int i = 0; i < 3; ++i)
@@ -528,8 +526,8 @@ unsigned SearchScratch::NextStamp()
   return this->Stamp;
 }
 
-double ReconstructionResidual(const EmbeddingMesh& M, const double v[3], Id cell,
-  const double pc[3], int face, double d)
+double ReconstructionResidual(
+  const EmbeddingMesh& M, const double v[3], Id cell, const double pc[3], int face, double d)
 {
   double p[3];
   M.CellPoint(cell, pc, p);
@@ -690,16 +688,15 @@ void CorrectNormalOffset(const EmbeddingMesh& M, const double v[3], const Bounda
 }
 } // namespace
 
-void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
-  const VertexHint& hint, VertexEmbedding& out, SearchScratch& S)
+void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3], const VertexHint& hint,
+  VertexEmbedding& out, SearchScratch& S)
 {
   out = VertexEmbedding();
   const TetMeshTopology& T = M.Topology;
   // a neighbour farther from the mesh than from v proves v outside (1-Lipschitz distance;
   // the neighbour's distance is certified to within t of the true one)
   const double t = CertifyTolerance * M.Diagonal;
-  const double toHint[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1],
-    v[2] - hint.Point[2] };
+  const double toHint[3] = { v[0] - hint.Point[0], v[1] - hint.Point[1], v[2] - hint.Point[2] };
   const double hintGap = std::sqrt(Dot(toHint, toHint)); // |v - neighbour|
   bool provenOutside =
     hint.Distance > 0.0 && hint.Distance - t - hintGap > InsideTolerance * M.Diagonal;
@@ -774,9 +771,9 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
     // On the outer side of the interior of a face, v is outside unless a cell other
     // than the face's owner holds the closest point p (the test of OutsideByFace), which
     // costs about half of testing v against every cell that may hold it.
-    const bool inside = side <= margin ? LocateCell(M, v, owner, true, out, S)
-                                       : !OutsideByFace(M, hit, dist, owner, out, S) &&
-        LocateCell(M, v, -1, true, out, S);
+    const bool inside = side <= margin
+      ? LocateCell(M, v, owner, true, out, S)
+      : !OutsideByFace(M, hit, dist, owner, out, S) && LocateCell(M, v, -1, true, out, S);
     if (inside)
     {
       SetInside(out);
@@ -801,10 +798,10 @@ void EmbedVertex(const EmbeddingMesh& M, int method, const double v[3],
 
 double BruteForceDistance(const EmbeddingMesh& M, const double v[3], Id* face, double* uv)
 {
-  const double faceStarts[7][2] = { { 1.0 / 3, 1.0 / 3 }, { 0.8, 0.1 }, { 0.1, 0.8 },
-    { 0.1, 0.1 }, { 0.45, 0.45 }, { 0.45, 0.1 }, { 0.1, 0.45 } };
-  const double cellStarts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 },
-    { 0.1, 0.7, 0.1 }, { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
+  const double faceStarts[7][2] = { { 1.0 / 3, 1.0 / 3 }, { 0.8, 0.1 }, { 0.1, 0.8 }, { 0.1, 0.1 },
+    { 0.45, 0.45 }, { 0.45, 0.1 }, { 0.1, 0.45 } };
+  const double cellStarts[5][3] = { { 0.25, 0.25, 0.25 }, { 0.7, 0.1, 0.1 }, { 0.1, 0.7, 0.1 },
+    { 0.1, 0.1, 0.7 }, { 0.1, 0.1, 0.1 } };
   double best = std::numeric_limits<double>::infinity();
   ClosestPointResult r;
   for (Id f = 0; f < M.Topology.GetNumberOfBoundaryFaces(); ++f)

@@ -55,10 +55,9 @@
  *    face's corners, then every face within eight times the distance (4 starts each;
  *    smallest |d| wins); a solution counts only where |d| is within eight times the
  *    distance (a far foot is another solution beyond the normal field's focal distance,
- *    and which one a walk reaches depends on where it starts); if none converges, the closest point with the offset v - p in the
- *    cell's parametric units (VertexEmbedding::Fallback). Barycentric: the owning cell
- *    of the closest face
- *    with extrapolated (unconstrained) parametric coordinates.
+ *    and which one a walk reaches depends on where it starts); if none converges, the closest point
+ * with the offset v - p in the cell's parametric units (VertexEmbedding::Fallback). Barycentric:
+ * the owning cell of the closest face with extrapolated (unconstrained) parametric coordinates.
  */
 #ifndef hoembedEmbeddingSearch_h
 #define hoembedEmbeddingSearch_h
@@ -146,9 +145,8 @@ HOEMBEDFILTERSEMBEDDING_EXPORT void EmbedVertex(const EmbeddingMesh& mesh, int m
  * boundary face from 7 starts and every cell from 5 starts (0 when some cell contains v
  * within 1e-11 of the diagonal). `face`, `uv` receive the best boundary face.
  */
-HOEMBEDFILTERSEMBEDDING_EXPORT double BruteForceDistance(
-  const EmbeddingMesh& mesh, const double v[3], EmbeddingMesh::Id* face = nullptr,
-  double* uv = nullptr);
+HOEMBEDFILTERSEMBEDDING_EXPORT double BruteForceDistance(const EmbeddingMesh& mesh,
+  const double v[3], EmbeddingMesh::Id* face = nullptr, double* uv = nullptr);
 
 /// |v - (p + d n)| with p the tet map at (cell, pc) and n the smooth normal of local face
 /// `face` of the cell at the matching (u, v) (n = 0 when face < 0).

@@ -10,7 +10,7 @@ namespace hoembed
 void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
 {
   form.Slack = -1.0; // not usable until complete
-  double A[3][3]; // columns: x1 - x0, x2 - x0, x3 - x0
+  double A[3][3];    // columns: x1 - x0, x2 - x0, x3 - x0
   for (int d = 0; d < 3; ++d)
   {
     form.X0[d] = x[d];
@@ -76,8 +76,8 @@ void MakeTetBarycentricForm(const double* x, int n, TetBarycentricForm& form)
 namespace
 {
 // The straight tet's barycentric coordinates l of p and their round-off allowance.
-void StraightCoordinates(const TetBarycentricForm& form, const double p[3], double l[4],
-  double slack[4])
+void StraightCoordinates(
+  const TetBarycentricForm& form, const double p[3], double l[4], double slack[4])
 {
   const double y[3] = { p[0] - form.X0[0], p[1] - form.X0[1], p[2] - form.X0[2] };
   for (int k = 0; k < 4; ++k)

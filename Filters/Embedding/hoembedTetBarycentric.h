@@ -17,9 +17,9 @@
  * evaluates them over the current box (4 lambda_i lambda_j in [4 lo_i lo_j,
  * min(4 hi_i hi_j, min(1, hi_i + hi_j)^2)]), intersects, then intersects with the sum
  * constraint; the sweeps stop when the box's total width no longer falls by 10%. An empty
- * interval proves that no point of the element lies within reach of p. Later sweeps localise the bumps (on the real
- * meshes most of the cells that share an edge with a point's closest boundary face are
- * excluded in a few sweeps, where the straight-face slabs below exclude none: the curved
+ * interval proves that no point of the element lies within reach of p. Later sweeps localise the
+ * bumps (on the real meshes most of the cells that share an edge with a point's closest boundary
+ * face are excluded in a few sweeps, where the straight-face slabs below exclude none: the curved
  * edge's control point bulges across their faces).
  *
  * The cheap test first: l_k(x(lambda)) = lambda_k + sum_e 4 lambda_i lambda_j w_ke is a
@@ -37,13 +37,13 @@ namespace hoembed
 {
 struct alignas(64) TetBarycentricForm
 {
-  double X0[3] = { 0, 0, 0 }; ///< corner 0: l_k(y) = G[k] . (y - X0) + (k == 0)
-  double G[4][3] = {};        ///< gradients of the straight tet's barycentric coordinates
+  double X0[3] = { 0, 0, 0 };       ///< corner 0: l_k(y) = G[k] . (y - X0) + (k == 0)
+  double G[4][3] = {};              ///< gradients of the straight tet's barycentric coordinates
   double GNorm[4] = { 0, 0, 0, 0 }; ///< |G[k]|
-  double Bump[4] = { 0, 0, 0, 0 }; ///< the element lies where l_k >= -Bump[k] (>= 0)
-  double Slack = -1.0;        ///< round-off allowance in lambda; < 0: not usable
+  double Bump[4] = { 0, 0, 0, 0 };  ///< the element lies where l_k >= -Bump[k] (>= 0)
+  double Slack = -1.0;              ///< round-off allowance in lambda; < 0: not usable
   // (the fields above are all the slab test TetBarycentricBeyond reads: 3 cache lines)
-  double W[6][4] = {};        ///< W[e][k] = w_ke = G[k] . delta_e (edges in VTK midnode order)
+  double W[6][4] = {}; ///< W[e][k] = w_ke = G[k] . delta_e (edges in VTK midnode order)
 };
 
 /**

@@ -101,8 +101,7 @@ struct vtkEmbeddingCoordinatesFilter::vtkInternals
   bool PreparedValidated = false;
 };
 
-vtkEmbeddingCoordinatesFilter::vtkEmbeddingCoordinatesFilter()
-  : Internals(new vtkInternals)
+vtkEmbeddingCoordinatesFilter::vtkEmbeddingCoordinatesFilter() : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(2);
   // the defaults are the driver's
@@ -117,7 +116,9 @@ vtkEmbeddingCoordinatesFilter::~vtkEmbeddingCoordinatesFilter() = default;
 
 const char* vtkEmbeddingCoordinatesFilter::GetMethodAsString()
 {
-  return hoembed::EmbeddingMethodName(this->Method == BARYCENTRIC ? hoembed::EmbeddingMethod::Barycentric : hoembed::EmbeddingMethod::NormalOffset);
+  return hoembed::EmbeddingMethodName(this->Method == BARYCENTRIC
+      ? hoembed::EmbeddingMethod::Barycentric
+      : hoembed::EmbeddingMethod::NormalOffset);
 }
 
 void vtkEmbeddingCoordinatesFilter::SetMeshData(vtkUnstructuredGrid* mesh)
@@ -143,8 +144,8 @@ int vtkEmbeddingCoordinatesFilter::FillInputPortInformation(int port, vtkInforma
   return 1;
 }
 
-int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
-  vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkEmbeddingCoordinatesFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* surface = vtkPolyData::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(inputVector[1], 0);
@@ -154,7 +155,8 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   this->NumberOfUncertifiedPoints = 0;
   this->NumberOfFallbackPoints = 0;
   if (surface && output && surface->GetNumberOfPoints() == 0 &&
-    vtkStreamingDemandDrivenPipeline::GetUpdateNumberOfPieces(outputVector->GetInformationObject(0)) > 1)
+    vtkStreamingDemandDrivenPipeline::GetUpdateNumberOfPieces(
+      outputVector->GetInformationObject(0)) > 1)
   {
     // An empty piece of a distributed surface (a serial reader gives every process but
     // the first nothing) is an empty result, not an error: a failure on some processes
@@ -177,7 +179,10 @@ int vtkEmbeddingCoordinatesFilter::RequestData(vtkInformation*,
   struct Trim
   {
     hoembed::EmbeddingDriver* Driver;
-    ~Trim() { this->Driver->ReleaseLargeSurfaceMemory(); }
+    ~Trim()
+    {
+      this->Driver->ReleaseLargeSurfaceMemory();
+    }
   } trim{ &driver };
   const double* pd = nullptr;
   const float* pf = nullptr;
@@ -374,5 +379,3 @@ int vtkEmbeddingCoordinatesFilter::RequestUpdateExtent(
   }
   return 1;
 }
-
-

@@ -45,10 +45,10 @@
  *
  * The closest point is the global one: the flood gives each vertex a start (paper
  * Algorithm 2), the walk across faces/edges refines it (Algorithm 1), and a box grid (a
- * box tree for far points) over the boundary faces certifies it. See hoembedEmbeddingSearch.h and hoembedEmbeddingFlood.h.
- * "Inside the mesh" means inside some cell: where a curved cell pokes through a boundary
- * face of another part of the mesh (close parts of a thin shape), a point in that cell
- * is inside even though it lies on the outer side of its closest boundary face.
+ * box tree for far points) over the boundary faces certifies it. See hoembedEmbeddingSearch.h and
+ * hoembedEmbeddingFlood.h. "Inside the mesh" means inside some cell: where a curved cell pokes
+ * through a boundary face of another part of the mesh (close parts of a thin shape), a point in
+ * that cell is inside even though it lies on the outer side of its closest boundary face.
  *
  * Threading: the flood runs in patches of the surface in parallel with vtkSMPTools; the
  * mesh preparation (itself parallel) and the surface's ordering for the flood run as two
@@ -122,8 +122,14 @@ public:
    */
   vtkSetClampMacro(Method, int, NORMAL_OFFSET, BARYCENTRIC);
   vtkGetMacro(Method, int);
-  void SetMethodToNormalOffset() { this->SetMethod(NORMAL_OFFSET); }
-  void SetMethodToBarycentric() { this->SetMethod(BARYCENTRIC); }
+  void SetMethodToNormalOffset()
+  {
+    this->SetMethod(NORMAL_OFFSET);
+  }
+  void SetMethodToBarycentric()
+  {
+    this->SetMethod(BARYCENTRIC);
+  }
   const char* GetMethodAsString();
   ///@}
 

@@ -30,7 +30,8 @@ struct Box
   }
   double Size() const
   {
-    return std::max({ this->Hi[0] - this->Lo[0], this->Hi[1] - this->Lo[1], this->Hi[2] - this->Lo[2] });
+    return std::max(
+      { this->Hi[0] - this->Lo[0], this->Hi[1] - this->Lo[1], this->Hi[2] - this->Lo[2] });
   }
 };
 
@@ -107,7 +108,8 @@ bool IsFlat(const Patch& p)
     scale = std::max(scale, std::fabs(p.X[1][d] - p.X[0][d]) + std::fabs(p.X[2][d] - p.X[0][d]));
   for (int k = 0; k < 3; ++k)
     for (int d = 0; d < 3; ++d)
-      if (std::fabs(p.X[3 + k][d] - 0.5 * (p.X[edge[k][0]][d] + p.X[edge[k][1]][d])) > 1e-13 * scale)
+      if (std::fabs(p.X[3 + k][d] - 0.5 * (p.X[edge[k][0]][d] + p.X[edge[k][1]][d])) >
+        1e-13 * scale)
         return false;
   return true;
 }
@@ -136,7 +138,8 @@ bool PatchesMeet(const Patch& a0, const Patch& b0, int maxDepth)
     const bool splitA = ba.Size() >= bb.Size();
     Split(splitA ? it.A : it.B, sub);
     for (int s = 0; s < 4; ++s)
-      stack.push_back(splitA ? Item{ sub[s], it.B, it.Depth + 1 } : Item{ it.A, sub[s], it.Depth + 1 });
+      stack.push_back(
+        splitA ? Item{ sub[s], it.B, it.Depth + 1 } : Item{ it.A, sub[s], it.Depth + 1 });
   }
   return false;
 }

@@ -10,8 +10,8 @@
  * and the test repeats, down to `maxDepth` levels. A pair whose sub-patch boxes still
  * overlap there is reported: it crosses, or comes closer than the sub-patches' size (not
  * proven apart; a repair then errs on the safe side). Two straight faces (mid-edge nodes
- * at their edges' midpoints) are flat triangles: an edge-triangle crossing test decides. Faces sharing a corner are not compared (their
- * contact along the shared edge or corner is legitimate).
+ * at their edges' midpoints) are flat triangles: an edge-triangle crossing test decides. Faces
+ * sharing a corner are not compared (their contact along the shared edge or corner is legitimate).
  */
 #ifndef hoembedBoundaryCrossings_h
 #define hoembedBoundaryCrossings_h

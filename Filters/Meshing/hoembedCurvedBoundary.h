@@ -8,10 +8,10 @@
  * Jacobian determinant is provably positive everywhere (hoembed::Tet10JacobianBounds) and
  * its minimum scaled Jacobian is at least hoembed::Tet10RequiredQuality of its straight
  * (tet4) shape: `qualityRatio` times the straight quality, and `minQuality` (a floor a
- * solver can use) unless the straight shape itself is worse. For each unacceptable element the largest common factor beta in [0, 1]
- * (bisection) of its curved nodes' alphas that makes it acceptable is applied; the
- * elements around the nodes that moved are checked again, until all are acceptable
- * (alpha = 0, the straight element, always is when the corners form a valid tet).
+ * solver can use) unless the straight shape itself is worse. For each unacceptable element the
+ * largest common factor beta in [0, 1] (bisection) of its curved nodes' alphas that makes it
+ * acceptable is applied; the elements around the nodes that moved are checked again, until all are
+ * acceptable (alpha = 0, the straight element, always is when the corners form a valid tet).
  */
 #ifndef hoembedCurvedBoundary_h
 #define hoembedCurvedBoundary_h
@@ -76,8 +76,8 @@ HOEMBEDFILTERSMESHING_EXPORT double Tet10RequiredQuality(
 
 /// True when the tet10 (10 nodes, 3 doubles each) passes the acceptance test above (and
 /// `extra`, when given).
-HOEMBEDFILTERSMESHING_EXPORT bool Tet10Acceptable(const double* x, double qualityRatio,
-  double minQuality, const Tet10Check& extra = Tet10Check());
+HOEMBEDFILTERSMESHING_EXPORT bool Tet10Acceptable(
+  const double* x, double qualityRatio, double minQuality, const Tet10Check& extra = Tet10Check());
 } // namespace hoembed
 
 #endif

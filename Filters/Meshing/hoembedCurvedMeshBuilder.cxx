@@ -244,9 +244,8 @@ bool KeepOnEnvelope(const std::vector<double>& pts, const TetMeshTopology& topo4
 // the closest points to a ring of points around it), nearest first; the first that keeps
 // every element around the node acceptable is taken (alpha becomes 1).
 void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& conn,
-  const TetMeshTopology& topo4, const std::vector<Id>& nodes, std::vector<double>& alpha,
-  Id nbe, const SurfaceQueries& surface, double qualityRatio, double minQuality,
-  const Tet10Check& extra,
+  const TetMeshTopology& topo4, const std::vector<Id>& nodes, std::vector<double>& alpha, Id nbe,
+  const SurfaceQueries& surface, double qualityRatio, double minQuality, const Tet10Check& extra,
   double maxDistance)
 {
   const Id nc = static_cast<Id>(conn.size() / 10);
@@ -360,8 +359,7 @@ void TetsAroundCorners(
 // all it has: curving cannot mend a poor straight shape, so none is made here); full
 // move, else a half, a quarter, else none.
 void ProjectCorners(std::vector<double>& pts, const std::vector<Id>& tets,
-  const TetMeshTopology& topo, const SurfaceQueries& surface, double maxDistance,
-  double minQuality)
+  const TetMeshTopology& topo, const SurfaceQueries& surface, double maxDistance, double minQuality)
 {
   const Id nPts = static_cast<Id>(pts.size() / 3);
   std::vector<Id> off, around;
@@ -499,14 +497,14 @@ Id ImprovePoorTets(std::vector<double>& pts, const std::vector<Id>& tets, double
 
 struct QuadraticNodes
 {
-  std::vector<Id> Conn;      // 10 per cell
-  std::vector<Id> EdgeMid;   // boundary edge e -> its mid-edge node
+  std::vector<Id> Conn;       // 10 per cell
+  std::vector<Id> EdgeMid;    // boundary edge e -> its mid-edge node
   std::vector<Id> MidCorners; // 2 per node: the edge's corners (-1 for corner nodes)
   Id NumberOfCorners = 0;
 };
 
-QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& tets,
-  const TetMeshTopology& topo)
+QuadraticNodes AddMidEdgeNodes(
+  std::vector<double>& pts, const std::vector<Id>& tets, const TetMeshTopology& topo)
 {
   QuadraticNodes q;
   const Id nTets = static_cast<Id>(tets.size() / 4);
@@ -528,8 +526,9 @@ QuadraticNodes AddMidEdgeNodes(std::vector<double>& pts, const std::vector<Id>& 
       auto it = mids.find(static_cast<std::uint64_t>(u) * nc + static_cast<std::uint64_t>(v));
       if (it == mids.end())
       {
-        it = mids.emplace(static_cast<std::uint64_t>(u) * nc + static_cast<std::uint64_t>(v),
-                   static_cast<Id>(pts.size() / 3))
+        it = mids
+               .emplace(static_cast<std::uint64_t>(u) * nc + static_cast<std::uint64_t>(v),
+                 static_cast<Id>(pts.size() / 3))
                .first;
         for (int d = 0; d < 3; ++d)
           pts.push_back(0.5 * (pts[3 * u + d] + pts[3 * v + d]));
@@ -607,21 +606,18 @@ void SecondChances(CurvedMesh& out, const TetMeshTopology& topo, const Quadratic
   const Id nPts = static_cast<Id>(out.Points.size() / 3);
   const Id nbe = topo.GetNumberOfBoundaryEdges();
   for (int pass = 0; pass < 4; ++pass) // a node placed can free its neighbours
-    RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-      surface, options.QualityRatio, options.MinimumQuality, Tet10Check(),
-      options.MaxTargetDistance);
+    RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe, surface,
+      options.QualityRatio, options.MinimumQuality, Tet10Check(), options.MaxTargetDistance);
   std::vector<char> isFree(nPts, 0);
   for (Id i = 0; i < nPts; ++i)
     isFree[i] = i < quad.NumberOfCorners || !out.BoundaryNode[i] ? 1 : 0;
   std::vector<double> alphaB(curving.Alpha.begin(), curving.Alpha.begin() + nbe);
   std::vector<double> targetsB(targets.begin(), targets.begin() + 3 * nbe);
-  FitWithFreeNodes(
-    out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree, options.QualityRatio,
-    options.MinimumQuality, FitEvaluationsPerCell);
+  FitWithFreeNodes(out.Points, out.Conn, quad.EdgeMid, targetsB, alphaB, isFree,
+    options.QualityRatio, options.MinimumQuality, FitEvaluationsPerCell);
   std::copy(alphaB.begin(), alphaB.end(), curving.Alpha.begin());
-  RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe,
-    surface, options.QualityRatio, options.MinimumQuality, Tet10Check(),
-      options.MaxTargetDistance);
+  RetargetPulledBackNodes(out.Points, out.Conn, topo, quad.EdgeMid, curving.Alpha, nbe, surface,
+    options.QualityRatio, options.MinimumQuality, Tet10Check(), options.MaxTargetDistance);
 }
 
 // The extra test is costly: run it once on the result, and pull back (from the straight
@@ -657,9 +653,9 @@ void ApplyExtraCheck(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   }
   if (redo.empty())
     return;
-  CurvingResult again = CurveMidEdgeNodes(out.Points, out.Conn, redo, redoTargets,
-    options.QualityRatio, std::max(options.MinimumQuality, options.QualityTarget),
-    options.ExtraCheck);
+  CurvingResult again =
+    CurveMidEdgeNodes(out.Points, out.Conn, redo, redoTargets, options.QualityRatio,
+      std::max(options.MinimumQuality, options.QualityTarget), options.ExtraCheck);
   std::vector<Id> edgeOf(nPts, -1);
   for (Id e = 0; e < nbe; ++e)
     edgeOf[quad.EdgeMid[e]] = e;
@@ -743,8 +739,8 @@ void ApplyQualityTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
       out.Points[3 * m + d] = 0.5 * (out.Points[3 * u + d] + out.Points[3 * v + d]);
     }
   }
-  const CurvingResult again = CurveMidEdgeNodes(out.Points, out.Conn, nodes, where,
-    options.QualityRatio, floor);
+  const CurvingResult again =
+    CurveMidEdgeNodes(out.Points, out.Conn, nodes, where, options.QualityRatio, floor);
   std::vector<Id> edgeOf(nPts, -1);
   for (Id e = 0; e < nbe; ++e)
     edgeOf[quad.EdgeMid[e]] = e;
@@ -781,8 +777,8 @@ void ApplyQualityTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
 // cells around them. Terminates (each node is straightened once, for good) and ends with
 // every cell kept where a straight cell is. Returns the number of nodes straightened.
 template <typename Keep>
-Id StraightenCellsUntil(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
-  CurvingResult& curving, const Keep& keep)
+Id StraightenCellsUntil(
+  CurvedMesh& out, const QuadraticNodes& quad, Id nbe, CurvingResult& curving, const Keep& keep)
 {
   const Id nPts = static_cast<Id>(out.Points.size() / 3);
   const Id nTets = static_cast<Id>(out.Conn.size() / 10);
@@ -941,8 +937,10 @@ void SeparatePair(CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCell
           for (int j = 9; j < 12 && pull.empty(); ++j)
           {
             const Id m = two[i], n = two[j];
-            const double km[3] = { out.Points[3 * m], out.Points[3 * m + 1], out.Points[3 * m + 2] };
-            const double kn[3] = { out.Points[3 * n], out.Points[3 * n + 1], out.Points[3 * n + 2] };
+            const double km[3] = { out.Points[3 * m], out.Points[3 * m + 1],
+              out.Points[3 * m + 2] };
+            const double kn[3] = { out.Points[3 * n], out.Points[3 * n + 1],
+              out.Points[3 * n + 2] };
             PullNode(out, quad, m, keeps[level]);
             PullNode(out, quad, n, keeps[level]);
             if (FindCurvedFaceCrossings(out.Points, two).empty())
@@ -1163,8 +1161,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
 
   std::vector<double> targets;
   std::vector<char> envelope;
-  CurvingResult curving =
-    CurveTowardsSurface(out, topo, quad, surface, options, targets, envelope);
+  CurvingResult curving = CurveTowardsSurface(out, topo, quad, surface, options, targets, envelope);
   report(0.7);
   if (aborted())
     return out;

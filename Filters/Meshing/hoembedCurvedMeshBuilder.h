@@ -52,9 +52,9 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
   int Order = 2;
   bool CurveBoundary = true;
   bool ProjectCorners = true;
-  double QualityRatio = 0.1;  ///< see hoembed::Tet10Acceptable
+  double QualityRatio = 0.1;    ///< see hoembed::Tet10Acceptable
   double MinimumQuality = 0.05; ///< see hoembed::Tet10Acceptable
-  double SliverQuality = 0.2; ///< scaled Jacobian below which flat boundary tets go
+  double SliverQuality = 0.2;   ///< scaled Jacobian below which flat boundary tets go
   /// Curving never takes an element below min(QualityTarget, its straight quality): after
   /// the curving, the mid-edge nodes of the elements below it are blended back towards
   /// their straight positions, just enough (hoembed::CurveMidEdgeNodes); 0: off.
@@ -68,19 +68,19 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
 
 struct HOEMBEDFILTERSMESHING_EXPORT CurvedMesh
 {
-  std::vector<double> Points;              ///< 3 per node
-  std::vector<std::int64_t> Conn;          ///< 10 (Order 2) or 4 per cell
-  std::vector<unsigned char> BoundaryNode; ///< per node
-  std::vector<double> LinearPoints;        ///< the straight mesh's corner nodes
+  std::vector<double> Points;               ///< 3 per node
+  std::vector<std::int64_t> Conn;           ///< 10 (Order 2) or 4 per cell
+  std::vector<unsigned char> BoundaryNode;  ///< per node
+  std::vector<double> LinearPoints;         ///< the straight mesh's corner nodes
   std::vector<std::int64_t> LinearBoundary; ///< its boundary triangles (3 ids each)
-  std::int64_t CurvedNodes = 0;   ///< boundary mid-edge nodes on the surface
-  std::int64_t RelaxedNodes = 0;  ///< boundary mid-edge nodes pulled back
-  std::int64_t EnvelopeNodes = 0; ///< boundary mid-edge nodes with no surface point near
+  std::int64_t CurvedNodes = 0;             ///< boundary mid-edge nodes on the surface
+  std::int64_t RelaxedNodes = 0;            ///< boundary mid-edge nodes pulled back
+  std::int64_t EnvelopeNodes = 0;           ///< boundary mid-edge nodes with no surface point near
   std::int64_t RemovedSlivers = 0;
-  std::int64_t CrossingPairsFound = 0; ///< curved boundary face pairs found crossing
-  std::int64_t CrossingPairsLeft = 0;  ///< after the repair (0 unless the corners cross)
-  std::vector<std::int64_t> RelaxedEdges;   ///< corner pairs of the pulled-back boundary edges
-  std::vector<double> RelaxedEdgeTargets;   ///< their mid-edge nodes' surface targets
+  std::int64_t CrossingPairsFound = 0;    ///< curved boundary face pairs found crossing
+  std::int64_t CrossingPairsLeft = 0;     ///< after the repair (0 unless the corners cross)
+  std::vector<std::int64_t> RelaxedEdges; ///< corner pairs of the pulled-back boundary edges
+  std::vector<double> RelaxedEdgeTargets; ///< their mid-edge nodes' surface targets
 
   std::string Error; ///< empty on success
 };

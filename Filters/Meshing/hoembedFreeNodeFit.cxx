@@ -106,9 +106,12 @@ Id FitWithFreeNodes(std::vector<double>& pts, const std::vector<Id>& conn,
       }
     double s = 0.0; // a corner: its mean edge length in its first cell
     for (int a = 0; a < 4; ++a)
-      s += std::sqrt((pts[3 * conn[10 * c + a]] - pts[3 * f]) * (pts[3 * conn[10 * c + a]] - pts[3 * f]) +
-        (pts[3 * conn[10 * c + a] + 1] - pts[3 * f + 1]) * (pts[3 * conn[10 * c + a] + 1] - pts[3 * f + 1]) +
-        (pts[3 * conn[10 * c + a] + 2] - pts[3 * f + 2]) * (pts[3 * conn[10 * c + a] + 2] - pts[3 * f + 2]));
+      s += std::sqrt(
+        (pts[3 * conn[10 * c + a]] - pts[3 * f]) * (pts[3 * conn[10 * c + a]] - pts[3 * f]) +
+        (pts[3 * conn[10 * c + a] + 1] - pts[3 * f + 1]) *
+          (pts[3 * conn[10 * c + a] + 1] - pts[3 * f + 1]) +
+        (pts[3 * conn[10 * c + a] + 2] - pts[3 * f + 2]) *
+          (pts[3 * conn[10 * c + a] + 2] - pts[3 * f + 2]));
     return s / 3.0;
   };
   // Pattern search on free node f: maximise the worst margin around it.

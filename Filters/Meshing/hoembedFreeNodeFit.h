@@ -38,9 +38,8 @@ namespace hoembed
  */
 HOEMBEDFILTERSMESHING_EXPORT std::int64_t FitWithFreeNodes(std::vector<double>& points,
   const std::vector<std::int64_t>& conn, const std::vector<std::int64_t>& nodes,
-  const std::vector<double>& targets, std::vector<double>& alpha,
-  const std::vector<char>& isFree, double qualityRatio, double minQuality,
-  std::int64_t evaluationsPerCell = 300);
+  const std::vector<double>& targets, std::vector<double>& alpha, const std::vector<char>& isFree,
+  double qualityRatio, double minQuality, std::int64_t evaluationsPerCell = 300);
 } // namespace hoembed
 
 #endif

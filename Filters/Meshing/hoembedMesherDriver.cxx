@@ -349,7 +349,8 @@ std::vector<std::vector<Id>> CavityShells(
     const double* b = &points[3 * tris[3 * t + 1]];
     const double* d = &points[3 * tris[3 * t + 2]];
     const double v = (a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
-                       a[2] * (b[0] * d[1] - b[1] * d[0])) / 6.0;
+                       a[2] * (b[0] * d[1] - b[1] * d[0])) /
+      6.0;
     volume[find(tris[3 * t])] += v;
     total += v;
   }
@@ -515,8 +516,8 @@ double MeasureSurfaceDeviation(const std::vector<double>& finePoints, const Curv
 {
   const Id nFinePts = static_cast<Id>(finePoints.size() / 3);
   const Id stride = std::max<Id>(1, nFinePts / 20000);
-  const double worst = services.MaxDistanceToTriangles(
-    mesh.LinearPoints, mesh.LinearBoundary, finePoints, stride);
+  const double worst =
+    services.MaxDistanceToTriangles(mesh.LinearPoints, mesh.LinearBoundary, finePoints, stride);
   return diag > 0.0 ? worst / diag : 0.0;
 }
 
@@ -568,8 +569,8 @@ bool OrderAndMeasure(const CurvedMesh& mesh, int npc, MesherResult& out, Id& inv
 // must shrink by the floor over the poor cells' median score, and the count grows with
 // the cube of that; at most 100 times the count made (`capped`). `edge` receives the
 // median edge length, `size` the edge length asked for.
-Id CountForThinParts(const MesherOptions& options, const MesherResult& out, double& edge,
-  double& size, bool& capped)
+Id CountForThinParts(
+  const MesherOptions& options, const MesherResult& out, double& edge, double& size, bool& capped)
 {
   const int npc = out.NodesPerCell;
   const Id nTets = static_cast<Id>(out.Conn.size() / npc);
@@ -619,8 +620,8 @@ void ReportQuality(const MesherOptions& options, MesherResult& out)
   out.QualityQuantiles[0] = q[0];
   out.QualityQuantiles[1] = q[std::min(n - 1, static_cast<size_t>(0.01 * (n - 1) + 0.5))];
   out.QualityQuantiles[2] = q[(n - 1) / 2];
-  out.PoorElementCount = static_cast<Id>(
-    std::lower_bound(q.begin(), q.end(), options.MinimumQuality) - q.begin());
+  out.PoorElementCount =
+    static_cast<Id>(std::lower_bound(q.begin(), q.end(), options.MinimumQuality) - q.begin());
   if (out.PoorElementCount > 0 && options.ElementOrder == 2 && options.CurveBoundary)
   {
     double edge = 0.0, size = 0.0;
@@ -649,16 +650,15 @@ std::string CheckMesherProperty(const std::string& name, double value)
 
 std::string CheckMesherOptions(const MesherOptions& o)
 {
-  const std::pair<const char*, double> values[] = {
-    { "TargetNumberOfElements", o.TargetNumberOfElements },
+  const std::pair<const char*, double> values[] = { { "TargetNumberOfElements",
+                                                      o.TargetNumberOfElements },
     { "TargetEdgeLength", o.TargetEdgeLength }, { "ElementOrder", o.ElementOrder },
     { "RadiusEdgeRatio", o.RadiusEdgeRatio }, { "MinDihedralAngle", o.MinDihedralAngle },
     { "SurfaceDeviationWarning", o.SurfaceDeviationWarning },
     { "CurvedQualityRatio", o.CurvedQualityRatio }, { "MinimumQuality", o.MinimumQuality },
-    { "CurvedQualityTarget", o.CurvedQualityTarget },
-    { "EnvelopeTolerance", o.EnvelopeTolerance }, { "Wrap", o.Wrap },
-    { "WrapMaxGates", o.WrapMaxGates }, { "CoarseTetGenMaxCreated", o.CoarseTetGenMaxCreated }
-  };
+    { "CurvedQualityTarget", o.CurvedQualityTarget }, { "EnvelopeTolerance", o.EnvelopeTolerance },
+    { "Wrap", o.Wrap }, { "WrapMaxGates", o.WrapMaxGates },
+    { "CoarseTetGenMaxCreated", o.CoarseTetGenMaxCreated } };
   for (const auto& v : values)
   {
     const std::string error = CheckMesherProperty(v.first, v.second);
@@ -722,9 +722,9 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     if (options.Wrap == 0 && MostlySlivers(tg, options, poor))
     {
       std::ostringstream msg;
-      msg << "the coarsened surface has parts thinner than the element size: " << poor
-          << " of " << nTets << " of TetGen's elements are below MinimumQuality = "
-          << options.MinimumQuality << " before curving.";
+      msg << "the coarsened surface has parts thinner than the element size: " << poor << " of "
+          << nTets << " of TetGen's elements are below MinimumQuality = " << options.MinimumQuality
+          << " before curving.";
       tg.Error = msg.str();
     }
     if (!tg.Error.empty() && options.Wrap == 0 && !tg.Aborted)

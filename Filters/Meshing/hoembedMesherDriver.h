@@ -124,8 +124,8 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherServices
   /// Quadric decimation of the fine surface (or of its low-pass filtered copy when
   /// `smoothed`) by `reduction` (fraction of triangles removed); false on failure (e.g.
   /// cells other than triangles out).
-  std::function<bool(double reduction, bool smoothed, std::vector<double>& points,
-    std::vector<std::int64_t>& tris)>
+  std::function<bool(
+    double reduction, bool smoothed, std::vector<double>& points, std::vector<std::int64_t>& tris)>
     Decimate;
   /// Closest point, ray and neighbourhood queries on the fine surface.
   SurfaceQueries Fine;
@@ -148,22 +148,22 @@ struct HOEMBEDFILTERSMESHING_EXPORT MesherServices
 
 struct HOEMBEDFILTERSMESHING_EXPORT MesherResult
 {
-  std::vector<double> Points;                ///< 3 per node, in memory order
-  std::vector<std::int64_t> Conn;            ///< NodesPerCell per cell
-  int NodesPerCell = 10;                     ///< 10 (tet10) or 4 (tet4)
-  std::vector<double> MinScaledJacobian;     ///< per cell
-  std::vector<unsigned char> BoundaryNode;   ///< per node
+  std::vector<double> Points;              ///< 3 per node, in memory order
+  std::vector<std::int64_t> Conn;          ///< NodesPerCell per cell
+  int NodesPerCell = 10;                   ///< 10 (tet10) or 4 (tet4)
+  std::vector<double> MinScaledJacobian;   ///< per cell
+  std::vector<unsigned char> BoundaryNode; ///< per node
   std::int64_t RelaxedNodeCount = 0;
   std::int64_t CurvedNodeCount = 0;
   double MaxSurfaceDeviation = 0.0;
-  std::int64_t EnvelopeNodeCount = 0; ///< boundary mid-edge nodes left on the envelope
+  std::int64_t EnvelopeNodeCount = 0;      ///< boundary mid-edge nodes left on the envelope
   std::int64_t BoundaryCrossingsFound = 0; ///< curved boundary face pairs crossing, repaired
   std::int64_t BoundaryCrossingsLeft = 0;  ///< crossing pairs left (0 expected)
   /// MinScaledJacobian over the cells: minimum, 1st percentile, median
   double QualityQuantiles[3] = { 0.0, 0.0, 0.0 };
   std::int64_t PoorElementCount = 0; ///< cells below MesherOptions::MinimumQuality
-  bool Wrapped = false;               ///< the boundary is an envelope of the surface
-  double EnvelopeOffset = 0.0;        ///< its distance from the surface (when Wrapped)
+  bool Wrapped = false;              ///< the boundary is an envelope of the surface
+  double EnvelopeOffset = 0.0;       ///< its distance from the surface (when Wrapped)
   std::vector<std::string> Warnings;
   std::string Error; ///< empty on success; otherwise nothing else is meaningful
 };

@@ -116,7 +116,8 @@ bool SegmentCrossesTriangle(
   h[2] = d[0] * e2[1] - d[1] * e2[0];
   const double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
   const double scale = std::sqrt((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) *
-    (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) * (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]));
+    (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) *
+    (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]));
   if (std::fabs(det) <= 1e-12 * scale)
   {
     return false; // parallel or coplanar: left to the other edges' tests
@@ -170,7 +171,8 @@ SurfaceCheck::Id SurfaceCheck::CountSelfIntersections(
   const double diag = std::sqrt((ghi[0] - glo[0]) * (ghi[0] - glo[0]) +
     (ghi[1] - glo[1]) * (ghi[1] - glo[1]) + (ghi[2] - glo[2]) * (ghi[2] - glo[2]));
   const double pad = relTol * diag;
-  std::sort(boxes.begin(), boxes.end(), [](const Box& a, const Box& b) { return a.Lo[0] < b.Lo[0]; });
+  std::sort(
+    boxes.begin(), boxes.end(), [](const Box& a, const Box& b) { return a.Lo[0] < b.Lo[0]; });
   Id count = 0;
   for (size_t i = 0; i < boxes.size() && count < maxCount; ++i)
   {

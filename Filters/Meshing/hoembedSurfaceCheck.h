@@ -14,18 +14,17 @@ namespace hoembed
 struct HOEMBEDFILTERSMESHING_EXPORT SurfaceCheck
 {
   using Id = std::int64_t;
-  Id BoundaryEdges = 0;     ///< edges in exactly one triangle (the surface is open)
-  Id NonManifoldEdges = 0;  ///< edges in more than two triangles
-  Id InconsistentEdges = 0; ///< edges used twice in the same direction (flipped triangles)
-  Id DegenerateTriangles = 0; ///< triangles with a repeated vertex or zero area
+  Id BoundaryEdges = 0;           ///< edges in exactly one triangle (the surface is open)
+  Id NonManifoldEdges = 0;        ///< edges in more than two triangles
+  Id InconsistentEdges = 0;       ///< edges used twice in the same direction (flipped triangles)
+  Id DegenerateTriangles = 0;     ///< triangles with a repeated vertex or zero area
   Id ExampleEdge[2] = { -1, -1 }; ///< one offending edge, for messages
-  double SignedVolume = 0.0; ///< divergence-theorem volume (> 0: outward normals)
+  double SignedVolume = 0.0;      ///< divergence-theorem volume (> 0: outward normals)
   double Area = 0.0;
 
   bool IsClosedManifold() const
   {
-    return this->BoundaryEdges == 0 && this->NonManifoldEdges == 0 &&
-      this->InconsistentEdges == 0;
+    return this->BoundaryEdges == 0 && this->NonManifoldEdges == 0 && this->InconsistentEdges == 0;
   }
 
   /// Pairs of triangles that intersect or come closer than `relTol` of the bounding-box

@@ -117,15 +117,16 @@ double EstimatedElements(const SurfaceInput& s, double edge, int target)
         ab[0] * ac[1] - ab[1] * ac[0] };
       area += 0.5 * std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
       volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                  a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+                  a[2] * (b[0] * c[1] - b[1] * c[0])) /
+        6.0;
     }
   }
   const double sheet = area * 0.5 * edge;
   return std::max(std::fabs(volume), sheet) * 6.0 * std::sqrt(2.0) / (edge * edge * edge);
 }
 
-std::string CheckEstimatedSize(const SurfaceInput& s, double edge, int target, Id maximum,
-  const char* maximumName)
+std::string CheckEstimatedSize(
+  const SurfaceInput& s, double edge, int target, Id maximum, const char* maximumName)
 {
   const double estimate = EstimatedElements(s, edge, target);
   if (!(estimate > static_cast<double>(maximum)))
@@ -135,8 +136,8 @@ std::string CheckEstimatedSize(const SurfaceInput& s, double edge, int target, I
   const double bytesPerElement = 1.0e3;
   std::ostringstream msg;
   msg << "the mesh would have about " << static_cast<long long>(estimate) << " elements (about "
-      << std::ceil(estimate * bytesPerElement / 1e9)
-      << " GB of memory to mesh), more than " << maximumName << " = " << maximum
+      << std::ceil(estimate * bytesPerElement / 1e9) << " GB of memory to mesh), more than "
+      << maximumName << " = " << maximum
       << ": ask for fewer elements (or a longer TargetEdgeLength), or raise " << maximumName;
   return msg.str();
 }
@@ -144,8 +145,8 @@ std::string CheckEstimatedSize(const SurfaceInput& s, double edge, int target, I
 std::string ReadSurface(const SurfaceInput& s, const SurfaceReadServices& services,
   std::vector<double>& points, std::vector<Id>& tris)
 {
-  const Id numberOfCells = s.Verts.NumberOfCells + s.Lines.NumberOfCells +
-    s.Polys.NumberOfCells + s.Strips.NumberOfCells;
+  const Id numberOfCells =
+    s.Verts.NumberOfCells + s.Lines.NumberOfCells + s.Polys.NumberOfCells + s.Strips.NumberOfCells;
   if (s.NumberOfPoints == 0 || numberOfCells == 0)
   {
     std::ostringstream msg;

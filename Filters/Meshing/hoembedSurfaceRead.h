@@ -43,8 +43,8 @@ struct HOEMBEDFILTERSMESHING_EXPORT SurfaceReadServices
   /// Ear cut of the polygon of `n` points (`ids`: its point ids, `xyz`: their 3n
   /// coordinates): 3 (n - 2) ids local to the polygon (0..n-1) in `local`; false when it
   /// cannot split the polygon (the read step then uses a fan from its first point).
-  std::function<bool(const std::int64_t* ids, std::int64_t n, const double* xyz,
-    std::vector<std::int64_t>& local)>
+  std::function<bool(
+    const std::int64_t* ids, std::int64_t n, const double* xyz, std::vector<std::int64_t>& local)>
     EarCut;
   /// Merge the coincident points of the triangles `tris` (3 input point ids each): the
   /// merged surface's points (3 doubles each, points used by no triangle dropped) and

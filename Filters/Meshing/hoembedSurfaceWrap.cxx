@@ -92,8 +92,8 @@ SurfaceWrapResult WrapSurface(const std::vector<double>& points, const std::vect
       continue;
     if (CGAL::collinear(cgalPoints[a], cgalPoints[b], cgalPoints[c]))
       continue;
-    faces.push_back({ static_cast<std::size_t>(a), static_cast<std::size_t>(b),
-      static_cast<std::size_t>(c) });
+    faces.push_back(
+      { static_cast<std::size_t>(a), static_cast<std::size_t>(b), static_cast<std::size_t>(c) });
   }
   out.UsedTriangles = static_cast<Id>(faces.size());
   if (faces.empty())
@@ -107,8 +107,8 @@ SurfaceWrapResult WrapSurface(const std::vector<double>& points, const std::vect
   visitor.Out = &out;
   try
   {
-    CGAL::alpha_wrap_3(cgalPoints, faces, alpha, offset, wrap,
-      CGAL::parameters::default_values(), CGAL::parameters::visitor(std::ref(visitor)));
+    CGAL::alpha_wrap_3(cgalPoints, faces, alpha, offset, wrap, CGAL::parameters::default_values(),
+      CGAL::parameters::visitor(std::ref(visitor)));
   }
   catch (const WrapStopped& stop)
   {

@@ -48,8 +48,7 @@ class CheckpointGuard
 {
 public:
   explicit CheckpointGuard(Watchdog* w)
-    : OldFn(hoembed_tetgen_checkpoint)
-    , OldData(hoembed_tetgen_checkpoint_data)
+    : OldFn(hoembed_tetgen_checkpoint), OldData(hoembed_tetgen_checkpoint_data)
   {
     hoembed_tetgen_checkpoint = &Checkpoint;
     hoembed_tetgen_checkpoint_data = w;
@@ -75,7 +74,8 @@ double SurfaceVolume(const std::vector<double>& pts, const std::vector<std::int6
     const double* b = &pts[3 * tris[3 * t + 1]];
     const double* c = &pts[3 * tris[3 * t + 2]];
     v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-           a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+           a[2] * (b[0] * c[1] - b[1] * c[0])) /
+      6.0;
   }
   return v;
 }
@@ -86,7 +86,8 @@ double SurfaceVolume(const std::vector<double>& pts, const std::vector<std::int6
 // triangles face into it) would be filled unless it is named as a hole. The point lies a
 // hundredth of the height of the shell's largest triangle off its centroid, on the side
 // its normal (times the whole surface's orientation) points to.
-std::vector<double> CavityPoints(const std::vector<double>& pts, const std::vector<std::int64_t>& tris)
+std::vector<double> CavityPoints(
+  const std::vector<double>& pts, const std::vector<std::int64_t>& tris)
 {
   const size_t np = pts.size() / 3, nt = tris.size() / 3;
   std::vector<size_t> parent(np);
@@ -118,7 +119,8 @@ std::vector<double> CavityPoints(const std::vector<double>& pts, const std::vect
     const double* b = &pts[3 * tris[3 * t + 1]];
     const double* c = &pts[3 * tris[3 * t + 2]];
     const double v = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                       a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+                       a[2] * (b[0] * c[1] - b[1] * c[0])) /
+      6.0;
     double u[3], w[3], n[3];
     for (int d = 0; d < 3; ++d)
     {
@@ -265,8 +267,7 @@ std::string QualitySwitches(const TetGenParameters& params)
 } // namespace
 
 ScopedTetGenAbort::ScopedTetGenAbort(std::function<bool()> abort)
-  : Abort(std::move(abort))
-  , Previous(CurrentAbort)
+  : Abort(std::move(abort)), Previous(CurrentAbort)
 {
   CurrentAbort = &this->Abort;
 }
@@ -317,9 +318,8 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
     }
   }
   const double surfaceVolume = SurfaceVolume(pts, tris);
-  const double expected = params.MaxVolume > 0.0
-    ? std::fabs(surfaceVolume) / params.MaxVolume
-    : static_cast<double>(tris.size() / 3);
+  const double expected = params.MaxVolume > 0.0 ? std::fabs(surfaceVolume) / params.MaxVolume
+                                                 : static_cast<double>(tris.size() / 3);
   Watchdog watchdog;
   watchdog.Abort = CurrentAbort;
   const double budget = params.MaxCreatedTetrahedra > 0.0
@@ -400,12 +400,14 @@ TetGenResult RunTetGen(const std::vector<double>& pts, const std::vector<std::in
           e[r][d] = result.Points[3 * result.Tets[4 * t + r + 1] + d] - p0[d];
       meshVolume += (e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
                       e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
-                      e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) / 6.0;
+                      e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) /
+        6.0;
     }
     if (std::fabs(meshVolume - std::fabs(surfaceVolume)) > 1e-3 * std::fabs(surfaceVolume))
     {
       std::ostringstream os;
-      os << "TetGen skipped self-intersecting facets of the (coarsened) surface (mesh volume " << meshVolume << ", surface volume " << surfaceVolume << ")";
+      os << "TetGen skipped self-intersecting facets of the (coarsened) surface (mesh volume "
+         << meshVolume << ", surface volume " << surfaceVolume << ")";
       result.Error = os.str();
       result.Points.clear();
       result.Tets.clear();

@@ -18,7 +18,7 @@ namespace hoembed
 {
 struct HOEMBEDFILTERSMESHING_EXPORT TetGenParameters
 {
-  double RadiusEdgeRatio = 1.5;  ///< -q first value
+  double RadiusEdgeRatio = 1.5;   ///< -q first value
   double MinDihedralAngle = 10.0; ///< -q second value (degrees)
   double MaxVolume = 0.0;         ///< -a value; 0 = no volume bound
   bool PreserveBoundary = false;  ///< -Y: no Steiner points on the boundary
@@ -31,13 +31,13 @@ struct HOEMBEDFILTERSMESHING_EXPORT TetGenParameters
 
 struct HOEMBEDFILTERSMESHING_EXPORT TetGenResult
 {
-  std::vector<double> Points;      ///< 3 per point
-  std::vector<std::int64_t> Tets;  ///< 4 per tet, positively oriented (VTK order)
-  std::string Error;               ///< empty on success
-  std::string Switches;            ///< the TetGen command-line switches used
+  std::vector<double> Points;          ///< 3 per point
+  std::vector<std::int64_t> Tets;      ///< 4 per tet, positively oriented (VTK order)
+  std::string Error;                   ///< empty on success
+  std::string Switches;                ///< the TetGen command-line switches used
   std::uint64_t CreatedTetrahedra = 0; ///< TetGen's work: tetrahedra created (0 if unknown)
-  bool Stopped = false;            ///< the work bound or an abort stopped TetGen
-  bool Aborted = false;            ///< it was the abort
+  bool Stopped = false;                ///< the work bound or an abort stopped TetGen
+  bool Aborted = false;                ///< it was the abort
 };
 
 /**

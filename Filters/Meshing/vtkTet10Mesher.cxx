@@ -264,8 +264,8 @@ std::string GatherPieces(vtkPolyData*& input, vtkAppendPolyData* gathered)
     static_cast<int>(pieces.size()) != controller->GetNumberOfProcesses())
   {
     std::ostringstream msg;
-    msg << "could not gather the surface's pieces from the "
-        << controller->GetNumberOfProcesses() << " processes";
+    msg << "could not gather the surface's pieces from the " << controller->GetNumberOfProcesses()
+        << " processes";
     return msg.str();
   }
   for (const auto& piece : pieces)
@@ -310,7 +310,8 @@ std::string ReadInput(vtkPolyData* input, const InputArrays& arrays, double merg
   services.Merge = [&](const std::vector<Id>& tris, std::vector<double>& points,
                      std::vector<Id>& mergedTris) {
     vtkNew<vtkCellArray> cells;
-    cells->AllocateExact(static_cast<vtkIdType>(tris.size() / 3), static_cast<vtkIdType>(tris.size()));
+    cells->AllocateExact(
+      static_cast<vtkIdType>(tris.size() / 3), static_cast<vtkIdType>(tris.size()));
     for (size_t t = 0; t < tris.size() / 3; ++t)
     {
       const vtkIdType ids[3] = { tris[3 * t], tris[3 * t + 1], tris[3 * t + 2] };
@@ -355,9 +356,7 @@ std::string ReadInput(vtkPolyData* input, const InputArrays& arrays, double merg
 class VTKServices
 {
 public:
-  explicit VTKServices(vtkPolyData* fine)
-    : Fine(fine)
-    , Projector(fine)
+  explicit VTKServices(vtkPolyData* fine) : Fine(fine), Projector(fine)
   {
     this->VertexLocator->SetDataSet(fine);
     this->VertexLocator->BuildLocator();
@@ -398,22 +397,22 @@ public:
     s.Fine.Ray = [this](const double a[3], const double b[3], double hit[3]) {
       return this->Projector.Ray(a, b, hit);
     };
-    s.MaxDistanceToTriangles = [](const std::vector<double>& points,
-                                 const std::vector<hoembed::SurfaceCheck::Id>& tris,
-                                 const std::vector<double>& query, hoembed::SurfaceCheck::Id stride) {
-      TriSurface target;
-      target.Points = points;
-      target.Tris = tris;
-      vtkSmartPointer<vtkPolyData> pd = FromArrays(target);
-      SurfaceProjector toTarget(pd);
-      double worst = 0.0;
-      for (size_t i = 0; i < query.size() / 3; i += static_cast<size_t>(stride))
-      {
-        double cp[3];
-        worst = std::max(worst, toTarget.Project(&query[3 * i], cp));
-      }
-      return worst;
-    };
+    s.MaxDistanceToTriangles =
+      [](const std::vector<double>& points, const std::vector<hoembed::SurfaceCheck::Id>& tris,
+        const std::vector<double>& query, hoembed::SurfaceCheck::Id stride) {
+        TriSurface target;
+        target.Points = points;
+        target.Tris = tris;
+        vtkSmartPointer<vtkPolyData> pd = FromArrays(target);
+        SurfaceProjector toTarget(pd);
+        double worst = 0.0;
+        for (size_t i = 0; i < query.size() / 3; i += static_cast<size_t>(stride))
+        {
+          double cp[3];
+          worst = std::max(worst, toTarget.Project(&query[3 * i], cp));
+        }
+        return worst;
+      };
     // Beyond det J > 0, curved elements must pass VTK's own cell validator (its
     // linearised faces must not intersect or flip), so that VTK tools accept every element.
     s.ExtraCheck = [this](const double* x) {
@@ -430,8 +429,8 @@ public:
         this->CheckCell->GetPoints()->SetPoint(i, p);
       }
       using Settings = hoembed::MesherServiceSettings;
-      const auto state = static_cast<short>(
-        vtkCellValidator::Check(this->CheckCell, Settings::CellCheckTolerance));
+      const auto state =
+        static_cast<short>(vtkCellValidator::Check(this->CheckCell, Settings::CellCheckTolerance));
       return (state & Settings::RefusedCellStates) == 0;
     };
     return s;
@@ -577,7 +576,8 @@ int vtkTet10Mesher::RequestUpdateExtent(
   if (vtkInformation* inInfo = inputVector[0]->GetInformationObject(0))
   {
     inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), distributed ? controller->GetLocalProcessId() : 0);
-    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), distributed ? controller->GetNumberOfProcesses() : 1);
+    inInfo->Set(
+      SDDP::UPDATE_NUMBER_OF_PIECES(), distributed ? controller->GetNumberOfProcesses() : 1);
     inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
   }
   return 1;
@@ -589,8 +589,7 @@ bool vtkTet10Mesher::CheckRequest(vtkPolyData*)
 {
   const std::pair<const char*, double> props[] = { { "TargetEdgeLength", this->TargetEdgeLength },
     { "RadiusEdgeRatio", this->RadiusEdgeRatio }, { "MinDihedralAngle", this->MinDihedralAngle },
-    { "CurvedQualityRatio", this->CurvedQualityRatio },
-    { "MinimumQuality", this->MinimumQuality },
+    { "CurvedQualityRatio", this->CurvedQualityRatio }, { "MinimumQuality", this->MinimumQuality },
     { "CurvedQualityTarget", this->CurvedQualityTarget },
     { "SurfaceDeviationWarning", this->SurfaceDeviationWarning },
     { "EnvelopeTolerance", this->EnvelopeTolerance }, { "MergeTolerance", this->MergeTolerance },

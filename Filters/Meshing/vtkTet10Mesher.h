@@ -17,9 +17,9 @@
  * tolerance are absorbed in a small solid of their own). Boundary nodes then move onto
  * the surface where it is within twice the offset and faces them (its triangles' normals
  * point to their side), and stay on the envelope elsewhere (holes bridged, the far side
- * of a wrapped sheet, flipped patches); field data `EnvelopeNodeCount`. Output: a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (ElementOrder 2,
- * default) or VTK_TETRA cells (ElementOrder 1, the paper's linear baseline on the same
- * corner nodes).
+ * of a wrapped sheet, flipped patches); field data `EnvelopeNodeCount`. Output: a
+ * vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells (ElementOrder 2, default) or VTK_TETRA cells
+ * (ElementOrder 1, the paper's linear baseline on the same corner nodes).
  *
  * Steps:
  * 0. Checks before any VTK filter sees the input: properties finite (NaN quality bounds

@@ -17,13 +17,11 @@ namespace corotational_detail
 template <typename T>
 void BlockFactor<T>::Build(int n, const int* colPtr, const int* rowIdx, const double* val)
 {
-  Build(n,
-    [&](int c, const int*& rows, const double*& values, int& count)
-    {
-      rows = rowIdx + colPtr[c];
-      values = val + colPtr[c];
-      count = colPtr[c + 1] - colPtr[c];
-    });
+  Build(n, [&](int c, const int*& rows, const double*& values, int& count) {
+    rows = rowIdx + colPtr[c];
+    values = val + colPtr[c];
+    count = colPtr[c + 1] - colPtr[c];
+  });
 }
 
 template <typename T>
@@ -215,7 +213,7 @@ inline double Sum4(__m256d v)
   const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
   return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
 }
-}
+} // namespace
 #endif
 
 // L y = t on the given columns (ascending); t has 4 doubles per node (the 4th unused);
@@ -332,10 +330,8 @@ void BlockFactor<T>::SolveWork(double* t) const
   }
   // the same arithmetic on 1 or 2 threads (bitwise the same result)
   const bool parallel = ParallelThreadCount() >= 2;
-  auto groups = [&](bool forward)
-  {
-    auto run = [&](vtkIdType begin, vtkIdType end)
-    {
+  auto groups = [&](bool forward) {
+    auto run = [&](vtkIdType begin, vtkIdType end) {
       for (vtkIdType g = begin; g < end; ++g)
       {
         if (forward)

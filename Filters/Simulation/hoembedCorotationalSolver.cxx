@@ -9,10 +9,7 @@
 namespace hoembed
 {
 
-CorotationalSolver::CorotationalSolver()
-  : P(new Impl)
-{
-}
+CorotationalSolver::CorotationalSolver() : P(new Impl) {}
 
 CorotationalSolver::~CorotationalSolver() = default;
 
@@ -31,8 +28,7 @@ void ComputeElementMatrices(CorotationalSolver::Impl& I, double young, double po
   const int N = I.N, D = I.D;
   const long long NC = I.NC;
   ParallelFor(NC, 64, // heavy per cell: worth threads early
-    [&](vtkIdType begin, vtkIdType end)
-    {
+    [&](vtkIdType begin, vtkIdType end) {
       std::vector<double> xe(3 * N), Mfull(D * D);
       const double c[3] = { 0.25, 0.25, 0.25 };
       for (vtkIdType e = begin; e < end; ++e)
@@ -143,8 +139,7 @@ void AssembleGlobalMatrices(
   const long long NC = I.NC;
   const int* outer = I.A.outerIndexPtr();
   const int* inner = I.A.innerIndexPtr();
-  auto position = [&](int row, int col)
-  {
+  auto position = [&](int row, int col) {
     const int* b = inner + outer[row];
     const int* e = inner + outer[row + 1];
     return static_cast<int>(std::lower_bound(b, e, col) - inner);
@@ -203,9 +198,8 @@ void AssembleGlobalMatrices(
 } // namespace
 
 bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
-  const long long* connectivity, long long numberOfPoints, const double* restPoints,
-  double young, double poisson, double density, bool lumpedMass, std::string& error,
-  long long& badCell)
+  const long long* connectivity, long long numberOfPoints, const double* restPoints, double young,
+  double poisson, double density, bool lumpedMass, std::string& error, long long& badCell)
 {
   Impl& I = *this->P;
   badCell = -1;
@@ -251,7 +245,7 @@ bool CorotationalSolver::Initialize(int nodesPerCell, long long numberOfCells,
   I.G.assign(NC * N * 3, 0.0);
   I.Rot.assign(NC * 9, 0.0);
   std::vector<double> Me(NC * N * N, 0.0); // per-component mass block
-  std::vector<double> fg(NC * N, 0.0);    // integral of N_a (times density)
+  std::vector<double> fg(NC * N, 0.0);     // integral of N_a (times density)
   std::vector<char> bad(NC, 0);
 
   ComputeElementMatrices(I, young, poisson, density, lumpedMass, Me, fg, bad);
@@ -434,7 +428,6 @@ void CorotationalSolver::SetState(const double* positions, const double* velocit
   I.dv.assign(3 * I.NP, 0.0);
 }
 
-
 bool CorotationalSolver::Step()
 {
   Impl& I = *this->P;
@@ -481,8 +474,8 @@ bool CorotationalSolver::Step()
         const bool capped = I.PrescribedSpeed > 0.0 && n > limit;
         for (int i = 0; i < 3; ++i)
         {
-          reach[3 * p + i] = capped ? I.x[3 * p + i] + d[i] * (limit / n)
-                                    : I.X[3 * p + i] + I.Target[3 * p + i];
+          reach[3 * p + i] =
+            capped ? I.x[3 * p + i] + d[i] * (limit / n) : I.X[3 * p + i] + I.Target[3 * p + i];
         }
       }
     }
@@ -533,7 +526,6 @@ bool CorotationalSolver::Step()
   if (prescribed)
   {
     I.MassApply(delta.data(), -1.0, rhs.data()); // rows of the free DOFs: -M_fc delta
-
   }
   I.Mask(rhs);
   auto t2 = Clock::now();
@@ -768,30 +760,28 @@ void CorotationalSolver::ComputeVonMises(double* stress) const
   }
   I.EnsureRotations();
   const int N = I.N;
-  ParallelFor(I.NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(I.NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
+    double Xe[30], ue[30];
+    const double c[3] = { 0.25, 0.25, 0.25 };
+    for (vtkIdType e = begin; e < end; ++e)
     {
-      double Xe[30], ue[30];
-      const double c[3] = { 0.25, 0.25, 0.25 };
-      for (vtkIdType e = begin; e < end; ++e)
+      const Mat3 R = Eigen::Map<const Mat3>(&I.Rot[e * 9]);
+      for (int a = 0; a < N; ++a)
       {
-        const Mat3 R = Eigen::Map<const Mat3>(&I.Rot[e * 9]);
-        for (int a = 0; a < N; ++a)
+        const int pa = I.Conn[e * N + a];
+        const Eigen::Vector3d y(I.x[3 * pa], I.x[3 * pa + 1], I.x[3 * pa + 2]);
+        const Eigen::Vector3d l = R.transpose() * y;
+        for (int i = 0; i < 3; ++i)
         {
-          const int pa = I.Conn[e * N + a];
-          const Eigen::Vector3d y(I.x[3 * pa], I.x[3 * pa + 1], I.x[3 * pa + 2]);
-          const Eigen::Vector3d l = R.transpose() * y;
-          for (int i = 0; i < 3; ++i)
-          {
-            Xe[3 * a + i] = I.X[3 * pa + i];
-            ue[3 * a + i] = l[i] - Xe[3 * a + i];
-          }
+          Xe[3 * a + i] = I.X[3 * pa + i];
+          ue[3 * a + i] = l[i] - Xe[3 * a + i];
         }
-        // the co-rotated displacement carries an arbitrary translation: harmless, the
-        // stress only sees its gradient.
-        stress[e] = VonMisesStress(N, Xe, ue, c, I.Young, I.Poisson);
       }
-    });
+      // the co-rotated displacement carries an arbitrary translation: harmless, the
+      // stress only sees its gradient.
+      stress[e] = VonMisesStress(N, Xe, ue, c, I.Young, I.Poisson);
+    }
+  });
 }
 
 double CorotationalSolver::KineticEnergy() const

@@ -145,7 +145,7 @@ public:
     double Assembly = 0.0; ///< seconds rotating element matrices, forces, scatter
     double Solve = 0.0;    ///< seconds in the preconditioned CG (and factorisation)
     long long Steps = 0;
-    long long Iterations = 0; ///< total CG iterations
+    long long Iterations = 0;     ///< total CG iterations
     long long Factorizations = 0; ///< numeric factorisations of the preconditioner
     double Factorization = 0.0;   ///< seconds in them (part of Solve)
     /// factors computed by the background worker and taken (SetBackgroundFactorization)

@@ -10,7 +10,8 @@
 namespace hoembed
 {
 // Block pattern = the node adjacency (the pattern of MN); per element the block index of
-// each node pair; the cells split in two halves for two threads; per value of the scalar matrix A its block value.
+// each node pair; the cells split in two halves for two threads; per value of the scalar matrix A
+// its block value.
 void CorotationalSolver::Impl::BuildBlocks()
 {
   const int* outer = MN.outerIndexPtr();
@@ -18,8 +19,7 @@ void CorotationalSolver::Impl::BuildBlocks()
   const long long nb = MN.nonZeros();
   S.assign(9 * nb, 0.0);
   BlockOf.assign(NC * N * N, 0);
-  auto block = [&](int row, int col)
-  {
+  auto block = [&](int row, int col) {
     const int* b = inner + outer[row];
     const int* e = inner + outer[row + 1];
     return static_cast<int>(std::lower_bound(b, e, col) - inner);
@@ -119,10 +119,9 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
 {
   std::fill(S.begin(), S.end(), 0.0);
   std::fill(FInt.begin(), FInt.end(), 0.0);
-  const bool threaded = NC >= ParallelCells && 2 * SharedCells.size() < std::size_t(NC) &&
-    ParallelThreadCount() >= 2;
-  auto cells = [&](const int* list, vtkIdType begin, vtkIdType end)
-  {
+  const bool threaded =
+    NC >= ParallelCells && 2 * SharedCells.size() < std::size_t(NC) && ParallelThreadCount() >= 2;
+  auto cells = [&](const int* list, vtkIdType begin, vtkIdType end) {
     double u[30], w[30], T[3][30];
     for (vtkIdType c = begin; c < end; ++c)
     {
@@ -210,14 +209,12 @@ void CorotationalSolver::Impl::AssembleS(double vScale)
     cells(nullptr, 0, NC);
     return;
   }
-  ParallelLoop<vtkIdType>(0, 2, 1,
-    [&](vtkIdType g0, vtkIdType g1)
+  ParallelLoop<vtkIdType>(0, 2, 1, [&](vtkIdType g0, vtkIdType g1) {
+    for (vtkIdType g = g0; g < g1; ++g)
     {
-      for (vtkIdType g = g0; g < g1; ++g)
-      {
-        cells(HalfCells[g].data(), 0, static_cast<vtkIdType>(HalfCells[g].size()));
-      }
-    });
+      cells(HalfCells[g].data(), 0, static_cast<vtkIdType>(HalfCells[g].size()));
+    }
+  });
   cells(SharedCells.data(), 0, static_cast<vtkIdType>(SharedCells.size()));
 }
 
@@ -258,29 +255,27 @@ void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd&
   const double* q = p.data();
   double* out = y.data();
   const double cM = CM, cK = CK;
-  ParallelFor(NP, ParallelNodes,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(NP, ParallelNodes, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType r = begin; r < end; ++r)
     {
-      for (vtkIdType r = begin; r < end; ++r)
+      double m0 = 0.0, m1 = 0.0, m2 = 0.0, s0 = 0.0, s1 = 0.0, s2 = 0.0;
+      for (int k = outer[r]; k < outer[r + 1]; ++k)
       {
-        double m0 = 0.0, m1 = 0.0, m2 = 0.0, s0 = 0.0, s1 = 0.0, s2 = 0.0;
-        for (int k = outer[r]; k < outer[r + 1]; ++k)
-        {
-          const double* pj = q + 3 * inner[k];
-          const double* b = sv + 9 * static_cast<long long>(k);
-          const double m = mval[k];
-          m0 += m * pj[0];
-          m1 += m * pj[1];
-          m2 += m * pj[2];
-          s0 += b[0] * pj[0] + b[1] * pj[1] + b[2] * pj[2];
-          s1 += b[3] * pj[0] + b[4] * pj[1] + b[5] * pj[2];
-          s2 += b[6] * pj[0] + b[7] * pj[1] + b[8] * pj[2];
-        }
-        out[3 * r] = cM * m0 + cK * s0;
-        out[3 * r + 1] = cM * m1 + cK * s1;
-        out[3 * r + 2] = cM * m2 + cK * s2;
+        const double* pj = q + 3 * inner[k];
+        const double* b = sv + 9 * static_cast<long long>(k);
+        const double m = mval[k];
+        m0 += m * pj[0];
+        m1 += m * pj[1];
+        m2 += m * pj[2];
+        s0 += b[0] * pj[0] + b[1] * pj[1] + b[2] * pj[2];
+        s1 += b[3] * pj[0] + b[4] * pj[1] + b[5] * pj[2];
+        s2 += b[6] * pj[0] + b[7] * pj[1] + b[8] * pj[2];
       }
-    });
+      out[3 * r] = cM * m0 + cK * s0;
+      out[3 * r + 1] = cM * m1 + cK * s1;
+      out[3 * r + 2] = cM * m2 + cK * s2;
+    }
+  });
 }
 
 // A = cM M + cK S on the scalar pattern (for a factorisation of the current system)
@@ -301,26 +296,24 @@ void CorotationalSolver::Impl::AssembleA(double cM, double cK)
 template <typename Local>
 void CorotationalSolver::Impl::ElementProducts(Local&& local)
 {
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
+    double l[30], w[30];
+    for (vtkIdType e = begin; e < end; ++e)
     {
-      double l[30], w[30];
-      for (vtkIdType e = begin; e < end; ++e)
+      const double* R = &Rot[e * 9];
+      local(e, R, l);
+      SymmetricTimes(D, &Ke[e * D * D], l, w);
+      double* out = &EW[e * D];
+      for (int a = 0; a < N; ++a)
       {
-        const double* R = &Rot[e * 9];
-        local(e, R, l);
-        SymmetricTimes(D, &Ke[e * D * D], l, w);
-        double* out = &EW[e * D];
-        for (int a = 0; a < N; ++a)
+        for (int i = 0; i < 3; ++i)
         {
-          for (int i = 0; i < 3; ++i)
-          {
-            out[3 * a + i] =
-              R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2];
-          }
+          out[3 * a + i] =
+            R[3 * i] * w[3 * a] + R[3 * i + 1] * w[3 * a + 1] + R[3 * i + 2] * w[3 * a + 2];
         }
       }
-    });
+    }
+  });
 }
 
 void CorotationalSolver::Impl::ScatterElements(double scale, double* out) const
@@ -341,21 +334,19 @@ void CorotationalSolver::Impl::ScatterElements(double scale, double* out) const
 // Small meshes: FInt element by element (element results, then a serial scatter).
 void CorotationalSolver::Impl::ElementForces(double vScale)
 {
-  ElementProducts(
-    [&](vtkIdType e, const double* R, double* ue)
+  ElementProducts([&](vtkIdType e, const double* R, double* ue) {
+    for (int a = 0; a < N; ++a)
     {
-      for (int a = 0; a < N; ++a)
+      const long long pa = Conn[e * N + a];
+      const double y0 = x[3 * pa] + vScale * v[3 * pa];
+      const double y1 = x[3 * pa + 1] + vScale * v[3 * pa + 1];
+      const double y2 = x[3 * pa + 2] + vScale * v[3 * pa + 2];
+      for (int i = 0; i < 3; ++i) // R^T y - X
       {
-        const long long pa = Conn[e * N + a];
-        const double y0 = x[3 * pa] + vScale * v[3 * pa];
-        const double y1 = x[3 * pa + 1] + vScale * v[3 * pa + 1];
-        const double y2 = x[3 * pa + 2] + vScale * v[3 * pa + 2];
-        for (int i = 0; i < 3; ++i) // R^T y - X
-        {
-          ue[3 * a + i] = R[i] * y0 + R[3 + i] * y1 + R[6 + i] * y2 - X[3 * pa + i];
-        }
+        ue[3 * a + i] = R[i] * y0 + R[3 + i] * y1 + R[6 + i] * y2 - X[3 * pa + i];
       }
-    });
+    }
+  });
   std::fill(FInt.begin(), FInt.end(), 0.0);
   ScatterElements(-1.0, FInt.data());
 }
@@ -363,18 +354,16 @@ void CorotationalSolver::Impl::ElementForces(double vScale)
 // Small meshes: y = CM M p + CK sum_e R_e K_e R_e^T p_e, element by element.
 void CorotationalSolver::Impl::MatVecElements(const Eigen::VectorXd& p, Eigen::VectorXd& y)
 {
-  ElementProducts(
-    [&](vtkIdType e, const double* R, double* l)
+  ElementProducts([&](vtkIdType e, const double* R, double* l) {
+    for (int a = 0; a < N; ++a)
     {
-      for (int a = 0; a < N; ++a)
+      const double* q = p.data() + 3 * Conn[e * N + a];
+      for (int i = 0; i < 3; ++i)
       {
-        const double* q = p.data() + 3 * Conn[e * N + a];
-        for (int i = 0; i < 3; ++i)
-        {
-          l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
-        }
+        l[3 * a + i] = R[i] * q[0] + R[3 + i] * q[1] + R[6 + i] * q[2]; // R^T q
       }
-    });
+    }
+  });
   y.setZero();
   MassApply(p.data(), CM, y.data());
   ScatterElements(CK, y.data());

@@ -55,7 +55,10 @@ using SmallFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::Nat
 class LargeFactorization : public Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>
 {
 public:
-  cholmod_factor* Factor() { return this->m_cholmodFactor; }
+  cholmod_factor* Factor()
+  {
+    return this->m_cholmodFactor;
+  }
 };
 #else
 using LargeFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
@@ -97,7 +100,7 @@ struct BlockFactor
   void PlanSplit();
   bool Split = false;
   std::vector<int> All, Group[2], Top; // columns, ascending
-  std::vector<int> TopSlot;       // column -> index in Top, or -1
+  std::vector<int> TopSlot;            // column -> index in Top, or -1
   mutable std::vector<double> Buffer[2];
   mutable std::vector<double> Work; // 4 doubles per node
   std::vector<double> Scale;        // per row: 1 / sqrt(diagonal of L L^T)
@@ -178,11 +181,11 @@ struct PreconditionerFactor
   LargeFactorization LargeLLT;
   BlockFactor<LargeValue> LargeBlocks;
   bool UseLargeBlocks = false;
-  bool Analyzed = false;   // symbolic analysis of Permuted's pattern done
-  ColMat Permuted;         // permuted lower part of the matrix (pattern fixed)
-  std::vector<double> Q;   // NP * 9 nodal rotations baked into the factor
-  std::vector<char> Free;  // 3 NP: the free DOFs of its matrix
-  double CM = -1, CK = -1; // its mass and stiffness coefficients
+  bool Analyzed = false;     // symbolic analysis of Permuted's pattern done
+  ColMat Permuted;           // permuted lower part of the matrix (pattern fixed)
+  std::vector<double> Q;     // NP * 9 nodal rotations baked into the factor
+  std::vector<char> Free;    // 3 NP: the free DOFs of its matrix
+  double CM = -1, CK = -1;   // its mass and stiffness coefficients
   bool NoPrescribed = false; // made without prescribed nodes (Free = not clamped)
   bool OK = false;
   double Seconds = 0.0; // of the last Compute
@@ -196,26 +199,29 @@ using namespace corotational_detail;
 
 struct CorotationalSolver::Impl
 {
-  int N = 0;  // nodes per cell
-  int D = 0;  // 3 N
+  int N = 0; // nodes per cell
+  int D = 0; // 3 N
   long long NC = 0, NP = 0;
   std::vector<int> Conn;
   std::vector<double> X, x, v, dv;
-  std::vector<double> Ke;     // NC * D * D rest stiffness
-  std::vector<double> G;      // NC * N * 3 centroid shape gradients
-  std::vector<double> Rot;    // NC * 9 element rotations
+  std::vector<double> Ke;      // NC * D * D rest stiffness
+  std::vector<double> G;       // NC * N * 3 centroid shape gradients
+  std::vector<double> Rot;     // NC * 9 element rotations
   std::vector<double> NodeRot; // NP * 9 (averaged, not projected) for the preconditioner
   // the step matrix in 3x3 node blocks (hoembedCorotationalSolverAssembly.cxx)
-  std::vector<double> S;       // 9 per block of MN's pattern: sum_e R_e K_e R_e^T
-  std::vector<int> BlockOf;    // NC * N * N: block of each element node pair
+  std::vector<double> S;                      // 9 per block of MN's pattern: sum_e R_e K_e R_e^T
+  std::vector<int> BlockOf;                   // NC * N * N: block of each element node pair
   std::vector<int> HalfCells[2], SharedCells; // cells for two threads (no common node)
-  std::vector<int> AFromS;     // per value of A: its value in S (-1: none)
-  std::vector<double> FInt;    // 3 NP elastic forces of the step
+  std::vector<int> AFromS;                    // per value of A: its value in S (-1: none)
+  std::vector<double> FInt;                   // 3 NP elastic forces of the step
   void BuildBlocks();
   void AssembleS(double vScale);
   // Small meshes (NC < AssembledCells: element matrices in cache) skip S: products and
   // forces element by element (cheaper than assembling S every step there).
-  bool Assembled() const { return NC >= AssembledCells; }
+  bool Assembled() const
+  {
+    return NC >= AssembledCells;
+  }
   void ElementForces(double vScale);
   void MatVecElements(const Eigen::VectorXd& p, Eigen::VectorXd& y);
   /// EW_e = R_e K_e l_e for every element, l_e (D values) filled by local(e, R_e, l_e).
@@ -223,18 +229,18 @@ struct CorotationalSolver::Impl
   void ElementProducts(Local&& local);
   /// out += scale * EW scattered to the nodes.
   void ScatterElements(double scale, double* out) const;
-  std::vector<double> EW; // NC * D element results (small meshes)
-  double VScale = 0.0;    // of the current step
+  std::vector<double> EW;                      // NC * D element results (small meshes)
+  double VScale = 0.0;                         // of the current step
   std::vector<double> MassValues, StiffValues; // rest M and K on the pattern
   std::vector<double> Gravity0; // consistent body force for unit density * g / density
   std::vector<double> FExt;
   std::vector<char> Free; // 3 NP
   // Free = not clamped, not prescribed, in some cell (UpdateFree)
   std::vector<unsigned char> FixedMask, PrescribedMask; // NP each
-  std::vector<double> Target;     // 3 NP target displacements (prescribed points)
+  std::vector<double> Target; // 3 NP target displacements (prescribed points)
   long long NumberPrescribed = 0;
   double PrescribedSpeed = 0.0; // <= 0: no limit
-  bool UpdateFree(); // true when Free changed
+  bool UpdateFree();            // true when Free changed
   std::vector<int> NodeCellCount;
   double Young = 1, Poisson = 0.3, Density = 1;
   double Dt = 0.01, Alpha = 0, Beta = 0;
@@ -247,8 +253,14 @@ struct CorotationalSolver::Impl
   std::vector<int> PermValue; // A value index -> value index of the permuted lower part
   ColMat PermutedPattern;     // permuted lower part (pattern fixed after the analysis)
   Eigen::VectorXd PrecT;      // work vector of ApplyPrec
-  bool Large() const { return 3 * NP >= LargeSystem; }
-  bool FactorOK() const { return Cur && Cur->OK; }
+  bool Large() const
+  {
+    return 3 * NP >= LargeSystem;
+  }
+  bool FactorOK() const
+  {
+    return Cur && Cur->OK;
+  }
   bool HaveFactor = false;
   bool Analyzed = false;
   int ItAfterFactor = 0;
@@ -266,7 +278,7 @@ struct CorotationalSolver::Impl
   std::vector<std::shared_ptr<PreconditionerFactor>> Spare; // analysed slots to reuse
   std::thread Worker;
   std::atomic<bool> WorkerDone{ false };
-  long long StepCount = 0, JobStep = 0; // steps taken; the step that asked for Job
+  long long StepCount = 0, JobStep = 0;       // steps taken; the step that asked for Job
   unsigned Generation = 0, JobGeneration = 0; // a restart makes older jobs stale
   std::shared_ptr<PreconditionerFactor> NewFactor();
   void Recycle(std::shared_ptr<PreconditionerFactor> f);
@@ -283,7 +295,7 @@ struct CorotationalSolver::Impl
       Worker.join();
     }
   }
-  double FactorSeconds = 0.0;   // cost of the last factorisation
+  double FactorSeconds = 0.0;    // cost of the last factorisation
   double SolveSinceFactor = 0.0; // CG seconds spent with it since (reported only)
   long long IterationsSinceFactor = 0;
   // Deterministic estimate of a factorisation's cost in preconditioned CG iterations
@@ -294,8 +306,8 @@ struct CorotationalSolver::Impl
     const double b = 0.25 * std::pow(static_cast<double>(3 * NP), 2.0 / 3.0);
     return std::min(500.0, std::max(10.0, b));
   }
-  std::vector<double> RelRot;   // NP * 9: NodeRot * Cur->Q^T (preconditioner rotation)
-  double LoadFloor = 0.0;       // |dt f_ext|: residual scale when the system is at rest
+  std::vector<double> RelRot; // NP * 9: NodeRot * Cur->Q^T (preconditioner rotation)
+  double LoadFloor = 0.0;     // |dt f_ext|: residual scale when the system is at rest
   Timings T;
   int LastIt = 0;
   double LastRes = 0;
@@ -310,7 +322,10 @@ struct CorotationalSolver::Impl
   // there is no history (then x stays as given: the previous dv). Large meshes only: on
   // small ones a preconditioner application costs about a product, the projection's
   // products do not pay.
-  int GuessDepth() const { return Assembled() ? 4 : 0; }
+  int GuessDepth() const
+  {
+    return Assembled() ? 4 : 0;
+  }
   std::vector<Eigen::VectorXd> History; // previous steps' dv, most recent first
   bool InitialGuess(const Eigen::VectorXd& b, Eigen::VectorXd& x, Eigen::VectorXd& r);
   void RestartPreconditioner()
@@ -345,18 +360,18 @@ struct CorotationalSolver::Impl
   void AssembleA(double cM, double cK);
   double CM = 1.0, CK = 0.0;
   bool StaticMode = false; // steps without mass (static increments)
-  RowMat MN;              // NP x NP scalar mass matrix
+  RowMat MN;               // NP x NP scalar mass matrix
   // Hyperelastic materials (hoembedHyperelasticSolver.cxx): Newton on the incremental
   // potential instead of the co-rotated linearised step (Mat != Corotated).
   Material Mat = Material::Corotated;
   HyperelasticLaw Law;
-  int HQ = 0;              // quadrature points per cell
-  std::vector<double> HG;  // NC * HQ * N * 3: dN/dX at the quadrature points
-  std::vector<double> HW;  // NC * HQ: weight * det J
+  int HQ = 0;             // quadrature points per cell
+  std::vector<double> HG; // NC * HQ * N * 3: dN/dX at the quadrature points
+  std::vector<double> HW; // NC * HQ: weight * det J
   double NewtonTol = 1e-8;
   int NewtonMaxIt = 50;
   int LastNewtonIt = 0;
-  struct NewtonState;      // the factor and work arrays (defined in the .cxx)
+  struct NewtonState; // the factor and work arrays (defined in the .cxx)
   std::shared_ptr<NewtonState> Newton;
   void InitializeHyper();
   void RestartNewton(); // forget the factor kept as CG preconditioner

@@ -14,27 +14,25 @@ namespace hoembed
 void CorotationalSolver::Impl::ComputeRotations()
 {
   RotationsValid = true;
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType e = begin; e < end; ++e)
     {
-      for (vtkIdType e = begin; e < end; ++e)
+      double F[9] = { 0, 0, 0, 0, 0, 0, 0, 0, 0 };
+      const double* g = &G[e * N * 3];
+      for (int a = 0; a < N; ++a)
       {
-        double F[9] = { 0, 0, 0, 0, 0, 0, 0, 0, 0 };
-        const double* g = &G[e * N * 3];
-        for (int a = 0; a < N; ++a)
+        const double* xa = &x[3 * Conn[e * N + a]];
+        for (int i = 0; i < 3; ++i)
         {
-          const double* xa = &x[3 * Conn[e * N + a]];
-          for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
           {
-            for (int j = 0; j < 3; ++j)
-            {
-              F[3 * i + j] += xa[i] * g[3 * a + j];
-            }
+            F[3 * i + j] += xa[i] * g[3 * a + j];
           }
         }
-        PolarRotation(F, &Rot[e * 9]);
       }
-    });
+      PolarRotation(F, &Rot[e * 9]);
+    }
+  });
   std::fill(NodeRot.begin(), NodeRot.end(), 0.0);
   for (long long e = 0; e < NC; ++e)
   {
@@ -184,8 +182,8 @@ void PreconditionerFactor::Compute(bool large, long long np)
     if (OK)
     {
       const ColMat& L = SmallLLT.matrixL().nestedExpression();
-      SmallBlocks.Build(static_cast<int>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(),
-        L.valuePtr());
+      SmallBlocks.Build(
+        static_cast<int>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr());
     }
   }
   Seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -262,8 +260,7 @@ void CorotationalSolver::Impl::BackgroundPreconditioner(double cM, double cK)
     // the factor the synchronous rule makes at a change of the set (of the rest matrix),
     // unless the stand-in is of this set (a release onto Base)
     if (Cur->Free != Free &&
-      (!Job || Job->Free != Free || Job->CM != cM || Job->CK != cK ||
-        JobGeneration != Generation))
+      (!Job || Job->Free != Free || Job->CM != cM || Job->CK != cK || JobGeneration != Generation))
     {
       StartJob(cM, cK, true);
     }
@@ -312,19 +309,17 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK, bool rest)
   const bool large = Large();
   const long long np = NP;
   std::atomic<bool>* done = &WorkerDone;
-  Worker = std::thread(
-    [job, large, np, done]()
+  Worker = std::thread([job, large, np, done]() {
+    try
     {
-      try
-      {
-        job->Compute(large, np);
-      }
-      catch (...) // out of memory: the job is dropped, the stand-in keeps serving
-      {
-        job->OK = false;
-      }
-      done->store(true, std::memory_order_release);
-    });
+      job->Compute(large, np);
+    }
+    catch (...) // out of memory: the job is dropped, the stand-in keeps serving
+    {
+      job->OK = false;
+    }
+    done->store(true, std::memory_order_release);
+  });
 }
 
 // At the start of a step: a finished job (Lag 0), or the job asked for Lag steps ago
@@ -340,8 +335,8 @@ void CorotationalSolver::Impl::PollJob(double cM, double cK)
   }
   const bool current = JobGeneration == Generation && Job->CM == cM && Job->CK == cK;
   const bool stale = !current || Job->Free != Free;
-  const bool due = Lag > 0 ? (stale || StepCount - JobStep >= Lag)
-                           : WorkerDone.load(std::memory_order_acquire);
+  const bool due =
+    Lag > 0 ? (stale || StepCount - JobStep >= Lag) : WorkerDone.load(std::memory_order_acquire);
   if (!due)
   {
     return;
@@ -399,7 +394,8 @@ void CorotationalSolver::Impl::Analyze()
     nodeAnalysis.cholmod().method[1].ordering = CHOLMOD_METIS;
     nodeAnalysis.cholmod().method[2].ordering = CHOLMOD_NESDIS;
     nodeAnalysis.analyzePattern(nodePattern);
-    const int* perm = nodeAnalysis.Factor() ? static_cast<const int*>(nodeAnalysis.Factor()->Perm) : nullptr;
+    const int* perm =
+      nodeAnalysis.Factor() ? static_cast<const int*>(nodeAnalysis.Factor()->Perm) : nullptr;
     for (long long k = 0; k < NP; ++k)
     {
       NodeNew[perm ? perm[k] : k] = static_cast<int>(k);
@@ -444,7 +440,6 @@ void CorotationalSolver::Impl::Analyze()
     PermValue[static_cast<long long>(PermutedPattern.valuePtr()[j])] = static_cast<int>(j);
   }
 }
-
 
 #ifdef HOEMBED_HAVE_CHOLMOD
 namespace
@@ -499,8 +494,7 @@ void PreconditionerFactor::BuildLargeBlocks(long long NP)
         }
       }
       LargeBlocks.Build(static_cast<int>(3 * NP),
-        [&](int col, const int*& rows, const double*& values, int& count)
-        {
+        [&](int col, const int*& rows, const double*& values, int& count) {
           const int s = superOf[col];
           const int j = col - super[s];
           const int nsrow = pi[s + 1] - pi[s];
@@ -543,7 +537,8 @@ void CorotationalSolver::Impl::UpdateRelativeRotations()
     {
       for (int j = 0; j < 3; ++j)
       {
-        R[3 * i + j] = Q[3 * i] * F[3 * j] + Q[3 * i + 1] * F[3 * j + 1] + Q[3 * i + 2] * F[3 * j + 2];
+        R[3 * i + j] =
+          Q[3 * i] * F[3 * j] + Q[3 * i + 1] * F[3 * j + 1] + Q[3 * i + 2] * F[3 * j + 2];
       }
     }
   }

@@ -17,28 +17,45 @@ struct Dual
 {
   double v = 0.0, d = 0.0;
   Dual() = default;
-  Dual(double value, double derivative = 0.0)
-    : v(value)
-    , d(derivative)
-  {
-  }
+  Dual(double value, double derivative = 0.0) : v(value), d(derivative) {}
 };
-inline Dual operator+(Dual a, Dual b) { return { a.v + b.v, a.d + b.d }; }
-inline Dual operator-(Dual a, Dual b) { return { a.v - b.v, a.d - b.d }; }
-inline Dual operator-(Dual a) { return { -a.v, -a.d }; }
-inline Dual operator*(Dual a, Dual b) { return { a.v * b.v, a.d * b.v + a.v * b.d }; }
+inline Dual operator+(Dual a, Dual b)
+{
+  return { a.v + b.v, a.d + b.d };
+}
+inline Dual operator-(Dual a, Dual b)
+{
+  return { a.v - b.v, a.d - b.d };
+}
+inline Dual operator-(Dual a)
+{
+  return { -a.v, -a.d };
+}
+inline Dual operator*(Dual a, Dual b)
+{
+  return { a.v * b.v, a.d * b.v + a.v * b.d };
+}
 inline Dual operator/(Dual a, Dual b)
 {
   return { a.v / b.v, (a.d * b.v - a.v * b.d) / (b.v * b.v) };
 }
-inline Dual log(Dual a) { return { std::log(a.v), a.d / a.v }; }
+inline Dual log(Dual a)
+{
+  return { std::log(a.v), a.d / a.v };
+}
 inline Dual pow(Dual a, double p)
 {
   const double f = std::pow(a.v, p);
   return { f, p * f / a.v * a.d };
 }
-inline double Value(double a) { return a; }
-inline double Value(Dual a) { return a.v; }
+inline double Value(double a)
+{
+  return a;
+}
+inline double Value(Dual a)
+{
+  return a.v;
+}
 using std::log;
 using std::pow;
 
@@ -128,8 +145,8 @@ T StressT(const HyperelasticLaw& law, const T* F, T* P)
         }
       }
       // minus its value at rest (a constant: zero energy at rest, like the other laws)
-      return 0.5 * law.Mu * (Ic - 3.0) + 0.5 * law.Lambda * Ja * Ja -
-        0.5 * law.Mu * log(Ic + 1.0) - law.Rest;
+      return 0.5 * law.Mu * (Ic - 3.0) + 0.5 * law.Lambda * Ja * Ja - 0.5 * law.Mu * log(Ic + 1.0) -
+        law.Rest;
     }
     case Material::MooneyRivlin:
     {
@@ -193,8 +210,8 @@ HyperelasticLaw HyperelasticLaw::Make(
       law.Mu = 4.0 / 3.0 * mu;
       law.Lambda = lambda + 5.0 / 6.0 * mu;
       law.Alpha = 1.0 + 3.0 * law.Mu / (4.0 * law.Lambda);
-      law.Rest = 0.5 * law.Lambda * (1.0 - law.Alpha) * (1.0 - law.Alpha) -
-        0.5 * law.Mu * std::log(4.0);
+      law.Rest =
+        0.5 * law.Lambda * (1.0 - law.Alpha) * (1.0 - law.Alpha) - 0.5 * law.Mu * std::log(4.0);
       break;
     case Material::MooneyRivlin:
       law.Kappa = young / (3.0 * (1.0 - 2.0 * poisson));
@@ -247,8 +264,7 @@ double HyperelasticLaw::Tangent(const double F[9], double P[9], double A[81], bo
   if (project)
   {
     const double shift = 1e-10 * T.diagonal().cwiseAbs().maxCoeff();
-    const Eigen::Matrix<double, 9, 9> Ts =
-      T + shift * Eigen::Matrix<double, 9, 9>::Identity();
+    const Eigen::Matrix<double, 9, 9> Ts = T + shift * Eigen::Matrix<double, 9, 9>::Identity();
     definite = Eigen::LLT<Eigen::Matrix<double, 9, 9>>(Ts).info() == Eigen::Success;
     if (definite)
     {

@@ -48,15 +48,14 @@ enum class Material
 struct HOEMBEDFILTERSSIMULATION_EXPORT HyperelasticLaw
 {
   Material Kind = Material::NeoHookean;
-  double Mu = 0.0, Lambda = 0.0;    ///< StVK: Lame; Neo-Hookean: mu', lambda' above
-  double Alpha = 1.0;               ///< Neo-Hookean rest-stability shift a
-  double Rest = 0.0;                ///< Neo-Hookean: the formula's value at F = I, subtracted
+  double Mu = 0.0, Lambda = 0.0; ///< StVK: Lame; Neo-Hookean: mu', lambda' above
+  double Alpha = 1.0;            ///< Neo-Hookean rest-stability shift a
+  double Rest = 0.0;             ///< Neo-Hookean: the formula's value at F = I, subtracted
   double C10 = 0.0, C01 = 0.0, Kappa = 0.0; ///< Mooney-Rivlin
 
   /// The law's constants from E, nu (and c10, c01 for Mooney-Rivlin: both 0 = from E,
   /// nu) with the conversions of the file's doc.
-  static HyperelasticLaw Make(Material kind, double young, double poisson, double c10,
-    double c01);
+  static HyperelasticLaw Make(Material kind, double young, double poisson, double c10, double c01);
 
   /// Energy density (+infinity where undefined: Mooney-Rivlin at J <= 0).
   double Energy(const double F[9]) const;

@@ -37,7 +37,7 @@ struct CorotationalSolver::Impl::NewtonState
   bool Analyzed = false;
   ColMat H; // the free-DOF system (non-free rows and columns: identity)
   std::vector<double> Blocks, DampValues; // Hessian blocks; beta / dt K_n on A's values
-  bool HaveFactor = false; // LLT holds a factor of an earlier system with FactorFree
+  bool HaveFactor = false;                // LLT holds a factor of an earlier system with FactorFree
   bool BlocksReady = false; // Blocks hold the (projected) Hessian at the solve's start
   std::vector<char> FactorFree;
 };
@@ -57,26 +57,24 @@ void CorotationalSolver::Impl::InitializeHyper()
   HQ = TetQuadrature(m, pc.data(), w.data());
   HG.assign(NC * HQ * N * 3, 0.0);
   HW.assign(NC * HQ, 0.0);
-  ParallelFor(NC, 64,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(NC, 64, [&](vtkIdType begin, vtkIdType end) {
+    double xe[30];
+    for (vtkIdType e = begin; e < end; ++e)
     {
-      double xe[30];
-      for (vtkIdType e = begin; e < end; ++e)
+      for (int a = 0; a < N; ++a)
       {
-        for (int a = 0; a < N; ++a)
+        for (int i = 0; i < 3; ++i)
         {
-          for (int i = 0; i < 3; ++i)
-          {
-            xe[3 * a + i] = X[3 * Conn[e * N + a] + i];
-          }
-        }
-        for (int q = 0; q < HQ; ++q)
-        {
-          const double det = ShapeGradients(N, xe, &pc[3 * q], &HG[(e * HQ + q) * N * 3]);
-          HW[e * HQ + q] = w[q] * det;
+          xe[3 * a + i] = X[3 * Conn[e * N + a] + i];
         }
       }
-    });
+      for (int q = 0; q < HQ; ++q)
+      {
+        const double det = ShapeGradients(N, xe, &pc[3 * q], &HG[(e * HQ + q) * N * 3]);
+        HW[e * HQ + q] = w[q] * det;
+      }
+    }
+  });
   if (!Newton)
   {
     Newton = std::make_shared<NewtonState>();
@@ -112,21 +110,19 @@ inline void DeformationGradient(int N, const int* conn, const double* y, const d
 double CorotationalSolver::Impl::HyperEnergy(const double* y) const
 {
   std::vector<double> per(NC, 0.0);
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
+    double F[9];
+    for (vtkIdType e = begin; e < end; ++e)
     {
-      double F[9];
-      for (vtkIdType e = begin; e < end; ++e)
+      double s = 0.0;
+      for (int q = 0; q < HQ; ++q)
       {
-        double s = 0.0;
-        for (int q = 0; q < HQ; ++q)
-        {
-          DeformationGradient(N, &Conn[e * N], y, &HG[(e * HQ + q) * N * 3], F);
-          s += HW[e * HQ + q] * Law.Energy(F);
-        }
-        per[e] = s;
+        DeformationGradient(N, &Conn[e * N], y, &HG[(e * HQ + q) * N * 3], F);
+        s += HW[e * HQ + q] * Law.Energy(F);
       }
-    });
+      per[e] = s;
+    }
+  });
   double total = 0.0; // summed in cell order: the same bits on any thread count
   for (double s : per)
   {
@@ -139,64 +135,62 @@ void CorotationalSolver::Impl::HyperGradient(
   const double* y, double* grad, double* blocks, bool project) const
 {
   std::vector<double> fe(NC * D, 0.0), he(blocks ? NC * D * D : 0, 0.0);
-  ParallelFor(NC, 64,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(NC, 64, [&](vtkIdType begin, vtkIdType end) {
+    double F[9], P[9], A[81], T[27];
+    for (vtkIdType e = begin; e < end; ++e)
     {
-      double F[9], P[9], A[81], T[27];
-      for (vtkIdType e = begin; e < end; ++e)
+      double* f = &fe[e * D];
+      double* h = blocks ? &he[e * D * D] : nullptr;
+      for (int q = 0; q < HQ; ++q)
       {
-        double* f = &fe[e * D];
-        double* h = blocks ? &he[e * D * D] : nullptr;
-        for (int q = 0; q < HQ; ++q)
+        const double* g = &HG[(e * HQ + q) * N * 3];
+        const double w = HW[e * HQ + q];
+        DeformationGradient(N, &Conn[e * N], y, g, F);
+        if (h)
         {
-          const double* g = &HG[(e * HQ + q) * N * 3];
-          const double w = HW[e * HQ + q];
-          DeformationGradient(N, &Conn[e * N], y, g, F);
-          if (h)
+          Law.Tangent(F, P, A, project);
+        }
+        else
+        {
+          Law.Stress(F, P);
+        }
+        for (int a = 0; a < N; ++a)
+        {
+          const double* ga = g + 3 * a;
+          for (int i = 0; i < 3; ++i)
           {
-            Law.Tangent(F, P, A, project);
+            f[3 * a + i] += w * (P[3 * i] * ga[0] + P[3 * i + 1] * ga[1] + P[3 * i + 2] * ga[2]);
           }
-          else
+          if (!h)
           {
-            Law.Stress(F, P);
+            continue;
           }
-          for (int a = 0; a < N; ++a)
+          // T[i][kl] = w sum_j A[ij][kl] g_aj, then H(ai, bk) += sum_l T[i][kl] g_bl
+          for (int i = 0; i < 3; ++i)
           {
-            const double* ga = g + 3 * a;
+            for (int kl = 0; kl < 9; ++kl)
+            {
+              T[9 * i + kl] = w *
+                (A[(3 * i) * 9 + kl] * ga[0] + A[(3 * i + 1) * 9 + kl] * ga[1] +
+                  A[(3 * i + 2) * 9 + kl] * ga[2]);
+            }
+          }
+          for (int b = 0; b < N; ++b)
+          {
+            const double* gb = g + 3 * b;
             for (int i = 0; i < 3; ++i)
             {
-              f[3 * a + i] += w * (P[3 * i] * ga[0] + P[3 * i + 1] * ga[1] + P[3 * i + 2] * ga[2]);
-            }
-            if (!h)
-            {
-              continue;
-            }
-            // T[i][kl] = w sum_j A[ij][kl] g_aj, then H(ai, bk) += sum_l T[i][kl] g_bl
-            for (int i = 0; i < 3; ++i)
-            {
-              for (int kl = 0; kl < 9; ++kl)
+              for (int k = 0; k < 3; ++k)
               {
-                T[9 * i + kl] = w *
-                  (A[(3 * i) * 9 + kl] * ga[0] + A[(3 * i + 1) * 9 + kl] * ga[1] +
-                    A[(3 * i + 2) * 9 + kl] * ga[2]);
-              }
-            }
-            for (int b = 0; b < N; ++b)
-            {
-              const double* gb = g + 3 * b;
-              for (int i = 0; i < 3; ++i)
-              {
-                for (int k = 0; k < 3; ++k)
-                {
-                  const double* t = &T[9 * i + 3 * k];
-                  h[(3 * a + i) * D + 3 * b + k] += t[0] * gb[0] + t[1] * gb[1] + t[2] * gb[2];
-                }
+                const double* t = &T[9 * i + 3 * k];
+                h[(3 * a + i) * D + 3 * b + k] += t[0] * gb[0] + t[1] * gb[1] + t[2] * gb[2];
               }
             }
           }
         }
       }
-    });
+    }
+  });
   // scatter in cell order (deterministic)
   std::fill(grad, grad + 3 * NP, 0.0);
   if (blocks)
@@ -351,8 +345,8 @@ void FillSystem(CorotationalSolver::Impl& I, double cMass, bool damp)
       if (I.Free[r] && I.Free[c])
       {
         const int s = I.AFromS[k];
-        v = (s >= 0 ? ns.Blocks[s] : 0.0) + cMass * I.MassValues[k] +
-          (damp ? ns.DampValues[k] : 0.0);
+        v =
+          (s >= 0 ? ns.Blocks[s] : 0.0) + cMass * I.MassValues[k] + (damp ? ns.DampValues[k] : 0.0);
       }
       else if (r == c)
       {
@@ -410,9 +404,8 @@ static bool PreconditionedCG(
 // (quadratic convergence), the per-point projected one where the exact one is not
 // positive definite; backtracking (Armijo) line search on Phi. Returns the iterations
 // (negative: failed, with `error`).
-static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass,
-  int maxIterations, double tolerance, bool untilConverged, std::string& error,
-  bool* backtracked = nullptr)
+static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass, int maxIterations,
+  double tolerance, bool untilConverged, std::string& error, bool* backtracked = nullptr)
 {
   auto& ns = *I.Newton;
   const long long n3 = 3 * I.NP;
@@ -518,8 +511,7 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
       next = phi.Value(trial, nullptr);
       // Armijo, with a round-off allowance: near the minimum Phi cannot resolve the
       // decrease of a tiny step
-      if (std::isfinite(next) &&
-        next <= value + 1e-4 * t * slope + noise + 1e-14 * std::abs(value))
+      if (std::isfinite(next) && next <= value + 1e-4 * t * slope + noise + 1e-14 * std::abs(value))
       {
         accepted = true;
         break;
@@ -616,8 +608,8 @@ bool CorotationalSolver::Impl::HyperStep()
                            // semi-definite, equal to the exact one where that is)
   }
   std::string error;
-  const int it = NewtonSolve(*this, phi, 1.0 / (dt * dt) + Alpha / dt, NewtonMaxIt, NewtonTol,
-    false, error);
+  const int it =
+    NewtonSolve(*this, phi, 1.0 / (dt * dt) + Alpha / dt, NewtonMaxIt, NewtonTol, false, error);
   LastNewtonIt = it;
   bool finite = it >= 0;
   for (long long k = 0; k < n3; ++k)
@@ -661,9 +653,9 @@ bool CorotationalSolver::Impl::HyperStatic(int maxIterations, double tolerance, 
   // Continuation: the loads (forces and prescribed displacements) applied in S equal
   // increments, each solved by Newton; S = 1, 2, 4, ... until every increment converges
   // without line-search backtracking from a start without inverted quadrature points
-  // (the last try, 256 increments, accepts both). A large prescribed displacement applied at once can start from
-  // inverted elements (infinite Mooney-Rivlin energy), and St. Venant-Kirchhoff under 30%
-  // compression has more than one equilibrium: Newton from rest under the full load
+  // (the last try, 256 increments, accepts both). A large prescribed displacement applied at once
+  // can start from inverted elements (infinite Mooney-Rivlin energy), and St. Venant-Kirchhoff
+  // under 30% compression has more than one equilibrium: Newton from rest under the full load
   // reached another one than the path of increasing load (which scikit-fem's incremental
   // reference follows).
   const std::vector<double> x0 = x, fFull = FExt;
@@ -699,8 +691,8 @@ bool CorotationalSolver::Impl::HyperStatic(int maxIterations, double tolerance, 
         break;
       }
       bool backtracked = false;
-      const int it = NewtonSolve(*this, phi, 0.0, maxIterations, tolerance, true, error,
-        S < 256 ? &backtracked : nullptr);
+      const int it = NewtonSolve(
+        *this, phi, 0.0, maxIterations, tolerance, true, error, S < 256 ? &backtracked : nullptr);
       ok = it >= 0 && !backtracked;
       total += std::max(it, 0);
     }
@@ -717,32 +709,30 @@ void CorotationalSolver::Impl::HyperVonMises(double* stress) const
 {
   // Cauchy stress sigma = P F^T / J at the centroid (|J| floored: an inverted or flat
   // element still gets a finite number)
-  ParallelFor(NC, ParallelCells,
-    [&](vtkIdType begin, vtkIdType end)
+  ParallelFor(NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
+    double F[9], P[9];
+    for (vtkIdType e = begin; e < end; ++e)
     {
-      double F[9], P[9];
-      for (vtkIdType e = begin; e < end; ++e)
+      DeformationGradient(N, &Conn[e * N], x.data(), &G[e * N * 3], F);
+      Law.Stress(F, P);
+      const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+        F[2] * (F[3] * F[7] - F[4] * F[6]);
+      const double s = 1.0 / std::max(std::abs(J), 1e-12);
+      double sg[9];
+      for (int i = 0; i < 3; ++i)
       {
-        DeformationGradient(N, &Conn[e * N], x.data(), &G[e * N * 3], F);
-        Law.Stress(F, P);
-        const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
-          F[2] * (F[3] * F[7] - F[4] * F[6]);
-        const double s = 1.0 / std::max(std::abs(J), 1e-12);
-        double sg[9];
-        for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
         {
-          for (int j = 0; j < 3; ++j)
-          {
-            sg[3 * i + j] =
-              s * (P[3 * i] * F[3 * j] + P[3 * i + 1] * F[3 * j + 1] + P[3 * i + 2] * F[3 * j + 2]);
-          }
+          sg[3 * i + j] =
+            s * (P[3 * i] * F[3 * j] + P[3 * i + 1] * F[3 * j + 1] + P[3 * i + 2] * F[3 * j + 2]);
         }
-        const double a = sg[0] - sg[4], b = sg[4] - sg[8], c = sg[8] - sg[0];
-        const double vm = std::sqrt(0.5 * (a * a + b * b + c * c) +
-          3.0 * (sg[1] * sg[1] + sg[2] * sg[2] + sg[5] * sg[5]));
-        stress[e] = std::isfinite(vm) ? vm : 0.0;
       }
-    });
+      const double a = sg[0] - sg[4], b = sg[4] - sg[8], c = sg[8] - sg[0];
+      const double vm = std::sqrt(
+        0.5 * (a * a + b * b + c * c) + 3.0 * (sg[1] * sg[1] + sg[2] * sg[2] + sg[5] * sg[5]));
+      stress[e] = std::isfinite(vm) ? vm : 0.0;
+    }
+  });
 }
 
 void CorotationalSolver::SetMaterial(int material, double c10, double c01)

@@ -31,7 +31,7 @@ std::string FirstError(const std::pair<const char*, double>* values, int n)
   }
   return std::string();
 }
-}
+} // namespace
 
 //------------------------------------------------------------------------------
 std::string StepperDriver::CheckParameters(const StepperParameters& p)
@@ -290,8 +290,7 @@ std::string StepperDriver::SetPrescribedMotion(
     {
       t[3 * q + i] = targets[3 * q + i];
     }
-    if (!std::isfinite(t[3 * q]) || !std::isfinite(t[3 * q + 1]) ||
-      !std::isfinite(t[3 * q + 2]))
+    if (!std::isfinite(t[3 * q]) || !std::isfinite(t[3 * q + 1]) || !std::isfinite(t[3 * q + 2]))
     {
       std::ostringstream o;
       o << "the target displacement of point " << q << " is not finite.";
@@ -311,15 +310,15 @@ std::string StepperDriver::ApplyLoads(
   if (!this->NodalForces.empty() && this->NodalForces.size() != n3)
   {
     std::ostringstream o;
-    o << "SetNodalForces: the array has " << this->NodalForces.size() / 3
-      << " tuples, expected " << np << " (one per input point).";
+    o << "SetNodalForces: the array has " << this->NodalForces.size() / 3 << " tuples, expected "
+      << np << " (one per input point).";
     return o.str();
   }
   if (!this->Mask.empty() && this->Mask.size() != static_cast<size_t>(np))
   {
     std::ostringstream o;
-    o << "SetPrescribedMotion: the arrays have " << this->Mask.size() << " tuples, expected "
-      << np << " (one per input point).";
+    o << "SetPrescribedMotion: the arrays have " << this->Mask.size() << " tuples, expected " << np
+      << " (one per input point).";
     return o.str();
   }
   if (this->NodalForces.empty())
@@ -419,8 +418,8 @@ std::string StepperDriver::BuildSignature(
 {
   std::ostringstream o;
   o.precision(17);
-  o << p.YoungModulus << ' ' << p.PoissonRatio << ' ' << p.Density << ' ' << p.RayleighMass
-    << ' ' << p.RayleighStiffness << ' ' << p.TimeStep << ' ' << staticSolve << p.LumpedMass
+  o << p.YoungModulus << ' ' << p.PoissonRatio << ' ' << p.Density << ' ' << p.RayleighMass << ' '
+    << p.RayleighStiffness << ' ' << p.TimeStep << ' ' << staticSolve << p.LumpedMass
     << p.UseClampPlane << p.UseClampBox;
   for (int i = 0; i < 3; ++i)
   {
@@ -504,8 +503,8 @@ void StepperDriver::WriteFrame(double* points, double* displacements, double* ve
 }
 
 //------------------------------------------------------------------------------
-std::string StepperDriver::Advance(long long k, bool staticSolve, double timeStep,
-  const std::function<void(double)>& progress)
+std::string StepperDriver::Advance(
+  long long k, bool staticSolve, double timeStep, const std::function<void(double)>& progress)
 {
   this->Solver.ResetTimings();
   if (staticSolve)
@@ -534,8 +533,7 @@ std::string StepperDriver::Advance(long long k, bool staticSolve, double timeSte
     {
       std::ostringstream o;
       o << "Non-finite state at time step " << this->CurrentStep + 1
-        << " (t = " << (this->CurrentStep + 1) * timeStep
-        << "): reduce TimeStep or the loads.";
+        << " (t = " << (this->CurrentStep + 1) * timeStep << "): reduce TimeStep or the loads.";
       return o.str();
     }
     ++this->CurrentStep;

@@ -123,8 +123,8 @@ public:
   /// bindings use: Initialize, SetClamps, the forces, ApplyLoads (with the prescribed
   /// motion set before by SetPrescribedMotion, and the nodal forces), SetInitialState,
   /// Start. Returns the first error.
-  std::string Build(const TetMeshInput& mesh, const StepperParameters& p,
-    const StepperInputs& inputs);
+  std::string Build(
+    const TetMeshInput& mesh, const StepperParameters& p, const StepperInputs& inputs);
 
   /// The first property of `p` outside its StepperRanges range, as its sentence ("" when
   /// all are valid). Build starts with it.
@@ -140,8 +140,8 @@ public:
   /// Clamped nodes: `fixedValues` (one value per point, nonzero = clamped; nullptr: none),
   /// or within 1e-9 of the bounding-box diagonal of the clamp plane's negative side or of
   /// the clamp box. `rest`: 3 per point.
-  std::string SetClamps(const std::vector<double>& rest, const double* fixedValues,
-    const StepperParameters& p);
+  std::string SetClamps(
+    const std::vector<double>& rest, const double* fixedValues, const StepperParameters& p);
 
   /// Prescribed motion of `numberOfPoints` points into Mask and Targets (applied by the
   /// next ApplyLoads): `mask` nonzero = prescribed (nullptr: none, clearing them),
@@ -154,8 +154,8 @@ public:
 
   /// Gravity plus ArrayForces plus NodalForces (each empty = none) and the prescribed
   /// motion (Mask, Targets; empty = none) into the solver.
-  std::string ApplyLoads(const double gravity[3], double prescribedSpeedLimit,
-    long long numberOfPoints);
+  std::string ApplyLoads(
+    const double gravity[3], double prescribedSpeedLimit, long long numberOfPoints);
 
   /// Initial positions rest + u0 and velocities v0 (3 per point each; nullptr = zero).
   void SetInitialState(const std::vector<double>& rest, const double* u0, const double* v0);
@@ -167,8 +167,8 @@ public:
   /// Bring the solver to step k (from the initial state again when k is behind), or with
   /// `staticSolve` to the static equilibrium (once, until StaticDone is cleared).
   /// `progress` (may be empty) gets the fraction of the steps done.
-  std::string Advance(long long k, bool staticSolve, double timeStep,
-    const std::function<void(double)>& progress);
+  std::string Advance(
+    long long k, bool staticSolve, double timeStep, const std::function<void(double)>& progress);
 
   /// The material names, in Material order ("corotated", "stvk", "neo-hookean",
   /// "mooney-rivlin"), and a name's index (-1: unknown).
@@ -183,28 +183,31 @@ public:
   /// Where the clamps' point array (FixedArrayName) was found, as the binding sees it.
   enum class FixedArrayKind
   {
-    Absent,         ///< no array of that name anywhere
-    Numeric,        ///< a numeric point-data array (its component 0 is read)
-    NotNumeric,     ///< a point-data array that is not numeric (e.g. strings)
-    CellOrField     ///< cell or field data of that name
+    Absent,     ///< no array of that name anywhere
+    Numeric,    ///< a numeric point-data array (its component 0 is read)
+    NotNumeric, ///< a point-data array that is not numeric (e.g. strings)
+    CellOrField ///< cell or field data of that name
   };
   /// The rule for the clamps' array `name` (empty: none asked for): an array of that name
   /// that is not numeric point data, or a named array that is absent (but the default
   /// "Fixed"), or one with another number of tuples than `numberOfPoints`, is refused
   /// with its sentence; "" when the array is to be read (Numeric) or there is none.
-  static std::string CheckFixedArray(const char* name, FixedArrayKind kind,
-    long long tuples, long long numberOfPoints);
+  static std::string CheckFixedArray(
+    const char* name, FixedArrayKind kind, long long tuples, long long numberOfPoints);
 
   /// What a live rebuild is decided on: the set-up's parameters, the static solve and the
   /// names of the point arrays read (nullptr: none), as one string; any change of it
   /// rebuilds (the loads, set between steps, are not in it).
-  static std::string BuildSignature(const StepperParameters& p, bool staticSolve,
-    const std::vector<const char*>& arrayNames);
+  static std::string BuildSignature(
+    const StepperParameters& p, bool staticSolve, const std::vector<const char*>& arrayNames);
 
   /// The live clock (vtkCorotationalFEMStepper's LiveMode and the package's LiveSession):
   /// steps asked for since the last live advance, a reset asked for, and the target of the
   /// next live advance (never backwards).
-  void RequestSteps(long long n) { this->PendingSteps += n; }
+  void RequestSteps(long long n)
+  {
+    this->PendingSteps += n;
+  }
   /// Steps to reach step k from now (none when k is behind); `built`: the solver exists.
   void RequestStep(long long k, bool built);
   void RequestReset()
@@ -213,7 +216,10 @@ public:
     this->PendingSteps = 0;
   }
   /// The current step as the clock shows it (0 while a reset is pending).
-  long long ClockStep() const { return this->ResetRequested ? 0 : this->CurrentStep; }
+  long long ClockStep() const
+  {
+    return this->ResetRequested ? 0 : this->CurrentStep;
+  }
   /// Before a live advance: the pending reset (back to the initial state), the loads as
   /// they are now, and the step to advance to: `requested` (when `timed`) or the current
   /// step plus the pending ones, whichever is later. The pending steps are consumed.
@@ -223,8 +229,8 @@ public:
   /// A frame's arrays from the solver's state (each nullptr: not written): positions x,
   /// displacements x - X, velocities (3 per point), nodal rotations (9 per point),
   /// von Mises stress (1 per cell).
-  void WriteFrame(double* points, double* displacements, double* velocities,
-    double* rotations, double* vonMises) const;
+  void WriteFrame(double* points, double* displacements, double* velocities, double* rotations,
+    double* vonMises) const;
 
   CorotationalSolver Solver;
   std::vector<double> InitialX, InitialV;

@@ -75,7 +75,10 @@ struct Rule
   int count = 0;
   double pc[3 * 216];
   double w[216];
-  explicit Rule(int m) { this->count = TetQuadrature(m, this->pc, this->w); }
+  explicit Rule(int m)
+  {
+    this->count = TetQuadrature(m, this->pc, this->w);
+  }
 };
 
 const Rule& StiffnessRule()
@@ -151,8 +154,7 @@ double ShapeGradients(int n, const double* x, const double pc[3], double* gradN)
     // dN/dX_i = sum_j dN/dpc_j dpc_j/dX_i
     for (int i = 0; i < 3; ++i)
     {
-      gradN[3 * a + i] =
-        dN[a] * Jinv(0, i) + dN[n + a] * Jinv(1, i) + dN[2 * n + a] * Jinv(2, i);
+      gradN[3 * a + i] = dN[a] * Jinv(0, i) + dN[n + a] * Jinv(1, i) + dN[2 * n + a] * Jinv(2, i);
     }
   }
   return det;
@@ -298,7 +300,7 @@ void PolarRotationSVD(const double F[9], double R[9])
   Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> out(R);
   out = Rm;
 }
-}
+} // namespace
 
 // Scaled Newton iteration for the orthogonal polar factor (Higham 1986):
 // X <- (g X + X^-T / g) / 2 with g = |det X|^(-1/3); quadratic convergence, ~4-7

@@ -56,8 +56,7 @@ struct vtkCorotationalFEMStepper::Internals
   bool LastOK = false;
 };
 
-vtkCorotationalFEMStepper::vtkCorotationalFEMStepper()
-  : Internal(new Internals)
+vtkCorotationalFEMStepper::vtkCorotationalFEMStepper() : Internal(new Internals)
 {
   this->SetFixedArrayName(hoembed::ArrayNames::Fixed);
   // the defaults are the driver's
@@ -153,8 +152,8 @@ int vtkCorotationalFEMStepper::RequestInformation(
   {
     times[k] = static_cast<double>(k) * this->TimeStep;
   }
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(),
-    static_cast<int>(times.size()));
+  outInfo->Set(
+    vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), static_cast<int>(times.size()));
   double range[2] = { 0.0, times.back() };
   outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
   return 1;
@@ -208,8 +207,8 @@ int vtkCorotationalFEMStepper::RequestData(
   I.LastOK = false;
   // Offline, any change restarts; live, only a change of the mesh or of a property that
   // is not a load.
-  const bool changed = this->LiveMode ? this->BuildSignature() != I.Signature
-                                      : this->GetMTime() > I.BuildTime;
+  const bool changed =
+    this->LiveMode ? this->BuildSignature() != I.Signature : this->GetMTime() > I.BuildTime;
   const bool otherMesh = input != I.BuiltInput ||
     input->GetNumberOfPoints() != I.Solver.GetNumberOfPoints() ||
     input->GetNumberOfCells() != I.Solver.GetNumberOfCells();
@@ -425,8 +424,8 @@ bool vtkCorotationalFEMStepper::BuildSolver(vtkUnstructuredGrid* input)
   // Types, connectivity, node ranges and finite points: the one reader.
   hoembed::TetMeshInput mesh;
   std::vector<double> scratch;
-  const std::string readError = mesh.Read(
-    hoembed::ViewTetMesh(input, true, scratch), hoembed::TetMeshInput::KeepPoints);
+  const std::string readError =
+    mesh.Read(hoembed::ViewTetMesh(input, true, scratch), hoembed::TetMeshInput::KeepPoints);
   if (!readError.empty())
   {
     vtkErrorMacro(<< readError << ".");
@@ -469,7 +468,8 @@ bool vtkCorotationalFEMStepper::ReadClamps(vtkUnstructuredGrid* input, std::vect
 {
   const vtkIdType np = input->GetNumberOfPoints();
   const bool named = this->FixedArrayName && *this->FixedArrayName;
-  vtkDataArray* fixedArray = named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
+  vtkDataArray* fixedArray =
+    named ? input->GetPointData()->GetArray(this->FixedArrayName) : nullptr;
   using Kind = hoembed::StepperDriver::FixedArrayKind;
   Kind kind = fixedArray ? Kind::Numeric : Kind::Absent;
   if (!fixedArray && named)
@@ -484,8 +484,8 @@ bool vtkCorotationalFEMStepper::ReadClamps(vtkUnstructuredGrid* input, std::vect
       kind = Kind::CellOrField;
     }
   }
-  const std::string error = hoembed::StepperDriver::CheckFixedArray(this->FixedArrayName,
-    kind, fixedArray ? fixedArray->GetNumberOfTuples() : 0, np);
+  const std::string error = hoembed::StepperDriver::CheckFixedArray(
+    this->FixedArrayName, kind, fixedArray ? fixedArray->GetNumberOfTuples() : 0, np);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -635,8 +635,7 @@ void vtkCorotationalFEMStepper::WriteOutput(
   vm->SetName(hoembed::ArrayNames::VonMisesStress);
   vm->SetNumberOfTuples(this->ComputeDiagnostics ? nc : 0);
   I.Driver.WriteFrame(static_cast<double*>(points->GetVoidPointer(0)), disp->GetPointer(0),
-    vel->GetPointer(0), rot->GetPointer(0),
-    this->ComputeDiagnostics ? vm->GetPointer(0) : nullptr);
+    vel->GetPointer(0), rot->GetPointer(0), this->ComputeDiagnostics ? vm->GetPointer(0) : nullptr);
   output->SetPoints(points);
   output->GetPointData()->AddArray(disp);
   output->GetPointData()->AddArray(vel);
@@ -650,8 +649,7 @@ void vtkCorotationalFEMStepper::WriteOutput(
     // an input array of that name (a stepper's output fed back) would describe another state
     output->GetCellData()->RemoveArray(hoembed::ArrayNames::VonMisesStress);
   }
-  auto addField = [&](const char* name, double value)
-  {
+  auto addField = [&](const char* name, double value) {
     vtkNew<vtkDoubleArray> a;
     a->SetName(name);
     a->InsertNextValue(value);
@@ -698,8 +696,7 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
      << this->ClampBox[5] << ")\n";
   os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
   os << indent << "MaxSolverIterations: " << this->MaxSolverIterations << "\n";
-  os << indent << "Material: " << this->Material << " (" << this->GetMaterialAsString()
-     << ")\n";
+  os << indent << "Material: " << this->Material << " (" << this->GetMaterialAsString() << ")\n";
   os << indent << "MooneyRivlinC10: " << this->MooneyRivlinC10 << "\n";
   os << indent << "MooneyRivlinC01: " << this->MooneyRivlinC01 << "\n";
   os << indent << "NewtonTolerance: " << this->NewtonTolerance << "\n";
@@ -716,9 +713,10 @@ void vtkCorotationalFEMStepper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastSolverIterations: " << this->LastSolverIterations << "\n";
   os << indent << "LastNumberOfFactorizations: " << this->LastNumberOfFactorizations << "\n";
   os << indent << "LastFactorizationTime: " << this->LastFactorizationTime << "\n";
-  os << indent << "LastNumberOfBackgroundFactorizations: "
-     << this->LastNumberOfBackgroundFactorizations << "\n";
-}//------------------------------------------------------------------------------
+  os << indent
+     << "LastNumberOfBackgroundFactorizations: " << this->LastNumberOfBackgroundFactorizations
+     << "\n";
+} //------------------------------------------------------------------------------
 int vtkCorotationalFEMStepper::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
@@ -733,5 +731,3 @@ int vtkCorotationalFEMStepper::RequestUpdateExtent(
   }
   return 1;
 }
-
-

@@ -109,7 +109,8 @@ namespace hoembed
 struct StepperParameters;
 }
 
-class HOEMBEDFILTERSSIMULATION_EXPORT vtkCorotationalFEMStepper : public vtkUnstructuredGridAlgorithm
+class HOEMBEDFILTERSSIMULATION_EXPORT vtkCorotationalFEMStepper
+  : public vtkUnstructuredGridAlgorithm
 {
 public:
   static vtkCorotationalFEMStepper* New();

@@ -44,10 +44,7 @@ constexpr double MaxExtrapolation = 1e3;
 constexpr double MaxDistance = 1e9;
 } // namespace
 
-TransferDriver::TransferDriver(ParallelFor parallelFor)
-  : Parallel(std::move(parallelFor))
-{
-}
+TransferDriver::TransferDriver(ParallelFor parallelFor) : Parallel(std::move(parallelFor)) {}
 
 void TransferDriver::For(std::int64_t n, std::int64_t grain,
   const std::function<void(std::int64_t, std::int64_t)>& body) const
@@ -97,8 +94,8 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
   {
     return std::string();
   }
-  const std::string problem = this->Topology.Build(
-    input.Connectivity.data(), input.NumberOfCells, npc, input.NumberOfPoints);
+  const std::string problem =
+    this->Topology.Build(input.Connectivity.data(), input.NumberOfCells, npc, input.NumberOfPoints);
   if (!problem.empty())
   {
     this->ForgetMesh();
@@ -214,7 +211,8 @@ void TransferDriver::FrameArraysUsed(TransferNormals normals, TransferPointNorma
   std::int64_t numberOfPoints, const TransferArrayShape& displacements,
   const TransferArrayShape& rotations, bool& useDisplacements, bool& useRotations)
 {
-  FrameArraysUsed(normals, numberOfPoints, displacements, rotations, useDisplacements, useRotations);
+  FrameArraysUsed(
+    normals, numberOfPoints, displacements, rotations, useDisplacements, useRotations);
   useDisplacements = useDisplacements ||
     (pointNormals == TransferPointNormals::Transform && Fits(displacements, 3, numberOfPoints));
 }
@@ -237,9 +235,8 @@ std::string TransferDriver::BuildPlan(
   this->FallbackOffsets.clear();
   std::int64_t badCell = 0, badValue = 0, badRange = 0, badFace = 0, firstBad = -1;
   bool hasOffsets = false;
-  const double maxDistance = std::isfinite(meshLength) && meshLength > 0.0
-    ? MaxDistance * meshLength
-    : DBL_MAX;
+  const double maxDistance =
+    std::isfinite(meshLength) && meshLength > 0.0 ? MaxDistance * meshLength : DBL_MAX;
   const TetMeshTopology& topo = this->Topology;
   for (std::int64_t i = 0; i < numVerts; ++i)
   {
@@ -328,10 +325,10 @@ std::string TransferDriver::BuildPlan(
     msg << "invalid embedding for this mesh: " << badCell << " vertices with a cell id outside [0, "
         << numCells << ") or not a whole number (" << ArrayNames::EmbeddingCellId << "), "
         << badValue << " with non-finite " << ArrayNames::EmbeddingParametricCoords << ", "
-        << ArrayNames::EmbeddingDistance << " or " << ArrayNames::EmbeddingFallbackOffset << ", " << badRange << " with "
-        << ArrayNames::EmbeddingParametricCoords << " over " << MaxExtrapolation
-        << " (far outside their cell) or an |" << ArrayNames::EmbeddingDistance << "| over "
-        << MaxDistance << " mesh diagonals, " << badFace
+        << ArrayNames::EmbeddingDistance << " or " << ArrayNames::EmbeddingFallbackOffset << ", "
+        << badRange << " with " << ArrayNames::EmbeddingParametricCoords << " over "
+        << MaxExtrapolation << " (far outside their cell) or an |" << ArrayNames::EmbeddingDistance
+        << "| over " << MaxDistance << " mesh diagonals, " << badFace
         << " with a distance but no boundary face of their cell (" << ArrayNames::EmbeddingFace
         << ") (first bad vertex " << firstBad << ")";
     return msg.str();
@@ -404,8 +401,9 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
     }
     const double* nn = this->NodalNormals.data();
     double* fc = this->FaceCoeffs.data();
-    this->For(this->Topology.GetNumberOfBoundaryFaces(), 1024,
-      [&](std::int64_t b, std::int64_t e) { ComputeFaceNormalCoefficients(this->Topology, nn, b, e, fc); });
+    this->For(this->Topology.GetNumberOfBoundaryFaces(), 1024, [&](std::int64_t b, std::int64_t e) {
+      ComputeFaceNormalCoefficients(this->Topology, nn, b, e, fc);
+    });
   }
 
   if (outDouble)
@@ -483,9 +481,8 @@ std::string TransferDriver::EvaluatePoints(
   }
   else
   {
-    this->For(numVerts, 8192, [&](std::int64_t b, std::int64_t e) {
-      EvaluateTransfer(plan, npc, cc, fc, b, e, out);
-    });
+    this->For(numVerts, 8192,
+      [&](std::int64_t b, std::int64_t e) { EvaluateTransfer(plan, npc, cc, fc, b, e, out); });
   }
   EvaluateFallbackTransfer(plan, npc, cc, this->FallbackVertices.data(),
     this->FallbackOffsets.data(), 0, static_cast<std::int64_t>(this->FallbackVertices.size()), out);
@@ -510,11 +507,13 @@ std::string TransferDriver::EvaluatePoints(
       ++this->FoldedNormals;
       if (narrow)
       {
-        ComputeVertexNormal(po, pc, static_cast<const T*>(out), io, this->IncPolys32.data(), i, normals);
+        ComputeVertexNormal(
+          po, pc, static_cast<const T*>(out), io, this->IncPolys32.data(), i, normals);
       }
       else
       {
-        ComputeVertexNormal(po, pc, static_cast<const T*>(out), io, this->IncPolys.data(), i, normals);
+        ComputeVertexNormal(
+          po, pc, static_cast<const T*>(out), io, this->IncPolys.data(), i, normals);
       }
     }
   }
@@ -558,7 +557,8 @@ std::string TransferDriver::UpdateRestPoints(const TransferFrame& frame)
   if (change < 0.0)
   {
     this->RestPoints.clear();
-    return std::string("the FE mesh's ") + ArrayNames::Displacement + " array has non-finite values";
+    return std::string("the FE mesh's ") + ArrayNames::Displacement +
+      " array has non-finite values";
   }
   const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
     (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
@@ -583,14 +583,16 @@ std::string TransferDriver::ComputeNodalNormals(
   const bool haveRot = frame.Rotations != nullptr;
   if (rotate && !(haveRot && haveDisp))
   {
-    warnings.push_back(std::string("NormalMode is ROTATE_NORMALS but the FE mesh lacks point data ") +
+    warnings.push_back(
+      std::string("NormalMode is ROTATE_NORMALS but the FE mesh lacks point data ") +
       ArrayNames::NodalRotation + " (9 components) or " + ArrayNames::Displacement +
       " (3 components): recomputing the normals from the deformed boundary");
     fromRest = false;
   }
   else if (fromRest && !haveDisp)
   {
-    warnings.push_back(std::string("NormalMode is DEFORM_NORMALS but the FE mesh lacks point data ") +
+    warnings.push_back(
+      std::string("NormalMode is DEFORM_NORMALS but the FE mesh lacks point data ") +
       ArrayNames::Displacement +
       " (3 components): recomputing the normals from the deformed boundary");
     fromRest = false;
@@ -632,11 +634,11 @@ std::string TransferDriver::ComputeNodalNormals(
   const double* rotations = frame.Rotations;
   if (!AllFinite(rotations, 9 * numMeshPoints))
   {
-    return std::string("the FE mesh's ") + ArrayNames::NodalRotation + " array has non-finite values";
+    return std::string("the FE mesh's ") + ArrayNames::NodalRotation +
+      " array has non-finite values";
   }
-  this->For(numMeshPoints, 4096, [&](std::int64_t b, std::int64_t e) {
-    RotateNodalNormals(rest, rotations, b, e, nn);
-  });
+  this->For(numMeshPoints, 4096,
+    [&](std::int64_t b, std::int64_t e) { RotateNodalNormals(rest, rotations, b, e, nn); });
   return std::string();
 }
 
@@ -679,9 +681,8 @@ void TransferDriver::VertexNormals(const T* points, float* normals)
   const std::int64_t* po = this->PolyOffsets.data();
   const std::int64_t* pc = this->PolyConn.data();
   double* pn = this->PolyNormals.data();
-  this->For(numPolys, 8192, [&](std::int64_t b, std::int64_t e) {
-    ComputePolygonNormals(po, pc, points, b, e, pn);
-  });
+  this->For(numPolys, 8192,
+    [&](std::int64_t b, std::int64_t e) { ComputePolygonNormals(po, pc, points, b, e, pn); });
   const std::int64_t* io = this->IncOffsets.data();
   const std::int64_t* ip = this->IncPolys.data();
   const std::int32_t* ip32 = this->IncPolys32.data();

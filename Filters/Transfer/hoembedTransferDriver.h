@@ -44,8 +44,8 @@
 namespace hoembed
 {
 /// Runs body(begin, end) over subranges of [0, n), ranges of about `grain` items.
-using ParallelFor = std::function<void(std::int64_t n, std::int64_t grain,
-  const std::function<void(std::int64_t, std::int64_t)>& body)>;
+using ParallelFor = std::function<void(
+  std::int64_t n, std::int64_t grain, const std::function<void(std::int64_t, std::int64_t)>& body)>;
 
 /// The embedding arrays of the surface, one value (or 3) per vertex, as doubles.
 struct TransferEmbedding
@@ -162,10 +162,22 @@ public:
   std::string SetMeshTopology(const TetMeshArrays& cells, bool& rebuilt);
   /// Drop the topology (and so the plan): the next SetMeshTopology rebuilds.
   void ForgetMesh();
-  const std::string& GetFingerprint() const { return this->Fingerprint; }
-  int GetNodesPerCell() const { return this->NodesPerCell; }
-  std::int64_t GetNumberOfCells() const { return this->NumberOfCells; }
-  std::int64_t GetNumberOfPoints() const { return this->Topology.NumberOfPoints; }
+  const std::string& GetFingerprint() const
+  {
+    return this->Fingerprint;
+  }
+  int GetNodesPerCell() const
+  {
+    return this->NodesPerCell;
+  }
+  std::int64_t GetNumberOfCells() const
+  {
+    return this->NumberOfCells;
+  }
+  std::int64_t GetNumberOfPoints() const
+  {
+    return this->Topology.NumberOfPoints;
+  }
 
   /// Before step 2 (after step 1), every frame: the surface's field data (an embedding
   /// method, the fingerprint of this mesh) and point arrays (EmbeddingCellId,
@@ -189,10 +201,17 @@ public:
   /// Step 2 (after step 1). `faceTolerance`: see DeduceBoundaryFace; `meshLength`: the
   /// mesh's bounding-box diagonal (scale of the distance check; <= 0 or not finite: no
   /// distance bound).
-  std::string BuildPlan(const TransferEmbedding& embedding, double faceTolerance, double meshLength);
+  std::string BuildPlan(
+    const TransferEmbedding& embedding, double faceTolerance, double meshLength);
   /// False until a plan is built for the current topology.
-  bool HasPlan() const { return this->PlanVersion == this->TopologyVersion; }
-  std::int64_t GetNumberOfVertices() const { return static_cast<std::int64_t>(this->Plan.size()); }
+  bool HasPlan() const
+  {
+    return this->PlanVersion == this->TopologyVersion;
+  }
+  std::int64_t GetNumberOfVertices() const
+  {
+    return static_cast<std::int64_t>(this->Plan.size());
+  }
 
   /// Step 3 (after step 2): deformed vertices into `outDouble` or `outFloat` (3 per
   /// vertex; exactly one given), and point normals when frame.PointNormals is set (after
@@ -202,7 +221,10 @@ public:
   std::string EvaluateFrame(const TransferFrame& frame, double* outDouble, float* outFloat,
     std::vector<std::string>& warnings);
   /// Inverted or degenerate cells of the last frame (0 unless counted).
-  std::int64_t GetNumberOfInvertedCells() const { return this->InvertedCells; }
+  std::int64_t GetNumberOfInvertedCells() const
+  {
+    return this->InvertedCells;
+  }
 
   /// Step 4: the surface's polygons (VTK offsets/connectivity layout) for vertex normals.
   void SetPolygons(const std::int64_t* offsets, const std::int64_t* connectivity,
@@ -215,13 +237,20 @@ public:
   /// are kept until the next call, SetPolygons or BuildPlan.
   void SetRestSurfacePoints(const double* points);
   void SetRestSurfacePoints(const float* points);
-  bool HasRestSurfaceNormals() const { return this->RestSurfaceValid; }
+  bool HasRestSurfaceNormals() const
+  {
+    return this->RestSurfaceValid;
+  }
   /// Transform mode: the vertices of the last frame whose normal was recomputed from the
   /// polygons because the map folds there (det F <= 0 at p, or p in an inverted cell).
-  std::int64_t GetNumberOfFoldedNormals() const { return this->FoldedNormals; }
+  std::int64_t GetNumberOfFoldedNormals() const
+  {
+    return this->FoldedNormals;
+  }
 
 private:
-  void For(std::int64_t n, std::int64_t grain, const std::function<void(std::int64_t, std::int64_t)>& body) const;
+  void For(std::int64_t n, std::int64_t grain,
+    const std::function<void(std::int64_t, std::int64_t)>& body) const;
   std::string ComputeNodalNormals(const TransferFrame& frame, std::vector<std::string>& warnings);
   std::string UpdateRestPoints(const TransferFrame& frame);
   template <typename T>
@@ -229,7 +258,8 @@ private:
   template <typename T>
   void RestSurfacePoints(const T* points);
   template <typename T>
-  std::string EvaluatePoints(const TransferFrame& frame, T* out, std::vector<std::string>& warnings);
+  std::string EvaluatePoints(
+    const TransferFrame& frame, T* out, std::vector<std::string>& warnings);
 
   ParallelFor Parallel;
   // step 1

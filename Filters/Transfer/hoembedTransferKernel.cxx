@@ -7,7 +7,6 @@
 
 #include <cmath>
 
-
 namespace hoembed
 {
 namespace
@@ -180,8 +179,8 @@ struct ScalarOps
       }
     }
   }
-  static double Cofactor(const double* k, bool quadratic, double r, double s, double t,
-    const double m[3], double n[3])
+  static double Cofactor(
+    const double* k, bool quadratic, double r, double s, double t, const double m[3], double n[3])
   {
     double ja[3], jb[3], jc[3];
     MapJacobian(k, quadratic, r, s, t, ja, jb, jc);
@@ -231,9 +230,9 @@ bool Avx2Available()
 }
 
 template <typename T>
-std::int64_t EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, const unsigned char* folded,
-  std::int64_t begin, std::int64_t end, T* out, float* normals)
+std::int64_t EvaluateTransferT(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, T* out, float* normals)
 {
 #if defined(HOEMBED_TRANSFER_AVX2)
   if (UseAvx2())
@@ -248,8 +247,8 @@ std::int64_t EvaluateTransferT(const TransferEntry* plan, int nodesPerCell, cons
 
 template <typename T>
 void EvaluateFallbackTransferT(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
-  std::int64_t begin, std::int64_t end, T* out)
+  const double* cellCoeffs, const std::int64_t* vertices, const double* offsets, std::int64_t begin,
+  std::int64_t end, T* out)
 {
   const bool quadratic = nodesPerCell == 10;
   for (std::int64_t k = begin; k < end; ++k)
@@ -284,16 +283,16 @@ bool SetTransferKernelSimd(int mode)
   return UseAvx2();
 }
 
-void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
-  std::int64_t begin, std::int64_t end, double* out)
+void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const std::int64_t* vertices, const double* offsets, std::int64_t begin, std::int64_t end,
+  double* out)
 {
   EvaluateFallbackTransferT(plan, nodesPerCell, cellCoeffs, vertices, offsets, begin, end, out);
 }
 
-void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
-  std::int64_t begin, std::int64_t end, float* out)
+void EvaluateFallbackTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const std::int64_t* vertices, const double* offsets, std::int64_t begin, std::int64_t end,
+  float* out)
 {
   EvaluateFallbackTransferT(plan, nodesPerCell, cellCoeffs, vertices, offsets, begin, end, out);
 }
@@ -313,16 +312,16 @@ void EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double*
 }
 
 std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, const unsigned char* folded,
-  std::int64_t begin, std::int64_t end, double* out, float* normals)
+  const double* faceCoeffs, const float* covectors, const unsigned char* folded, std::int64_t begin,
+  std::int64_t end, double* out, float* normals)
 {
   return EvaluateTransferT(
     plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 
 std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
-  const double* faceCoeffs, const float* covectors, const unsigned char* folded,
-  std::int64_t begin, std::int64_t end, float* out, float* normals)
+  const double* faceCoeffs, const float* covectors, const unsigned char* folded, std::int64_t begin,
+  std::int64_t end, float* out, float* normals)
 {
   return EvaluateTransferT(
     plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);

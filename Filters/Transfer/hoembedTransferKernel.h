@@ -33,10 +33,10 @@ namespace hoembed
 /// One surface vertex of the plan (48 bytes).
 struct TransferEntry
 {
-  double PC[3];       ///< parametric coordinates (r, s, t) in Cell
-  double Distance;    ///< d of v = p + d n (0: no normal offset)
-  std::int32_t Cell;  ///< FE cell
-  std::int32_t Face;  ///< 4 * boundary face index + local face of Cell, or -1 (no offset)
+  double PC[3];      ///< parametric coordinates (r, s, t) in Cell
+  double Distance;   ///< d of v = p + d n (0: no normal offset)
+  std::int32_t Cell; ///< FE cell
+  std::int32_t Face; ///< 4 * boundary face index + local face of Cell, or -1 (no offset)
 };
 
 /// Number of doubles per cell in the map coefficient table (30 for tet10, 12 for tet4).
@@ -120,12 +120,12 @@ HOEMBEDFILTERSTRANSFER_EXPORT void ComputeNormalCovectors(const TransferEntry* p
  * MarkInvertedCells) the normal is left NaN for the caller to recompute from the
  * polygons; returns how many.
  */
-HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan,
+  int nodesPerCell, const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
   const unsigned char* folded, std::int64_t begin, std::int64_t end, double* out, float* normals);
 /// The same, writing single precision positions.
-HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t EvaluateTransfer(const TransferEntry* plan,
+  int nodesPerCell, const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
   const unsigned char* folded, std::int64_t begin, std::int64_t end, float* out, float* normals);
 
 /**
@@ -143,12 +143,12 @@ HOEMBEDFILTERSTRANSFER_EXPORT bool SetTransferKernelSimd(int mode);
  * p' + F (v - p), F = J' J^-1 the deformation gradient at p.
  */
 HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateFallbackTransfer(const TransferEntry* plan,
-  int nodesPerCell, const double* cellCoeffs, const std::int64_t* vertices,
-  const double* offsets, std::int64_t begin, std::int64_t end, double* out);
+  int nodesPerCell, const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
+  std::int64_t begin, std::int64_t end, double* out);
 /// The same, writing single precision.
 HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateFallbackTransfer(const TransferEntry* plan,
-  int nodesPerCell, const double* cellCoeffs, const std::int64_t* vertices,
-  const double* offsets, std::int64_t begin, std::int64_t end, float* out);
+  int nodesPerCell, const double* cellCoeffs, const std::int64_t* vertices, const double* offsets,
+  std::int64_t begin, std::int64_t end, float* out);
 
 /**
  * Nodal normals rotated to the deformed configuration (paper §5.1): for nodes [begin, end),

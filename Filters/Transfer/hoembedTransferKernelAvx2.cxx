@@ -80,12 +80,13 @@ struct Avx2Ops
     }
     else
     {
-      v = Add(Mul(_mm256_loadu_pd(a), S), Add(Mul(_mm256_loadu_pd(a + 3), lb), Mul(Load3(a + 6), lc)));
+      v = Add(
+        Mul(_mm256_loadu_pd(a), S), Add(Mul(_mm256_loadu_pd(a + 3), lb), Mul(Load3(a + 6), lc)));
     }
     _mm256_storeu_pd(n, v);
   }
-  static double Cofactor(const double* k, bool quadratic, double r, double s, double t,
-    const double m[3], double n[3])
+  static double Cofactor(
+    const double* k, bool quadratic, double r, double s, double t, const double m[3], double n[3])
   {
     __m256d ja = _mm256_loadu_pd(k + 3), jb = _mm256_loadu_pd(k + 6), jc;
     if (quadratic)

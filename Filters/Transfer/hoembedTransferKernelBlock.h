@@ -27,7 +27,8 @@ struct FaceCorners
 {
   int A, B, C;
 };
-const FaceCorners kFaceCorners[4] = { { TetFaceNodes[0][0], TetFaceNodes[0][1], TetFaceNodes[0][2] },
+const FaceCorners kFaceCorners[4] = { { TetFaceNodes[0][0], TetFaceNodes[0][1],
+                                        TetFaceNodes[0][2] },
   { TetFaceNodes[1][0], TetFaceNodes[1][1], TetFaceNodes[1][2] },
   { TetFaceNodes[2][0], TetFaceNodes[2][1], TetFaceNodes[2][2] },
   { TetFaceNodes[3][0], TetFaceNodes[3][1], TetFaceNodes[3][2] } };
@@ -56,8 +57,8 @@ inline void OffsetScales(const double* len2, const double* w, double* scale, int
 
 // The columns a = dx/dr, b = dx/ds, c = dx/dt of a cell map at (r, s, t) from its
 // monomial coefficients (the header's layout; Q_ii / 2 is stored, hence the 2).
-inline void MapJacobian(const double* k, bool quadratic, double r, double s, double t,
-  double a[3], double b[3], double c[3])
+inline void MapJacobian(const double* k, bool quadratic, double r, double s, double t, double a[3],
+  double b[3], double c[3])
 {
   for (int d = 0; d < 3; ++d)
   {
@@ -74,8 +75,8 @@ inline void MapJacobian(const double* k, bool quadratic, double r, double s, dou
 }
 
 // cof(J) m = m0 (b x c) + m1 (c x a) + m2 (a x b) for J = [a b c].
-inline void CofactorTimes(const double a[3], const double b[3], const double c[3],
-  const double m[3], double n[3])
+inline void CofactorTimes(
+  const double a[3], const double b[3], const double c[3], const double m[3], double n[3])
 {
   const double bc[3] = { b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
     b[0] * c[1] - b[1] * c[0] };
@@ -96,8 +97,8 @@ inline double Det(const double a[3], const double bc[3])
 }
 
 // cof([a b c]) m into n; returns det [a b c].
-inline double CofactorDet(const double a[3], const double b[3], const double c[3],
-  const double m[3], double n[3])
+inline double CofactorDet(
+  const double a[3], const double b[3], const double c[3], const double m[3], double n[3])
 {
   CofactorTimes(a, b, c, m, n);
   const double bc[3] = { b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
@@ -133,8 +134,8 @@ std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const d
     const TransferEntry* e = plan + b;
     for (int j = 0; j < m; ++j)
     {
-      Ops::Map(cellCoeffs + csize * static_cast<std::int64_t>(e[j].Cell), quadratic,
-        e[j].PC[0], e[j].PC[1], e[j].PC[2], x + 3 * j);
+      Ops::Map(cellCoeffs + csize * static_cast<std::int64_t>(e[j].Cell), quadratic, e[j].PC[0],
+        e[j].PC[1], e[j].PC[2], x + 3 * j);
     }
     int offsets = 0;
     for (int j = 0; faceCoeffs && j < m; ++j)
@@ -155,8 +156,8 @@ std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const d
       const double lb = L[fc.B], lc = L[fc.C];
       double S = L[fc.A] + lb + lc;
       S = S > 0.0 ? S : 1.0;
-      Ops::Field(faceCoeffs + fsize * static_cast<std::int64_t>(e[j].Face >> 2), quadratic, S,
-        lb, lc, nj);
+      Ops::Field(
+        faceCoeffs + fsize * static_cast<std::int64_t>(e[j].Face >> 2), quadratic, S, lb, lc, nj);
       len2[j] = nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2];
     }
     if (offsets > 0)

@@ -11,7 +11,8 @@ template <typename Id>
 void IncidenceT(const std::int64_t* offsets, const std::int64_t* conn, std::int64_t numberOfPolys,
   std::int64_t numberOfPoints, std::vector<std::int64_t>& incOffsets, std::vector<Id>& incPolys)
 {
-  BuildCsr(numberOfPoints,
+  BuildCsr(
+    numberOfPoints,
     [&](auto&& emit) {
       for (std::int64_t p = 0; p < numberOfPolys; ++p)
         for (std::int64_t k = offsets[p]; k < offsets[p + 1]; ++k)
@@ -146,9 +147,8 @@ void ComputeVertexNormal(const std::int64_t* offsets, const std::int64_t* conn,
 {
   OneVertexNormalT(offsets, conn, points, incOffsets, incPolys, vertex, normals);
 }
-void ComputeVertexNormal(const std::int64_t* offsets, const std::int64_t* conn,
-  const float* points, const std::int64_t* incOffsets, const std::int32_t* incPolys,
-  std::int64_t vertex, float* normals)
+void ComputeVertexNormal(const std::int64_t* offsets, const std::int64_t* conn, const float* points,
+  const std::int64_t* incOffsets, const std::int32_t* incPolys, std::int64_t vertex, float* normals)
 {
   OneVertexNormalT(offsets, conn, points, incOffsets, incPolys, vertex, normals);
 }
@@ -158,9 +158,8 @@ void ComputeVertexNormal(const std::int64_t* offsets, const std::int64_t* conn,
 {
   OneVertexNormalT(offsets, conn, points, incOffsets, incPolys, vertex, normals);
 }
-void ComputeVertexNormal(const std::int64_t* offsets, const std::int64_t* conn,
-  const float* points, const std::int64_t* incOffsets, const std::int64_t* incPolys,
-  std::int64_t vertex, float* normals)
+void ComputeVertexNormal(const std::int64_t* offsets, const std::int64_t* conn, const float* points,
+  const std::int64_t* incOffsets, const std::int64_t* incPolys, std::int64_t vertex, float* normals)
 {
   OneVertexNormalT(offsets, conn, points, incOffsets, incPolys, vertex, normals);
 }

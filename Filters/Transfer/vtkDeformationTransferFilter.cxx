@@ -77,8 +77,8 @@ hoembed::TransferArrayShape Shape(vtkDataArray* a)
 }
 
 // The driver's loops on VTK's SMP backend.
-void SMPFor(std::int64_t n, std::int64_t grain,
-  const std::function<void(std::int64_t, std::int64_t)>& body)
+void SMPFor(
+  std::int64_t n, std::int64_t grain, const std::function<void(std::int64_t, std::int64_t)>& body)
 {
   vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
     [&](vtkIdType b, vtkIdType e) { body(b, e); });
@@ -108,7 +108,8 @@ struct vtkDeformationTransferFilter::Internals
   vtkPoints* RestKey = nullptr;
   vtkMTimeType RestMTime = 0;
   // buffers for arrays that are not vtkDoubleArray
-  std::vector<double> RestPoints, Points, Displacements, Rotations, CellIds, PCoords, Distances, Faces, Fallback;
+  std::vector<double> RestPoints, Points, Displacements, Rotations, CellIds, PCoords, Distances,
+    Faces, Fallback;
 };
 
 // the wrapped enumerators are the driver's values (the properties hold them as ints)
@@ -125,8 +126,7 @@ static_assert(vtkDeformationTransferFilter::RECOMPUTE_NORMALS ==
   "vtkDeformationTransferFilter's modes are hoembed::TransferNormals and TransferPointNormals");
 
 //------------------------------------------------------------------------------
-vtkDeformationTransferFilter::vtkDeformationTransferFilter()
-  : Internal(new Internals)
+vtkDeformationTransferFilter::vtkDeformationTransferFilter() : Internal(new Internals)
 {
   // the defaults are the driver's
   const hoembed::TransferOptions o;
@@ -234,7 +234,8 @@ int vtkDeformationTransferFilter::RequestData(
     output->GetInformation()->Remove(vtkDataObject::DATA_TIME_STEP());
   }
   if (surface->GetNumberOfPoints() == 0 &&
-    vtkStreamingDemandDrivenPipeline::GetUpdateNumberOfPieces(outputVector->GetInformationObject(0)) > 1)
+    vtkStreamingDemandDrivenPipeline::GetUpdateNumberOfPieces(
+      outputVector->GetInformationObject(0)) > 1)
   {
     // An empty piece of a distributed surface moves to an empty result on this process,
     // not an error: a failure on some processes only would leave the collective calls
@@ -416,8 +417,8 @@ bool vtkDeformationTransferFilter::TransferPoints(
   vtkDataArray* disp = pd->GetArray(hoembed::ArrayNames::Displacement);
   vtkDataArray* rot = pd->GetArray(hoembed::ArrayNames::NodalRotation);
   bool useDisp = false, useRot = false;
-  hoembed::TransferDriver::FrameArraysUsed(frame.Normals, frame.PointNormalsMode, numMeshPoints,
-    Shape(disp), Shape(rot), useDisp, useRot);
+  hoembed::TransferDriver::FrameArraysUsed(
+    frame.Normals, frame.PointNormalsMode, numMeshPoints, Shape(disp), Shape(rot), useDisp, useRot);
   frame.Displacements = useDisp ? ContiguousDoubles(disp, numMeshPoints, I.Displacements) : nullptr;
   frame.Rotations = useRot ? ContiguousDoubles(rot, numMeshPoints, I.Rotations) : nullptr;
   int precision = VTK_DOUBLE;
@@ -431,9 +432,9 @@ bool vtkDeformationTransferFilter::TransferPoints(
   newPoints->SetNumberOfPoints(surface->GetNumberOfPoints());
   void* out = newPoints->GetVoidPointer(0);
   std::vector<std::string> warnings;
-  const std::string error = I.Driver.EvaluateFrame(frame,
-    precision == VTK_DOUBLE ? static_cast<double*>(out) : nullptr,
-    precision == VTK_FLOAT ? static_cast<float*>(out) : nullptr, warnings);
+  const std::string error =
+    I.Driver.EvaluateFrame(frame, precision == VTK_DOUBLE ? static_cast<double*>(out) : nullptr,
+      precision == VTK_FLOAT ? static_cast<float*>(out) : nullptr, warnings);
   this->NumberOfInvertedElements = static_cast<vtkIdType>(I.Driver.GetNumberOfInvertedCells());
   this->NumberOfFoldedPointNormals = static_cast<vtkIdType>(I.Driver.GetNumberOfFoldedNormals());
   for (const std::string& w : warnings)
@@ -524,10 +525,9 @@ void vtkDeformationTransferFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ComputePointNormals: " << (this->ComputePointNormals ? "On" : "Off") << "\n";
   os << indent << "PointNormalsMode: "
      << (this->PointNormalsMode == TRANSFORM_POINT_NORMALS ? "TRANSFORM_POINT_NORMALS"
-                                                          : "RECOMPUTE_POINT_NORMALS")
+                                                           : "RECOMPUTE_POINT_NORMALS")
      << "\n";
-  os << indent << "CheckInvertedElements: " << (this->CheckInvertedElements ? "On" : "Off")
-     << "\n";
+  os << indent << "CheckInvertedElements: " << (this->CheckInvertedElements ? "On" : "Off") << "\n";
   os << indent << "FaceTolerance: " << this->FaceTolerance << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "NumberOfInvertedElements: " << this->NumberOfInvertedElements << "\n";

@@ -128,9 +128,18 @@ public:
    */
   vtkSetClampMacro(NormalMode, int, RECOMPUTE_NORMALS, DEFORM_NORMALS);
   vtkGetMacro(NormalMode, int);
-  void SetNormalModeToRecompute() { this->SetNormalMode(RECOMPUTE_NORMALS); }
-  void SetNormalModeToRotate() { this->SetNormalMode(ROTATE_NORMALS); }
-  void SetNormalModeToDeform() { this->SetNormalMode(DEFORM_NORMALS); }
+  void SetNormalModeToRecompute()
+  {
+    this->SetNormalMode(RECOMPUTE_NORMALS);
+  }
+  void SetNormalModeToRotate()
+  {
+    this->SetNormalMode(ROTATE_NORMALS);
+  }
+  void SetNormalModeToDeform()
+  {
+    this->SetNormalMode(DEFORM_NORMALS);
+  }
   ///@}
 
   ///@{
@@ -154,8 +163,14 @@ public:
    */
   vtkSetClampMacro(PointNormalsMode, int, RECOMPUTE_POINT_NORMALS, TRANSFORM_POINT_NORMALS);
   vtkGetMacro(PointNormalsMode, int);
-  void SetPointNormalsModeToRecompute() { this->SetPointNormalsMode(RECOMPUTE_POINT_NORMALS); }
-  void SetPointNormalsModeToTransform() { this->SetPointNormalsMode(TRANSFORM_POINT_NORMALS); }
+  void SetPointNormalsModeToRecompute()
+  {
+    this->SetPointNormalsMode(RECOMPUTE_POINT_NORMALS);
+  }
+  void SetPointNormalsModeToTransform()
+  {
+    this->SetPointNormalsMode(TRANSFORM_POINT_NORMALS);
+  }
   ///@}
 
   ///@{
@@ -195,8 +210,14 @@ public:
   ///@}
 
   /** The deformed mesh on port 1 (the same as SetInputConnection(1, ...)). */
-  void SetMeshConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
-  void SetMeshData(vtkDataObject* mesh) { this->SetInputData(1, mesh); }
+  void SetMeshConnection(vtkAlgorithmOutput* output)
+  {
+    this->SetInputConnection(1, output);
+  }
+  void SetMeshData(vtkDataObject* mesh)
+  {
+    this->SetInputData(1, mesh);
+  }
 
 protected:
   vtkDeformationTransferFilter();
@@ -231,10 +252,10 @@ private:
   bool PrepareMesh(vtkUnstructuredGrid* mesh);
   bool PreparePlan(vtkPolyData* surface, vtkUnstructuredGrid* mesh);
   void PreparePolygons(vtkPolyData* surface);
-  bool TransferPoints(vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints,
-    vtkFloatArray* normals);
-  void WriteOutput(vtkPolyData* surface, vtkPoints* newPoints, vtkFloatArray* normals,
-    vtkPolyData* output);
+  bool TransferPoints(
+    vtkPolyData* surface, vtkUnstructuredGrid* mesh, vtkPoints* newPoints, vtkFloatArray* normals);
+  void WriteOutput(
+    vtkPolyData* surface, vtkPoints* newPoints, vtkFloatArray* normals, vtkPolyData* output);
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

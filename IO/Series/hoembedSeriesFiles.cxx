@@ -298,8 +298,8 @@ std::string SeriesFiles::FinishFrame(bool written)
   if (!written)
   {
     std::ostringstream error;
-    error << "Frame " << this->Files.size() << " (t = " << this->PendingTime
-          << "): cannot write '" << this->PendingStaged << "'.";
+    error << "Frame " << this->Files.size() << " (t = " << this->PendingTime << "): cannot write '"
+          << this->PendingStaged << "'.";
     this->Abandon();
     return error.str();
   }

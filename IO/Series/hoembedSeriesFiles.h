@@ -65,9 +65,15 @@ public:
   /// Remove what the open series wrote (staging folder, .pvd.part); nothing else.
   void Abandon();
 
-  bool IsOpen() const { return this->Open; }
+  bool IsOpen() const
+  {
+    return this->Open;
+  }
   /// Frames of the last (or current) series.
-  std::size_t GetNumberOfFrames() const { return this->Files.size(); }
+  std::size_t GetNumberOfFrames() const
+  {
+    return this->Files.size();
+  }
   /// Final path of frame i ("" if out of range). While the series is open its files are
   /// still in the staging folder.
   const std::string& GetFrameFileName(std::size_t i) const;
@@ -76,8 +82,8 @@ public:
   /// when the caller gives times (TimeValues), else the input's TIME_STEPS when it
   /// advertises them, else one frame at 0. `timed`: whether each update asks for its
   /// time (UPDATE_TIME_STEP), false for an input without time.
-  static std::vector<double> InputTimes(const std::vector<double>* requested,
-    const std::vector<double>* advertised, bool& timed);
+  static std::vector<double> InputTimes(
+    const std::vector<double>* requested, const std::vector<double>* advertised, bool& timed);
   /// The error when the input failed to update at step `step`, time `time`.
   static std::string InputFailed(double time, std::size_t step);
 
@@ -85,7 +91,8 @@ public:
   static std::string CollectionText(
     const std::vector<double>& times, const std::vector<std::string>& relativePaths);
   /// `<stem>_NNNNNN.<extension>`
-  static std::string FrameName(const std::string& stem, std::size_t index, const std::string& extension);
+  static std::string FrameName(
+    const std::string& stem, std::size_t index, const std::string& extension);
   /// True for a file this writer may replace in the step folder: `<stem>_NNNNNN.vtu/.vtp`
   /// (or with `.part`, left by writers before the staging folder).
   static bool IsStepFile(const std::string& name, const std::string& stem);

@@ -28,8 +28,7 @@ struct vtkTimeSeriesWriter::Internals
   hoembed::SeriesFiles Files;
 };
 
-vtkTimeSeriesWriter::vtkTimeSeriesWriter()
-  : Internal(new Internals)
+vtkTimeSeriesWriter::vtkTimeSeriesWriter() : Internal(new Internals)
 {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(0);
@@ -158,9 +157,9 @@ int vtkTimeSeriesWriter::Write()
     advertised.assign(t, t + n);
   }
   bool timed = false;
-  const std::vector<double> times = hoembed::SeriesFiles::InputTimes(
-    this->TimeValues ? &requested : nullptr,
-    outInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()) ? &advertised : nullptr, timed);
+  const std::vector<double> times =
+    hoembed::SeriesFiles::InputTimes(this->TimeValues ? &requested : nullptr,
+      outInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()) ? &advertised : nullptr, timed);
   if (!this->BeginSeries())
   {
     return 0;

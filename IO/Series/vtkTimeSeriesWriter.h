@@ -89,7 +89,10 @@ protected:
   ~vtkTimeSeriesWriter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
-  int FillOutputPortInformation(int, vtkInformation*) override { return 1; }
+  int FillOutputPortInformation(int, vtkInformation*) override
+  {
+    return 1;
+  }
 
   char* FileName = nullptr;
   vtkDoubleArray* TimeValues = nullptr;

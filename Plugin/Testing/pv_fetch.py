@@ -10,12 +10,11 @@ the mesher, ResampleWithDataset for the embedding and the transfer, Transform fo
 stepper), for a pvbatch run without the HOEmbed plugin: it tells the plugin's problems
 from ParaView's.
 """
+
 import argparse
 import json
-import sys
 
-from paraview import servermanager
-from paraview import simple
+from paraview import servermanager, simple
 from paraview.simple import GetActiveViewOrCreate, Hide, OpenDataFile, Render, Show
 
 p = argparse.ArgumentParser()
@@ -26,8 +25,11 @@ p.add_argument("--steps", type=int, default=3)
 p.add_argument("--only", nargs="*", default=None)
 p.add_argument("--display", action="store_true", help="also Show and Render each output")
 p.add_argument("--native", action="store_true", help="ParaView's own filters, same shape")
-p.add_argument("--warmup", action="store_true",
-               help="with --display: render the empty view once before anything is shown")
+p.add_argument(
+    "--warmup",
+    action="store_true",
+    help="with --display: render the empty view once before anything is shown",
+)
 args = p.parse_args()
 
 surface = OpenDataFile(args.surface)
@@ -40,11 +42,19 @@ if args.native:
     times = [None, None]
 else:
     mesher = simple.HOEmbedTet10Mesher(Input=surface, TargetNumberOfElements=args.elements)
-    embedded = simple.HOEmbedEmbeddingCoordinates(Surface=surface, Mesh=mesher, NumberOfPartitions=1)
+    embedded = simple.HOEmbedEmbeddingCoordinates(
+        Surface=surface, Mesh=mesher, NumberOfPartitions=1
+    )
     stepper = simple.HOEmbedCorotationalFEMStepper(
-        Input=mesher, TimeStep=0.02, NumberOfTimeSteps=args.steps, YoungModulus=3e4,
-        PoissonRatio=0.45, UseClampPlane=1, ClampPlaneOrigin=[-0.6, 0.0, 0.0],
-        ClampPlaneNormal=[1.0, 0.0, 0.0])
+        Input=mesher,
+        TimeStep=0.02,
+        NumberOfTimeSteps=args.steps,
+        YoungModulus=3e4,
+        PoissonRatio=0.45,
+        UseClampPlane=1,
+        ClampPlaneOrigin=[-0.6, 0.0, 0.0],
+        ClampPlaneNormal=[1.0, 0.0, 0.0],
+    )
     transfer = simple.HOEmbedDeformationTransfer(Surface=embedded, Mesh=stepper)
     times = list(transfer.TimestepValues)
 
@@ -54,7 +64,9 @@ if args.display and args.warmup:
     warm.ViewSize = [320, 240]
     Render(warm)
 
-result = {"processes": servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()}
+result = {
+    "processes": servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+}
 
 
 def fetch(name, proxy, t=None):
@@ -81,8 +93,12 @@ fetch("transfer_first", transfer, times[0])
 if args.display:
     view = GetActiveViewOrCreate("RenderView")
     view.ViewSize = [320, 240]
-    for name, proxy in (("mesher", mesher), ("embedding", embedded), ("stepper", stepper),
-                        ("transfer", transfer)):
+    for name, proxy in (
+        ("mesher", mesher),
+        ("embedding", embedded),
+        ("stepper", stepper),
+        ("transfer", transfer),
+    ):
         print("showing", name, flush=True)
         display = Show(proxy, view)
         Render(view)

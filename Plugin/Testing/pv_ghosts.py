@@ -13,12 +13,12 @@ surface_first.vtp / surface_last.vtp (the transfer's first and last step), the m
 embedding and stepper): a distributed mesh, which every HOEmbed filter refuses. (ParaView 5.11's GhostCellsGenerator makes no ghosts on a surface
 of triangles, as a vtkPolyData or a vtkUnstructuredGrid: seen here; it does on 3D cells.)
 """
+
 import argparse
 import json
 import os
 
-from paraview import servermanager
-from paraview import simple
+from paraview import servermanager, simple
 from paraview.vtk.vtkIOXML import vtkXMLPolyDataWriter, vtkXMLUnstructuredGridWriter
 
 p = argparse.ArgumentParser()
@@ -42,19 +42,28 @@ mesher = simple.HOEmbedTet10Mesher(Input=surface, TargetNumberOfElements=args.el
 # (ParaView's RemoveGhostInformation): the same gathered surface, the same mesh.
 mesher_ghosted = simple.HOEmbedTet10Mesher(Input=ghosted, TargetNumberOfElements=args.elements)
 mesher_unghosted = simple.HOEmbedTet10Mesher(
-    Input=simple.RemoveGhostInformation(Input=ghosted), TargetNumberOfElements=args.elements)
+    Input=simple.RemoveGhostInformation(Input=ghosted), TargetNumberOfElements=args.elements
+)
 mesh = mesher
 if args.mesh_ghosts:
     mesh = simple.GhostCellsGenerator(Input=mesher, BuildIfRequired=0, MinimumNumberOfGhosts=1)
 embedded = simple.HOEmbedEmbeddingCoordinates(Surface=ghosted, Mesh=mesh, NumberOfPartitions=1)
 stepper = simple.HOEmbedCorotationalFEMStepper(
-    Input=mesh, TimeStep=0.02, NumberOfTimeSteps=args.steps, YoungModulus=3e4,
-    PoissonRatio=0.45, UseClampPlane=1, ClampPlaneOrigin=[-0.6, 0.0, 0.0],
-    ClampPlaneNormal=[1.0, 0.0, 0.0])
+    Input=mesh,
+    TimeStep=0.02,
+    NumberOfTimeSteps=args.steps,
+    YoungModulus=3e4,
+    PoissonRatio=0.45,
+    UseClampPlane=1,
+    ClampPlaneOrigin=[-0.6, 0.0, 0.0],
+    ClampPlaneNormal=[1.0, 0.0, 0.0],
+)
 transfer = simple.HOEmbedDeformationTransfer(Surface=embedded, Mesh=stepper, ComputePointNormals=1)
 times = list(transfer.TimestepValues) or [0.0]
 
-result = {"processes": servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()}
+result = {
+    "processes": servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+}
 
 
 def fetch(name, proxy, t=None):

@@ -8,15 +8,27 @@ parallel pieces (one per process). Optionally a screenshot of the last frame.
 
     scripts/pvbatch Plugin/Testing/pv_pipeline.py SURFACE OUT_DIR [--screenshot PNG]
 """
+
 import argparse
 import json
 import os
 
 from paraview import servermanager
-from paraview.simple import (CreateWriter, GetAnimationScene, GetActiveViewOrCreate,
-                             HOEmbedCorotationalFEMStepper, HOEmbedDeformationTransfer,
-                             HOEmbedEmbeddingCoordinates, HOEmbedTet10Mesher, OpenDataFile,
-                             Render, ResetCamera, SaveScreenshot, Show, ColorBy)
+from paraview.simple import (
+    ColorBy,
+    CreateWriter,
+    GetActiveViewOrCreate,
+    GetAnimationScene,
+    HOEmbedCorotationalFEMStepper,
+    HOEmbedDeformationTransfer,
+    HOEmbedEmbeddingCoordinates,
+    HOEmbedTet10Mesher,
+    OpenDataFile,
+    Render,
+    ResetCamera,
+    SaveScreenshot,
+    Show,
+)
 
 p = argparse.ArgumentParser()
 p.add_argument("surface")
@@ -31,7 +43,9 @@ os.makedirs(args.out, exist_ok=True)
 
 surface = OpenDataFile(args.surface)
 mesher = HOEmbedTet10Mesher(Input=surface, TargetNumberOfElements=args.elements)
-embedded = HOEmbedEmbeddingCoordinates(Surface=surface, Mesh=mesher, NumberOfPartitions=args.partitions)
+embedded = HOEmbedEmbeddingCoordinates(
+    Surface=surface, Mesh=mesher, NumberOfPartitions=args.partitions
+)
 stepper = HOEmbedCorotationalFEMStepper(Input=mesher)
 stepper.TimeStep = args.dt
 stepper.NumberOfTimeSteps = args.steps
@@ -51,7 +65,7 @@ scene.UpdateAnimationUsingDataTimeSteps()
 CreateWriter(os.path.join(args.out, "embedded.pvtp"), embedded).UpdatePipeline()
 CreateWriter(os.path.join(args.out, "rest_mesh.pvtu"), mesher).UpdatePipeline()
 for k, t in enumerate(times):
-    scene.AnimationTime = t          # the animation plays the simulation
+    scene.AnimationTime = t  # the animation plays the simulation
     CreateWriter(os.path.join(args.out, "surface_%d.pvtp" % k), transfer).UpdatePipeline(t)
     CreateWriter(os.path.join(args.out, "mesh_%d.pvtu" % k), stepper).UpdatePipeline(t)
 
@@ -66,6 +80,10 @@ if args.screenshot:
     SaveScreenshot(args.screenshot, view, ImageResolution=[640, 480])
 
 with open(os.path.join(args.out, "times.json"), "w") as f:
-    json.dump({"times": times,
-               "processes": servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()},
-              f)
+    json.dump(
+        {
+            "times": times,
+            "processes": servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions(),
+        },
+        f,
+    )

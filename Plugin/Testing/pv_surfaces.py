@@ -1,5 +1,6 @@
 """Generated test surfaces for the ParaView plugin's tests and MPI benchmark (VTK 9.1
 side: run with .venv's Python)."""
+
 import os
 import pathlib
 
@@ -35,7 +36,9 @@ def make_surface(pieces_dir, npieces=4, theta=72, phi=48):
         pd.SetPoints(vp)
         ca = vtkCellArray()
         conn = np.hstack([np.full((len(t), 1), 3), t]).astype(np.int64).ravel()
-        ca.SetCells(len(t), numpy_to_vtk(conn, deep=True, array_type=vtkIdTypeArray().GetDataType()))
+        ca.SetCells(
+            len(t), numpy_to_vtk(conn, deep=True, array_type=vtkIdTypeArray().GetDataType())
+        )
         pd.SetPolys(ca)
         a = numpy_to_vtk(gid.astype(np.int64), deep=True)
         a.SetName("GlobalPointId")
@@ -51,17 +54,19 @@ def make_surface(pieces_dir, npieces=4, theta=72, phi=48):
     cx = pts[polys].mean(axis=1)[:, 0]
     edges = np.quantile(cx, np.linspace(0, 1, npieces + 1))
     slab = np.clip(np.searchsorted(edges, cx, side="right") - 1, 0, npieces - 1)
-    lines = ['<?xml version="1.0"?>',
-             '<VTKFile type="PPolyData" version="0.1" byte_order="LittleEndian" header_type="UInt64">',
-             '  <PPolyData GhostLevel="0">',
-             '    <PPointData><PDataArray type="Int64" Name="GlobalPointId"/></PPointData>',
-             '    <PPoints><PDataArray type="Float64" NumberOfComponents="3"/></PPoints>']
+    lines = [
+        '<?xml version="1.0"?>',
+        '<VTKFile type="PPolyData" version="0.1" byte_order="LittleEndian" header_type="UInt64">',
+        '  <PPolyData GhostLevel="0">',
+        '    <PPointData><PDataArray type="Int64" Name="GlobalPointId"/></PPointData>',
+        '    <PPoints><PDataArray type="Float64" NumberOfComponents="3"/></PPoints>',
+    ]
     for k in range(npieces):
         t = polys[slab == k]
         used, inv = np.unique(t.ravel(), return_inverse=True)
         write(pathlib.Path(pieces_dir) / f"surface_{k}.vtp", pts[used], inv.reshape(-1, 3), used)
         lines.append(f'    <Piece Source="surface_{k}.vtp"/>')
-    lines += ['  </PPolyData>', '</VTKFile>']
+    lines += ["  </PPolyData>", "</VTKFile>"]
     pvtp = pathlib.Path(pieces_dir) / "surface.pvtp"
     pvtp.write_text("\n".join(lines) + "\n")
     return whole, pvtp

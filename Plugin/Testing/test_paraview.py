@@ -2,22 +2,21 @@
 Python = the VTK 9.1 build): the pvbatch pipeline against the VTK 9.1 build stage by
 stage, its screenshot, the GUI's filter list and its Filters > HOEmbed menu, and the
 pipeline on 2 and 3 MPI processes against 1, bitwise. Skipped when the plugin is not built."""
+
 import json
 import os
 import pathlib
 import shutil
 import subprocess
 
+import hoembed
 import numpy as np
 import pytest
+from pv_surfaces import make_surface
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkIOImage import vtkPNGReader
-from vtkmodules.vtkIOXML import (vtkXMLPPolyDataReader,
-                                 vtkXMLPUnstructuredGridReader)
-
-import hoembed
-from pv_surfaces import make_surface
+from vtkmodules.vtkIOXML import vtkXMLPPolyDataReader, vtkXMLPUnstructuredGridReader
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PVBATCH = ROOT / "scripts" / "pvbatch"
@@ -25,12 +24,16 @@ PIPELINE = ROOT / "Plugin" / "Testing" / "pv_pipeline.py"
 PLUGIN = ROOT / "build-paraview" / "build" / "lib" / "paraview-plugins" / "HOEmbed"
 STEPS, DT, ELEMENTS = 5, 0.02, 300
 
-pytestmark = pytest.mark.skipif(not PLUGIN.is_dir(), reason="ParaView plugin not built (make paraview)")
+pytestmark = pytest.mark.skipif(
+    not PLUGIN.is_dir(), reason="ParaView plugin not built (make paraview)"
+)
 
 
 def run(cmd, timeout=600, **kw):
     r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=timeout, **kw)
-    assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
+    assert r.returncode == 0, (
+        f"{cmd} failed ({r.returncode}):\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
+    )
     return r
 
 
@@ -68,8 +71,22 @@ def inputs(tmp_path_factory):
 def serial_run(inputs, tmp_path_factory):
     out = tmp_path_factory.mktemp("pv_serial")
     shot = out / "shot.png"
-    run([PVBATCH, PIPELINE, inputs[0], out, "--screenshot", shot,
-         "--elements", ELEMENTS, "--steps", STEPS, "--dt", DT])
+    run(
+        [
+            PVBATCH,
+            PIPELINE,
+            inputs[0],
+            out,
+            "--screenshot",
+            shot,
+            "--elements",
+            ELEMENTS,
+            "--steps",
+            STEPS,
+            "--dt",
+            DT,
+        ]
+    )
     return out
 
 
@@ -77,6 +94,7 @@ def test_pipeline_matches_vtk91_build(inputs, serial_run):
     """Every stage of the pvbatch pipeline against the VTK 9.1 build given the same input
     (the previous stage's ParaView output): equal to round-off."""
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
     r = vtkXMLPolyDataReader()
     r.SetFileName(str(inputs[0]))
     r.Update()
@@ -104,7 +122,12 @@ def test_pipeline_matches_vtk91_build(inputs, serial_run):
     assert np.array_equal(np.sort(ids), np.arange(surface.GetNumberOfPoints()))
     e = emb.GetOutput()
     assert np.array_equal(arr(pv_emb, "EmbeddingCellId"), arr(e, "EmbeddingCellId")[ids])
-    assert np.abs(arr(pv_emb, "EmbeddingParametricCoords") - arr(e, "EmbeddingParametricCoords")[ids]).max() <= 1e-9
+    assert (
+        np.abs(
+            arr(pv_emb, "EmbeddingParametricCoords") - arr(e, "EmbeddingParametricCoords")[ids]
+        ).max()
+        <= 1e-9
+    )
     assert np.abs(arr(pv_emb, "EmbeddingDistance") - arr(e, "EmbeddingDistance")[ids]).max() <= tol
 
     # Stepper on ParaView's rest mesh, and the transfer of ParaView's embedded surface with
@@ -148,8 +171,10 @@ def test_screenshot_not_blank(serial_run):
     background = px[0, 0]
     differs = np.any(np.abs(px - background) > 10, axis=-1)
     assert (nx, ny) == (640, 480)
-    assert 0.05 < differs.mean() < 0.95, f"screenshot looks blank ({differs.mean():.3f} of pixels drawn)"
-    assert len(np.unique(px[differs].reshape(-1, 3), axis=0)) > 20   # shaded and coloured
+    assert 0.05 < differs.mean() < 0.95, (
+        f"screenshot looks blank ({differs.mean():.3f} of pixels drawn)"
+    )
+    assert len(np.unique(px[differs].reshape(-1, 3), axis=0)) > 20  # shaded and coloured
 
 
 def test_gui_lists_the_filters(tmp_path):
@@ -168,12 +193,17 @@ def test_gui_lists_the_filters(tmp_path):
         "    it.GoToNextItem()\n"
         "from paraview import simple\n"
         "json.dump({'names': names, 'simple': [n for n in dir(simple) if n.startswith('HOEmbed')]}, open(%r, 'w'))\n"
-        % str(out))
+        % str(out)
+    )
     env = dict(os.environ, PVTOOL="paraview")
     run([ROOT / "scripts" / "pvpython", f"--script={script}", "--exit"], env=env, timeout=300)
     got = json.loads(out.read_text())
-    want = ["HOEmbedCorotationalFEMStepper", "HOEmbedDeformationTransfer",
-            "HOEmbedEmbeddingCoordinates", "HOEmbedTet10Mesher"]
+    want = [
+        "HOEmbedCorotationalFEMStepper",
+        "HOEmbedDeformationTransfer",
+        "HOEmbedEmbeddingCoordinates",
+        "HOEmbedTet10Mesher",
+    ]
     assert sorted(got["names"]) == want
     assert sorted(got["simple"]) == want
 
@@ -185,16 +215,30 @@ def test_gui_filters_menu(tmp_path):
     (exit code 1: checked by hand with a misspelt action and without the plugin). With no
     source in the pipeline the actions are disabled, so activating them creates nothing
     and opens no dialog."""
-    filters = ["HOEmbedTet10Mesher", "HOEmbedEmbeddingCoordinates",
-               "HOEmbedCorotationalFEMStepper", "HOEmbedDeformationTransfer"]
-    events = ['<pqevent object="pqClientMainWindow/menubar" command="activate" arguments="menuFilters" />']
-    events += [f'<pqevent object="pqClientMainWindow/menubar/menuFilters/HOEmbed" command="activate" '
-               f'arguments="{name}" />' for name in filters]
+    filters = [
+        "HOEmbedTet10Mesher",
+        "HOEmbedEmbeddingCoordinates",
+        "HOEmbedCorotationalFEMStepper",
+        "HOEmbedDeformationTransfer",
+    ]
+    events = [
+        '<pqevent object="pqClientMainWindow/menubar" command="activate" arguments="menuFilters" />'
+    ]
+    events += [
+        f'<pqevent object="pqClientMainWindow/menubar/menuFilters/HOEmbed" command="activate" '
+        f'arguments="{name}" />'
+        for name in filters
+    ]
     script = tmp_path / "filters_menu.xml"
-    script.write_text('<?xml version="1.0" ?>\n<pqevents>\n  ' + "\n  ".join(events) + "\n</pqevents>\n")
+    script.write_text(
+        '<?xml version="1.0" ?>\n<pqevents>\n  ' + "\n  ".join(events) + "\n</pqevents>\n"
+    )
     env = dict(os.environ, PVTOOL="paraview")
-    r = run([ROOT / "scripts" / "pvpython", "--dr", f"--test-script={script}", "--exit"],
-            env=env, timeout=300)
+    r = run(
+        [ROOT / "scripts" / "pvpython", "--dr", f"--test-script={script}", "--exit"],
+        env=env,
+        timeout=300,
+    )
     assert "Success =  true" in r.stdout + r.stderr
 
 
@@ -210,9 +254,28 @@ def test_mpi_pieces_equal_serial_bitwise(inputs, tmp_path):
     results = {}
     for n in (1, 2, 3, 4):
         out = tmp_path / f"np{n}"
-        run(["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi",
-             PIPELINE, inputs[1], out, "--elements", ELEMENTS, "--steps", 3, "--dt", DT,
-             "--partitions", 1])
+        run(
+            [
+                "mpirun",
+                "--allow-run-as-root",
+                "--oversubscribe",
+                "-np",
+                n,
+                PVBATCH,
+                "--mpi",
+                PIPELINE,
+                inputs[1],
+                out,
+                "--elements",
+                ELEMENTS,
+                "--steps",
+                3,
+                "--dt",
+                DT,
+                "--partitions",
+                1,
+            ]
+        )
         results[n] = out
         # Really distributed: one piece file per process, none holding the whole surface.
         sizes = [read_piece_points(f) for f in sorted((out / "embedded").glob("*.vtp"))]
@@ -227,11 +290,18 @@ def test_mpi_pieces_equal_serial_bitwise(inputs, tmp_path):
         vals = {a: (points(pd) if a == "Points" else arr(pd, a)) for a in arrays}
         return u, {a: v[first] for a, v in vals.items()}
 
-    emb_arrays = ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance",
-                  "EmbeddingResidual", "EmbeddingFace"]
+    emb_arrays = [
+        "EmbeddingCellId",
+        "EmbeddingParametricCoords",
+        "EmbeddingDistance",
+        "EmbeddingResidual",
+        "EmbeddingFace",
+    ]
     ref_ids, ref = gathered(results[1], "embedded.pvtp", emb_arrays)
-    surf_ref = [gathered(results[1], f"surface_{k}.pvtp", ["Points"])[1]["Points"] for k in range(4)]
-    assert np.abs(surf_ref[3] - surf_ref[0]).max() > 1e-3    # the surface moved
+    surf_ref = [
+        gathered(results[1], f"surface_{k}.pvtp", ["Points"])[1]["Points"] for k in range(4)
+    ]
+    assert np.abs(surf_ref[3] - surf_ref[0]).max() > 1e-3  # the surface moved
     for n in (2, 3, 4):
         ids, got = gathered(results[n], "embedded.pvtp", emb_arrays)
         assert np.array_equal(ids, ref_ids)
@@ -244,15 +314,15 @@ def test_mpi_pieces_equal_serial_bitwise(inputs, tmp_path):
 
 def read_piece_points(path):
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
     r = vtkXMLPolyDataReader()
     r.SetFileName(str(path))
     r.Update()
     return r.GetOutput().GetNumberOfPoints()
 
 
-
 FETCH = ROOT / "Plugin" / "Testing" / "pv_fetch.py"
-FETCH_TIMEOUT = 240     # seconds; a run that hangs (a collective call some processes skip) fails
+FETCH_TIMEOUT = 240  # seconds; a run that hangs (a collective call some processes skip) fails
 # Seen here, on a machine shared by several Xvfb users: one process's XOpenDisplay fails
 # at its first render (pvbatch aborts).
 X_FAILURE = "bad X server connection"
@@ -264,7 +334,15 @@ def run_fetch(n, surface, out, timeout=FETCH_TIMEOUT):
     stops mpirun, which stops its pvbatch processes). Returns the JSON it wrote."""
     cmd = [PVBATCH, FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3]
     if n > 1:
-        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
+        cmd = [
+            "mpirun",
+            "--allow-run-as-root",
+            "--oversubscribe",
+            "-np",
+            n,
+            PVBATCH,
+            "--mpi",
+        ] + cmd[1:]
     cmd = ["timeout", "-k", "10", timeout] + cmd
     r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=timeout + 60)
     log = r.stdout[-3000:] + "\n" + r.stderr[-3000:]
@@ -279,7 +357,9 @@ FETCHED = ("mesher", "embedding", "stepper", "transfer", "stepper_first", "trans
 @pytest.fixture(scope="module")
 def fetch_serial(inputs, tmp_path_factory):
     d = tmp_path_factory.mktemp("pv_fetch1")
-    return {kind: run_fetch(1, inputs[i], d / f"{kind}.json") for i, kind in enumerate(("vtp", "pvtp"))}
+    return {
+        kind: run_fetch(1, inputs[i], d / f"{kind}.json") for i, kind in enumerate(("vtp", "pvtp"))
+    }
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
@@ -305,7 +385,7 @@ def test_mpi_fetch_every_output(inputs, fetch_serial, tmp_path, n, kind):
         assert got[name] == ref[name], f"{name} on {n} processes: {got[name]} != {ref[name]}"
 
 
-DISPLAY_TIMEOUT = 150   # seconds; a display run takes 20-60 s here
+DISPLAY_TIMEOUT = 150  # seconds; a display run takes 20-60 s here
 DISPLAY_TRIES = 3
 
 
@@ -315,9 +395,11 @@ def icet_hang(output, n):
     process 0 in the first composited render (vtkIceTCompositePass ->
     vtkIceTContext::SetController -> MPI_Comm_dup, a collective call) while every other
     process is back in ProcessRMIs waiting for the next request, never having entered it."""
-    return (output.count("vtkIceTContext::SetController") == 1
-            and output.count("MPI_Comm_dup") >= 1
-            and output.count("vtkMultiProcessController::ProcessRMIs() ") == n - 1)
+    return (
+        output.count("vtkIceTContext::SetController") == 1
+        and output.count("MPI_Comm_dup") >= 1
+        and output.count("vtkMultiProcessController::ProcessRMIs() ") == n - 1
+    )
 
 
 def run_display(n, surface, out):
@@ -327,28 +409,58 @@ def run_display(n, surface, out):
     fails. Returns the JSON, or the reason to skip when every try ended so."""
     seen = []
     for _ in range(DISPLAY_TRIES):
-        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi",
-               FETCH, surface, out, "--elements", ELEMENTS, "--steps", 3, "--display"]
+        cmd = [
+            "mpirun",
+            "--allow-run-as-root",
+            "--oversubscribe",
+            "-np",
+            n,
+            PVBATCH,
+            "--mpi",
+            FETCH,
+            surface,
+            out,
+            "--elements",
+            ELEMENTS,
+            "--steps",
+            3,
+            "--display",
+        ]
         # Its own X server, which does not reset when its last client leaves: a process
         # connecting while the server reset failed ("bad X server connection") in about
         # 1 of 5 runs on 3 processes here; none in 12 with -noreset.
-        cmd = ["timeout", "-k", "10", DISPLAY_TIMEOUT, "xvfb-run", "-a", "-s",
-               "-screen 0 1280x1024x24 -noreset"] + cmd
-        r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True,
-                           timeout=DISPLAY_TIMEOUT + 60)
+        cmd = [
+            "timeout",
+            "-k",
+            "10",
+            DISPLAY_TIMEOUT,
+            "xvfb-run",
+            "-a",
+            "-s",
+            "-screen 0 1280x1024x24 -noreset",
+        ] + cmd
+        r = subprocess.run(
+            [str(c) for c in cmd], capture_output=True, text=True, timeout=DISPLAY_TIMEOUT + 60
+        )
         output = r.stdout + r.stderr
         if r.returncode == 0:
             if seen:
                 print(f"display on {n} processes passed after: {'; '.join(seen)}")  # pytest -rP
             return json.loads(pathlib.Path(out).read_text())
         if r.returncode == 124 and icet_hang(output, n):
-            seen.append("ParaView's compositing hang (process 0 in vtkIceTContext::SetController"
-                        " -> MPI_Comm_dup, the others in ProcessRMIs)")
+            seen.append(
+                "ParaView's compositing hang (process 0 in vtkIceTContext::SetController"
+                " -> MPI_Comm_dup, the others in ProcessRMIs)"
+            )
             continue
         if X_FAILURE in output:
             seen.append("a process could not connect to the X server")
             continue
-        what = f"hung (killed after {DISPLAY_TIMEOUT} s)" if r.returncode == 124 else f"failed ({r.returncode})"
+        what = (
+            f"hung (killed after {DISPLAY_TIMEOUT} s)"
+            if r.returncode == 124
+            else f"failed ({r.returncode})"
+        )
         raise AssertionError(f"{n} processes: {what}:\n{output[-4000:]}")
     return "every try ended in an upstream or machine failure: " + "; ".join(seen)
 
@@ -378,9 +490,21 @@ def run_ghosts(n, surface, out, *extra, timeout=FETCH_TIMEOUT):
     """pv_ghosts.py on n processes under `timeout` (a hang fails the test)."""
     cmd = [PVBATCH, GHOSTS, surface, out, "--elements", ELEMENTS, "--steps", 3, *extra]
     if n > 1:
-        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", n, PVBATCH, "--mpi"] + cmd[1:]
-    r = subprocess.run([str(c) for c in ["timeout", "-k", "10", timeout] + cmd],
-                       capture_output=True, text=True, timeout=timeout + 60)
+        cmd = [
+            "mpirun",
+            "--allow-run-as-root",
+            "--oversubscribe",
+            "-np",
+            n,
+            PVBATCH,
+            "--mpi",
+        ] + cmd[1:]
+    r = subprocess.run(
+        [str(c) for c in ["timeout", "-k", "10", timeout] + cmd],
+        capture_output=True,
+        text=True,
+        timeout=timeout + 60,
+    )
     log = r.stdout + r.stderr
     assert r.returncode != 124, f"{n} processes: hung (killed after {timeout} s):\n{log[-3000:]}"
     assert r.returncode == 0, f"{cmd} failed ({r.returncode}):\n{log[-3000:]}"
@@ -389,6 +513,7 @@ def run_ghosts(n, surface, out, *extra, timeout=FETCH_TIMEOUT):
 
 def read_vtp(path):
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
     r = vtkXMLPolyDataReader()
     r.SetFileName(str(path))
     r.Update()
@@ -397,6 +522,7 @@ def read_vtp(path):
 
 def read_vtu(path):
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
     r = vtkXMLUnstructuredGridReader()
     r.SetFileName(str(path))
     r.Update()
@@ -459,8 +585,10 @@ def test_mpi_ghost_cells(inputs, ghosts_serial, tmp_path, n):
     assert np.array_equal(points(serial_mesh), points(mesh))
     m1, m2 = read_vtu(tmp_path / "mesh_ghosted.vtu"), read_vtu(tmp_path / "mesh_unghosted.vtu")
     assert np.array_equal(points(m1), points(m2))
-    assert np.array_equal(vtk_to_numpy(m1.GetCells().GetConnectivityArray()),
-                          vtk_to_numpy(m2.GetCells().GetConnectivityArray()))
+    assert np.array_equal(
+        vtk_to_numpy(m1.GetCells().GetConnectivityArray()),
+        vtk_to_numpy(m2.GetCells().GetConnectivityArray()),
+    )
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
@@ -473,8 +601,9 @@ def test_mpi_mesh_with_ghost_cells_refused(inputs, tmp_path):
     got, log = run_ghosts(2, inputs[0], tmp_path, "--mesh-ghosts")
     for who in ("vtkEmbeddingCoordinatesFilter", "vtkCorotationalFEMStepper"):
         lines = [ln for ln in log.splitlines() if who in ln and "ghost cells of" in ln]
-        assert {ln.split("[pvbatch.")[1][0] for ln in lines if "[pvbatch." in ln} == {"0", "1"}, \
+        assert {ln.split("[pvbatch.")[1][0] for ln in lines if "[pvbatch." in ln} == {"0", "1"}, (
             f"{who}: not refused on both processes:\n{log[-3000:]}"
+        )
         assert all("whole mesh is needed on every process" in ln for ln in lines)
     for name in ("embedded", "surface_first", "surface_last"):
         assert got[name]["points"] == 0, name

@@ -41,7 +41,10 @@ struct PlainTetMesh
       this->Offsets.push_back(static_cast<std::int64_t>(this->Connectivity.size()));
     }
   }
-  std::int64_t NumberOfPoints() const { return static_cast<std::int64_t>(this->Points.size() / 3); }
+  std::int64_t NumberOfPoints() const
+  {
+    return static_cast<std::int64_t>(this->Points.size() / 3);
+  }
   hoembed::TetMeshArrays View() const
   {
     hoembed::TetMeshArrays m;
@@ -84,7 +87,10 @@ struct SurfacePatch
         }
       }
   }
-  std::int64_t NumberOfPoints() const { return static_cast<std::int64_t>(this->Points.size() / 3); }
+  std::int64_t NumberOfPoints() const
+  {
+    return static_cast<std::int64_t>(this->Points.size() / 3);
+  }
   hoembed::CellArrayView Polygons() const
   {
     hoembed::CellArrayView v;

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <limits>
 
-
 // Smallest squared distance from v to the tet map m sampled on the lattice of n steps per
 // edge of the reference tet.
 inline double LatticeDistance2(const hoembed::QuadraticMap& m, const double v[3], int n)
@@ -22,16 +21,16 @@ inline double LatticeDistance2(const hoembed::QuadraticMap& m, const double v[3]
         const double pc[3] = { double(i) / n, double(j) / n, double(k) / n };
         double y[3];
         hoembed::EvaluateMap(m, pc, y);
-        best = std::min(best, (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+        best = std::min(best,
+          (y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
             (y[2] - v[2]) * (y[2] - v[2]));
       }
   return best;
 }
 
 // The reference tet10's nodes (VTK order).
-const double RefTet10[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
-  { 0.5, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
-  { 0, 0.5, 0.5 } };
+const double RefTet10[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0.5, 0, 0 },
+  { 0.5, 0.5, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 }, { 0, 0.5, 0.5 } };
 
 // Distance from v to the element of the tet map m by brute force: constrained solves from
 // 5 starts and a dense sample (16 steps per edge) of the element.

@@ -29,16 +29,16 @@ inline int& Failures()
   return failures;
 }
 
-#define HOEMBED_CHECK(cond, ...)                                                           \
-  do                                                                                       \
-  {                                                                                        \
-    if (!(cond))                                                                           \
-    {                                                                                      \
-      std::fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond);       \
-      std::fprintf(stderr, __VA_ARGS__);                                                   \
-      std::fprintf(stderr, "\n");                                                          \
-      ++hoembed_test::Failures();                                                          \
-    }                                                                                      \
+#define HOEMBED_CHECK(cond, ...)                                                                   \
+  do                                                                                               \
+  {                                                                                                \
+    if (!(cond))                                                                                   \
+    {                                                                                              \
+      std::fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond);                \
+      std::fprintf(stderr, __VA_ARGS__);                                                           \
+      std::fprintf(stderr, "\n");                                                                  \
+      ++hoembed_test::Failures();                                                                  \
+    }                                                                                              \
   } while (0)
 
 /// Exit code for main(): 0 if no check failed, 1 otherwise (prints a summary line).

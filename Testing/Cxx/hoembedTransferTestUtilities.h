@@ -39,11 +39,10 @@ struct EmbeddedVertex
   vtkIdType Cell;
   double PC[3];
   double Distance;
-  int LocalFace;        // -1 for interior points
-  vtkIdType Boundary;   // boundary face index, -1 for interior points
+  int LocalFace;      // -1 for interior points
+  vtkIdType Boundary; // boundary face index, -1 for interior points
   double UV[2];
 };
-
 
 inline std::string Fingerprint(vtkUnstructuredGrid* mesh)
 {
@@ -55,9 +54,9 @@ inline std::string Fingerprint(vtkUnstructuredGrid* mesh)
   return fp.Hex();
 }
 
-
 /// Reference position: VTK's own cell interpolation of the mesh's cell at pc.
-inline void ReferenceLocation(vtkUnstructuredGrid* mesh, vtkIdType cell, const double pc[3], double x[3])
+inline void ReferenceLocation(
+  vtkUnstructuredGrid* mesh, vtkIdType cell, const double pc[3], double x[3])
 {
   int sub = 0;
   double w[10];
@@ -105,7 +104,8 @@ inline vtkSmartPointer<vtkPolyData> MakeEmbeddedSurface(vtkUnstructuredGrid* mes
   vtkNew<vtkCellArray> polys;
   vtkNew<vtkCellArray> verts;
   truth.clear();
-  const double lattice[6][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 0.5, 0 }, { 0.5, 0.5 }, { 0, 0.5 } };
+  const double lattice[6][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 0.5, 0 }, { 0.5, 0.5 },
+    { 0, 0.5 } };
   const vtkIdType tris[4][3] = { { 0, 3, 5 }, { 3, 1, 4 }, { 5, 4, 2 }, { 3, 4, 5 } };
   for (vtkIdType b = 0; b < topo.GetNumberOfBoundaryFaces(); ++b)
   {

@@ -14,17 +14,18 @@ the mesher (test_pip_mesher.py): mesher/<case>/surface.vtp and mesh.vtu of the s
 mesher_cases() builds, mesher/bad_<case>.vtp of bad inputs, and mesher/mesher.json with
 the VTK build's element counts, quality quantiles and error sentences.
 """
+
 import inspect
 import json
 import os
 import sys
 
-import numpy as np
-import pyvista
-
 import hoembed
 import live_reference
+import numpy as np
+import pyvista
 import series_reference
+
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 import filter_routes  # noqa: E402  (the filters' route: the references are the filters')
 import transfer_checks_reference
@@ -75,25 +76,40 @@ def stepper_runs(mesh):
     # nodal forces scaled with the volume (the thorny tail: L ~ 3.3), so that every mesh
     # bends moderately instead of blowing up
     w = (L / 3.3) ** 3
-    stepper.point_data["Push"] = np.c_[50.0 * w * s, 0 * s, -20.0 * w * s ** 2]
+    stepper.point_data["Push"] = np.c_[50.0 * w * s, 0 * s, -20.0 * w * s**2]
     stepper.point_data["Spin"] = np.c_[-0.2 * L * s, 0 * s, 0.1 * L * s]
     stepper.point_data["Grab"] = (s <= 0.05).astype(np.int32)
     stepper.point_data["Pull"] = np.c_[0 * s, 0.04 * L * (1 - s), 0.08 * L * (1 - s)]
     runs = {
-        "plane": dict(steps=6, dt=0.01, young=2e4, every=2,
-                      fixed={"plane": [origin, axis]}),
-        "mask": dict(steps=5, dt=0.005, young=5e4, poisson=0.45, gravity=[-3.0, 0.0, 0.0],
-                     fixed="@Clamp", external_force="@Push", initial_velocity="@Spin",
-                     lumped_mass=True, rayleigh_mass=0.5),
-        "static": dict(static=True, young=2e7,
-                       fixed={"plane": [origin, axis]}),
-        "prescribed": dict(steps=4, dt=0.01, young=2e4, fixed="@Clamp",
-                           prescribed=["@Grab", [0.0, 0.0, 0.03 * L]]),
-        "prescribed_speed": dict(steps=5, dt=0.01, young=2e4, gravity=[0.0, 0.0, 0.0],
-                                 fixed="@Clamp", prescribed=["@Grab", "@Pull"],
-                                 prescribed_speed_limit=0.02 * L / 0.01 / 2),
-        "prescribed_static": dict(static=True, young=2e7, fixed="@Clamp",
-                                  prescribed=["@Grab", "@Pull"]),
+        "plane": dict(steps=6, dt=0.01, young=2e4, every=2, fixed={"plane": [origin, axis]}),
+        "mask": dict(
+            steps=5,
+            dt=0.005,
+            young=5e4,
+            poisson=0.45,
+            gravity=[-3.0, 0.0, 0.0],
+            fixed="@Clamp",
+            external_force="@Push",
+            initial_velocity="@Spin",
+            lumped_mass=True,
+            rayleigh_mass=0.5,
+        ),
+        "static": dict(static=True, young=2e7, fixed={"plane": [origin, axis]}),
+        "prescribed": dict(
+            steps=4, dt=0.01, young=2e4, fixed="@Clamp", prescribed=["@Grab", [0.0, 0.0, 0.03 * L]]
+        ),
+        "prescribed_speed": dict(
+            steps=5,
+            dt=0.01,
+            young=2e4,
+            gravity=[0.0, 0.0, 0.0],
+            fixed="@Clamp",
+            prescribed=["@Grab", "@Pull"],
+            prescribed_speed_limit=0.02 * L / 0.01 / 2,
+        ),
+        "prescribed_static": dict(
+            static=True, young=2e7, fixed="@Clamp", prescribed=["@Grab", "@Pull"]
+        ),
     }
     return stepper, runs
 
@@ -101,10 +117,12 @@ def stepper_runs(mesh):
 def resolve(kwargs, mesh):
     """simulate()'s keyword arguments with "@Name" replaced by that point array's name
     (fixed) or values (others, and the parts of prescribed)."""
+
     def values(v):
         if isinstance(v, str) and v.startswith("@"):
             return np.asarray(mesh.point_data[v[1:]])
         return v
+
     out = {}
     for k, v in kwargs.items():
         if k == "prescribed":
@@ -130,14 +148,16 @@ def mesher_cases(data_dir=""):
     overlapping = pyvista.Sphere().merge(pyvista.Sphere(center=(0.3, 0, 0)))
     cylinder = pyvista.Cylinder(resolution=24, height=2.0, capping=True)  # quads + 24-gons
     strips = pyvista.Sphere(theta_resolution=30, phi_resolution=20).strip()
-    cases = {"sphere": (sphere, dict(n_elements=300)),
-             "open_with_hole": (holed, dict(n_elements=300)),
-             "sheet": (sheet, dict(n_elements=300)),
-             "overlapping": (overlapping, dict(n_elements=300)),
-             "quads_polygons": (cylinder, dict(n_elements=300)),
-             "strips": (strips, dict(n_elements=300)),
-             "tail_tet4": (hoembed.thorny_tail(), dict(n_elements=300, order=1)),
-             "tail_edge": (hoembed.thorny_tail(), dict(edge_length=0.4))}
+    cases = {
+        "sphere": (sphere, dict(n_elements=300)),
+        "open_with_hole": (holed, dict(n_elements=300)),
+        "sheet": (sheet, dict(n_elements=300)),
+        "overlapping": (overlapping, dict(n_elements=300)),
+        "quads_polygons": (cylinder, dict(n_elements=300)),
+        "strips": (strips, dict(n_elements=300)),
+        "tail_tet4": (hoembed.thorny_tail(), dict(n_elements=300, order=1)),
+        "tail_edge": (hoembed.thorny_tail(), dict(edge_length=0.4)),
+    }
     bunny = os.path.join(data_dir, "bunny_lowres.obj") if data_dir else ""
     if bunny and os.path.exists(bunny):
         cases["bunny"] = (pyvista.read(bunny), dict(n_elements=500))
@@ -149,25 +169,38 @@ def bad_mesher_inputs():
     nan = pyvista.Sphere()
     nan.points[7] = np.nan
     ids = pyvista.PolyData(np.asarray(pyvista.Sphere().points)[:10], np.array([3, 0, 1, 42]))
-    return {"empty": pyvista.PolyData(), "nan": nan, "ids": ids, "lines": pyvista.Line(),
-            "zero_area": pyvista.PolyData(np.zeros((3, 3)), np.array([3, 0, 1, 2]))}
+    return {
+        "empty": pyvista.PolyData(),
+        "nan": nan,
+        "ids": ids,
+        "lines": pyvista.Line(),
+        "zero_area": pyvista.PolyData(np.zeros((3, 3)), np.array([3, 0, 1, 2])),
+    }
 
 
 def mesher_stats(mesh):
     q = np.asarray(mesh.cell_data["MinScaledJacobian"], float)
-    return {"cells": int(mesh.n_cells), "points": int(mesh.n_points),
-            "quantiles": [float(v) for v in mesh.field_data["MinScaledJacobianQuantiles"][0]],
-            "min": float(q.min()), "median": float(np.median(q)),
-            "envelope_offset": float(mesh.field_data["EnvelopeOffset"][0])}
+    return {
+        "cells": int(mesh.n_cells),
+        "points": int(mesh.n_points),
+        "quantiles": [float(v) for v in mesh.field_data["MinScaledJacobianQuantiles"][0]],
+        "min": float(q.min()),
+        "median": float(np.median(q)),
+        "envelope_offset": float(mesh.field_data["EnvelopeOffset"][0]),
+    }
 
 
 def write_mesher_references(outdir, data_dir):
     root = os.path.join(outdir, "mesher")
     os.makedirs(root, exist_ok=True)
     import inspect
-    info = {"cases": {}, "errors": {},
-            "signature": str(inspect.signature(hoembed.tet10_mesh)),
-            "doc": inspect.getdoc(hoembed.tet10_mesh)}
+
+    info = {
+        "cases": {},
+        "errors": {},
+        "signature": str(inspect.signature(hoembed.tet10_mesh)),
+        "doc": inspect.getdoc(hoembed.tet10_mesh),
+    }
     for name, (surface, kwargs) in mesher_cases(data_dir).items():
         d = os.path.join(root, name)
         os.makedirs(d, exist_ok=True)
@@ -195,8 +228,10 @@ def main(outdir):
     os.makedirs(outdir, exist_ok=True)
     cases = {}
     tail = hoembed.thorny_tail()
-    inputs = [("tail_tet10", tail, dict(n_elements=300)),
-              ("tail_tet4", tail, dict(n_elements=300, order=1))]
+    inputs = [
+        ("tail_tet10", tail, dict(n_elements=300)),
+        ("tail_tet4", tail, dict(n_elements=300, order=1)),
+    ]
     data = os.environ.get("HOEMBED_DATA_DIR", "")
     bunny = os.path.join(data, "bunny_lowres.obj")
     if data and os.path.exists(bunny):
@@ -221,8 +256,9 @@ def main(outdir):
             deformed.save(os.path.join(d, f"deformed_{k}.vtu"))
             deformed = pyvista.read(os.path.join(d, f"deformed_{k}.vtu"))
             for mode in info["modes"]:
-                out = filter_routes.transfer(emb, deformed, normals=mode,
-                                             compute_point_normals=(mode == "recompute"))
+                out = filter_routes.transfer(
+                    emb, deformed, normals=mode, compute_point_normals=(mode == "recompute")
+                )
                 out.save(os.path.join(d, f"transferred_{mode}_{k}.vtp"))
             info["frames"] = k + 1
         stepper, runs = stepper_runs(mesh)
@@ -240,8 +276,11 @@ def main(outdir):
         json.dump(cases, f, indent=1)
     # simulate()'s signature and docstring in the VTK build, for the wheel's to equal
     with open(os.path.join(outdir, "simulate_api.json"), "w") as f:
-        json.dump(dict(signature=str(inspect.signature(hoembed.simulate)),
-                       doc=hoembed.simulate.__doc__), f, indent=1)
+        json.dump(
+            dict(signature=str(inspect.signature(hoembed.simulate)), doc=hoembed.simulate.__doc__),
+            f,
+            indent=1,
+        )
     series_reference.write(outdir)  # write_series of these cases' frames (series/)
     transfer_checks_reference.write(outdir)  # transfer()'s checks (transfer_checks/)
     live_reference.write(outdir)  # the live loop's scripted run (live.npz)

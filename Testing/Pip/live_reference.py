@@ -4,6 +4,7 @@ tail's tet10 case, clamped at its head, three free frames, a grab of the tip dra
 four frames, a release, a frame, a reset. Synchronous factorisation (the background one
 takes its factor when its thread is done, so its frames depend on timing). The session's
 default point normals (transform) in both routes, kept with the points."""
+
 import os
 
 import numpy as np
@@ -16,10 +17,10 @@ def run(root):
     times."""
     import pyvista
     from hoembed.live import LiveSession, default_clamp
+
     fe = pyvista.read(os.path.join(root, CASE, "mesh.vtu"))
     emb = pyvista.read(os.path.join(root, CASE, "embedded_normal-offset.vtp"))
-    s = LiveSession(fe, emb, fixed=default_clamp(fe, builtin=True),
-                    background_factorization=False)
+    s = LiveSession(fe, emb, fixed=default_clamp(fe, builtin=True), background_factorization=False)
     assert s.point_normals == "transform"  # the default, in both routes
     frames = {"positions": [], "surface": [], "normals": [], "time": []}
 

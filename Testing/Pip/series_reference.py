@@ -8,6 +8,7 @@ the same class runs in both builds), and the error messages of bad calls (errors
 The wheel's test reads the same frame files, writes them with the wheel's write_series
 and compares.
 """
+
 import json
 import os
 
@@ -30,18 +31,19 @@ def timed_sphere_class():
     """A VTK source with TIME_STEPS (0, 0.5, 1.5): a sphere whose radius is 1 + t, a
     point array 'Height' = z * t, field data TimeValue. Made on call, so that importing
     this module needs no VTK."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
     from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
     from vtkmodules.vtkCommonDataModel import vtkPolyData
     from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as SDDP
     from vtkmodules.vtkFiltersSources import vtkSphereSource
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
     class TimedSphere(VTKPythonAlgorithmBase):
         TIMES = (0.0, 0.5, 1.5)
 
         def __init__(self):
-            VTKPythonAlgorithmBase.__init__(self, nInputPorts=0, nOutputPorts=1,
-                                            outputType="vtkPolyData")
+            VTKPythonAlgorithmBase.__init__(
+                self, nInputPorts=0, nOutputPorts=1, outputType="vtkPolyData"
+            )
 
         def RequestInformation(self, request, inInfo, outInfo):
             info = outInfo.GetInformationObject(0)
@@ -86,6 +88,7 @@ def failing_sphere():
 
 def bad_calls(pv, write_series, folder):
     """The bad calls whose messages both builds must give: name -> (callable, folder)."""
+
     def frames(k):
         out = []
         for i in range(k):
@@ -106,7 +109,8 @@ def bad_calls(pv, write_series, folder):
 
     return {
         "unsupported_type": lambda: write_series(
-            frames(2) + [pv.ImageData(dimensions=(2, 2, 2))], folder, "s"),
+            frames(2) + [pv.ImageData(dimensions=(2, 2, 2))], folder, "s"
+        ),
         "nan_time": lambda: write_series(frames(2), folder, "s", times=[0.0, float("nan")]),
         "inf_time": lambda: write_series(frames(2), folder, "s", times=[float("-inf"), 1.0]),
         "pvd_is_folder": pvd_is_folder,
@@ -125,13 +129,13 @@ def sentence(message):
     if message.startswith("vtkTimeSeriesWriter (") and "): " in message:
         return message.split("): ", 1)[1]
     if message.startswith("write_series: "):
-        return message[len("write_series: "):]
+        return message[len("write_series: ") :]
     return message
 
 
 def write(outdir):
-    import pyvista as pv
     import hoembed
+    import pyvista as pv
 
     outdir = os.path.abspath(outdir)  # the messages hold the paths: the test replaces them
     cases = json.load(open(os.path.join(outdir, "cases.json")))
@@ -140,8 +144,12 @@ def write(outdir):
         for series in (STEPPER_SERIES, SURFACE_SERIES):
             name, _, times = series
             frames = [pv.read(os.path.join(outdir, case, f)) for f in frame_files(info, series)]
-            hoembed.write_series(frames, os.path.join(root, case), name,
-                                 times=times[:len(frames)] if times else None)
+            hoembed.write_series(
+                frames,
+                os.path.join(root, case),
+                name,
+                times=times[: len(frames)] if times else None,
+            )
     hoembed.write_series(timed_sphere_class()(), os.path.join(root, "algorithm"), "sphere")
     errors = {}
     for key in bad_calls(pv, None, None):

@@ -12,29 +12,37 @@ is not exercised for the stepper here). scripts/test_pip.sh sets HOEMBED_PIP_NAT
 that test build; the portable wheel's frames (no -march=native: no FMA contraction) must
 agree to round-off instead (ROUND_OFF).
 """
+
 import json
 import os
 import subprocess
 import sys
 import warnings
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista
-
-import hoembed
 from generate_reference import resolve  # the same "@Name" arguments as the references
 
 REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
 if not REF or not os.path.exists(os.path.join(REF, "cases.json")):
-    pytest.skip("HOEMBED_PIP_REFERENCE (generate_reference.py output) not given",
-                allow_module_level=True)
+    pytest.skip(
+        "HOEMBED_PIP_REFERENCE (generate_reference.py output) not given", allow_module_level=True
+    )
 CASES = json.load(open(os.path.join(REF, "cases.json")))
 
-EMBEDDING_ARRAYS = ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance",
-                    "EmbeddingResidual", "EmbeddingFace", "EmbeddingIterations",
-                    "EmbeddingElementsVisited", "EmbeddingClosestDistance",
-                    "EmbeddingFallback"]
+EMBEDDING_ARRAYS = [
+    "EmbeddingCellId",
+    "EmbeddingParametricCoords",
+    "EmbeddingDistance",
+    "EmbeddingResidual",
+    "EmbeddingFace",
+    "EmbeddingIterations",
+    "EmbeddingElementsVisited",
+    "EmbeddingClosestDistance",
+    "EmbeddingFallback",
+]
 
 
 def read(case, name):
@@ -43,8 +51,11 @@ def read(case, name):
 
 def bitwise(a, b):
     a, b = np.asarray(a), np.asarray(b)
-    return a.shape == b.shape and a.dtype == b.dtype and \
-        np.array_equal(a.view(np.uint8), b.view(np.uint8))
+    return (
+        a.shape == b.shape
+        and a.dtype == b.dtype
+        and np.array_equal(a.view(np.uint8), b.view(np.uint8))
+    )
 
 
 # the stepper's kernels compiled as the VTK build's (HOEMBED_SIMULATION_NATIVE=ON)?
@@ -73,6 +84,7 @@ def same_frame_values(a, b, scale):
 def test_not_the_vtk_build():
     # the package under test is the wheel's, beside a pip VTK (no Debian VTK 9.1)
     import vtkmodules
+
     assert hoembed.BACKEND == "pip"
     assert sys.prefix != sys.base_prefix  # a venv ...
     assert not any("dist-packages" in p for p in sys.path)  # ... without system packages
@@ -88,16 +100,18 @@ def test_embedding_bitwise(case, method):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         got = hoembed.embed(surface, mesh, method=method)
-    names = EMBEDDING_ARRAYS + (["EmbeddingFallbackOffset"]
-                                if "EmbeddingFallbackOffset" in ref.point_data else [])
+    names = EMBEDDING_ARRAYS + (
+        ["EmbeddingFallbackOffset"] if "EmbeddingFallbackOffset" in ref.point_data else []
+    )
     for name in names:
         assert name in got.point_data, name
         assert bitwise(got.point_data[name], ref.point_data[name]), name
     assert sorted(got.point_data.keys()) == sorted(ref.point_data.keys())
     for name in ("EmbeddingMethod", "EmbeddingMeshFingerprint"):
         assert str(got.field_data[name][0]) == str(ref.field_data[name][0]), name
-    assert int(got.field_data["NumberOfFallbackPoints"][0]) == \
-        int(ref.field_data["NumberOfFallbackPoints"][0])
+    assert int(got.field_data["NumberOfFallbackPoints"][0]) == int(
+        ref.field_data["NumberOfFallbackPoints"][0]
+    )
     assert bitwise(got.points, surface.points)
     assert bitwise(got.faces, surface.faces)
     # something real was embedded: all ids valid, residuals at round-off
@@ -116,8 +130,7 @@ def test_transfer_bitwise(case):
             ref = read(case, f"transferred_{mode}_{k}.vtp")
             normals = mode == "recompute"
             for emb in (embedded_ref, embedded_pip):
-                got = hoembed.transfer(emb, deformed, normals=mode,
-                                       compute_point_normals=normals)
+                got = hoembed.transfer(emb, deformed, normals=mode, compute_point_normals=normals)
                 assert bitwise(got.points, ref.points), (mode, k)
                 assert sorted(got.point_data.keys()) == sorted(ref.point_data.keys())
                 if normals:
@@ -145,19 +158,22 @@ def test_rigid_motion_is_rigid():
 
 def test_thread_count_does_not_matter():
     case = sorted(CASES)[0]
-    code = ("import hoembed, pyvista, numpy as np, sys, os\n"
-            f"r = {os.path.join(REF, case)!r}\n"
-            "e = hoembed.embed(pyvista.read(r + '/surface.vtp'), pyvista.read(r + '/mesh.vtu'))\n"
-            "np.save(sys.argv[1], np.c_[e.point_data['EmbeddingParametricCoords'],"
-            " e.point_data['EmbeddingDistance']])\n"
-            "print(hoembed.number_of_threads())\n")
+    code = (
+        "import hoembed, pyvista, numpy as np, sys, os\n"
+        f"r = {os.path.join(REF, case)!r}\n"
+        "e = hoembed.embed(pyvista.read(r + '/surface.vtp'), pyvista.read(r + '/mesh.vtu'))\n"
+        "np.save(sys.argv[1], np.c_[e.point_data['EmbeddingParametricCoords'],"
+        " e.point_data['EmbeddingDistance']])\n"
+        "print(hoembed.number_of_threads())\n"
+    )
     ref = read(case, "embedded_normal-offset.vtp")
     want = np.c_[ref.point_data["EmbeddingParametricCoords"], ref.point_data["EmbeddingDistance"]]
     for threads in ("1", "3"):
         out = os.path.join(REF, f"threads_{threads}.npy")
         env = dict(os.environ, HOEMBED_NUM_THREADS=threads)
-        r = subprocess.run([sys.executable, "-c", code, out], env=env, capture_output=True,
-                           text=True, check=True)
+        r = subprocess.run(
+            [sys.executable, "-c", code, out], env=env, capture_output=True, text=True, check=True
+        )
         assert r.stdout.strip() == threads
         assert bitwise(np.load(out), want)
 
@@ -198,8 +214,6 @@ def test_the_wheel_has_every_function():
         assert callable(getattr(hoembed, name)) and name in hoembed.__all__
 
 
-
-
 STEPPER_RUNS = sorted((case, run) for case in CASES for run in CASES[case].get("stepper", {}))
 
 
@@ -208,16 +222,21 @@ def test_stepper_frames_bitwise(case, run):
     info = CASES[case]["stepper"][run]
     mesh = read(case, "stepper_mesh.vtu")
     seen = []
-    frames = hoembed.simulate(mesh, progress=lambda i, n: seen.append((i, n)),
-                              **resolve(info["kwargs"], mesh))
+    frames = hoembed.simulate(
+        mesh, progress=lambda i, n: seen.append((i, n)), **resolve(info["kwargs"], mesh)
+    )
     assert len(frames) == info["frames"]
     assert seen == [(i + 1, len(frames)) for i in range(len(frames))]
     refs = [read(case, f"stepper_{run}_{i}.vtu") for i in range(len(frames))]
     diag = np.linalg.norm(np.ptp(np.asarray(mesh.points, float), axis=0))
     attrs = ("point_data", "cell_data", "field_data")
-    scale = {(attr, name): max(float(np.abs(np.asarray(getattr(r, attr)[name], float)).max())
-                               for r in refs)
-             for attr in attrs for name in getattr(refs[0], attr).keys()}
+    scale = {
+        (attr, name): max(
+            float(np.abs(np.asarray(getattr(r, attr)[name], float)).max()) for r in refs
+        )
+        for attr in attrs
+        for name in getattr(refs[0], attr).keys()
+    }
     for i, (got, ref) in enumerate(zip(frames, refs)):
         assert same_frame_values(got.points, ref.points, diag), i
         for attr in attrs:
@@ -278,6 +297,7 @@ def test_simulate_signature_and_docstring_are_the_vtk_builds():
     with open(os.path.join(REF, "simulate_api.json")) as f:
         api = json.load(f)
     import inspect
+
     assert str(inspect.signature(hoembed.simulate)) == api["signature"]
     assert hoembed.simulate.__doc__ == api["doc"]
     assert "prescribed_speed_limit=0.0" in api["signature"]
@@ -300,7 +320,9 @@ def test_stepper_errors():
         hoembed.simulate(mesh, prescribed=grab)
     with pytest.raises(ValueError, match="prescribed displacement"):
         hoembed.simulate(mesh, prescribed=(grab, (0, np.nan, 1)))
-    with pytest.raises(ValueError, match="prescribed_speed_limit: PrescribedSpeedLimit must be >= 0"):
+    with pytest.raises(
+        ValueError, match="prescribed_speed_limit: PrescribedSpeedLimit must be >= 0"
+    ):
         hoembed.simulate(mesh, prescribed=(grab, (0, 0, 1)), prescribed_speed_limit=-1)
     cells = mesh.cell_connectivity.reshape(mesh.n_cells, -1).copy()
     cells[0, [0, 1]] = cells[0, [1, 0]]
@@ -308,6 +330,7 @@ def test_stepper_errors():
     with pytest.raises(hoembed.HOEmbedError, match="simulate: Rest cell 0 is inverted"):
         hoembed.simulate(inverted, steps=1)
     # the driver's own errors (its sentence, after the binding's name)
-    with pytest.raises(hoembed.HOEmbedError,
-                       match="simulate: StaticSolve failed: the static solve needs clamped"):
+    with pytest.raises(
+        hoembed.HOEmbedError, match="simulate: StaticSolve failed: the static solve needs clamped"
+    ):
         hoembed.simulate(mesh, static=True)

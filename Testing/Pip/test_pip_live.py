@@ -3,15 +3,15 @@ live_reference.py (points and the default, transformed, point normals) equals th
 build's (the same drivers: bit for bit in the test build whose stepper kernels are
 compiled as the VTK build's, HOEMBED_PIP_NATIVE=1; to round-off in the portable wheel),
 and the console script answers."""
+
 import os
 import shutil
 import subprocess
 import sys
 
+import live_reference
 import numpy as np
 import pytest
-
-import live_reference
 
 REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
 if not REF or not os.path.exists(os.path.join(REF, "live.npz")):

@@ -16,21 +16,23 @@ its mesh is not the VTK build's bit for bit. What must hold:
   QUALITY_TOLERANCE below, and why);
 - the same errors on bad input (the filter's sentence after "tet10_mesh: ").
 """
+
 import json
 import os
 import re
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista
 
-import hoembed
-
 REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
 MESHER = os.path.join(REF, "mesher")
 if not REF or not os.path.exists(os.path.join(MESHER, "mesher.json")):
-    pytest.skip("HOEMBED_PIP_REFERENCE (generate_reference.py output with mesher/) not given",
-                allow_module_level=True)
+    pytest.skip(
+        "HOEMBED_PIP_REFERENCE (generate_reference.py output with mesher/) not given",
+        allow_module_level=True,
+    )
 INFO = json.load(open(os.path.join(MESHER, "mesher.json")))
 CASES = INFO["cases"]
 
@@ -78,8 +80,7 @@ def sample_points():
     faces = [(1 / 3, 1 / 3, 0), (1 / 3, 0, 1 / 3), (0, 1 / 3, 1 / 3), (1 / 3, 1 / 3, 1 / 3)]
     rng = np.random.default_rng(3)
     u = rng.dirichlet(np.ones(4), 20)[:, 1:]
-    return [tuple(p) for p in corners + mids + faces + [(0.25, 0.25, 0.25)]] + \
-        [tuple(p) for p in u]
+    return [tuple(p) for p in corners + mids + faces + [(0.25, 0.25, 0.25)]] + [tuple(p) for p in u]
 
 
 def assert_valid(mesh):
@@ -89,11 +90,13 @@ def assert_valid(mesh):
         dets = tet10_jacobians(mesh.points, cells, sample_points())
     else:
         x = np.asarray(mesh.points, float)[cells]
-        dets = np.linalg.det(np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0],
-                                       x[:, 3] - x[:, 0]], axis=2))[:, None]
+        dets = np.linalg.det(
+            np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], x[:, 3] - x[:, 0]], axis=2)
+        )[:, None]
     assert np.all(dets > 0), f"{np.count_nonzero(np.any(dets <= 0, axis=1))} invalid cells"
     # and VTK's validator (the pip VTK's): no intersecting edges or faces, oriented right
     from vtkmodules.vtkFiltersGeneral import vtkCellValidator
+
     v = vtkCellValidator()
     v.SetInputData(mesh)
     v.Update()
@@ -105,8 +108,12 @@ def assert_valid(mesh):
     else:
         from vtkmodules.vtkCommonDataModel import vtkCellStatus as states_enum
     bad = 0
-    for name in ("IntersectingEdges", "IntersectingFaces", "FacesAreOrientedIncorrectly",
-                 "WrongNumberOfPoints"):
+    for name in (
+        "IntersectingEdges",
+        "IntersectingFaces",
+        "FacesAreOrientedIncorrectly",
+        "WrongNumberOfPoints",
+    ):
         bad |= int(getattr(states_enum, name))
     assert np.all((states & bad) == 0), np.flatnonzero(states & bad)[:10]
 
@@ -147,13 +154,23 @@ def test_mesh(case):
     seen = []
     mesh = hoembed.tet10_mesh(surface, progress=seen.append, **info["kwargs"])
     ref = pyvista.read(os.path.join(MESHER, case, "mesh.vtu"))
-    print(case, "wheel", mesh.n_cells, list(mesh.field_data["MinScaledJacobianQuantiles"][0]),
-          "VTK build", info["cells"], info["quantiles"])
+    print(
+        case,
+        "wheel",
+        mesh.n_cells,
+        list(mesh.field_data["MinScaledJacobianQuantiles"][0]),
+        "VTK build",
+        info["cells"],
+        info["quantiles"],
+    )
     # the same kind of output
     assert isinstance(mesh, pyvista.UnstructuredGrid)
     assert set(mesh.celltypes) == set(ref.celltypes)
-    for data, want in ((mesh.point_data, ref.point_data), (mesh.cell_data, ref.cell_data),
-                       (mesh.field_data, ref.field_data)):
+    for data, want in (
+        (mesh.point_data, ref.point_data),
+        (mesh.cell_data, ref.cell_data),
+        (mesh.field_data, ref.field_data),
+    ):
         assert sorted(data.keys()) == sorted(want.keys())
         for name in want.keys():
             assert data[name].dtype == want[name].dtype, name
@@ -198,6 +215,7 @@ def test_bad_input_errors(name):
 
 def test_same_signature_and_doc():
     import inspect
+
     assert str(inspect.signature(hoembed.tet10_mesh)) == INFO["signature"]
     assert inspect.getdoc(hoembed.tet10_mesh).startswith(INFO["doc"])
     assert "with a pip VTK it can differ" in inspect.getdoc(hoembed.tet10_mesh)
@@ -206,10 +224,12 @@ def test_same_signature_and_doc():
 def test_argument_errors():
     s = pyvista.Sphere()
     # a value's range and sentence are the mesher driver's
-    for kwargs, text in ((dict(n_elements=0), "n_elements: TargetNumberOfElements must be"),
-                         (dict(order=3), "order: ElementOrder must be"),
-                         (dict(edge_length=float("nan")), "edge_length: TargetEdgeLength must"),
-                         (dict(progress=3), "progress must be callable")):
+    for kwargs, text in (
+        (dict(n_elements=0), "n_elements: TargetNumberOfElements must be"),
+        (dict(order=3), "order: ElementOrder must be"),
+        (dict(edge_length=float("nan")), "edge_length: TargetEdgeLength must"),
+        (dict(progress=3), "progress must be callable"),
+    ):
         with pytest.raises(ValueError, match="tet10_mesh: " + text):
             hoembed.tet10_mesh(s, **kwargs)
     with pytest.raises(hoembed.HOEmbedError, match="surface must be a vtkPolyData"):

@@ -9,46 +9,56 @@ between VTK versions; the data may not). Then what the VTK build's own tests che
 pyvista.read opens it, a failure midway leaves an older series intact, a re-run replaces
 it whole, and bad calls fail with the VTK build's sentences.
 """
+
 import json
 import os
 import pathlib
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista
-from vtkmodules.util.numpy_support import vtk_to_numpy
-
-import hoembed
 import series_reference as sr
+from vtkmodules.util.numpy_support import vtk_to_numpy
 
 REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
 SERIES = os.path.join(REF, "series")
 if not REF or not os.path.exists(os.path.join(SERIES, "errors.json")):
-    pytest.skip("HOEMBED_PIP_REFERENCE (generate_reference.py output with series) not given",
-                allow_module_level=True)
+    pytest.skip(
+        "HOEMBED_PIP_REFERENCE (generate_reference.py output with series) not given",
+        allow_module_level=True,
+    )
 CASES = json.load(open(os.path.join(REF, "cases.json")))
 
 
 def bitwise(a, b):
     a, b = np.asarray(a), np.asarray(b)
-    return a.shape == b.shape and a.dtype == b.dtype and \
-        np.array_equal(a.view(np.uint8), b.view(np.uint8))
+    return (
+        a.shape == b.shape
+        and a.dtype == b.dtype
+        and np.array_equal(a.view(np.uint8), b.view(np.uint8))
+    )
 
 
 def snapshot(folder):
     folder = pathlib.Path(folder)
-    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
-            if p.is_file()}
+    return {
+        str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()
+    }
 
 
 def same_dataset(got, ref):
     assert type(got) is type(ref)
     assert bitwise(got.points, ref.points)
-    cells = (lambda d: d.GetCells()) if isinstance(ref, pyvista.UnstructuredGrid) else \
-        (lambda d: d.GetPolys())
+    cells = (
+        (lambda d: d.GetCells())
+        if isinstance(ref, pyvista.UnstructuredGrid)
+        else (lambda d: d.GetPolys())
+    )
     for part in ("GetOffsetsArray", "GetConnectivityArray"):
-        assert bitwise(vtk_to_numpy(getattr(cells(got), part)()),
-                       vtk_to_numpy(getattr(cells(ref), part)())), part
+        assert bitwise(
+            vtk_to_numpy(getattr(cells(got), part)()), vtk_to_numpy(getattr(cells(ref), part)())
+        ), part
     if isinstance(ref, pyvista.UnstructuredGrid):
         assert bitwise(got.celltypes, ref.celltypes)
     for attr in ("point_data", "cell_data", "field_data"):
@@ -60,10 +70,13 @@ def same_dataset(got, ref):
 
 def writer_settings(path):
     head = open(path, "rb").read(4000).decode("latin-1")
-    tag = head[head.index("<VTKFile"):].split(">", 1)[0]
+    tag = head[head.index("<VTKFile") :].split(">", 1)[0]
     compressor = [w for w in tag.split() if w.startswith("compressor=")]
-    return (compressor[0] if compressor else None, 'format="appended"' in head,
-            'format="ascii"' in head or 'format="binary"' in head)
+    return (
+        compressor[0] if compressor else None,
+        'format="appended"' in head,
+        'format="ascii"' in head or 'format="binary"' in head,
+    )
 
 
 def same_series(got_folder, ref_folder, name):
@@ -75,11 +88,15 @@ def same_series(got_folder, ref_folder, name):
     assert sorted(os.listdir(got_folder)) == [name, f"{name}.pvd"]  # no staging, no .part
     for f in ref_files:
         # the writers' settings (vtkTimeSeriesWriter's: appended data, zlib)
-        assert writer_settings(os.path.join(got_folder, name, f)) == \
-            writer_settings(os.path.join(ref_folder, name, f)) == \
-            ('compressor="vtkZLibDataCompressor"', True, False)
-        same_dataset(pyvista.read(os.path.join(got_folder, name, f)),
-                     pyvista.read(os.path.join(ref_folder, name, f)))
+        assert (
+            writer_settings(os.path.join(got_folder, name, f))
+            == writer_settings(os.path.join(ref_folder, name, f))
+            == ('compressor="vtkZLibDataCompressor"', True, False)
+        )
+        same_dataset(
+            pyvista.read(os.path.join(got_folder, name, f)),
+            pyvista.read(os.path.join(ref_folder, name, f)),
+        )
     # and as a collection: pyvista.read opens it, with the reference's times
     got, ref = pyvista.get_reader(got_pvd), pyvista.get_reader(ref_pvd)
     assert got.time_values == ref.time_values
@@ -88,14 +105,14 @@ def same_series(got_folder, ref_folder, name):
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
-@pytest.mark.parametrize("series", [sr.STEPPER_SERIES, sr.SURFACE_SERIES],
-                         ids=lambda s: s[0])
+@pytest.mark.parametrize("series", [sr.STEPPER_SERIES, sr.SURFACE_SERIES], ids=lambda s: s[0])
 def test_frames_series_equal_vtk_build(case, series, tmp_path):
     name, _, times = series
     frames = [pyvista.read(os.path.join(REF, case, f)) for f in sr.frame_files(CASES[case], series)]
     assert len(frames) >= 2
-    path = hoembed.write_series(frames, tmp_path, name,
-                                times=times[:len(frames)] if times else None)
+    path = hoembed.write_series(
+        frames, tmp_path, name, times=times[: len(frames)] if times else None
+    )
     assert path == os.path.join(str(tmp_path), f"{name}.pvd")
     assert same_series(tmp_path, os.path.join(SERIES, case), name) == len(frames)
 
@@ -133,8 +150,9 @@ def test_bad_frame_midway_keeps_old_series(tmp_path, fail_at):
     hoembed.write_series(frames, tmp_path, "s")
     before = snapshot(tmp_path)
     bad = frames[:fail_at] + [pyvista.ImageData(dimensions=(2, 2, 2))]
-    with pytest.raises(hoembed.HOEmbedError, match=f"Frame {fail_at}: unsupported data type "
-                       "vtkImageData"):
+    with pytest.raises(
+        hoembed.HOEmbedError, match=f"Frame {fail_at}: unsupported data type vtkImageData"
+    ):
         hoembed.write_series(bad, tmp_path, "s")
     assert snapshot(tmp_path) == before
     assert len(pyvista.get_reader(os.path.join(tmp_path, "s.pvd")).time_values) == 3
@@ -169,8 +187,9 @@ def test_errors_are_the_vtk_builds(key, tmp_path):
     got = str(info.value)
     # the VTK build's absolute paths were under its own folder: compare relative to it
     ref_folder = os.path.join(SERIES, "bad", key)
-    assert sr.sentence(got).replace(str(tmp_path), "<folder>") == \
-        sr.sentence(ref).replace(ref_folder, "<folder>")
+    assert sr.sentence(got).replace(str(tmp_path), "<folder>") == sr.sentence(ref).replace(
+        ref_folder, "<folder>"
+    )
     # nothing written besides what the case itself set up
     assert not [p for p in os.listdir(tmp_path) if p.endswith(".part") or "staging" in p]
     if key == "foreign_file":
@@ -179,7 +198,11 @@ def test_errors_are_the_vtk_builds(key, tmp_path):
 
 def test_docstring_and_signature_are_the_vtk_builds():
     import inspect
+
     from hoembed._checks import WRITE_SERIES_DOC
+
     assert hoembed.write_series.__doc__ == WRITE_SERIES_DOC
-    assert str(inspect.signature(hoembed.write_series)) == \
-        "(frames_or_algorithm, folder, name='series', times=None)"
+    assert (
+        str(inspect.signature(hoembed.write_series))
+        == "(frames_or_algorithm, folder, name='series', times=None)"
+    )

@@ -4,21 +4,23 @@ CheckSurface and FrameArraysUsed (the bindings only read the VTK objects), so ea
 case must fail with the VTK build's sentence, and each case whose odd arrays are not read
 (or are read as missing) must give the VTK build's output bit for bit.
 References: HOEMBED_PIP_REFERENCE/transfer_checks (transfer_checks_reference.py)."""
+
 import json
 import os
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista
-
-import hoembed
 import transfer_checks_reference as tc
 
 REF = os.environ.get("HOEMBED_PIP_REFERENCE", "")
 FOLDER = os.path.join(REF, "transfer_checks")
 if not REF or not os.path.exists(os.path.join(FOLDER, "errors.json")):
-    pytest.skip("HOEMBED_PIP_REFERENCE (generate_reference.py output with transfer_checks) "
-                "not given", allow_module_level=True)
+    pytest.skip(
+        "HOEMBED_PIP_REFERENCE (generate_reference.py output with transfer_checks) not given",
+        allow_module_level=True,
+    )
 ERRORS = json.load(open(os.path.join(FOLDER, "errors.json")))
 KEYS = sorted(tc.cases(pyvista, REF))
 

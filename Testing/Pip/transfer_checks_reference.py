@@ -7,6 +7,7 @@ broken case (transfer_checks/errors.json) and its output for the cases that must
 fail (arrays the plan or the frame does not read, or reads as missing:
 transfer_checks/<key>.vtp). test_pip_transfer_checks.py runs the same cases on the wheel.
 """
+
 import json
 import os
 
@@ -19,6 +20,7 @@ def add_point_array(ds, name, values):
     """Replace the point array `name` with `values`, whatever its length (pyvista
     refuses an array of the wrong length; VTK keeps it)."""
     from vtkmodules.util.numpy_support import numpy_to_vtk
+
     ds.GetPointData().RemoveArray(name)
     a = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float64), deep=True)
     a.SetName(name)
@@ -47,11 +49,13 @@ def cases(pv, ref):
         def fn(s):
             s.GetFieldData().RemoveArray(name)
             s.field_data[name] = np.array([value])
+
         return fn
 
     def set_point(name, values):
         def fn(s):
             add_point_array(s, name, values(s.n_points))
+
         return fn
 
     def mesh_arrays(**arrays):
@@ -62,38 +66,78 @@ def cases(pv, ref):
 
     out = {
         "no_method": (edit(surface(), drop_field("EmbeddingMethod")), mesh(), "recompute"),
-        "unknown_method": (edit(surface(), set_field("EmbeddingMethod", "offset")), mesh(),
-                           "recompute"),
-        "no_fingerprint": (edit(surface(), drop_field("EmbeddingMeshFingerprint")), mesh(),
-                           "recompute"),
-        "other_mesh": (surface(), pv.read(os.path.join(ref, "tail_tet4", "deformed_1.vtu")),
-                       "recompute"),
+        "unknown_method": (
+            edit(surface(), set_field("EmbeddingMethod", "offset")),
+            mesh(),
+            "recompute",
+        ),
+        "no_fingerprint": (
+            edit(surface(), drop_field("EmbeddingMeshFingerprint")),
+            mesh(),
+            "recompute",
+        ),
+        "other_mesh": (
+            surface(),
+            pv.read(os.path.join(ref, "tail_tet4", "deformed_1.vtu")),
+            "recompute",
+        ),
         "empty_mesh": (surface(), pv.UnstructuredGrid(), "recompute"),
-        "no_cell_ids": (edit(surface(), lambda s: s.point_data.remove("EmbeddingCellId")),
-                        mesh(), "recompute"),
-        "pcoords_2": (edit(surface(), set_point("EmbeddingParametricCoords",
-                                                lambda n: np.zeros((n, 2)))), mesh(), "recompute"),
-        "distance_short": (edit(surface(), set_point("EmbeddingDistance",
-                                                     lambda n: np.zeros(n - 1))), mesh(),
-                           "recompute"),
-        "face_3": (edit(surface(), set_point("EmbeddingFace", lambda n: np.zeros((n, 3)))),
-                   mesh(), "recompute"),
-        "fallback_1": (edit(surface(), set_point("EmbeddingFallbackOffset",
-                                                 lambda n: np.zeros(n))), mesh(), "recompute"),
-        "several": (edit(edit(surface(), lambda s: s.point_data.remove("EmbeddingCellId")),
-                         set_point("EmbeddingFace", lambda n: np.zeros((n, 2)))), mesh(),
-                    "recompute"),
+        "no_cell_ids": (
+            edit(surface(), lambda s: s.point_data.remove("EmbeddingCellId")),
+            mesh(),
+            "recompute",
+        ),
+        "pcoords_2": (
+            edit(surface(), set_point("EmbeddingParametricCoords", lambda n: np.zeros((n, 2)))),
+            mesh(),
+            "recompute",
+        ),
+        "distance_short": (
+            edit(surface(), set_point("EmbeddingDistance", lambda n: np.zeros(n - 1))),
+            mesh(),
+            "recompute",
+        ),
+        "face_3": (
+            edit(surface(), set_point("EmbeddingFace", lambda n: np.zeros((n, 3)))),
+            mesh(),
+            "recompute",
+        ),
+        "fallback_1": (
+            edit(surface(), set_point("EmbeddingFallbackOffset", lambda n: np.zeros(n))),
+            mesh(),
+            "recompute",
+        ),
+        "several": (
+            edit(
+                edit(surface(), lambda s: s.point_data.remove("EmbeddingCellId")),
+                set_point("EmbeddingFace", lambda n: np.zeros((n, 2))),
+            ),
+            mesh(),
+            "recompute",
+        ),
         # not read, so not checked: a barycentric embedding's distance and fallback offsets
         "barycentric_bad_distance": (
-            edit(edit(surface("barycentric"), set_point("EmbeddingDistance",
-                                                        lambda n: np.zeros((n, 2)))),
-                 set_point("EmbeddingFallbackOffset", lambda n: np.zeros(n))),
-            mesh(), "recompute"),
+            edit(
+                edit(
+                    surface("barycentric"),
+                    set_point("EmbeddingDistance", lambda n: np.zeros((n, 2))),
+                ),
+                set_point("EmbeddingFallbackOffset", lambda n: np.zeros(n)),
+            ),
+            mesh(),
+            "recompute",
+        ),
         # the deformed mesh's arrays of a wrong shape are missing (rotate/deform fall back)
-        "rotate_bad_rotations": (surface(), mesh_arrays(NodalRotation=lambda n: np.zeros((n, 4))),
-                                 "rotate"),
-        "deform_bad_displacement": (surface(), mesh_arrays(Displacement=lambda n: np.zeros((n, 2))),
-                                    "deform"),
+        "rotate_bad_rotations": (
+            surface(),
+            mesh_arrays(NodalRotation=lambda n: np.zeros((n, 4))),
+            "rotate",
+        ),
+        "deform_bad_displacement": (
+            surface(),
+            mesh_arrays(Displacement=lambda n: np.zeros((n, 2))),
+            "deform",
+        ),
     }
     return out
 
@@ -105,14 +149,15 @@ def sentence(message):
     if message.startswith("vtkDeformationTransferFilter (") and "): " in message:
         return message.split("): ", 1)[1]
     if message.startswith("transfer: "):
-        return message[len("transfer: "):]
+        return message[len("transfer: ") :]
     return message
 
 
 def write(outdir):
-    import pyvista as pv
-    import hoembed
     import filter_routes  # the filter's checks are the reference (generate_reference.py)
+    import hoembed
+    import pyvista as pv
+
     if not os.path.exists(os.path.join(outdir, CASE)):
         return
     folder = os.path.join(outdir, "transfer_checks")
@@ -127,5 +172,7 @@ def write(outdir):
             out.save(os.path.join(folder, f"{key}.vtp"))
     with open(os.path.join(folder, "errors.json"), "w") as f:
         json.dump(errors, f, indent=1)
-    print(f"[reference] transfer checks: {len(errors)} errors, "
-          f"{len(cases(pv, outdir)) - len(errors)} outputs")
+    print(
+        f"[reference] transfer checks: {len(errors)} errors, "
+        f"{len(cases(pv, outdir)) - len(errors)} outputs"
+    )

@@ -2,6 +2,7 @@
 every boundary tri6 face is subdivided with VTK's own vtkQuadraticTriangle shape
 functions, and VTK's vtkCollisionDetectionFilter (OBB trees) finds the touching pairs of
 sub-triangles; pairs of faces that share a corner node are legitimate contacts."""
+
 import numpy as np
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkQuadraticTriangle
@@ -23,7 +24,7 @@ def boundary_faces6(grid):
 
 def _subdivision(level):
     """Parametric points and sub-triangles of a uniform split into 4**level pieces."""
-    n = 2 ** level
+    n = 2**level
     idx, pts = {}, []
     for j in range(n + 1):
         for i in range(n + 1 - j):
@@ -60,8 +61,12 @@ def crossing_face_pairs(grid, level=3):
     col.SetBoxTolerance(0.0)
     col.SetCellTolerance(0.0)
     col.Update()
-    a = np.array([col.GetContactCells(0).GetValue(i) for i in range(col.GetNumberOfContacts())], int)
-    b = np.array([col.GetContactCells(1).GetValue(i) for i in range(col.GetNumberOfContacts())], int)
+    a = np.array(
+        [col.GetContactCells(0).GetValue(i) for i in range(col.GetNumberOfContacts())], int
+    )
+    b = np.array(
+        [col.GetContactCells(1).GetValue(i) for i in range(col.GetNumberOfContacts())], int
+    )
     fa, fb = parent[a], parent[b]
     out = set()
     for x, y in zip(fa, fb):

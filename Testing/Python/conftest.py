@@ -1,4 +1,5 @@
 """Shared pytest fixtures: the real-mesh folder and small generated meshes."""
+
 import itertools
 import os
 import pathlib
@@ -24,8 +25,9 @@ def box_tet_mesh(n=(4, 2, 2), size=(4.0, 1.0, 1.0), order=2, mapping=None):
     VTK_TETRA (order 1) or VTK_QUADRATIC_TETRA (order 2). ``mapping(points) -> points``
     moves all nodes afterwards (e.g. to curve the mesh)."""
     nx, ny, nz = n
-    g = np.stack(np.meshgrid(*[np.linspace(0, s, k + 1) for s, k in zip(size, n)],
-                             indexing="ij"), axis=-1)
+    g = np.stack(
+        np.meshgrid(*[np.linspace(0, s, k + 1) for s, k in zip(size, n)], indexing="ij"), axis=-1
+    )
     pts = [tuple(p) for p in g.transpose(2, 1, 0, 3).reshape(-1, 3)]
 
     def gid(i, j, k):
@@ -60,8 +62,12 @@ def box_tet_mesh(n=(4, 2, 2), size=(4.0, 1.0, 1.0), order=2, mapping=None):
     if mapping is not None:
         points = np.asarray(mapping(points), dtype=float)
     ctype = pv.CellType.QUADRATIC_TETRA if order == 2 else pv.CellType.TETRA
-    return pv.UnstructuredGrid(np.hstack(cells).astype(np.int64),
-                               np.full(len(cells), ctype, dtype=np.uint8), points, deep=True)
+    return pv.UnstructuredGrid(
+        np.hstack(cells).astype(np.int64),
+        np.full(len(cells), ctype, dtype=np.uint8),
+        points,
+        deep=True,
+    )
 
 
 @pytest.fixture

@@ -7,23 +7,47 @@ The package's functions run the compiled drivers through hoembed._hoembed; the f
 the same drivers from C++. This file only sets the filters' properties from the functions'
 arguments (checked by the same hoembed._checks functions) and runs them: no rule here.
 """
+
+import hoembed
 import numpy as np
 import pyvista
+from hoembed._checks import (
+    embed_arguments,
+    mesh_arguments,
+    point_normals_argument,
+    simulate_arguments,
+    simulate_clamps,
+    simulate_frames,
+    simulate_prescribed,
+    simulate_vector,
+    transfer_arguments,
+)
+from hoembed._errors import HOEmbedError, run_filter
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-import hoembed
-from hoembed._checks import (embed_arguments, mesh_arguments, point_normals_argument,
-                             simulate_arguments,
-                             simulate_clamps, simulate_frames, simulate_prescribed,
-                             simulate_vector, transfer_arguments)
-from hoembed._errors import HOEmbedError, run_filter
 
-
-def tet10_mesh(surface, n_elements=1000, edge_length=0.0, order=2, curve_boundary=True,
-               radius_edge_ratio=1.5, min_dihedral_angle=10.0, quality_target=0.2):
-    options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                             radius_edge_ratio, min_dihedral_angle, None, quality_target)
+def tet10_mesh(
+    surface,
+    n_elements=1000,
+    edge_length=0.0,
+    order=2,
+    curve_boundary=True,
+    radius_edge_ratio=1.5,
+    min_dihedral_angle=10.0,
+    quality_target=0.2,
+):
+    options = mesh_arguments(
+        surface,
+        n_elements,
+        edge_length,
+        order,
+        curve_boundary,
+        radius_edge_ratio,
+        min_dihedral_angle,
+        None,
+        quality_target,
+    )
     alg = hoembed.vtkTet10Mesher()
     alg.SetInputData(surface)
     for name, value in options.items():
@@ -41,8 +65,9 @@ def embed(surface, fe_mesh, method="normal-offset", n_partitions=0, warnings=Non
     return pyvista.wrap(run_filter(alg, warnings=warnings)).copy()
 
 
-def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False,
-             warnings=None):
+def transfer(
+    embedded_surface, deformed_mesh, normals="recompute", compute_point_normals=False, warnings=None
+):
     mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
     alg = hoembed.vtkDeformationTransferFilter()
     alg.SetInputData(0, embedded_surface)
@@ -55,19 +80,48 @@ def transfer(embedded_surface, deformed_mesh, normals="recompute", compute_point
     return pyvista.wrap(run_filter(alg, warnings=warnings)).copy()
 
 
-def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=1000.0,
-             gravity=(0.0, 0.0, -9.81), fixed=None, rayleigh_mass=0.1,
-             rayleigh_stiffness=0.01, external_force=None, initial_displacement=None,
-             initial_velocity=None, lumped_mass=False, static=False, every=1,
-             solver_tolerance=1e-4, prescribed=None, prescribed_speed_limit=0.0):
-    a = simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity,
-                           rayleigh_mass, rayleigh_stiffness, every, solver_tolerance, None)
+def simulate(
+    fe_mesh,
+    steps=100,
+    dt=0.01,
+    young=1.0e5,
+    poisson=0.49,
+    density=1000.0,
+    gravity=(0.0, 0.0, -9.81),
+    fixed=None,
+    rayleigh_mass=0.1,
+    rayleigh_stiffness=0.01,
+    external_force=None,
+    initial_displacement=None,
+    initial_velocity=None,
+    lumped_mass=False,
+    static=False,
+    every=1,
+    solver_tolerance=1e-4,
+    prescribed=None,
+    prescribed_speed_limit=0.0,
+):
+    a = simulate_arguments(
+        fe_mesh,
+        steps,
+        dt,
+        young,
+        poisson,
+        density,
+        gravity,
+        rayleigh_mass,
+        rayleigh_stiffness,
+        every,
+        solver_tolerance,
+        None,
+    )
     steps, dt, every = a["steps"], a["dt"], a["every"]
     mesh = pyvista.wrap(fe_mesh).copy(deep=False)
     alg = hoembed.vtkCorotationalFEMStepper()
     mask, targets, speed = simulate_prescribed(prescribed, prescribed_speed_limit, mesh.n_points)
-    if mask is not None and not alg.SetPrescribedMotion(numpy_to_vtk(mask, deep=True),
-                                                        numpy_to_vtk(targets, deep=True)):
+    if mask is not None and not alg.SetPrescribedMotion(
+        numpy_to_vtk(mask, deep=True), numpy_to_vtk(targets, deep=True)
+    ):
         raise HOEmbedError("vtkCorotationalFEMStepper refused the prescribed motion")
     alg.SetPrescribedSpeedLimit(speed)
     clamps = simulate_clamps(fixed, mesh.n_points)
@@ -83,11 +137,11 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
     if clamps["mask"] is not None:
         mesh.point_data["Fixed"] = clamps["mask"]
         alg.SetFixedArrayName("Fixed")
-    for value, name, setter in ((external_force, "ExternalForce", alg.SetExternalForceArrayName),
-                                (initial_displacement, "InitialDisplacement",
-                                 alg.SetInitialDisplacementArrayName),
-                                (initial_velocity, "InitialVelocity",
-                                 alg.SetInitialVelocityArrayName)):
+    for value, name, setter in (
+        (external_force, "ExternalForce", alg.SetExternalForceArrayName),
+        (initial_displacement, "InitialDisplacement", alg.SetInitialDisplacementArrayName),
+        (initial_velocity, "InitialVelocity", alg.SetInitialVelocityArrayName),
+    ):
         if value is not None:
             mesh.point_data[name] = simulate_vector(mesh.n_points, value, name)
             setter(name)
@@ -106,8 +160,7 @@ def simulate(fe_mesh, steps=100, dt=0.01, young=1.0e5, poisson=0.49, density=100
     frames = []
     for k in simulate_frames(steps, every, static):
         alg.UpdateInformation()
-        alg.GetOutputInformation(0).Set(vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(),
-                                        k * dt)
+        alg.GetOutputInformation(0).Set(vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(), k * dt)
         out = pyvista.wrap(run_filter(alg)).copy()
         out.field_data["TimeValue"] = np.array([0.0 if static else k * dt])
         for name in ("ExternalForce", "InitialDisplacement", "InitialVelocity"):

@@ -1,13 +1,13 @@
 """Independent checks of a tet10/tet4 mesh against its fine surface (VTK + numpy only)."""
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 from vtkmodules.vtkCommonCore import reference
 from vtkmodules.vtkCommonDataModel import vtkCellLocator, vtkGenericCell
-from vtkmodules.vtkFiltersGeneral import vtkCellValidator
 from vtkmodules.vtkFiltersCore import vtkMassProperties, vtkTriangleFilter
+from vtkmodules.vtkFiltersGeneral import vtkCellValidator
 
 EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
 FACES = [(0, 1, 3), (1, 2, 3), (2, 0, 3), (0, 2, 1)]
@@ -122,6 +122,7 @@ def vtk_cell_validator_states(grid):
 def straight_scaled_jacobian(grid):
     """vtkMeshQuality's scaled Jacobian of every cell's straight tet (its 4 corners)."""
     from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
+
     straight = pv.UnstructuredGrid({pv.CellType.TETRA: cells(grid)[:, :4]}, grid.points)
     mq = vtkMeshQuality()
     mq.SetInputData(straight)

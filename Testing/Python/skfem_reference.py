@@ -1,10 +1,22 @@
 """scikit-fem as the independent reference of the stepper's tests: its P1/P2 vector bases
 on a VTK tet4/tet10 mesh, with the map VTK point -> its 3 DOFs built from skfem's vertex
 and edge numbering (not from coordinates). Import after pytest.importorskip("skfem")."""
+
 import numpy as np
 import pyvista as pv
-from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, LinearForm
-from skfem import MeshTet, MeshTet2, asm, condense, solve
+from skfem import (
+    Basis,
+    BilinearForm,
+    ElementTetP1,
+    ElementTetP2,
+    ElementVector,
+    LinearForm,
+    MeshTet,
+    MeshTet2,
+    asm,
+    condense,
+    solve,
+)
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
@@ -32,18 +44,25 @@ def vector_basis(mesh, order, quadrature=None):
         assert (vtk_mid >= 0).all()
         sk2 = MeshTet2(np.hstack([pts[:nv].T, pts[vtk_mid].T]), cells[:, :4].T.copy())
         assert np.array_equal(sk2.edges, sk.edges)
-        basis = (Basis(sk2, ElementVector(ElementTetP2()), intorder=8) if quadrature is None
-                 else Basis(sk2, ElementVector(ElementTetP2()), quadrature=quadrature))
+        basis = (
+            Basis(sk2, ElementVector(ElementTetP2()), intorder=8)
+            if quadrature is None
+            else Basis(sk2, ElementVector(ElementTetP2()), quadrature=quadrature)
+        )
         dofs[vtk_mid] = basis.edge_dofs.T
     else:
-        basis = (Basis(sk, ElementVector(ElementTetP1())) if quadrature is None
-                 else Basis(sk, ElementVector(ElementTetP1()), quadrature=quadrature))
+        basis = (
+            Basis(sk, ElementVector(ElementTetP1()))
+            if quadrature is None
+            else Basis(sk, ElementVector(ElementTetP1()), quadrature=quadrature)
+        )
     dofs[:nv] = basis.nodal_dofs.T
     return basis, dofs
 
 
 def elasticity(basis, E, nu, rho, g=(0.0, 0.0, 0.0)):
     """(K, M, f): small-strain stiffness, consistent mass and body force rho * g."""
+
     @BilinearForm
     def mass(u, v, w):
         return rho * dot(u, v)
@@ -63,6 +82,7 @@ def tip_pull(E, nu):
     Dirichlet values (scikit-fem's condense with x), which the co-rotated equilibrium
     equals for so small a displacement."""
     from conftest import box_tet_mesh
+
     mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
     pts = np.asarray(mesh.points)
     clamp = pts[:, 0] <= 1e-9
@@ -83,10 +103,13 @@ def tip_pull(E, nu):
 # their complex-step derivative, the tangent a central difference of that stress; only
 # Newton's convergence rate depends on the tangent, not the solution). F: (3, 3, ...).
 
+
 def _det(F):
-    return (F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
-            - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])
-            + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]))
+    return (
+        F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
+        - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])
+        + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0])
+    )
 
 
 def energy_density(material, E, nu, c10=0.0, c01=0.0):
@@ -100,7 +123,7 @@ def energy_density(material, E, nu, c10=0.0, c01=0.0):
         C = np.einsum("ki...,kj...->ij...", F, F)
         Eg = 0.5 * (C - np.eye(3).reshape((3, 3) + (1,) * (F.ndim - 2)))
         trE = Eg[0, 0] + Eg[1, 1] + Eg[2, 2]
-        return mu * np.einsum("ij...,ij...->...", Eg, Eg) + 0.5 * lam * trE ** 2
+        return mu * np.einsum("ij...,ij...->...", Eg, Eg) + 0.5 * lam * trE**2
 
     def neo_hookean(F):
         m, lm = 4.0 / 3.0 * mu, lam + 5.0 / 6.0 * mu
@@ -113,10 +136,13 @@ def energy_density(material, E, nu, c10=0.0, c01=0.0):
         kappa = E / (3.0 * (1.0 - 2.0 * nu))
         C = np.einsum("ki...,kj...->ij...", F, F)
         I1 = np.einsum("ij...,ij...->...", F, F)
-        I2 = 0.5 * (I1 ** 2 - np.einsum("ij...,ij...->...", C, C))
+        I2 = 0.5 * (I1**2 - np.einsum("ij...,ij...->...", C, C))
         J = _det(F)
-        return (a * (J ** (-2.0 / 3.0) * I1 - 3.0) + b * (J ** (-4.0 / 3.0) * I2 - 3.0)
-                + 0.5 * kappa * (J - 1.0) ** 2)
+        return (
+            a * (J ** (-2.0 / 3.0) * I1 - 3.0)
+            + b * (J ** (-4.0 / 3.0) * I2 - 3.0)
+            + 0.5 * kappa * (J - 1.0) ** 2
+        )
 
     return {"stvk": stvk, "neo-hookean": neo_hookean, "mooney-rivlin": mooney_rivlin}[material]
 
@@ -165,8 +191,9 @@ def hyperelastic_dynamic(mesh, order, material, E, nu, rho, g, held, dt, steps, 
     M (u - u_n - dt v_n) / dt^2 + f_int(u) = f (consistent mass, body force rho * g) by
     Newton, v = (u - u_n) / dt, the `held` points at rest. Returns the displacement per
     VTK point after each step."""
-    from skfem import LinearForm, BilinearForm
-    from skfem.helpers import grad, ddot
+    from skfem import BilinearForm, LinearForm
+    from skfem.helpers import ddot, grad
+
     basis, dofs = vector_basis(mesh, order, conical_rule(3 if order == 2 else 1))
     psi = energy_density(material, E, nu)
 
@@ -186,8 +213,8 @@ def hyperelastic_dynamic(mesh, order, material, E, nu, rho, g, held, dt, steps, 
         un = u.copy()
         for it in range(60):
             F = np.asarray(np.eye(3)[:, :, None, None] + grad(basis.interpolate(u)))
-            r = M @ (u - un - dt * v) / dt ** 2 + asm(internal, basis, P=_stress(psi, F)) - f
-            K = M / dt ** 2 + asm(stiffness, basis, A=_tangent(psi, F))
+            r = M @ (u - un - dt * v) / dt**2 + asm(internal, basis, P=_stress(psi, F)) - f
+            K = M / dt**2 + asm(stiffness, basis, A=_tangent(psi, F))
             du = solve(*condense(K, -r, D=D))
             u += du
             if np.abs(du).max() <= tol * max(np.abs(u - un).max(), 1e-300):
@@ -199,14 +226,14 @@ def hyperelastic_dynamic(mesh, order, material, E, nu, rho, g, held, dt, steps, 
     return out
 
 
-def hyperelastic_static(mesh, order, material, E, nu, rho, g, held, targets, loads=8,
-                        tol=1e-12):
+def hyperelastic_static(mesh, order, material, E, nu, rho, g, held, targets, loads=8, tol=1e-12):
     """Static equilibrium of `material` by scikit-fem: P`order` on `mesh`, body force
     rho * g, the points `held` (mask) put on their displacements `targets` (n, 3), by
     Newton's method over `loads` equal load increments. Returns the displacement per VTK
     point."""
-    from skfem import LinearForm, BilinearForm
-    from skfem.helpers import grad, ddot
+    from skfem import BilinearForm, LinearForm
+    from skfem.helpers import ddot, grad
+
     basis, dofs = vector_basis(mesh, order, conical_rule(3 if order == 2 else 1))
     psi = energy_density(material, E, nu)
 

@@ -1,22 +1,34 @@
 """The hoembed command line: a small end-to-end run and clear errors for bad input."""
+
 import json
 import subprocess
 import sys
 
 import pyvista as pv
-import pytest
 
 
 def run_cli(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "hoembed", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "hoembed", *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=600,
+    )
 
 
 def test_help_explains_options():
     out = run_cli("run", "--help")
     assert out.returncode == 0
-    for opt in ("--elements", "--young", "--poisson", "--clamp-axis", "--steps", "--output",
-                "--normals"):
+    for opt in (
+        "--elements",
+        "--young",
+        "--poisson",
+        "--clamp-axis",
+        "--steps",
+        "--output",
+        "--normals",
+    ):
         assert opt in out.stdout
 
 
@@ -39,8 +51,17 @@ def test_bad_option_values(tmp_path):
     pv.Sphere().save(s)
     out = run_cli("run", str(s), "--steps", "0", "--output", str(tmp_path / "o"))
     assert out.returncode == 2 and "--steps must be positive" in out.stderr
-    out = run_cli("run", str(s), "--poisson", "0.5", "--steps", "2", "--no-tet4",
-                  "--output", str(tmp_path / "o"))
+    out = run_cli(
+        "run",
+        str(s),
+        "--poisson",
+        "0.5",
+        "--steps",
+        "2",
+        "--no-tet4",
+        "--output",
+        str(tmp_path / "o"),
+    )
     assert out.returncode == 2 and "--poisson" in out.stderr
     assert not (tmp_path / "o").exists()  # checked before anything is written
 
@@ -57,8 +78,21 @@ def test_small_run_writes_series(tmp_path):
     s = tmp_path / "sphere.vtp"
     pv.Sphere(radius=1.0, theta_resolution=60, phi_resolution=60).save(s)
     outdir = tmp_path / "out"
-    out = run_cli("run", str(s), "--elements", "200", "--steps", "3", "--clamp-axis", "z",
-                  "--no-tet4", "--normals", "deform", "--output", str(outdir))
+    out = run_cli(
+        "run",
+        str(s),
+        "--elements",
+        "200",
+        "--steps",
+        "3",
+        "--clamp-axis",
+        "z",
+        "--no-tet4",
+        "--normals",
+        "deform",
+        "--output",
+        str(outdir),
+    )
     assert out.returncode == 0, out.stderr
     summary = json.loads((outdir / "summary.json").read_text())
     assert summary["frames"] == 4
@@ -77,12 +111,40 @@ def test_run_material(tmp_path):
     s = tmp_path / "sphere.vtp"
     pv.Sphere(radius=1.0, theta_resolution=30, phi_resolution=30).save(s)
     outdir = tmp_path / "out"
-    out = run_cli("run", str(s), "--elements", "200", "--steps", "2", "--clamp-axis", "z",
-                  "--no-tet4", "--material", "neo-hookean", "--output", str(outdir))
+    out = run_cli(
+        "run",
+        str(s),
+        "--elements",
+        "200",
+        "--steps",
+        "2",
+        "--clamp-axis",
+        "z",
+        "--no-tet4",
+        "--material",
+        "neo-hookean",
+        "--output",
+        str(outdir),
+    )
     assert out.returncode == 0, out.stderr
     assert json.loads((outdir / "summary.json").read_text())["frames"] == 3
-    bad = run_cli("run", str(s), "--elements", "200", "--steps", "2", "--clamp-axis", "z",
-                  "--no-tet4", "--material", "rubber", "--output", str(tmp_path / "bad"))
+    bad = run_cli(
+        "run",
+        str(s),
+        "--elements",
+        "200",
+        "--steps",
+        "2",
+        "--clamp-axis",
+        "z",
+        "--no-tet4",
+        "--material",
+        "rubber",
+        "--output",
+        str(tmp_path / "bad"),
+    )
     assert bad.returncode != 0
-    assert "Material 'rubber' is not one of corotated, stvk, neo-hookean, mooney-rivlin" in \
-        bad.stderr + bad.stdout
+    assert (
+        "Material 'rubber' is not one of corotated, stvk, neo-hookean, mooney-rivlin"
+        in bad.stderr + bad.stdout
+    )

@@ -2,6 +2,7 @@
 storing triangle strips (VTK's PLY reader drops the 'tristrips' element) and glTF .glb
 files (pyvista gives a multiblock). The files are written here from generated surfaces;
 the reference is the generated surface itself (its triangles, area and volume)."""
+
 import json
 import struct
 import subprocess
@@ -10,15 +11,17 @@ import sys
 import numpy as np
 import pytest
 import pyvista as pv
+from hoembed.cli import UsageError, _read_surface
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkStripper
 
-from hoembed.cli import UsageError, _read_surface
-
 
 def torus():
-    return pv.ParametricTorus(ringradius=1.0, crosssectionradius=0.4, u_res=40, v_res=24,
-                              w_res=2).clean().triangulate()
+    return (
+        pv.ParametricTorus(ringradius=1.0, crosssectionradius=0.4, u_res=40, v_res=24, w_res=2)
+        .clean()
+        .triangulate()
+    )
 
 
 def strips_of(surface):
@@ -43,15 +46,17 @@ def write_strip_ply(path, surface, binary, corrupt=None):
     if corrupt == "id":
         ids[5] = len(points) + 7
     fmt = "binary_little_endian" if binary else "ascii"
-    head = (f"ply\nformat {fmt} 1.0\ncomment strips written by test_cli_readers\n"
-            f"element vertex {len(points)}\nproperty float x\nproperty float y\n"
-            f"property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
-            "end_header\n")
+    head = (
+        f"ply\nformat {fmt} 1.0\ncomment strips written by test_cli_readers\n"
+        f"element vertex {len(points)}\nproperty float x\nproperty float y\n"
+        f"property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+        "end_header\n"
+    )
     with open(path, "wb") as fh:
         fh.write(head.encode())
         if binary:
             body = points.astype("<f4").tobytes() + np.array([len(ids)] + ids, "<i4").tobytes()
-            fh.write(body[:len(body) // 2] if corrupt == "truncate" else body)
+            fh.write(body[: len(body) // 2] if corrupt == "truncate" else body)
         else:
             for p in points.astype(np.float32):
                 fh.write(f"{p[0]!r} {p[1]!r} {p[2]!r}\n".encode())
@@ -67,23 +72,46 @@ def write_glb(path, parts):
         i = np.ascontiguousarray(tris, dtype="<u4").ravel().tobytes()
         for data, kind in ((p, "VEC3"), (i, "SCALAR")):
             views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
-            acc = {"bufferView": len(views) - 1, "componentType": 5126 if kind == "VEC3" else 5125,
-                   "count": len(data) // (12 if kind == "VEC3" else 4), "type": kind}
+            acc = {
+                "bufferView": len(views) - 1,
+                "componentType": 5126 if kind == "VEC3" else 5125,
+                "count": len(data) // (12 if kind == "VEC3" else 4),
+                "type": kind,
+            }
             if kind == "VEC3":
                 acc["min"] = np.min(points, 0).tolist()
                 acc["max"] = np.max(points, 0).tolist()
             accessors.append(acc)
             blob += data + b"\0" * (-len(data) % 4)
-        meshes.append({"primitives": [{"attributes": {"POSITION": len(accessors) - 2},
-                                       "indices": len(accessors) - 1, "mode": 4}]})
-    gltf = {"asset": {"version": "2.0"}, "scene": 0,
-            "scenes": [{"nodes": list(range(len(parts)))}],
-            "nodes": [{"mesh": k} for k in range(len(parts))], "meshes": meshes,
-            "buffers": [{"byteLength": len(blob)}], "bufferViews": views, "accessors": accessors}
+        meshes.append(
+            {
+                "primitives": [
+                    {
+                        "attributes": {"POSITION": len(accessors) - 2},
+                        "indices": len(accessors) - 1,
+                        "mode": 4,
+                    }
+                ]
+            }
+        )
+    gltf = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": list(range(len(parts)))}],
+        "nodes": [{"mesh": k} for k in range(len(parts))],
+        "meshes": meshes,
+        "buffers": [{"byteLength": len(blob)}],
+        "bufferViews": views,
+        "accessors": accessors,
+    }
     js = json.dumps(gltf).encode()
     js += b" " * (-len(js) % 4)
-    body = struct.pack("<II", len(js), 0x4E4F534A) + js + \
-        struct.pack("<II", len(blob), 0x004E4942) + blob
+    body = (
+        struct.pack("<II", len(js), 0x4E4F534A)
+        + js
+        + struct.pack("<II", len(blob), 0x004E4942)
+        + blob
+    )
     with open(path, "wb") as fh:
         fh.write(struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body)
 
@@ -140,9 +168,25 @@ def test_run_on_strip_ply_and_glb(tmp_path):
     write_strip_ply(files[0], surface, True)
     write_glb(files[1], [(surface.points, surface.faces.reshape(-1, 4)[:, 1:])])
     for f in files:
-        out = subprocess.run([sys.executable, "-m", "hoembed", "run", str(f), "--elements", "150",
-                              "--steps", "2", "--no-tet4", "--output", str(tmp_path / f.suffix[1:])],
-                             capture_output=True, text=True, timeout=600)
+        out = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "hoembed",
+                "run",
+                str(f),
+                "--elements",
+                "150",
+                "--steps",
+                "2",
+                "--no-tet4",
+                "--output",
+                str(tmp_path / f.suffix[1:]),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
         assert out.returncode == 0, out.stderr
         summary = json.loads((tmp_path / f.suffix[1:] / "summary.json").read_text())
         assert summary["frames"] == 3

@@ -4,25 +4,34 @@ References nobody here wrote: vtkCellLocator::FindClosestPoint on tet4 meshes (e
 linear cells), vtkQuadraticTetra / vtkTetra interpolation (EvaluateLocation) for the
 reconstruction, VTK's XML writer and reader for the save/load round trip.
 """
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
+from conftest import box_tet_mesh
+from mesh_checks import distances_to_surface
+from voxel_tet_mesh import linear_copy, voxel_tet_mesh
 from vtkmodules.vtkCommonCore import reference
 
-import hoembed
-from mesh_checks import distances_to_surface
-from conftest import box_tet_mesh
-from voxel_tet_mesh import linear_copy, voxel_tet_mesh
-
-ARRAYS = ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance",
-          "EmbeddingResidual", "EmbeddingFace", "EmbeddingIterations",
-          "EmbeddingElementsVisited"]
+ARRAYS = [
+    "EmbeddingCellId",
+    "EmbeddingParametricCoords",
+    "EmbeddingDistance",
+    "EmbeddingResidual",
+    "EmbeddingFace",
+    "EmbeddingIterations",
+    "EmbeddingElementsVisited",
+]
 
 
 def _curve(p):
     x, y, z = p[:, 0], p[:, 1], p[:, 2]
-    return np.c_[x + 0.05 * np.sin(np.pi * y), y + 0.12 * np.sin(0.5 * np.pi * x),
-                 z + 0.08 * np.cos(np.pi * x) * y]
+    return np.c_[
+        x + 0.05 * np.sin(np.pi * y),
+        y + 0.12 * np.sin(0.5 * np.pi * x),
+        z + 0.08 * np.cos(np.pi * x) * y,
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -39,8 +48,7 @@ def surface():
     a = pv.Sphere(radius=1.0, theta_resolution=40, phi_resolution=30)
     a = a.scale([1.15, 0.52, 0.5], inplace=False).translate([1.0, 0.55, 0.5], inplace=False)
     b = pv.Sphere(radius=0.3, center=(1.0, 0.5, 0.5), theta_resolution=12, phi_resolution=10)
-    c = pv.Sphere(radius=2.0, center=(40.0, -25.0, 10.0), theta_resolution=10,
-                  phi_resolution=8)
+    c = pv.Sphere(radius=2.0, center=(40.0, -25.0, 10.0), theta_resolution=10, phi_resolution=8)
     s = (a + b + c).clean(tolerance=0.0)
     lone = np.array([[0.5, 0.5, 0.5], [-0.8, 0.3, 0.2], [5.0, 5.0, 5.0]])
     pts = np.vstack([s.points, lone])
@@ -76,10 +84,10 @@ def inside_linear_tets(grid4, points, chunk=256):
     pts = np.asarray(points, dtype=float)
     out = np.zeros(len(pts), dtype=bool)
     for b in range(0, len(pts), chunk):
-        p = pts[b:b + chunk]
+        p = pts[b : b + chunk]
         lam = np.einsum("nij,mnj->mni", Ainv, p[:, None, :] - X[None, :, 0, :])
         low = np.minimum(1.0 - lam.sum(axis=2), lam.min(axis=2))
-        out[b:b + chunk] = (low >= -1e-12).any(axis=1)
+        out[b : b + chunk] = (low >= -1e-12).any(axis=1)
     return out
 
 
@@ -156,12 +164,15 @@ def test_barycentric(meshes, surface, which):
 
 def test_matches_between_runs_and_threads(meshes, surface):
     from vtkmodules.vtkCommonCore import vtkSMPTools
+
     vtkSMPTools.Initialize(1)
     a = hoembed.embed(surface, meshes[0], n_partitions=1)
     vtkSMPTools.Initialize(2)
     b = hoembed.embed(surface, meshes[0], n_partitions=7)
     diag = meshes[0].length
-    assert np.abs(a["EmbeddingClosestDistance"] - b["EmbeddingClosestDistance"]).max() <= 1e-12 * diag
+    assert (
+        np.abs(a["EmbeddingClosestDistance"] - b["EmbeddingClosestDistance"]).max() <= 1e-12 * diag
+    )
 
 
 def test_filter_reused_across_inputs(meshes, surface):
@@ -170,14 +181,22 @@ def test_filter_reused_across_inputs(meshes, surface):
     filter each time."""
     from hoembed import vtkEmbeddingCoordinatesFilter
     from hoembed._errors import run_filter
+
     m10, m4 = meshes
     small = pv.Sphere(radius=0.4, center=(1.0, 0.5, 0.5), theta_resolution=9, phi_resolution=7)
     nan_mesh = m10.copy()
     nan_mesh.points[3] = [np.nan, 0, 0]
     # the same mesh 100 times larger: the same counts, other per-cell data
     big, big_surface = m10.scale(100.0, inplace=False), surface.scale(100.0, inplace=False)
-    runs = [(big_surface, big, 0), (surface, m10, 0), (small, m4, 0), (surface, nan_mesh, 0),
-            (surface, m4, 1), (small, m10, 0), (surface, m10, 1)]
+    runs = [
+        (big_surface, big, 0),
+        (surface, m10, 0),
+        (small, m4, 0),
+        (surface, nan_mesh, 0),
+        (surface, m4, 1),
+        (small, m10, 0),
+        (surface, m10, 1),
+    ]
     alg = vtkEmbeddingCoordinatesFilter()
     compared = 0
     for surf, mesh, method in runs:
@@ -268,8 +287,10 @@ def test_real_mesh(data_dir, name):
     # d = 0 and its closest point as p
     fb = np.asarray(sub["EmbeddingFallback"]) != 0
     assert np.abs(gap - d)[~fb].max() <= 1e-10 * g10.length
-    assert np.abs(gap - np.asarray(sub["EmbeddingClosestDistance"]))[fb].max(initial=0.0) \
+    assert (
+        np.abs(gap - np.asarray(sub["EmbeddingClosestDistance"]))[fb].max(initial=0.0)
         <= 1e-8 * g10.length
+    )
 
 
 def test_voxel_mesh_bunny(data_dir):
@@ -308,14 +329,17 @@ def test_inexact_embedding_is_reported():
     reconstruction (by VTK's interpolation, not ours) misses them by more than 1e-6 of the
     mesh's diagonal are counted in a warning; exact embeddings warn nothing."""
     import warnings
+
     tail = hoembed.thorny_tail(rings=60, sectors=24)
     tet10 = hoembed.tet10_mesh(tail, n_elements=150)
     tet4 = hoembed.tet10_mesh(tail, n_elements=150, order=1)
     shifted = tail.copy()
     shifted.points = shifted.points + np.array([0.3 * tet10.length, 0.0, 0.0])
-    for mesh, method, surface, expect in ((tet10, "barycentric", shifted, True),
-                                          (tet10, "normal-offset", shifted, False),
-                                          (tet4, "barycentric", shifted, False)):
+    for mesh, method, surface, expect in (
+        (tet10, "barycentric", shifted, True),
+        (tet10, "normal-offset", shifted, False),
+        (tet4, "barycentric", shifted, False),
+    ):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             emb = hoembed.embed(surface, mesh, method=method)

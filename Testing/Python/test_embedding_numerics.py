@@ -6,16 +6,15 @@ point, so a filter whose every test is relative to the mesh size must give the s
 VTK's own vtkQuadraticTetra interpolation for the closest point, and affine maps of the
 FE mesh, under which the fallback's p' + F (v - p) is exactly the same affine map of v.
 """
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
+from conftest import box_tet_mesh
 from hoembed._errors import run_filter
 from hoembed.hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter
 from vtkmodules.vtkCommonCore import reference
-
-from conftest import box_tet_mesh
 
 EXACT = ["EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingFace", "EmbeddingFallback"]
 LENGTHS = ["EmbeddingDistance", "EmbeddingResidual", "EmbeddingClosestDistance"]
@@ -23,8 +22,11 @@ LENGTHS = ["EmbeddingDistance", "EmbeddingResidual", "EmbeddingClosestDistance"]
 
 def _curve(p):
     x, y, z = p[:, 0], p[:, 1], p[:, 2]
-    return np.c_[x + 0.05 * np.sin(np.pi * y), y + 0.12 * np.sin(0.5 * np.pi * x),
-                 z + 0.08 * np.cos(np.pi * x) * y]
+    return np.c_[
+        x + 0.05 * np.sin(np.pi * y),
+        y + 0.12 * np.sin(0.5 * np.pi * x),
+        z + 0.08 * np.cos(np.pi * x) * y,
+    ]
 
 
 def reconstruct(grid, out):
@@ -78,7 +80,7 @@ def test_power_of_two_scales_give_the_same_bits(beam, surface, k, variant):
     """2^-30 ~ 1e-9 ... 2^30 ~ 1e9: every relative result identical to scale 1 (before
     the fix, from 2^-15 down, 2134 of bunny_lowres's 3485 vertices changed and had
     residuals up to 1.3% of the diagonal)."""
-    s = 2.0 ** k
+    s = 2.0**k
     method = vtkEmbeddingCoordinatesFilter.NORMAL_OFFSET
     if variant == "tet4":
         beam = box_tet_mesh((4, 2, 2), (2.0, 1.0, 1.0), 1, _curve)
@@ -177,13 +179,17 @@ def test_fallback_transfer_follows_affine_maps(far, normals):
     th = 0.7
     rot = np.array([[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1]])
     shear = np.array([[1.0, 0.3, 0.0], [0.0, 1.1, 0.2], [0.1, 0.0, 0.9]])
-    for A, b in [(np.eye(3), np.zeros(3)), (rot, np.array([3.0, -2.0, 1.0])),
-                 (shear, np.array([0.5, 0.0, -1.0]))]:
+    for A, b in [
+        (np.eye(3), np.zeros(3)),
+        (rot, np.array([3.0, -2.0, 1.0])),
+        (shear, np.array([0.5, 0.0, -1.0])),
+    ]:
         moved = beam.copy()
         moved.points = beam.points @ A.T + b
         moved["Displacement"] = moved.points - beam.points
-        moved["NodalRotation"] = np.tile(rot.ravel() if A is rot else np.eye(3).ravel(),
-                                         (beam.n_points, 1))
+        moved["NodalRotation"] = np.tile(
+            rot.ravel() if A is rot else np.eye(3).ravel(), (beam.n_points, 1)
+        )
         t = hoembed.transfer(out, moved, normals=normals)
         err = np.linalg.norm(t.points[fb] - (v[fb] @ A.T + b), axis=1)
         assert err.max() <= 1e-14 * scale

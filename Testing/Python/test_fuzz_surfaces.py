@@ -13,6 +13,7 @@ A signal (crash), a hang, another exception, a NaN or an invalid element fails. 
 run in a worker process that reports each one before starting it, so a crash names its
 case.
 """
+
 import json
 import os
 import signal
@@ -20,7 +21,6 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
 
 N_CASES = int(os.environ.get("HOEMBED_FUZZ_CASES", "400"))
 
@@ -28,20 +28,42 @@ N_CASES = int(os.environ.get("HOEMBED_FUZZ_CASES", "400"))
 # failed on (seed: why). Remove an entry when its fix lands; a failure of any other seed
 # fails the test. None at present.
 KNOWN = {}
-DAMAGES = ("jitter", "spikes", "holes", "flips", "duplicate", "collapse", "overlap",
-           "tiny", "huge", "nan", "shuffle", "dent")
+DAMAGES = (
+    "jitter",
+    "spikes",
+    "holes",
+    "flips",
+    "duplicate",
+    "collapse",
+    "overlap",
+    "tiny",
+    "huge",
+    "nan",
+    "shuffle",
+    "dent",
+)
 
 
 def _base(rng):
     import pyvista as pv
+
     kind = rng.integers(3)
     if kind == 0:
-        s = pv.Sphere(theta_resolution=int(rng.integers(12, 40)),
-                      phi_resolution=int(rng.integers(12, 40)))
+        s = pv.Sphere(
+            theta_resolution=int(rng.integers(12, 40)), phi_resolution=int(rng.integers(12, 40))
+        )
     elif kind == 1:
-        s = pv.ParametricTorus(ringradius=1.0, crosssectionradius=0.35,
-                               u_res=int(rng.integers(20, 40)), v_res=int(rng.integers(12, 24)),
-                               w_res=0).triangulate().clean()
+        s = (
+            pv.ParametricTorus(
+                ringradius=1.0,
+                crosssectionradius=0.35,
+                u_res=int(rng.integers(20, 40)),
+                v_res=int(rng.integers(12, 24)),
+                w_res=0,
+            )
+            .triangulate()
+            .clean()
+        )
     else:
         s = pv.Box(level=int(rng.integers(2, 6)), quads=False).clean()
     return s.triangulate().clean()
@@ -50,6 +72,7 @@ def _base(rng):
 def damaged_surface(seed):
     """A closed surface with one or two kinds of damage, chosen by the seed."""
     import pyvista as pv
+
     rng = np.random.default_rng(seed)
     s = _base(rng)
     pts = np.array(s.points, dtype=float)
@@ -101,22 +124,37 @@ def _jacobian_dets(mesh):
     """det J of every tet10 at its 10 nodes and centroid, from VTK's shape-function
     derivatives (vtkQuadraticTetra.InterpolationDerivs)."""
     from vtkmodules.vtkCommonDataModel import vtkQuadraticTetra
-    params = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [.5, 0, 0], [.5, .5, 0],
-                       [0, .5, 0], [0, 0, .5], [.5, 0, .5], [0, .5, .5], [.25, .25, .25]])
+
+    params = np.array(
+        [
+            [0, 0, 0],
+            [1, 0, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [0.5, 0, 0],
+            [0.5, 0.5, 0],
+            [0, 0.5, 0],
+            [0, 0, 0.5],
+            [0.5, 0, 0.5],
+            [0, 0.5, 0.5],
+            [0.25, 0.25, 0.25],
+        ]
+    )
     dn = np.empty((len(params), 3, 10))
     for k, pc in enumerate(params):
         d = [0.0] * 30
         vtkQuadraticTetra.InterpolationDerivs(list(pc), d)
         dn[k] = np.array(d).reshape(3, 10)
     conn = mesh.cells.reshape(-1, 11)[:, 1:]
-    x = mesh.points[conn]                       # (cells, 10, 3)
-    jac = np.einsum("kaj,cjd->ckad", dn, x)     # (cells, points, 3 params, 3 coords)
+    x = mesh.points[conn]  # (cells, 10, 3)
+    jac = np.einsum("kaj,cjd->ckad", dn, x)  # (cells, points, 3 params, 3 coords)
     return np.linalg.det(jac)
 
 
 def _vtk_invalid_cells(mesh):
-    from vtkmodules.vtkFiltersGeneral import vtkCellValidator
     from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkFiltersGeneral import vtkCellValidator
+
     # vtkCellValidator's intersection tests use absolute tolerances: at the "tiny" scale
     # (diagonal 1e-6) it flags valid straight cells. Validity is scale-invariant, so the
     # mesh is checked scaled to a unit diagonal.
@@ -128,8 +166,12 @@ def _vtk_invalid_cells(mesh):
     v.Update()
     state = vtk_to_numpy(v.GetOutput().GetCellData().GetArray("ValidityState"))
     bad = 0
-    for name in ("IntersectingEdges", "IntersectingFaces", "FacesAreOrientedIncorrectly",
-                 "WrongNumberOfPoints"):
+    for name in (
+        "IntersectingEdges",
+        "IntersectingFaces",
+        "FacesAreOrientedIncorrectly",
+        "WrongNumberOfPoints",
+    ):
         bad |= int(getattr(vtkCellValidator, name))
     return int(np.count_nonzero(state & bad))
 
@@ -139,6 +181,7 @@ def run_case(seed):
     failed check."""
     import hoembed
     from hoembed._errors import run_filter
+
     surface, kinds = damaged_surface(seed)
     rec = dict(seed=seed, damage=kinds)
     try:
@@ -162,6 +205,7 @@ def run_case(seed):
         rec.update(outcome="error", stage="embed", message=str(err)[:200])
         return rec
     import pyvista as pv
+
     out = pv.wrap(out)
     cell = np.asarray(out.point_data["EmbeddingCellId"])
     assert cell.shape[0] == surface.n_points
@@ -171,10 +215,15 @@ def run_case(seed):
     residual = np.asarray(out.point_data["EmbeddingResidual"])
     diag = surface.length
     unflagged_ok = bool(warnings) or emb.GetNumberOfUncertifiedPoints() > 0
-    rec.update(outcome="ok", cells=int(mesh.n_cells), max_residual=float(residual.max() / diag),
-               flagged=unflagged_ok)
-    assert residual.max() <= 1e-10 * diag or unflagged_ok, \
+    rec.update(
+        outcome="ok",
+        cells=int(mesh.n_cells),
+        max_residual=float(residual.max() / diag),
+        flagged=unflagged_ok,
+    )
+    assert residual.max() <= 1e-10 * diag or unflagged_ok, (
         f"residual {residual.max() / diag:.3g} of the diagonal, not flagged"
+    )
     return rec
 
 
@@ -193,13 +242,19 @@ def _worker(first, count):
 
 def test_damaged_surfaces():
     here = os.path.dirname(os.path.abspath(__file__))
-    code = ("import sys; sys.path.insert(0, sys.argv[1]); import test_fuzz_surfaces as t; "
-            "t._worker(int(sys.argv[2]), int(sys.argv[3]))")
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]); import test_fuzz_surfaces as t; "
+        "t._worker(int(sys.argv[2]), int(sys.argv[3]))"
+    )
     results, next_seed = [], 1000
     while next_seed < 1000 + N_CASES:
-        r = subprocess.run([sys.executable, "-c", code, here, str(next_seed),
-                            str(1000 + N_CASES - next_seed)],
-                           capture_output=True, encoding="utf-8", errors="replace", timeout=1800)
+        r = subprocess.run(
+            [sys.executable, "-c", code, here, str(next_seed), str(1000 + N_CASES - next_seed)],
+            capture_output=True,
+            encoding="utf-8",
+            errors="replace",
+            timeout=1800,
+        )
         started = None
         for line in r.stdout.splitlines():
             if not line.startswith("{"):
@@ -211,10 +266,14 @@ def test_damaged_surfaces():
                 results.append(rec)
                 started = None
         if r.returncode != 0:
-            how = (signal.Signals(-r.returncode).name if r.returncode < 0
-                   else f"exit {r.returncode}")
-            results.append(dict(seed=started, outcome="failed",
-                                message=f"worker died ({how}): {r.stderr[-2000:]}"))
+            how = signal.Signals(-r.returncode).name if r.returncode < 0 else f"exit {r.returncode}"
+            results.append(
+                dict(
+                    seed=started,
+                    outcome="failed",
+                    message=f"worker died ({how}): {r.stderr[-2000:]}",
+                )
+            )
             next_seed = (started if started is not None else next_seed) + 1
         else:
             next_seed = 1000 + N_CASES
@@ -224,9 +283,17 @@ def test_damaged_surfaces():
     failed = [r for r in results if r["outcome"] == "failed"]
     ok = [r for r in results if r["outcome"] == "ok"]
     known = [r for r in results if r["outcome"] == "known"]
-    print(json.dumps(dict(cases=len(results), ok=len(ok), known=len(known),
-                          errors=len(results) - len(ok) - len(failed) - len(known),
-                          failed=len(failed))))
+    print(
+        json.dumps(
+            dict(
+                cases=len(results),
+                ok=len(ok),
+                known=len(known),
+                errors=len(results) - len(ok) - len(failed) - len(known),
+                failed=len(failed),
+            )
+        )
+    )
     for r in results:
         print(json.dumps(r))
     assert not failed, "\n".join(json.dumps(r) for r in failed)

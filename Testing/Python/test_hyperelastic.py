@@ -2,12 +2,11 @@
 scikit-fem's P1/P2 static solves of the same energies (skfem_reference.py): same mesh,
 same space, same quadrature rule, same load; a cantilever under gravity at large
 deflection and a block compressed by 30%."""
-import numpy as np
-import pytest
-
-import pyvista as pv
 
 import hoembed
+import numpy as np
+import pytest
+import pyvista as pv
 from conftest import box_tet_mesh
 
 skfem = pytest.importorskip("skfem")
@@ -34,11 +33,19 @@ def test_cantilever_gravity_matches_skfem(material, order):
     # tip deflection ~ 30% of the length (linear theory: 0.38 g for this beam)
     E, nu, rho, g = 1e6, 0.3, 1000.0, (0.0, 0.0, -3.0)
     mesh, clamp = cantilever(order)
-    ref = hyperelastic_static(mesh, order, material, E, nu, rho, g, clamp,
-                              np.zeros((mesh.n_points, 3)))
-    u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
-                         fixed=clamp.astype(np.uint8), static=True,
-                         material=material)[0].point_data["Displacement"]
+    ref = hyperelastic_static(
+        mesh, order, material, E, nu, rho, g, clamp, np.zeros((mesh.n_points, 3))
+    )
+    u = hoembed.simulate(
+        mesh,
+        young=E,
+        poisson=nu,
+        density=rho,
+        gravity=g,
+        fixed=clamp.astype(np.uint8),
+        static=True,
+        material=material,
+    )[0].point_data["Displacement"]
     # large: tet10 bends ~30% of the length; the locking tet4 less than a third of that
     assert np.abs(ref[:, 2]).max() > (1.0 if order == 2 else 0.25)
     rel = np.linalg.norm(u - ref) / np.linalg.norm(ref)
@@ -54,9 +61,16 @@ def test_block_compression_matches_skfem(material, order):
     t[top, 2] = -0.3
     held = bottom | top
     ref = hyperelastic_static(mesh, order, material, E, nu, 1000.0, (0.0, 0.0, 0.0), held, t)
-    u = hoembed.simulate(mesh, young=E, poisson=nu, gravity=(0, 0, 0),
-                         fixed=bottom.astype(np.uint8), static=True, material=material,
-                         prescribed=(top, t))[0].point_data["Displacement"]
+    u = hoembed.simulate(
+        mesh,
+        young=E,
+        poisson=nu,
+        gravity=(0, 0, 0),
+        fixed=bottom.astype(np.uint8),
+        static=True,
+        material=material,
+        prescribed=(top, t),
+    )[0].point_data["Displacement"]
     assert np.abs(ref[~held]).max() > 0.01  # it bulges
     rel = np.linalg.norm(u - ref) / np.linalg.norm(ref)
     assert rel < 1e-6, rel
@@ -69,9 +83,19 @@ def test_dynamic_steps_match_skfem_backward_euler(material):
     E, nu, rho, g, dt = 1e6, 0.3, 1000.0, (0.0, 0.0, -3.0), 0.1
     mesh, clamp = cantilever(2)
     ref = hyperelastic_dynamic(mesh, 2, material, E, nu, rho, g, clamp, dt, 8)
-    frames = hoembed.simulate(mesh, steps=8, dt=dt, young=E, poisson=nu, density=rho,
-                              gravity=g, fixed=clamp.astype(np.uint8), rayleigh_mass=0.0,
-                              rayleigh_stiffness=0.0, material=material)
+    frames = hoembed.simulate(
+        mesh,
+        steps=8,
+        dt=dt,
+        young=E,
+        poisson=nu,
+        density=rho,
+        gravity=g,
+        fixed=clamp.astype(np.uint8),
+        rayleigh_mass=0.0,
+        rayleigh_stiffness=0.0,
+        material=material,
+    )
     assert np.abs(ref[-1][:, 2]).max() > 0.5
     for k in range(8):
         u = frames[k + 1].point_data["Displacement"]
@@ -85,14 +109,22 @@ def test_small_load_is_linear_elasticity(material):
     # elasticity with E, nu (scikit-fem's P2 linear solve)
     from skfem import condense, solve
     from skfem_reference import elasticity, vector_basis
+
     E, nu, rho, g = 1e13, 0.45, 1000.0, (0.0, -3.0, -9.81)
     mesh, clamp = cantilever(2)
     basis, dofs = vector_basis(mesh, 2)
     K, _, f = elasticity(basis, E, nu, rho, g)
     ref = solve(*condense(K, f, D=dofs[clamp].ravel()))[dofs]
-    u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
-                         fixed=clamp.astype(np.uint8), static=True,
-                         material=material)[0].point_data["Displacement"]
+    u = hoembed.simulate(
+        mesh,
+        young=E,
+        poisson=nu,
+        density=rho,
+        gravity=g,
+        fixed=clamp.astype(np.uint8),
+        static=True,
+        material=material,
+    )[0].point_data["Displacement"]
     rel = np.linalg.norm(u - ref) / np.linalg.norm(ref)
     assert rel < 1e-6, rel
 
@@ -103,12 +135,16 @@ def test_material_property_and_errors():
     s.SetMaterial("neo-hookean")
     assert s.GetMaterial() == 2 and s.GetMaterialAsString() == "neo-hookean"
     mesh, clamp = cantilever(2)
-    with pytest.raises(hoembed.HOEmbedError, match="Material 'rubber' is not one of "
-                       "corotated, stvk, neo-hookean, mooney-rivlin"):
+    with pytest.raises(
+        hoembed.HOEmbedError,
+        match="Material 'rubber' is not one of corotated, stvk, neo-hookean, mooney-rivlin",
+    ):
         hoembed.simulate(mesh, steps=1, material="rubber")
-    for kwargs, needle in ((dict(mooney_rivlin=(-1.0, 0.0)), "MooneyRivlinC10"),
-                           (dict(newton_tolerance=0.0), "NewtonTolerance"),
-                           (dict(max_newton_iterations=0), "MaxNewtonIterations")):
+    for kwargs, needle in (
+        (dict(mooney_rivlin=(-1.0, 0.0)), "MooneyRivlinC10"),
+        (dict(newton_tolerance=0.0), "NewtonTolerance"),
+        (dict(max_newton_iterations=0), "MaxNewtonIterations"),
+    ):
         with pytest.raises(hoembed.HOEmbedError, match=needle):
             hoembed.simulate(mesh, steps=1, material="stvk", **kwargs)
     # an unknown name in the filter: refused at the update, with the driver's sentence
@@ -127,8 +163,11 @@ def _energy(grid):
 def _min_corner_volume(grid):
     c = grid.cells_dict[pv.CellType.QUADRATIC_TETRA][:, :4]
     p = grid.points
-    return np.einsum("ij,ij->i", np.cross(p[c[:, 1]] - p[c[:, 0]], p[c[:, 2]] - p[c[:, 0]]),
-                     p[c[:, 3]] - p[c[:, 0]]).min()
+    return np.einsum(
+        "ij,ij->i",
+        np.cross(p[c[:, 1]] - p[c[:, 0]], p[c[:, 2]] - p[c[:, 0]]),
+        p[c[:, 3]] - p[c[:, 0]],
+    ).min()
 
 
 def test_neo_hookean_violent_drag():
@@ -140,6 +179,7 @@ def test_neo_hookean_violent_drag():
     # lets an element pass through inversion under inertia, and brings it back: seen, a
     # corner tet inverted in a few frames while the beam swings)
     from vtkmodules.util.numpy_support import numpy_to_vtk
+
     mesh = box_tet_mesh((8, 2, 2), (4.0, 1.0, 1.0), 2)
     pts = np.asarray(mesh.points)
     grab = np.linalg.norm(pts - [4.0, 0.5, 1.0], axis=1) <= 0.3
@@ -158,8 +198,10 @@ def test_neo_hookean_violent_drag():
         s.SetMaterial("neo-hookean")
         for k, v in props.items():
             getattr(s, "Set" + k)(v)
-        assert s.SetPrescribedMotion(numpy_to_vtk(grab.astype(np.uint8), deep=True),
-                                     numpy_to_vtk(np.ascontiguousarray(t), deep=True))
+        assert s.SetPrescribedMotion(
+            numpy_to_vtk(grab.astype(np.uint8), deep=True),
+            numpy_to_vtk(np.ascontiguousarray(t), deep=True),
+        )
         return s
 
     eq = stepper(StaticSolve=True)
@@ -186,6 +228,12 @@ def test_neo_hookean_violent_drag():
         assert np.all(np.isfinite(o.points))
     assert max(released) <= 1.01 * released[0]
     assert released[-1] < 0.3 * released[0]
-    print("frames with an inverted corner tet:", sum(inverted), "of", len(inverted),
-          "max energy / static:", max(driven) / static)
+    print(
+        "frames with an inverted corner tet:",
+        sum(inverted),
+        "of",
+        len(inverted),
+        "max energy / static:",
+        max(driven) / static,
+    )
     assert not inverted[-1]

@@ -1,16 +1,17 @@
 """The live app (hoembed.live) driven headless under Xvfb: synthetic mouse events through
 VTK's interactor (pick, drag, release), keys, the loop's frames, a screenshot."""
+
 import os
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 from hoembed.live import LiveApp, LiveSession, prepare
 
-pytestmark = pytest.mark.skipif(not os.environ.get("DISPLAY"),
-                                reason="needs an X display (make test runs under Xvfb)")
+pytestmark = pytest.mark.skipif(
+    not os.environ.get("DISPLAY"), reason="needs an X display (make test runs under Xvfb)"
+)
 
 
 @pytest.fixture(scope="module")
@@ -89,8 +90,12 @@ def test_drag_moves_surface_and_screenshot(small_model, tmp_path):
 
 
 def test_press_off_surface_turns_camera_and_keys(small_model):
-    app, iren = make_app(small_model, baseline=lambda: LiveSession(
-        *prepare(small_model[0], n_elements=300, progress=False, order=1)[1:3]))
+    app, iren = make_app(
+        small_model,
+        baseline=lambda: LiveSession(
+            *prepare(small_model[0], n_elements=300, progress=False, order=1)[1:3]
+        ),
+    )
     s = app.session
     camera = np.array(app.pl.camera.position)
     mouse(iren, "LeftButtonPressEvent", 2, 2)  # a corner: background
@@ -118,6 +123,7 @@ def test_press_off_surface_turns_camera_and_keys(small_model):
 
 def test_live_function_and_cli(small_model, tmp_path, capsys):
     from hoembed.cli import main
+
     pl = pv.Plotter(window_size=(320, 240))
     app = hoembed.live(small_model[0], n_elements=300, plotter=pl, run=False)
     assert isinstance(app, LiveApp) and app.session.kind == "tet10"

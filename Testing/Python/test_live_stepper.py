@@ -1,13 +1,13 @@
 """vtkCorotationalFEMStepper driven while it runs (LiveMode): prescribed motion of chosen
 nodes and forces changed between steps, against scikit-fem, the stepper's own static
 solve, an offline restart from the same state, and energy bounds under a violent drag."""
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-from vtkmodules.util.numpy_support import numpy_to_vtk
-
-import hoembed
 from conftest import box_tet_mesh
+from vtkmodules.util.numpy_support import numpy_to_vtk
 
 skfem = pytest.importorskip("skfem")
 from skfem_reference import elasticity, tip_pull, vector_basis  # noqa: E402
@@ -35,8 +35,10 @@ def live_stepper(mesh, **props):
 
 
 def prescribe(stepper, mask, targets):
-    assert stepper.SetPrescribedMotion(numpy_to_vtk(mask.astype(np.uint8), deep=True),
-                                       numpy_to_vtk(np.ascontiguousarray(targets), deep=True))
+    assert stepper.SetPrescribedMotion(
+        numpy_to_vtk(mask.astype(np.uint8), deep=True),
+        numpy_to_vtk(np.ascontiguousarray(targets), deep=True),
+    )
 
 
 def output(stepper):
@@ -48,6 +50,7 @@ def test_moving_targets_reached_and_match_linear_backward_euler():
     # the linear backward Euler step with moving Dirichlet values, solved here by
     # scikit-fem + scipy on the full system (free rows: A_ff dv_f = b_f - A_fc dv_c)
     from scipy.sparse.linalg import spsolve
+
     E, nu, rho, dt, a, b, steps = 1e12, 0.3, 1000.0, 0.01, 0.1, 0.01, 6
     mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
     pts = np.asarray(mesh.points)
@@ -61,8 +64,16 @@ def test_moving_targets_reached_and_match_linear_backward_euler():
         t[tip, 1] = -2e-7 * k * k * pts[tip, 2]
         return t
 
-    s = live_stepper(mesh, YoungModulus=E, PoissonRatio=nu, Density=rho, TimeStep=dt,
-                     RayleighMass=a, RayleighStiffness=b, SolverTolerance=1e-13)
+    s = live_stepper(
+        mesh,
+        YoungModulus=E,
+        PoissonRatio=nu,
+        Density=rho,
+        TimeStep=dt,
+        RayleighMass=a,
+        RayleighStiffness=b,
+        SolverTolerance=1e-13,
+    )
     n = K.shape[0]
     held = np.zeros(n, bool)
     held[dofs[clamp].ravel()] = True
@@ -164,16 +175,31 @@ def test_load_change_continues_from_state():
     ref_mesh.point_data["u0"] = mid.point_data["Displacement"]
     ref_mesh.point_data["v0"] = mid.point_data["Velocity"]
     ref_mesh.point_data["f"] = f2
-    frames = hoembed.simulate(ref_mesh, steps=15, dt=0.01, young=1e5, gravity=(0, 0, 0),
-                              fixed={"plane": ((0, 0, 0), (1, 0, 0))},
-                              external_force=f2, initial_displacement=ref_mesh["u0"],
-                              initial_velocity=ref_mesh["v0"], solver_tolerance=1e-13)
+    frames = hoembed.simulate(
+        ref_mesh,
+        steps=15,
+        dt=0.01,
+        young=1e5,
+        gravity=(0, 0, 0),
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+        external_force=f2,
+        initial_displacement=ref_mesh["u0"],
+        initial_velocity=ref_mesh["v0"],
+        solver_tolerance=1e-13,
+    )
     ref = frames[-1].point_data["Displacement"]
     assert np.linalg.norm(got - ref) / np.linalg.norm(ref) < 1e-8
     # and differs from a run that had f2 from the start (no restart happened)
-    fresh = hoembed.simulate(mesh, steps=35, dt=0.01, young=1e5, gravity=(0, 0, 0),
-                             fixed={"plane": ((0, 0, 0), (1, 0, 0))}, external_force=f2,
-                             solver_tolerance=1e-13)[-1].point_data["Displacement"]
+    fresh = hoembed.simulate(
+        mesh,
+        steps=35,
+        dt=0.01,
+        young=1e5,
+        gravity=(0, 0, 0),
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+        external_force=f2,
+        solver_tolerance=1e-13,
+    )[-1].point_data["Displacement"]
     assert np.linalg.norm(got - fresh) > 1e-2 * np.linalg.norm(fresh)
 
 
@@ -206,8 +232,11 @@ def test_reset_and_rebuild():
 def corner_volumes(grid):
     c = grid.cells_dict[pv.CellType.QUADRATIC_TETRA][:, :4]
     p = grid.points
-    return np.einsum("ij,ij->i", np.cross(p[c[:, 1]] - p[c[:, 0]], p[c[:, 2]] - p[c[:, 0]]),
-                     p[c[:, 3]] - p[c[:, 0]])
+    return np.einsum(
+        "ij,ij->i",
+        np.cross(p[c[:, 1]] - p[c[:, 0]], p[c[:, 2]] - p[c[:, 0]]),
+        p[c[:, 3]] - p[c[:, 0]],
+    )
 
 
 def energy(grid):
@@ -238,8 +267,9 @@ def test_large_fast_drag_stays_stable():
         reached = min(1.0, k * limit * dt / np.linalg.norm(t[grab][0]))
         np.testing.assert_allclose(u, reached * t[grab], rtol=0, atol=1e-12)
     # landed exactly, and the static energy of that displacement bounds the dynamics
-    np.testing.assert_array_equal(output(s).point_data["Displacement"][grab],
-                                  (pts[grab] + t[grab]) - pts[grab])
+    np.testing.assert_array_equal(
+        output(s).point_data["Displacement"][grab], (pts[grab] + t[grab]) - pts[grab]
+    )
     # (the co-rotated static iteration does not converge for this large a pull: the
     # equilibrium is the damped stepper's limit, shown equal to the static solve above)
     eq = live_stepper(mesh, YoungModulus=1e5, TimeStep=0.05, RayleighMass=5.0)
@@ -268,8 +298,9 @@ def test_bad_live_input_is_refused():
     s = live_stepper(mesh)
     ok = np.ones(mesh.n_points, np.uint8)
     # wrong shapes are refused by the setter, wrong lengths at the update
-    assert not s.SetPrescribedMotion(numpy_to_vtk(ok, deep=True),
-                                     numpy_to_vtk(np.zeros(mesh.n_points), deep=True))
+    assert not s.SetPrescribedMotion(
+        numpy_to_vtk(ok, deep=True), numpy_to_vtk(np.zeros(mesh.n_points), deep=True)
+    )
     nan = np.zeros((mesh.n_points, 3))
     nan[3, 1] = np.nan
     assert not s.SetPrescribedMotion(numpy_to_vtk(ok, deep=True), numpy_to_vtk(nan, deep=True))
@@ -293,6 +324,7 @@ def test_grab_release_with_background_factorization_matches_linear_backward_eule
     # released and a middle patch grabbed on consecutive steps, before any new factor is
     # ready), and no grab or release factorising on the calling thread.
     from scipy.sparse.linalg import spsolve
+
     E, nu, rho, dt, a, b = 1e12, 0.3, 1000.0, 0.01, 0.1, 0.01
     mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
     pts = np.asarray(mesh.points)
@@ -310,8 +342,16 @@ def test_grab_release_with_background_factorization_matches_linear_backward_eule
         t[:, 1] = -2e-9 * k * k * pts[:, 2]
         return t
 
-    props = dict(YoungModulus=E, PoissonRatio=nu, Density=rho, TimeStep=dt, RayleighMass=a,
-                 RayleighStiffness=b, SolverTolerance=1e-13, MaxSolverIterations=2000)
+    props = dict(
+        YoungModulus=E,
+        PoissonRatio=nu,
+        Density=rho,
+        TimeStep=dt,
+        RayleighMass=a,
+        RayleighStiffness=b,
+        SolverTolerance=1e-13,
+        MaxSolverIterations=2000,
+    )
     s = live_stepper(mesh, BackgroundFactorization=True, FactorizationLag=lag, **props)
     sync = live_stepper(mesh, **props)  # refactorises at each grab and release
     n = K.shape[0]

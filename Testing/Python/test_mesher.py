@@ -1,21 +1,31 @@
 """vtkTet10Mesher / hoembed.tet10_mesh on generated shapes and the real meshes."""
-import math
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
-from mesh_checks import (expect_error, boundary_mid_nodes, cells, distances_to_surface, min_det_sampled,
-                         straight_scaled_jacobian, straight_volumes, surface_volume, tet10_volumes,
-                         vtk_cell_validator_states)
+from mesh_checks import (
+    boundary_mid_nodes,
+    cells,
+    distances_to_surface,
+    expect_error,
+    min_det_sampled,
+    straight_scaled_jacobian,
+    straight_volumes,
+    surface_volume,
+    tet10_volumes,
+    vtk_cell_validator_states,
+)
 
 REAL = ["bunny_watertight", "armadillo", "fertility", "rocker-arm", "scorpion_low_resolution"]
 
 
 def torus():
-    return pv.ParametricTorus(ringradius=1.0, crosssectionradius=0.35, u_res=160, v_res=80,
-                              w_res=2).clean().triangulate()
+    return (
+        pv.ParametricTorus(ringradius=1.0, crosssectionradius=0.35, u_res=160, v_res=80, w_res=2)
+        .clean()
+        .triangulate()
+    )
 
 
 def bumpy_blob():
@@ -60,12 +70,18 @@ def check_mesh(surface, mesh, on_surface_fraction):
     v_curved = tet10_volumes(mesh).sum()
     v_straight = straight_volumes(mesh).sum()
     assert abs(v_curved - v_fine) < abs(v_straight - v_fine)
-    return dict(cells=mesh.n_cells, on_surface=frac, vol_err_curved=(v_curved - v_fine) / v_fine,
-                vol_err_straight=(v_straight - v_fine) / v_fine)
+    return dict(
+        cells=mesh.n_cells,
+        on_surface=frac,
+        vol_err_curved=(v_curved - v_fine) / v_fine,
+        vol_err_straight=(v_straight - v_fine) / v_fine,
+    )
 
 
-@pytest.mark.parametrize("shape,n", [("sphere", 1000), ("bumpy", 1000), ("torus", 1000),
-                                     ("bumpy", 3000), ("torus", 3000)])
+@pytest.mark.parametrize(
+    "shape,n",
+    [("sphere", 1000), ("bumpy", 1000), ("torus", 1000), ("bumpy", 3000), ("torus", 3000)],
+)
 def test_generated_shapes(shape, n):
     surface = SHAPES[shape]()
     # the curving's reach: without the quality target (which blends nodes back off the
@@ -111,13 +127,19 @@ def test_quality_floor(shape):
     mesh, warnings = mesh_with_warnings(surface, 1000)
     q = check_quality_floor(mesh, warnings)
     assert 0.7 * 1000 < mesh.n_cells < 1.3 * 1000
-    loose, loose_warnings = mesh_with_warnings(surface, 1000, MinimumQuality=0.0,
-                                               CurvedQualityTarget=0.0)
+    loose, loose_warnings = mesh_with_warnings(
+        surface, 1000, MinimumQuality=0.0, CurvedQualityTarget=0.0
+    )
     q0 = np.asarray(loose.cell_data["MinScaledJacobian"])
     assert int(loose.field_data["PoorElementCount"][0]) == 0  # no floor: nothing is poor
     assert np.sum(q0 < 0.05) > np.sum(q < 0.05)
-    print(shape, "min/1%/median", np.percentile(q, [0, 1, 50]), "without floor",
-          np.percentile(q0, [0, 1, 50]))
+    print(
+        shape,
+        "min/1%/median",
+        np.percentile(q, [0, 1, 50]),
+        "without floor",
+        np.percentile(q0, [0, 1, 50]),
+    )
 
 
 def test_linear_order_same_corners():
@@ -136,8 +158,9 @@ def test_straight_option_keeps_midpoints():
     conn = cells(mesh)
     P = mesh.points
     for e, (a, b) in enumerate([(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]):
-        np.testing.assert_allclose(P[conn[:, 4 + e]], 0.5 * (P[conn[:, a]] + P[conn[:, b]]),
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            P[conn[:, 4 + e]], 0.5 * (P[conn[:, a]] + P[conn[:, b]]), atol=1e-12
+        )
 
 
 def test_edge_length_control():
@@ -161,6 +184,7 @@ def test_progress_events():
 
 
 # ---- bad input -----------------------------------------------------------------------
+
 
 def test_empty():
     expect_error(pv.PolyData(), "empty")
@@ -195,6 +219,7 @@ def test_error_leaves_no_output():
 
 
 # ---- real meshes ---------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("name", REAL)
 @pytest.mark.parametrize("n", [1000, 3000])
@@ -248,14 +273,16 @@ def test_quality_target():
     corners; without it (0) the same input has cells far below; a higher target gives a
     better median and fewer boundary nodes on the surface."""
     surface = SHAPES["bumpy"]()
-    meshes = {t: hoembed.tet10_mesh(surface, n_elements=1000, quality_target=t)
-              for t in (0.0, 0.2, 0.3)}
+    meshes = {
+        t: hoembed.tet10_mesh(surface, n_elements=1000, quality_target=t) for t in (0.0, 0.2, 0.3)
+    }
     default = hoembed.tet10_mesh(surface, n_elements=1000)
     # 0.2 is the default (the same mesh to round-off: runs differ in the last bit of a few
     # coordinates, test_mesher_invariance)
     assert np.array_equal(default.cells, meshes[0.2].cells)
-    np.testing.assert_allclose(default.points, meshes[0.2].points, rtol=0,
-                               atol=1e-14 * surface.length)
+    np.testing.assert_allclose(
+        default.points, meshes[0.2].points, rtol=0, atol=1e-14 * surface.length
+    )
     medians, on_surface = {}, {}
     for t, mesh in meshes.items():
         q = np.asarray(mesh.cell_data["MinScaledJacobian"])
@@ -265,8 +292,9 @@ def test_quality_target():
         medians[t] = np.median(q)
         d = distances_to_surface(surface, mesh.points[boundary_mid_nodes(mesh)])
         on_surface[t] = np.mean(d <= 1e-6 * surface.length)
-    assert np.sum(meshes[0.0].cell_data["MinScaledJacobian"] < 0.2) > \
-        np.sum(meshes[0.3].cell_data["MinScaledJacobian"] < 0.2)
+    assert np.sum(meshes[0.0].cell_data["MinScaledJacobian"] < 0.2) > np.sum(
+        meshes[0.3].cell_data["MinScaledJacobian"] < 0.2
+    )
     assert medians[0.3] >= medians[0.2] >= medians[0.0]
     assert on_surface[0.0] >= on_surface[0.2] >= on_surface[0.3]
     assert on_surface[0.0] >= 0.95 and on_surface[0.2] >= 0.9

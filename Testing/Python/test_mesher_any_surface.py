@@ -2,11 +2,11 @@
 alpha-wrapped envelope): each input class on a small generated case, judged by VTK's own
 tools (vtkCellValidator, the subdivided curved boundary with vtkSelectEnclosedPoints and
 implicit distances), plus the inputs that still cannot be meshed."""
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 from mesh_checks import expect_error, vtk_cell_validator_states
 
 
@@ -32,13 +32,21 @@ def nested():
 
 def far_apart_with_tiny():
     # a tiny component (smaller than the envelope tolerance) must be absorbed, not dropped
-    return pv.Sphere().merge(pv.Sphere(radius=0.004, center=(1.5, 0, 0))).merge(
-        pv.Sphere(radius=0.3, center=(3, 0, 0)))
+    return (
+        pv.Sphere()
+        .merge(pv.Sphere(radius=0.004, center=(1.5, 0, 0)))
+        .merge(pv.Sphere(radius=0.3, center=(3, 0, 0)))
+    )
 
 
 def fin():
-    return pv.Cube().triangulate().merge(
-        pv.Plane(center=(0.75, 0, 0), direction=(0, 0, 1), i_size=0.5, j_size=0.6).triangulate())
+    return (
+        pv.Cube()
+        .triangulate()
+        .merge(
+            pv.Plane(center=(0.75, 0, 0), direction=(0, 0, 1), i_size=0.5, j_size=0.6).triangulate()
+        )
+    )
 
 
 def duplicated():
@@ -66,10 +74,18 @@ def random_deletions():
     return s.remove_cells(rng.choice(s.n_cells, 40, replace=False))
 
 
-CASES = dict(open_sphere=open_sphere, sheet=sheet, overlapping=overlapping, nested=nested,
-             far_apart_with_tiny=far_apart_with_tiny, fin=fin, duplicated=duplicated,
-             flipped=flipped, degenerate=degenerate_and_duplicate_triangles,
-             random_deletions=random_deletions)
+CASES = dict(
+    open_sphere=open_sphere,
+    sheet=sheet,
+    overlapping=overlapping,
+    nested=nested,
+    far_apart_with_tiny=far_apart_with_tiny,
+    fin=fin,
+    duplicated=duplicated,
+    flipped=flipped,
+    degenerate=degenerate_and_duplicate_triangles,
+    random_deletions=random_deletions,
+)
 
 
 def used_points(surface):
@@ -82,7 +98,9 @@ def test_input_class(name):
     mesh = hoembed.tet10_mesh(surface, n_elements=400)
     assert mesh.n_cells > 50
     assert mesh.cell_data["MinScaledJacobian"].min() > 0
-    assert np.all(vtk_cell_validator_states(mesh) & 0b100111 == 0)  # points, edges, faces, orientation
+    assert np.all(
+        vtk_cell_validator_states(mesh) & 0b100111 == 0
+    )  # points, edges, faces, orientation
     # far_apart_with_tiny is three clean closed parts: the coarsening path is tried first,
     # the tiny part vanishes in the decimation, and the envelope takes over
     assert mesh.field_data["EnvelopeOffset"][0] > 0, "not meshed through the envelope"
@@ -97,8 +115,13 @@ def test_input_class(name):
     # (the quality target, CurvedQualityTarget, leaves the boundary a little looser:
     # 0.031 on `overlapping`)
     assert worst < 0.035, worst
-    print(name, mesh.n_cells, mesh.cell_data["MinScaledJacobian"].min(), worst,
-          {k: mesh.field_data[k][0] for k in mesh.field_data.keys()})
+    print(
+        name,
+        mesh.n_cells,
+        mesh.cell_data["MinScaledJacobian"].min(),
+        worst,
+        {k: mesh.field_data[k][0] for k in mesh.field_data.keys()},
+    )
 
 
 def test_envelope_tolerance_is_used():
@@ -127,8 +150,9 @@ def test_progress_through_wrap():
 
 
 def test_points_only():
-    expect_error(pv.PolyData(np.random.default_rng(0).random((50, 3))), "no polygons",
-                 "reconstruct")
+    expect_error(
+        pv.PolyData(np.random.default_rng(0).random((50, 3))), "no polygons", "reconstruct"
+    )
 
 
 def test_lines_only():
@@ -147,15 +171,19 @@ def test_open_real_mesh(data_dir):
     assert mesh.cell_data["MinScaledJacobian"].min() > 0
     assert np.all(vtk_cell_validator_states(mesh) & 0b100111 == 0)
     curved = mesh.field_data["CurvedNodeCount"][0]
-    total = curved + mesh.field_data["RelaxedNodeCount"][0] + mesh.field_data["EnvelopeNodeCount"][0]
+    total = (
+        curved + mesh.field_data["RelaxedNodeCount"][0] + mesh.field_data["EnvelopeNodeCount"][0]
+    )
     print("stanford-bunny", mesh.n_cells, curved / total)
     assert curved / total > 0.5
 
 
 # ---- a curved boundary that does not cross itself --------------------------------------
 
+
 def _crossings(mesh):
     from boundary_crossings import crossing_face_pairs
+
     return crossing_face_pairs(mesh)
 
 
@@ -165,6 +193,7 @@ def test_crossing_check_can_fail():
     mesh = hoembed.tet10_mesh(pv.Sphere(), n_elements=300)
     assert _crossings(mesh) == []
     from boundary_crossings import boundary_faces6
+
     f = boundary_faces6(mesh)[0]
     bent = mesh.copy()
     bent.points[f[3]] = -1.5 * bent.points[f[3]]  # through the sphere and out the other side
@@ -194,10 +223,12 @@ def test_no_boundary_crossings_real(data_dir, name):
 # the old geometry) ended invalid, and the mesher failed with "N elements are not valid
 # after meshing (internal error)". Both cases below failed so at 06c59cb/b13c4f8.
 
+
 def _check_valid(mesh):
     """Every element valid, judged by VTK (shape-function derivatives, vtkCellValidator)
     and the crossing count that the filter reports matches the independent check."""
     from test_fuzz_surfaces import _jacobian_dets, _vtk_invalid_cells
+
     assert mesh.n_cells > 0 and np.all(mesh.celltypes == 24)
     assert np.all(_jacobian_dets(mesh) > 0)
     assert _vtk_invalid_cells(mesh) == 0
@@ -208,6 +239,7 @@ def _check_valid(mesh):
 def test_crossing_repair_keeps_elements_valid_tiny_overlap():
     """Generated: two overlapping boxes at a diagonal of 5e-6 (fuzz seed 1248)."""
     from test_fuzz_surfaces import damaged_surface
+
     surface, kinds = damaged_surface(1248)
     assert sorted(kinds) == ["overlap", "tiny"] and surface.length < 1e-5
     mesh = hoembed.tet10_mesh(surface, n_elements=150)
@@ -221,6 +253,7 @@ def test_crossing_repair_keeps_elements_valid_fertility(data_dir):
 
 
 # ---- what a user means by closed is closed ---------------------------------------------
+
 
 def test_rounded_shared_vertices_are_merged():
     """An STL-like sphere: every triangle has its own three vertices, rounded differently
@@ -258,8 +291,9 @@ def test_size_estimate_of_an_open_sheet():
     """The size check before any work estimates an open sheet by its envelope (area times
     half the element size), whatever its position: a flat sheet through the origin has a
     signed volume of 0, which used to let any request through."""
-    plane = pv.Plane(center=(0, 0, 0), i_size=1.0, j_size=1.0, i_resolution=20,
-                     j_resolution=20).triangulate()
+    plane = pv.Plane(
+        center=(0, 0, 0), i_size=1.0, j_size=1.0, i_resolution=20, j_resolution=20
+    ).triangulate()
     for shift in (0.0, 50.0):
         sheet = plane.translate((shift, shift, shift), inplace=False)
         alg = hoembed.vtkTet10Mesher()
@@ -294,8 +328,9 @@ def test_cavity_stays_empty(n):
     volume = mesh.compute_cell_sizes(length=False, area=False)["Volume"].sum()
     assert volume == pytest.approx(0.875, rel=0.02)
     probes = pv.PolyData(np.array([[0.0, 0, 0], [0.1, -0.15, 0.2], [0.4, 0.4, 0.4]]))
-    inside = probes.select_enclosed_points(mesh.extract_surface(nonlinear_subdivision=2),
-                                           check_surface=False)["SelectedPoints"]
+    inside = probes.select_enclosed_points(
+        mesh.extract_surface(nonlinear_subdivision=2), check_surface=False
+    )["SelectedPoints"]
     assert list(inside) == [0, 0, 1]  # the cavity is empty, the material is not
 
 
@@ -305,6 +340,7 @@ def test_poor_elements_warning_names_a_count(data_dir):
     300: one sliver, about 1000 suggested)."""
     import re
     import warnings
+
     path = data_dir / "bunny_lowres.obj"
     if not path.exists():
         pytest.skip(f"{path} not available")
@@ -316,8 +352,11 @@ def test_poor_elements_warning_names_a_count(data_dir):
     assert poor > 0  # the case exists to show the warning
     text = [str(w.message) for w in caught if "MinimumQuality" in str(w.message)]
     assert len(text) == 1 and f"{poor} of {mesh.n_cells} elements" in text[0], text
-    m = re.search(r"about (\d+) elements \(TargetNumberOfElements; TargetEdgeLength "
-                  r"([0-9.e+-]+), now ([0-9.e+-]+)\)", text[0])
+    m = re.search(
+        r"about (\d+) elements \(TargetNumberOfElements; TargetEdgeLength "
+        r"([0-9.e+-]+), now ([0-9.e+-]+)\)",
+        text[0],
+    )
     assert m, text[0]
     count, size, now = int(m.group(1)), float(m.group(2)), float(m.group(3))
     assert mesh.n_cells < count <= 100 * mesh.n_cells and size < now

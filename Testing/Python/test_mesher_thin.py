@@ -4,11 +4,11 @@ TetGen mesh is mostly slivers there (curving could neither mend them nor keep th
 from crossing): the mesher must fall back to the envelope and keep its promises, judged
 by VTK's own tools (vtkCellValidator, vtkQuadraticTetra derivatives sampled in every cell,
 the subdivided curved boundary through vtkCollisionDetectionFilter)."""
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 from boundary_crossings import crossing_face_pairs
 from mesh_checks import min_det_sampled, vtk_cell_validator_states
 
@@ -27,8 +27,12 @@ def ribbed_beam(spacing=0.01, rib=0.02, pitch=0.08):
     g = pv.ImageData(dimensions=n, spacing=(spacing,) * 3, origin=lo)
     d = _box_distance(g.points, np.array([0, -0.1, -0.1]), np.array([1, 0.1, 0.1]))
     for x in np.arange(pitch / 2, 1.0, pitch):
-        d = np.minimum(d, _box_distance(g.points, np.array([x - rib / 2, -0.1, -0.1]),
-                                        np.array([x + rib / 2, 0.1, 0.25])))
+        d = np.minimum(
+            d,
+            _box_distance(
+                g.points, np.array([x - rib / 2, -0.1, -0.1]), np.array([x + rib / 2, 0.1, 0.25])
+            ),
+        )
     g["d"] = d
     return g.contour([0.0], scalars="d").triangulate().clean()
 
@@ -54,7 +58,6 @@ def test_ribbed_beam_high_count(beam, order):
     if order == 2:
         assert min_det_sampled(grid).min() > 0.0
         assert len(crossing_face_pairs(grid)) == 0
-
 
 
 # Thin real parts (../shared/data/meshes-real): a print part with thin walls and embossed

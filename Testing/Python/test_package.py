@@ -1,15 +1,15 @@
 """The hoembed package: what it exposes, importing it first in a fresh interpreter, and
 VTK errors turned into HOEmbedError (run_filter)."""
+
 import os
 import re
 import subprocess
 import sys
 import textwrap
 
+import hoembed
 import pytest
 import pyvista as pv
-
-import hoembed
 from hoembed._errors import run_filter
 from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm
 from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
@@ -23,8 +23,12 @@ def test_exports():
     assert issubclass(hoembed.HOEmbedError, RuntimeError)
     assert callable(hoembed.tet10_mesh)
     from hoembed._hoembed import DEFAULTS
-    assert (hoembed.vtkDeformationTransferFilter().GetFaceTolerance()
-            == DEFAULTS["transfer"]["FaceTolerance"] == 1e-6)
+
+    assert (
+        hoembed.vtkDeformationTransferFilter().GetFaceTolerance()
+        == DEFAULTS["transfer"]["FaceTolerance"]
+        == 1e-6
+    )
     mesher = hoembed.vtkTet10Mesher()
     assert isinstance(mesher, vtkAlgorithm)
     assert mesher.GetClassName() == "vtkTet10Mesher"
@@ -34,16 +38,24 @@ def test_exports():
 def _fresh_python(code):
     """Run ``code`` in a new interpreter (same environment, so the build tree's package
     is found); return the completed process."""
-    return subprocess.run([sys.executable, "-X", "faulthandler", "-c", textwrap.dedent(code)],
-                          capture_output=True, text=True, timeout=120, env=dict(os.environ))
+    return subprocess.run(
+        [sys.executable, "-X", "faulthandler", "-c", textwrap.dedent(code)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=dict(os.environ),
+    )
 
 
-@pytest.mark.parametrize("first_import", [
-    "import hoembed",
-    "import hoembed.hoembedFiltersMeshing",
-    "from hoembed import vtkTet10Mesher, tet10_mesh",
-    "from hoembed.meshing import tet10_mesh",
-])
+@pytest.mark.parametrize(
+    "first_import",
+    [
+        "import hoembed",
+        "import hoembed.hoembedFiltersMeshing",
+        "from hoembed import vtkTet10Mesher, tet10_mesh",
+        "from hoembed.meshing import tet10_mesh",
+    ],
+)
 def test_import_first_in_fresh_interpreter(first_import):
     # VTK 9.1 segfaults when a wrapped module is imported before VTK's own modules: the
     # package must take care of that, whatever the user imports first.
@@ -131,39 +143,63 @@ def test_front_end_raises_on_bad_input():
 
 # The filters' classes by the stage whose driver owns their defaults (the compiled module's
 # DEFAULTS), and the functions' keywords by the property each sets.
-FILTERS = {"mesher": "vtkTet10Mesher", "embedding": "vtkEmbeddingCoordinatesFilter",
-           "transfer": "vtkDeformationTransferFilter", "stepper": "vtkCorotationalFEMStepper"}
+FILTERS = {
+    "mesher": "vtkTet10Mesher",
+    "embedding": "vtkEmbeddingCoordinatesFilter",
+    "transfer": "vtkDeformationTransferFilter",
+    "stepper": "vtkCorotationalFEMStepper",
+}
 KEYWORDS = {
-    "tet10_mesh": ("mesher", dict(n_elements="TargetNumberOfElements",
-                                  edge_length="TargetEdgeLength", order="ElementOrder",
-                                  curve_boundary="CurveBoundary",
-                                  radius_edge_ratio="RadiusEdgeRatio",
-                                  min_dihedral_angle="MinDihedralAngle",
-                                  quality_target="CurvedQualityTarget")),
+    "tet10_mesh": (
+        "mesher",
+        dict(
+            n_elements="TargetNumberOfElements",
+            edge_length="TargetEdgeLength",
+            order="ElementOrder",
+            curve_boundary="CurveBoundary",
+            radius_edge_ratio="RadiusEdgeRatio",
+            min_dihedral_angle="MinDihedralAngle",
+            quality_target="CurvedQualityTarget",
+        ),
+    ),
     "embed": ("embedding", dict(method="Method", n_partitions="NumberOfPartitions")),
-    "transfer": ("transfer", dict(normals="NormalMode",
-                                  compute_point_normals="ComputePointNormals")),
-    "simulate": ("stepper", dict(steps="NumberOfTimeSteps", dt="TimeStep",
-                                 young="YoungModulus", poisson="PoissonRatio",
-                                 density="Density", gravity="Gravity",
-                                 rayleigh_mass="RayleighMass",
-                                 rayleigh_stiffness="RayleighStiffness",
-                                 lumped_mass="LumpedMass", static="StaticSolve",
-                                 solver_tolerance="SolverTolerance",
-                                 prescribed_speed_limit="PrescribedSpeedLimit",
-                                 material="Material",
-                                 newton_tolerance="NewtonTolerance",
-                                 max_newton_iterations="MaxNewtonIterations")),
+    "transfer": (
+        "transfer",
+        dict(normals="NormalMode", compute_point_normals="ComputePointNormals"),
+    ),
+    "simulate": (
+        "stepper",
+        dict(
+            steps="NumberOfTimeSteps",
+            dt="TimeStep",
+            young="YoungModulus",
+            poisson="PoissonRatio",
+            density="Density",
+            gravity="Gravity",
+            rayleigh_mass="RayleighMass",
+            rayleigh_stiffness="RayleighStiffness",
+            lumped_mass="LumpedMass",
+            static="StaticSolve",
+            solver_tolerance="SolverTolerance",
+            prescribed_speed_limit="PrescribedSpeedLimit",
+            material="Material",
+            newton_tolerance="NewtonTolerance",
+            max_newton_iterations="MaxNewtonIterations",
+        ),
+    ),
 }
 # the functions' names of the enumerated values (the filters' enumerations)
-ENUM_VALUES = {"Method": {"normal-offset": 0, "barycentric": 1},
-               "NormalMode": {"recompute": 0, "rotate": 1, "deform": 2},
-               "Material": {"corotated": 0, "stvk": 1, "neo-hookean": 2, "mooney-rivlin": 3}}
+ENUM_VALUES = {
+    "Method": {"normal-offset": 0, "barycentric": 1},
+    "NormalMode": {"recompute": 0, "rotate": 1, "deform": 2},
+    "Material": {"corotated": 0, "stvk": 1, "neo-hookean": 2, "mooney-rivlin": 3},
+}
 
 
 def _same(a, b):
     """Equal as the XML, the filters and Python spell them: bools as 0/1, vectors as
     tuples, a null string as ""."""
+
     def norm(v):
         if v is None:
             return ""
@@ -178,6 +214,7 @@ def test_filters_take_the_drivers_defaults():
     """Each filter's properties start at its driver's defaults (the options structs the
     constructors copy), every property the driver has a default for."""
     from hoembed._hoembed import DEFAULTS
+
     assert set(DEFAULTS) == set(FILTERS)
     for stage, cls in FILTERS.items():
         alg = getattr(hoembed, cls)()
@@ -190,7 +227,9 @@ def test_functions_take_the_drivers_defaults():
     """The functions' keyword defaults are the drivers' (read from the compiled module,
     not written again), and their docstrings state those values."""
     import inspect
+
     from hoembed._hoembed import DEFAULTS
+
     for function, (stage, keywords) in KEYWORDS.items():
         params = inspect.signature(getattr(hoembed, function)).parameters
         for keyword, prop in keywords.items():
@@ -198,8 +237,9 @@ def test_functions_take_the_drivers_defaults():
             if prop in ENUM_VALUES:
                 default = ENUM_VALUES[prop][default]
             assert _same(default, DEFAULTS[stage][prop]), (function, keyword)
-    assert f"(default {DEFAULTS['mesher']['TargetNumberOfElements']!r})" in \
-        hoembed.tet10_mesh.__doc__
+    assert (
+        f"(default {DEFAULTS['mesher']['TargetNumberOfElements']!r})" in hoembed.tet10_mesh.__doc__
+    )
     assert f"(default {DEFAULTS['stepper']['Gravity']!r})" in hoembed.simulate.__doc__
     for doc in (hoembed.tet10_mesh.__doc__, hoembed.simulate.__doc__):
         assert not re.search(r"<[A-Z][A-Za-z]+>", doc)  # every <Name> replaced
@@ -210,13 +250,14 @@ def _xml_defaults():
     default_values attribute (information-only ones have none)."""
     import pathlib
     import xml.etree.ElementTree as ET
+
     xml = pathlib.Path(__file__).resolve().parents[2] / "Plugin" / "HOEmbed" / "HOEmbed.xml"
     out = []
     for proxy in ET.parse(xml).getroot().iter("SourceProxy"):
         for prop in proxy:
             if not prop.tag.endswith("VectorProperty") or "default_values" not in prop.attrib:
                 continue
-            kind = prop.tag[:-len("VectorProperty")]
+            kind = prop.tag[: -len("VectorProperty")]
             text = prop.attrib["default_values"]
             if kind == "String":
                 values = text
@@ -224,8 +265,9 @@ def _xml_defaults():
                 convert = int if kind == "Int" else float
                 values = tuple(convert(v) for v in text.split())
                 values = values[0] if len(values) == 1 else values
-            out.append((proxy.attrib["class"], prop.attrib["name"], prop.attrib["command"],
-                        kind, values))
+            out.append(
+                (proxy.attrib["class"], prop.attrib["name"], prop.attrib["command"], kind, values)
+            )
     return out
 
 
@@ -235,6 +277,7 @@ def test_paraview_xml_defaults_are_the_filters():
     apart. The XML is parsed and compared with the VTK build's filters (ParaView's VTK
     compiles the same constructors)."""
     from hoembed._hoembed import DEFAULTS
+
     rows = _xml_defaults()
     classes = {row[0] for row in rows}
     assert classes == set(FILTERS.values())
@@ -251,8 +294,11 @@ def test_paraview_xml_defaults_are_the_filters():
     # default) is a driver's
     stage_of = {cls: stage for stage, cls in FILTERS.items()}
     assert {prop for cls, prop in covered if prop not in DEFAULTS[stage_of[cls]]} == {
-        "OutputPointsPrecision", "ExternalForceArrayName", "InitialDisplacementArrayName",
-        "InitialVelocityArrayName"}
+        "OutputPointsPrecision",
+        "ExternalForceArrayName",
+        "InitialDisplacementArrayName",
+        "InitialVelocityArrayName",
+    }
     assert len(covered) == 47
 
 
@@ -264,7 +310,9 @@ def test_paraview_xml_ranges_are_the_drivers():
     fails here until its driver states its range."""
     import pathlib
     import xml.etree.ElementTree as ET
+
     from hoembed._hoembed import RANGES
+
     xml = pathlib.Path(__file__).resolve().parents[2] / "Plugin" / "HOEmbed" / "HOEmbed.xml"
     stage_of = {cls: stage for stage, cls in FILTERS.items()}
     checked, without = set(), set()
@@ -286,10 +334,21 @@ def test_paraview_xml_ranges_are_the_drivers():
                     assert hint_low is not None and float(hint_low) >= low, (name, hint_low, low)
                 if high is not None:
                     assert hint_high is not None and float(hint_high) <= high, (
-                        name, hint_high, high)
+                        name,
+                        hint_high,
+                        high,
+                    )
                 checked.add(name)
-    assert {"TargetNumberOfElements", "MinimumQuality", "RadiusEdgeRatio", "YoungModulus",
-            "PoissonRatio", "Density", "TimeStep", "NumberOfTimeSteps"} <= checked
+    assert {
+        "TargetNumberOfElements",
+        "MinimumQuality",
+        "RadiusEdgeRatio",
+        "YoungModulus",
+        "PoissonRatio",
+        "Density",
+        "TimeStep",
+        "NumberOfTimeSteps",
+    } <= checked
     assert "NumberOfPartitions" in checked and "FaceTolerance" in checked
     assert not without, without
 
@@ -298,6 +357,7 @@ def test_filters_refuse_what_their_driver_refuses():
     """No clamping set macro: a value outside the driver's range reaches the driver, whose
     sentence the filter reports (RequestData fails, nothing is changed silently)."""
     from hoembed._hoembed import check_range
+
     sphere = vtkSphereSource()
     sphere.Update()
     mesher = hoembed.vtkTet10Mesher()
@@ -311,8 +371,11 @@ def test_filters_refuse_what_their_driver_refuses():
     assert check_range("mesher", "TargetNumberOfElements", 4) == ""
     # the stepper: a negative step count advertises no times and fails RequestData
     import numpy as np
-    tet = pv.UnstructuredGrid({pv.CellType.TETRA: np.array([[0, 1, 2, 3]])},
-                              np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]))
+
+    tet = pv.UnstructuredGrid(
+        {pv.CellType.TETRA: np.array([[0, 1, 2, 3]])},
+        np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]),
+    )
     stepper = hoembed.vtkCorotationalFEMStepper()
     stepper.SetInputData(tet)
     stepper.SetNumberOfTimeSteps(-1)
@@ -328,6 +391,7 @@ def test_one_source_tree():
     Wrapping/Python/hoembed, and no other package source is left (Wrapping/Pip has only
     the binding's C++ and its CMake project)."""
     import pathlib
+
     root = pathlib.Path(__file__).resolve().parents[2]
     source = root / "Wrapping" / "Python" / "hoembed"
     package = pathlib.Path(hoembed.__file__).parent

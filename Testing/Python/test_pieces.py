@@ -3,11 +3,11 @@ that piece of the surface embedded in the whole mesh, a piece asked of the meshe
 meshes the whole surface, and the transfer moves a piece with the whole deformed mesh.
 Reference: the same filters run on the whole surface (no pieces). The multi-process
 runs are tested with the ParaView plugin (Plugin/Testing, `make test-paraview`)."""
+
+import hoembed
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersSources import vtkSphereSource
-
-import hoembed
 
 
 def sphere():
@@ -26,15 +26,18 @@ def matched(piece, whole, name):
     """The array `name` of a piece and of the whole run at the same points (the sphere
     source's pieces compute their coordinates anew: equal to ~1e-16, not bitwise)."""
     from scipy.spatial import cKDTree
+
     pp = vtk_to_numpy(piece.GetPoints().GetData())
     wp = vtk_to_numpy(whole.GetPoints().GetData())
     dist, idx = cKDTree(wp).query(pp)
     assert dist.max() < 1e-12
-    return (vtk_to_numpy(piece.GetPointData().GetArray(name)),
-            vtk_to_numpy(whole.GetPointData().GetArray(name))[idx])
+    return (
+        vtk_to_numpy(piece.GetPointData().GetArray(name)),
+        vtk_to_numpy(whole.GetPointData().GetArray(name))[idx],
+    )
 
 
-KEEP = []   # the sources stay alive as long as the pipelines that use them
+KEEP = []  # the sources stay alive as long as the pipelines that use them
 
 
 def mesher_of(source):
@@ -49,14 +52,16 @@ def test_piece_of_mesher_is_whole_mesh():
     whole = mesher_of(sphere())
     whole.Update()
     piece = mesher_of(sphere())
-    piece.UpdatePiece(1, 2, 0)   # half a sphere would be refused as open
+    piece.UpdatePiece(1, 2, 0)  # half a sphere would be refused as open
     assert piece.GetOutput().GetNumberOfCells() == whole.GetOutput().GetNumberOfCells() > 0
-    assert np.array_equal(vtk_to_numpy(piece.GetOutput().GetPoints().GetData()),
-                          vtk_to_numpy(whole.GetOutput().GetPoints().GetData()))
+    assert np.array_equal(
+        vtk_to_numpy(piece.GetOutput().GetPoints().GetData()),
+        vtk_to_numpy(whole.GetOutput().GetPoints().GetData()),
+    )
 
 
 def test_embedding_and_transfer_of_a_piece_use_the_whole_mesh():
-    mesher = mesher_of(sphere())       # its own source: the mesh port is asked for the whole
+    mesher = mesher_of(sphere())  # its own source: the mesh port is asked for the whole
     ref = hoembed.vtkEmbeddingCoordinatesFilter()
     ref.SetInputConnection(0, keep(sphere()).GetOutputPort())
     ref.SetInputConnection(1, mesher.GetOutputPort())
@@ -70,7 +75,7 @@ def test_embedding_and_transfer_of_a_piece_use_the_whole_mesh():
         emb.SetInputConnection(1, mesher.GetOutputPort())
         emb.UpdatePiece(k, 2, 0)
         out = emb.GetOutput()
-        assert 0 < out.GetNumberOfPoints() < n_all        # a piece of the surface ...
+        assert 0 < out.GetNumberOfPoints() < n_all  # a piece of the surface ...
         assert mesher.GetOutput().GetNumberOfCells() > 100  # ... in the whole mesh
         pieces.append(out)
         # every vertex of the piece is embedded (a vertex far from the piece's mesh part
@@ -79,8 +84,9 @@ def test_embedding_and_transfer_of_a_piece_use_the_whole_mesh():
         assert np.abs(got - want).max() < 1e-12 and want.max() > 1e-3
 
     # The transfer of a piece with a moved (rigidly translated) mesh moves it rigidly.
-    from vtkmodules.vtkFiltersGeneral import vtkTransformFilter
     from vtkmodules.vtkCommonTransforms import vtkTransform
+    from vtkmodules.vtkFiltersGeneral import vtkTransformFilter
+
     t = vtkTransform()
     t.Translate(0.3, -0.2, 0.1)
     moved = vtkTransformFilter()
@@ -95,5 +101,7 @@ def test_embedding_and_transfer_of_a_piece_use_the_whole_mesh():
     tr.UpdatePiece(1, 2, 0)
     out = tr.GetOutput()
     assert 0 < out.GetNumberOfPoints() < n_all
-    d = vtk_to_numpy(out.GetPoints().GetData()) - vtk_to_numpy(emb.GetOutput().GetPoints().GetData())
-    assert np.abs(d - np.array([0.3, -0.2, 0.1])).max() < 1e-6   # float32 points
+    d = vtk_to_numpy(out.GetPoints().GetData()) - vtk_to_numpy(
+        emb.GetOutput().GetPoints().GetData()
+    )
+    assert np.abs(d - np.array([0.3, -0.2, 0.1])).max() < 1e-6  # float32 points

@@ -1,19 +1,20 @@
 """hoembed.write_series / vtkTimeSeriesWriter: .vtu/.vtp per step plus a .pvd."""
+
 import os
 import xml.etree.ElementTree as ET
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 from conftest import box_tet_mesh
 
 
 def test_frames_roundtrip_with_pyvista(tmp_path):
     mesh = box_tet_mesh((4, 1, 1), (4.0, 1.0, 1.0), 2)
-    frames = hoembed.simulate(mesh, steps=6, dt=0.05, young=1e6,
-                              fixed={"plane": ((0, 0, 0), (1, 0, 0))}, every=2)
+    frames = hoembed.simulate(
+        mesh, steps=6, dt=0.05, young=1e6, fixed={"plane": ((0, 0, 0), (1, 0, 0))}, every=2
+    )
     path = hoembed.write_series(frames, tmp_path, "beam")
     assert path == os.path.join(str(tmp_path), "beam.pvd")
     files = sorted(os.listdir(tmp_path / "beam"))
@@ -28,8 +29,9 @@ def test_frames_roundtrip_with_pyvista(tmp_path):
     block = reader.read()
     grid = block[0]
     np.testing.assert_allclose(grid.points, frames[-1].points)
-    np.testing.assert_allclose(grid.point_data["Displacement"],
-                               frames[-1].point_data["Displacement"])
+    np.testing.assert_allclose(
+        grid.point_data["Displacement"], frames[-1].point_data["Displacement"]
+    )
     assert grid.celltypes[0] == pv.CellType.QUADRATIC_TETRA
     assert pv.read(path).n_blocks == 1  # pyvista.read opens the collection
     assert not [f for f in os.listdir(tmp_path) if f.endswith(".part")]
@@ -46,19 +48,26 @@ def test_algorithm_series_synchronised(tmp_path):
     path = hoembed.write_series(st, tmp_path, "fe")
     reader = pv.get_reader(path)
     assert reader.time_values == pytest.approx([0.0, 0.02, 0.04, 0.06, 0.08, 0.1])
-    ref = hoembed.simulate(mesh, steps=5, dt=0.02, young=1e6,
-                           fixed={"plane": ((0, 0, 0), (1, 0, 0))})
+    ref = hoembed.simulate(
+        mesh, steps=5, dt=0.02, young=1e6, fixed={"plane": ((0, 0, 0), (1, 0, 0))}
+    )
     for k, t in enumerate(reader.time_values):
         reader.set_active_time_value(t)
-        np.testing.assert_allclose(reader.read()[0].point_data["Displacement"],
-                                   ref[k].point_data["Displacement"], atol=1e-12)
+        np.testing.assert_allclose(
+            reader.read()[0].point_data["Displacement"],
+            ref[k].point_data["Displacement"],
+            atol=1e-12,
+        )
 
 
 def test_polydata_frames_and_explicit_times(tmp_path):
     frames = [pv.Sphere(radius=1.0 + 0.1 * k) for k in range(3)]
     path = hoembed.write_series(frames, tmp_path / "sub", "surf", times=[0.0, 0.5, 1.0])
     assert sorted(os.listdir(tmp_path / "sub" / "surf")) == [
-        "surf_000000.vtp", "surf_000001.vtp", "surf_000002.vtp"]
+        "surf_000000.vtp",
+        "surf_000001.vtp",
+        "surf_000002.vtp",
+    ]
     reader = pv.get_reader(path)
     assert reader.time_values == pytest.approx([0.0, 0.5, 1.0])
     reader.set_active_time_value(reader.time_values[-1])

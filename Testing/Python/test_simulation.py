@@ -1,9 +1,9 @@
 """hoembed.simulate / vtkCorotationalFEMStepper against scikit-fem and invariants."""
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 from conftest import box_tet_mesh
 
 skfem = pytest.importorskip("skfem")
@@ -24,15 +24,21 @@ def _curve(p):
     return p + np.c_[0 * p[:, 0], 0.05 * np.sin(p[:, 0]), 0.03 * np.cos(2 * p[:, 1])]
 
 
-@pytest.mark.parametrize("nu, curved", [(0.3, False), (0.49, False), (0.499, False),
-                                        (0.49, True)])
+@pytest.mark.parametrize("nu, curved", [(0.3, False), (0.49, False), (0.499, False), (0.49, True)])
 def test_static_matches_skfem_p2(nu, curved):
     # small load: the co-rotated equilibrium equals linear elasticity up to O(|u| / L)
     E, rho, g = 1e13, 1000.0, (0.0, -3.0, -9.81)
     mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2, mapping=_curve if curved else None)
     ref = skfem_static(mesh, E, nu, rho, g, 2)
-    frames = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
-                              fixed={"plane": ((0, 0, 0), (1, 0, 0))}, static=True)
+    frames = hoembed.simulate(
+        mesh,
+        young=E,
+        poisson=nu,
+        density=rho,
+        gravity=g,
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+        static=True,
+    )
     u = frames[0].point_data["Displacement"]
     rel = np.linalg.norm(u - ref) / np.linalg.norm(ref)
     assert rel < 1e-7, rel  # |u| ~ 1e-7 L here: see the test below
@@ -52,9 +58,15 @@ def test_static_difference_to_linear_is_the_corotation_term():
     rel = {}
     for E in (1e11, 1e12, 1e13, 1e14, 1e15):
         ref = skfem_static(mesh, E, nu, rho, g, 2)
-        u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
-                             fixed={"plane": ((0, 0, 0), (1, 0, 0))},
-                             static=True)[0].point_data["Displacement"]
+        u = hoembed.simulate(
+            mesh,
+            young=E,
+            poisson=nu,
+            density=rho,
+            gravity=g,
+            fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+            static=True,
+        )[0].point_data["Displacement"]
         rel[E] = np.linalg.norm(u - ref) / np.linalg.norm(ref)
     assert rel[1e11] / rel[1e12] == pytest.approx(10.0, rel=0.01), rel
     assert rel[1e12] / rel[1e13] == pytest.approx(10.0, rel=0.01), rel
@@ -66,25 +78,34 @@ def test_static_matches_skfem_p1_tet4():
     E, nu, rho, g = 1e13, 0.3, 1000.0, (0.0, 0.0, -9.81)
     mesh = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 1)
     ref = skfem_static(mesh, E, nu, rho, g, 1)
-    u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
-                         fixed={"plane": ((0, 0, 0), (1, 0, 0))},
-                         static=True)[0].point_data["Displacement"]
+    u = hoembed.simulate(
+        mesh,
+        young=E,
+        poisson=nu,
+        density=rho,
+        gravity=g,
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+        static=True,
+    )[0].point_data["Displacement"]
     assert np.linalg.norm(u - ref) / np.linalg.norm(ref) < 1e-6
 
 
 def test_frames_time_and_arrays():
     mesh = box_tet_mesh((4, 1, 1), (4.0, 1.0, 1.0), 2)
-    frames = hoembed.simulate(mesh, steps=10, dt=0.02, young=1e6,
-                              fixed={"plane": ((0, 0, 0), (1, 0, 0))}, every=5)
+    frames = hoembed.simulate(
+        mesh, steps=10, dt=0.02, young=1e6, fixed={"plane": ((0, 0, 0), (1, 0, 0))}, every=5
+    )
     assert [f.field_data["TimeValue"][0] for f in frames] == pytest.approx([0.0, 0.1, 0.2])
     last = frames[-1]
     assert last.n_points == mesh.n_points and last.n_cells == mesh.n_cells
-    np.testing.assert_allclose(last.points - mesh.points, last.point_data["Displacement"],
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        last.points - mesh.points, last.point_data["Displacement"], atol=1e-12
+    )
     assert last.point_data["NodalRotation"].shape == (mesh.n_points, 9)
     R = last.point_data["NodalRotation"].reshape(-1, 3, 3)
-    np.testing.assert_allclose(R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape), atol=1e-12
+    )
     assert np.all(np.linalg.det(R) > 0.999)
     assert last.cell_data["VonMisesStress"].shape == (mesh.n_cells,)
     assert last.point_data["Displacement"][:, 2].min() < 0
@@ -114,13 +135,17 @@ def test_rigid_rotation_no_stress_no_drift():
     th = 2.0
     Q = np.array([[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1]])
     u0 = mesh.points @ Q.T - mesh.points
-    frames = hoembed.simulate(mesh, steps=30, dt=0.01, young=1e6, gravity=(0, 0, 0),
-                              initial_displacement=u0, every=10)
+    frames = hoembed.simulate(
+        mesh, steps=30, dt=0.01, young=1e6, gravity=(0, 0, 0), initial_displacement=u0, every=10
+    )
     for f in frames:
         np.testing.assert_allclose(f.point_data["Displacement"], u0, atol=1e-9)
         assert f.cell_data["VonMisesStress"].max() < 1e-6
-        np.testing.assert_allclose(f.point_data["NodalRotation"].reshape(-1, 3, 3),
-                                   np.broadcast_to(Q, (mesh.n_points, 3, 3)), atol=1e-9)
+        np.testing.assert_allclose(
+            f.point_data["NodalRotation"].reshape(-1, 3, 3),
+            np.broadcast_to(Q, (mesh.n_points, 3, 3)),
+            atol=1e-9,
+        )
 
 
 def test_progress_and_tet10_beats_tet4_locking():
@@ -128,22 +153,30 @@ def test_progress_and_tet10_beats_tet4_locking():
     tips = {}
     for order in (1, 2):
         mesh = box_tet_mesh((8, 2, 2), (8.0, 1.0, 1.0), order)
-        f = hoembed.simulate(mesh, young=1e9, poisson=0.49, static=True,
-                             fixed={"plane": ((0, 0, 0), (1, 0, 0))},
-                             progress=lambda i, n: calls.append((i, n)))[0]
+        f = hoembed.simulate(
+            mesh,
+            young=1e9,
+            poisson=0.49,
+            static=True,
+            fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+            progress=lambda i, n: calls.append((i, n)),
+        )[0]
         tips[order] = -f.point_data["Displacement"][:, 2].min()
     assert calls == [(1, 1), (1, 1)]
     assert tips[2] > 1.5 * tips[1]
 
 
-@pytest.mark.parametrize("kwargs, needle", [
-    (dict(poisson=0.5), "PoissonRatio"),
-    (dict(poisson=-1.0), "PoissonRatio"),
-    (dict(young=0.0), "YoungModulus"),
-    (dict(density=0.0), "Density"),
-    (dict(dt=0.0), "TimeStep"),
-    (dict(dt=-1.0), "TimeStep"),
-])
+@pytest.mark.parametrize(
+    "kwargs, needle",
+    [
+        (dict(poisson=0.5), "PoissonRatio"),
+        (dict(poisson=-1.0), "PoissonRatio"),
+        (dict(young=0.0), "YoungModulus"),
+        (dict(density=0.0), "Density"),
+        (dict(dt=0.0), "TimeStep"),
+        (dict(dt=-1.0), "TimeStep"),
+    ],
+)
 def test_bad_properties_raise(kwargs, needle):
     mesh = box_tet_mesh((2, 1, 1), (2.0, 1.0, 1.0), 2)
     with pytest.raises(hoembed.HOEmbedError, match=needle):
@@ -163,8 +196,12 @@ def test_bad_mesh_and_state_raise():
     with pytest.raises(hoembed.HOEmbedError, match="Unsupported cell"):
         hoembed.simulate(hexa, steps=1)
     with pytest.raises(hoembed.HOEmbedError, match="time step 1"):
-        hoembed.simulate(mesh, steps=3, fixed={"plane": ((0, 0, 0), (1, 0, 0))},
-                         external_force=np.full((mesh.n_points, 3), 1e300))
+        hoembed.simulate(
+            mesh,
+            steps=3,
+            fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+            external_force=np.full((mesh.n_points, 3), 1e300),
+        )
     with pytest.raises(hoembed.HOEmbedError, match="clamped"):
         hoembed.simulate(mesh, static=True)
     with pytest.raises(hoembed.HOEmbedError, match="FixedArrayName"):
@@ -175,8 +212,15 @@ def test_real_mesh_bunny_frames(data_dir, tmp_path):
     surf = pv.read(str(data_dir / "bunny_lowres.obj"))
     mesh = hoembed.tet10_mesh(surf, n_elements=90)
     ymin = mesh.bounds[2]
-    frames = hoembed.simulate(mesh, steps=20, dt=0.01, young=5e4, gravity=(0, -9.81, 0),
-                              fixed={"plane": ((0, ymin + 0.01, 0), (0, 1, 0))}, every=10)
+    frames = hoembed.simulate(
+        mesh,
+        steps=20,
+        dt=0.01,
+        young=5e4,
+        gravity=(0, -9.81, 0),
+        fixed={"plane": ((0, ymin + 0.01, 0), (0, 1, 0))},
+        every=10,
+    )
     last = frames[-1]
     u = last.point_data["Displacement"]
     assert np.all(np.isfinite(u))
@@ -185,8 +229,9 @@ def test_real_mesh_bunny_frames(data_dir, tmp_path):
     assert u[~clamped, 1].mean() < 0  # sags under gravity
     assert np.abs(u).max() < 0.5 * (mesh.bounds[3] - mesh.bounds[2])
     R = last.point_data["NodalRotation"].reshape(-1, 3, 3)
-    np.testing.assert_allclose(R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape),
-                               atol=1e-10)
+    np.testing.assert_allclose(
+        R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape), atol=1e-10
+    )
     path = hoembed.write_series(frames, tmp_path, "bunny")
     reader = pv.get_reader(path)
     assert len(reader.time_values) == len(frames)
@@ -198,9 +243,15 @@ def test_static_matches_skfem_p2_large_system():
     mesh = box_tet_mesh((10, 5, 4), (4.0, 1.0, 1.0), 2, mapping=_curve)
     assert 3 * mesh.n_points >= 6000
     ref = skfem_static(mesh, E, nu, rho, g, 2)
-    u = hoembed.simulate(mesh, young=E, poisson=nu, density=rho, gravity=g,
-                         fixed={"plane": ((0, 0, 0), (1, 0, 0))},
-                         static=True)[0].point_data["Displacement"]
+    u = hoembed.simulate(
+        mesh,
+        young=E,
+        poisson=nu,
+        density=rho,
+        gravity=g,
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+        static=True,
+    )[0].point_data["Displacement"]
     assert np.linalg.norm(u - ref) / np.linalg.norm(ref) < 1e-6
 
 
@@ -225,9 +276,19 @@ def test_dynamic_steps_match_skfem_backward_euler(n):
         u += dt * v
     ref = u[dofs]
 
-    frames = hoembed.simulate(mesh, steps=steps, dt=dt, young=E, poisson=nu, density=rho,
-                              gravity=g, fixed={"plane": ((0, 0, 0), (1, 0, 0))},
-                              rayleigh_mass=a, rayleigh_stiffness=b, solver_tolerance=1e-12)
+    frames = hoembed.simulate(
+        mesh,
+        steps=steps,
+        dt=dt,
+        young=E,
+        poisson=nu,
+        density=rho,
+        gravity=g,
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+        rayleigh_mass=a,
+        rayleigh_stiffness=b,
+        solver_tolerance=1e-12,
+    )
     got = frames[-1].point_data["Displacement"]
     assert np.linalg.norm(ref) > 0
     assert np.linalg.norm(got - ref) / np.linalg.norm(ref) < 1e-6
@@ -242,16 +303,25 @@ def test_prescribed_static_matches_skfem_and_dynamic_reaches_targets():
     mesh, clamp, tip, t, ref = tip_pull(E, nu)
     pts = np.asarray(mesh.points)
     plane = {"plane": ((0, 0, 0), (1, 0, 0))}
-    u = hoembed.simulate(mesh, young=E, poisson=nu, gravity=(0, 0, 0), fixed=plane,
-                         static=True, prescribed=(tip, t))[0].point_data["Displacement"]
+    u = hoembed.simulate(
+        mesh, young=E, poisson=nu, gravity=(0, 0, 0), fixed=plane, static=True, prescribed=(tip, t)
+    )[0].point_data["Displacement"]
     assert np.array_equal(u[tip], (pts[tip] + t[tip]) - pts[tip])
     assert np.linalg.norm(u - ref) / np.linalg.norm(ref) < 1e-5
 
     lift = (0.0, 0.0, 0.3)  # one vector for every prescribed node
-    dt, speed = 0.01, 5.0   # 0.05 per step: there after 6 steps
-    frames = hoembed.simulate(mesh, steps=10, dt=dt, young=E, poisson=nu,
-                              gravity=(0, 0, 0), fixed=plane, prescribed=(tip, lift),
-                              prescribed_speed_limit=speed)
+    dt, speed = 0.01, 5.0  # 0.05 per step: there after 6 steps
+    frames = hoembed.simulate(
+        mesh,
+        steps=10,
+        dt=dt,
+        young=E,
+        poisson=nu,
+        gravity=(0, 0, 0),
+        fixed=plane,
+        prescribed=(tip, lift),
+        prescribed_speed_limit=speed,
+    )
     for k, f in enumerate(frames):
         z = f.point_data["Displacement"][tip, 2]
         np.testing.assert_allclose(z, min(0.3, k * speed * dt), rtol=0, atol=1e-12)
@@ -259,10 +329,16 @@ def test_prescribed_static_matches_skfem_and_dynamic_reaches_targets():
     middle = np.isclose(pts[:, 0], 2.0)
     assert frames[-1].point_data["Displacement"][middle, 2].mean() > 1e-3  # pulled up
     # without a limit: on the target after the first step
-    first = hoembed.simulate(mesh, steps=1, dt=dt, young=E, gravity=(0, 0, 0), fixed=plane,
-                             prescribed=(tip.astype(int), lift))[-1]
-    np.testing.assert_allclose(first.point_data["Displacement"][tip, 2], 0.3, rtol=0,
-                               atol=1e-12)
+    first = hoembed.simulate(
+        mesh,
+        steps=1,
+        dt=dt,
+        young=E,
+        gravity=(0, 0, 0),
+        fixed=plane,
+        prescribed=(tip.astype(int), lift),
+    )[-1]
+    np.testing.assert_allclose(first.point_data["Displacement"][tip, 2], 0.3, rtol=0, atol=1e-12)
 
 
 def test_bad_prescribed_raises():
@@ -283,8 +359,7 @@ def test_bad_prescribed_raises():
     ]
     for prescribed, speed, needle in cases:
         with pytest.raises(hoembed.HOEmbedError, match=needle):
-            hoembed.simulate(mesh, steps=1, prescribed=prescribed,
-                             prescribed_speed_limit=speed)
+            hoembed.simulate(mesh, steps=1, prescribed=prescribed, prescribed_speed_limit=speed)
 
 
 def test_new_input_mesh_of_another_size_rebuilds():
@@ -293,6 +368,7 @@ def test_new_input_mesh_of_another_size_rebuilds():
     # and read out of bounds: a segfault); also in LiveMode with a background
     # factorisation under way (a grab on the step before)
     from vtkmodules.util.numpy_support import numpy_to_vtk
+
     small = box_tet_mesh((4, 2, 2), (4.0, 1.0, 1.0), 2)
     large = box_tet_mesh((6, 2, 2), (4.0, 1.0, 1.0), 2)
     plane = {"plane": ((0, 0, 0), (1, 0, 0))}
@@ -313,8 +389,9 @@ def test_new_input_mesh_of_another_size_rebuilds():
         s.SetInputData(mesh)
         assert s.Step(2)
         tip = np.isclose(np.asarray(mesh.points)[:, 0], 4.0).astype(np.uint8)
-        assert s.SetPrescribedMotion(numpy_to_vtk(tip, deep=True),
-                                     numpy_to_vtk(np.zeros((mesh.n_points, 3)), deep=True))
+        assert s.SetPrescribedMotion(
+            numpy_to_vtk(tip, deep=True), numpy_to_vtk(np.zeros((mesh.n_points, 3)), deep=True)
+        )
         assert s.Step(1)
         assert s.SetPrescribedMotion(None, None)
     assert np.all(np.isfinite(pv.wrap(s.GetOutput()).points))

@@ -4,16 +4,16 @@ see it, and the input checks of the stepper and the transfer (issue 19).
 A bad node id used to be read unchecked by the stepper (a crash, or a heap overflow
 reported as "inverted"): those cases run in a subprocess, so a crash fails only its test.
 """
+
 import os
 import subprocess
 import sys
 import textwrap
 
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 from conftest import box_tet_mesh
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -31,8 +31,13 @@ def run_isolated(body):
         from conftest import box_tet_mesh
         mesh = box_tet_mesh((2, 1, 1), (2.0, 1.0, 1.0), 2)
     """).format(here=HERE) + textwrap.dedent(body)
-    proc = subprocess.run([sys.executable, "-c", src], capture_output=True, text=True,
-                          timeout=300, env=dict(os.environ))
+    proc = subprocess.run(
+        [sys.executable, "-c", src],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=dict(os.environ),
+    )
     assert proc.returncode == 0, f"crashed or failed (rc {proc.returncode}): {proc.stderr[-2000:]}"
     return proc.stdout
 
@@ -76,14 +81,20 @@ def test_stepper_non_finite_node_is_not_called_inverted():
 
 def test_static_solve_without_load_returns_rest_state():
     mesh = box_tet_mesh((3, 1, 1), (3.0, 1.0, 1.0), 2)
-    frames = hoembed.simulate(mesh, static=True, gravity=(0.0, 0.0, 0.0),
-                              fixed={"plane": ((0, 0, 0), (1, 0, 0))})
+    frames = hoembed.simulate(
+        mesh, static=True, gravity=(0.0, 0.0, 0.0), fixed={"plane": ((0, 0, 0), (1, 0, 0))}
+    )
     last = frames[-1]
     assert np.array_equal(last.point_data["Displacement"], np.zeros((mesh.n_points, 3)))
     assert np.array_equal(np.asarray(last.points), np.asarray(mesh.points))
     # a load still deflects it (the shortcut is for no load only)
-    loaded = hoembed.simulate(mesh, static=True, gravity=(0.0, 0.0, -1.0), young=1e6,
-                              fixed={"plane": ((0, 0, 0), (1, 0, 0))})[-1]
+    loaded = hoembed.simulate(
+        mesh,
+        static=True,
+        gravity=(0.0, 0.0, -1.0),
+        young=1e6,
+        fixed={"plane": ((0, 0, 0), (1, 0, 0))},
+    )[-1]
     assert loaded.point_data["Displacement"][:, 2].min() < 0.0
 
 
@@ -113,7 +124,9 @@ def test_fixed_array_of_the_wrong_kind_is_refused():
 def embedded():
     mesh = box_tet_mesh((3, 2, 2), (3.0, 2.0, 2.0), 2)
     surface = pv.Sphere(radius=1.1, center=(1.5, 1.0, 1.0), theta_resolution=16, phi_resolution=16)
-    return mesh, {m: hoembed.embed(surface, mesh, method=m) for m in ("normal-offset", "barycentric")}
+    return mesh, {
+        m: hoembed.embed(surface, mesh, method=m) for m in ("normal-offset", "barycentric")
+    }
 
 
 @pytest.mark.parametrize("method", ["normal-offset", "barycentric"])
@@ -144,8 +157,12 @@ def test_transfer_refuses_what_no_embedding_gives(embedded, method):
         # 1e12 is finite and fits a double, but no mesh carries a point that far faithfully:
         # refused (over 1e9 mesh diagonals), where 100 diagonals still passes
         diag = mesh.length
-        refused("EmbeddingDistance", outside, 1e12 * diag,
-                r"1 with EmbeddingParametricCoords over 1000 .* \|EmbeddingDistance\| over 1e\+09 mesh")
+        refused(
+            "EmbeddingDistance",
+            outside,
+            1e12 * diag,
+            r"1 with EmbeddingParametricCoords over 1000 .* \|EmbeddingDistance\| over 1e\+09 mesh",
+        )
         refused("EmbeddingDistance", outside, 1e12, r"EmbeddingDistance\| over 1e\+09 mesh")
         s = surf.copy()
         d = np.array(s.point_data["EmbeddingDistance"])

@@ -5,12 +5,12 @@ Embedded surfaces are built by construction on straight box meshes: points on bo
 faces that do not touch a box edge (there the smooth normal field is the flat face normal
 exactly), moved off along that normal, so v = p + d n holds by construction and the
 affine image of the surface is known analytically."""
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
 import vtkmodules.vtkCommonCore as vcore
-
-import hoembed
 from conftest import box_tet_mesh
 
 # VTK face order, tri6 corners first (hoembed::TetFaceNodes).
@@ -120,9 +120,13 @@ def random_rigid(rng):
     q = rng.normal(size=4)
     q /= np.linalg.norm(q)
     w, x, y, z = q
-    R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    R = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
     return R, rng.normal(scale=5.0, size=3)
 
 
@@ -210,8 +214,9 @@ def test_rotate_normals(setup):
     assert np.abs(rec.points - rot.points).max() > 1e-3
     # Without the arrays: a warning, then recomputed normals.
     warnings = []
-    out = hoembed.transfer(surf, moved(mesh, lambda x: x @ R.T + t), normals="rotate",
-                           warnings=warnings)
+    out = hoembed.transfer(
+        surf, moved(mesh, lambda x: x @ R.T + t), normals="rotate", warnings=warnings
+    )
     assert any("NodalRotation" in w for w in warnings)
     assert np.abs(out.points - (surf.points @ R.T + t)).max() < 1e-9 * surf.length
 
@@ -236,11 +241,14 @@ def test_deform_normals(setup):
     assert np.abs(dfm.points - rec.points).max() > 1e-3
     # Closer to the material map A v than the recomputed normals are.
     exact = np.asarray(surf.points) @ A.T
-    assert (np.linalg.norm(dfm.points - exact, axis=1).mean()
-            < np.linalg.norm(rec.points - exact, axis=1).mean())
+    assert (
+        np.linalg.norm(dfm.points - exact, axis=1).mean()
+        < np.linalg.norm(rec.points - exact, axis=1).mean()
+    )
     warnings = []
-    out = hoembed.transfer(surf, moved(mesh, lambda x: x @ A.T), normals="deform",
-                           warnings=warnings)
+    out = hoembed.transfer(
+        surf, moved(mesh, lambda x: x @ A.T), normals="deform", warnings=warnings
+    )
     assert any("Displacement" in w for w in warnings)
     assert np.abs(out.points - rec.points).max() < 1e-12 * surf.length
 

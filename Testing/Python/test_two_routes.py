@@ -3,11 +3,11 @@ of the VTK Python in use) against the VTK build's wrapped filters (the same driv
 called from C++; filter_routes.py) on the same inputs: equal outputs, bit for bit.
 
 Skipped in a build without the wrapped filters (the pip wheel)."""
+
+import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
-
-import hoembed
 
 if hoembed.BACKEND != "vtk":
     pytest.skip("the VTK build's filters are not in this build", allow_module_level=True)
@@ -18,6 +18,7 @@ from conftest import box_tet_mesh  # noqa: E402
 
 def _values(a):
     from vtkmodules.util.numpy_support import vtk_to_numpy
+
     if a.IsA("vtkStringArray"):
         return [a.GetValue(i) for i in range(a.GetNumberOfValues())]
     return vtk_to_numpy(a)
@@ -35,8 +36,9 @@ def assert_same(got, ref, what, skip_field=()):
     """Points, cells and every point, cell and field array: the same values bit for bit
     (NaN where NaN), the same array types."""
     assert type(got) is type(ref), what
-    np.testing.assert_array_equal(np.asarray(got.points), np.asarray(ref.points),
-                                  err_msg=f"{what}: points")
+    np.testing.assert_array_equal(
+        np.asarray(got.points), np.asarray(ref.points), err_msg=f"{what}: points"
+    )
     assert got.points.dtype == ref.points.dtype, what
     if isinstance(got, pv.UnstructuredGrid):
         np.testing.assert_array_equal(got.cell_connectivity, ref.cell_connectivity)
@@ -53,8 +55,9 @@ def assert_same(got, ref, what, skip_field=()):
             if isinstance(a[name][2], list):
                 assert a[name][2] == b[name][2], f"{what}: {kind} {name}"
             else:
-                np.testing.assert_array_equal(a[name][2], b[name][2],
-                                              err_msg=f"{what}: {kind} {name}")
+                np.testing.assert_array_equal(
+                    a[name][2], b[name][2], err_msg=f"{what}: {kind} {name}"
+                )
 
 
 @pytest.fixture(scope="module")
@@ -90,19 +93,28 @@ def test_embed_and_transfer(tail, meshes, method):
     a = 0.4
     R = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
     s = (X[:, 0] - X[:, 0].min()) / np.ptp(X[:, 0])
-    for name, x in (("rigid", (X - c) @ R.T + c + 0.3),
-                    ("bend", X + np.c_[0 * s, 0 * s, 0.4 * s ** 2])):
+    for name, x in (
+        ("rigid", (X - c) @ R.T + c + 0.3),
+        ("bend", X + np.c_[0 * s, 0 * s, 0.4 * s**2]),
+    ):
         deformed = mesh.copy()
         deformed.points = x
         deformed.point_data["Displacement"] = x - X
         deformed.point_data["NodalRotation"] = np.tile(R.reshape(1, 9), (len(X), 1))
-        for normals, pn in (("recompute", True), ("rotate", True), ("deform", True),
-                            ("recompute", "transform"), ("deform", "transform")):
+        for normals, pn in (
+            ("recompute", True),
+            ("rotate", True),
+            ("deform", True),
+            ("recompute", "transform"),
+            ("deform", "transform"),
+        ):
             w1, w2 = [], []
-            out = hoembed.transfer(ref, deformed, normals=normals, compute_point_normals=pn,
-                                   warnings=w1)
-            out_ref = filter_routes.transfer(ref, deformed, normals=normals,
-                                             compute_point_normals=pn, warnings=w2)
+            out = hoembed.transfer(
+                ref, deformed, normals=normals, compute_point_normals=pn, warnings=w1
+            )
+            out_ref = filter_routes.transfer(
+                ref, deformed, normals=normals, compute_point_normals=pn, warnings=w2
+            )
             assert_same(out, out_ref, f"transfer {method} {name} {normals} {pn}")
             assert len(w1) == len(w2)
 
@@ -112,14 +124,25 @@ def test_simulate():
     n = mesh.n_points
     rng = np.random.default_rng(3)
     plane = {"plane": ((0.4, 0, 0), (1, 0, 0))}
-    runs = [dict(steps=6, every=2, young=2e4, fixed=plane),
-            dict(steps=4, young=3e4, fixed=np.asarray(mesh.points)[:, 0] < 0.1,
-                 external_force=rng.normal(size=(n, 3)), initial_velocity=np.tile((0, 0.1, 0), (n, 1)),
-                 lumped_mass=True),
-            dict(static=True, young=5e6, fixed=np.asarray(mesh.points)[:, 0] < 0.1),
-            dict(steps=5, young=2e4, fixed=np.asarray(mesh.points)[:, 0] < 0.1,
-                 prescribed=(np.asarray(mesh.points)[:, 0] > 3.9, (0, 0, 0.2)),
-                 prescribed_speed_limit=2.0)]
+    runs = [
+        dict(steps=6, every=2, young=2e4, fixed=plane),
+        dict(
+            steps=4,
+            young=3e4,
+            fixed=np.asarray(mesh.points)[:, 0] < 0.1,
+            external_force=rng.normal(size=(n, 3)),
+            initial_velocity=np.tile((0, 0.1, 0), (n, 1)),
+            lumped_mass=True,
+        ),
+        dict(static=True, young=5e6, fixed=np.asarray(mesh.points)[:, 0] < 0.1),
+        dict(
+            steps=5,
+            young=2e4,
+            fixed=np.asarray(mesh.points)[:, 0] < 0.1,
+            prescribed=(np.asarray(mesh.points)[:, 0] > 3.9, (0, 0, 0.2)),
+            prescribed_speed_limit=2.0,
+        ),
+    ]
     for kwargs in runs:
         got = hoembed.simulate(mesh, **kwargs)
         ref = filter_routes.simulate(mesh, **kwargs)
@@ -136,9 +159,9 @@ def test_live_session_against_the_live_mode_filters(tail, meshes, point_normals)
     positions, surface points and point normals (the filter's PointNormalsMode set as the
     session's point_normals) every frame (synchronous factorisation: the background one
     takes its factor when the thread is done, so its frames depend on timing)."""
-    from vtkmodules.util.numpy_support import numpy_to_vtk
     from hoembed._errors import run_filter
     from hoembed.live import LiveSession, default_clamp
+    from vtkmodules.util.numpy_support import numpy_to_vtk
 
     fe = meshes[1]
     if fe.celltypes[0] != pv.CellType.QUADRATIC_TETRA:
@@ -166,20 +189,22 @@ def test_live_session_against_the_live_mode_filters(tail, meshes, point_normals)
     tr.SetInputData(0, emb)
     tr.SetInputConnection(1, st.GetOutputPort())
     tr.SetComputePointNormals(True)
-    tr.SetPointNormalsMode(tr.TRANSFORM_POINT_NORMALS if point_normals == "transform"
-                           else tr.RECOMPUTE_POINT_NORMALS)
+    tr.SetPointNormalsMode(
+        tr.TRANSFORM_POINT_NORMALS if point_normals == "transform" else tr.RECOMPUTE_POINT_NORMALS
+    )
     run_filter(tr)
 
     def same(label):
-        np.testing.assert_array_equal(s.positions(), pv.wrap(st.GetOutput()).points,
-                                      err_msg=label)
+        np.testing.assert_array_equal(s.positions(), pv.wrap(st.GetOutput()).points, err_msg=label)
         out = pv.wrap(tr.GetOutput())
         np.testing.assert_array_equal(s.surface.points, out.points, err_msg=label)
-        np.testing.assert_array_equal(s.surface.point_data["Normals"],
-                                      out.point_data["Normals"], err_msg=label)
+        np.testing.assert_array_equal(
+            s.surface.point_data["Normals"], out.point_data["Normals"], err_msg=label
+        )
         assert s.time == st.GetSimulationTime(), label
-        assert s.folded_normals == (tr.GetNumberOfFoldedPointNormals()
-                                    if point_normals == "transform" else 0), label
+        assert s.folded_normals == (
+            tr.GetNumberOfFoldedPointNormals() if point_normals == "transform" else 0
+        ), label
 
     same("rest")
     pos = s.positions()
@@ -199,8 +224,7 @@ def test_live_session_against_the_live_mode_filters(tail, meshes, point_normals)
         mask[ids] = 1
         disp = np.zeros((fe.n_points, 3))
         disp[ids] = s.grab_start + (target - s.grab_point) - s.rest[ids]
-        assert st.SetPrescribedMotion(numpy_to_vtk(mask, deep=True),
-                                      numpy_to_vtk(disp, deep=True))
+        assert st.SetPrescribedMotion(numpy_to_vtk(mask, deep=True), numpy_to_vtk(disp, deep=True))
         s.step()
         assert st.Step(1)
         run_filter(tr)
@@ -234,8 +258,10 @@ def test_live_transformed_normals_against_recomputed(tail, meshes):
         pytest.skip("the live loop's default: tet10 + normal-offset")
     emb = hoembed.embed(tail, fe)
     clamp = default_clamp(fe, builtin=True)
-    sessions = {m: LiveSession(fe, emb, fixed=clamp, background_factorization=False,
-                               point_normals=m) for m in ("transform", "recompute")}
+    sessions = {
+        m: LiveSession(fe, emb, fixed=clamp, background_factorization=False, point_normals=m)
+        for m in ("transform", "recompute")
+    }
     assert LiveSession(fe, emb, fixed=clamp).point_normals == "transform"
     for s in sessions.values():
         pos = s.positions()
@@ -273,8 +299,7 @@ def test_live_transformed_normals_against_recomputed(tail, meshes):
     r.point_normals = "transform"
     r.step()
     t.step()
-    np.testing.assert_array_equal(t.surface.point_data["Normals"],
-                                  r.surface.point_data["Normals"])
+    np.testing.assert_array_equal(t.surface.point_data["Normals"], r.surface.point_data["Normals"])
     with pytest.raises(hoembed.HOEmbedError, match="point_normals must be"):
         LiveSession(fe, emb, point_normals="flat")
     with pytest.raises(ValueError, match="point_normals must be"):

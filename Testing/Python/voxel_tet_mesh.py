@@ -6,14 +6,15 @@ way to the surface (VTK's vtkCellLocator) so that the boundary is curved.
 Used by the embedding tests and Benchmarks/bench_embedding.py. Not a quality mesher: the
 boundary is a voxel staircase, so surface vertices lie up to about one cube away from it.
 """
+
 import itertools
 
 import numpy as np
 import pyvista as pv
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import reference
 from vtkmodules.vtkCommonDataModel import vtkCellLocator
 from vtkmodules.vtkFiltersModeling import vtkSelectEnclosedPoints
-from vtkmodules.util.numpy_support import vtk_to_numpy
 
 
 def _inside(surface, points):
@@ -29,6 +30,7 @@ def _inside(surface, points):
 def _valid(grid):
     """True when hoembed accepts every element (det J > 0 everywhere, Bernstein bound)."""
     import hoembed
+
     try:
         hoembed.embed(pv.PolyData(np.array(grid.points[:1], dtype=float), deep=True), grid)
         return True
@@ -122,8 +124,9 @@ def _voxel_tet_mesh(surface, n_elements, order, curve_fraction):
         conn = tets
         ctype = pv.CellType.TETRA
     cells = np.hstack([np.full((len(conn), 1), conn.shape[1]), conn]).ravel()
-    return pv.UnstructuredGrid(cells.astype(np.int64),
-                               np.full(len(conn), ctype, dtype=np.uint8), points, deep=True)
+    return pv.UnstructuredGrid(
+        cells.astype(np.int64), np.full(len(conn), ctype, dtype=np.uint8), points, deep=True
+    )
 
 
 def linear_copy(grid10):
@@ -131,6 +134,9 @@ def linear_copy(grid10):
     conn = grid10.cells.reshape(-1, 11)[:, 1:5]
     used, inv = np.unique(conn, return_inverse=True)
     cells = np.hstack([np.full((len(conn), 1), 4), inv.reshape(-1, 4)]).ravel()
-    return pv.UnstructuredGrid(cells.astype(np.int64),
-                               np.full(len(conn), pv.CellType.TETRA, dtype=np.uint8),
-                               grid10.points[used], deep=True)
+    return pv.UnstructuredGrid(
+        cells.astype(np.int64),
+        np.full(len(conn), pv.CellType.TETRA, dtype=np.uint8),
+        grid10.points[used],
+        deep=True,
+    )

@@ -95,8 +95,8 @@ void Read3(const nb::handle& h, double out[3])
 }
 
 // (points, tris) of a service, or false for None.
-bool ReadSurface(const nb::object& r, std::vector<double>& points, std::vector<Id>& tris,
-  const char* what)
+bool ReadSurface(
+  const nb::object& r, std::vector<double>& points, std::vector<Id>& tris, const char* what)
 {
   if (r.is_none())
     return false;
@@ -104,7 +104,8 @@ bool ReadSurface(const nb::object& r, std::vector<double>& points, std::vector<I
   Read(t[0], points, what);
   Read(t[1], tris, what);
   if (points.size() % 3 != 0 || tris.size() % 3 != 0)
-    throw std::invalid_argument(std::string("mesher service ") + what + ": not 3 values per point/triangle");
+    throw std::invalid_argument(
+      std::string("mesher service ") + what + ": not 3 values per point/triangle");
   return true;
 }
 
@@ -118,9 +119,8 @@ hoembed::MesherServices Services(const nb::object& py)
                  std::vector<Id>& tris) {
     return ReadSurface(decimate(reduction, smoothed), points, tris, "decimate");
   };
-  s.Fine.Closest = [closest](const double x[3], double cp[3]) {
-    Read3(closest(x[0], x[1], x[2]), cp);
-  };
+  s.Fine.Closest = [closest](
+                     const double x[3], double cp[3]) { Read3(closest(x[0], x[1], x[2]), cp); };
   s.Fine.Ray = [ray](const double a[3], const double b[3], double hit[3]) {
     nb::object r = ray(a[0], a[1], a[2], b[0], b[1], b[2]);
     if (r.is_none())
@@ -171,8 +171,8 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
   // The read step, in vtkTet10Mesher's order: ids, size, then the surface itself.
   std::string error = hoembed::CheckSurfacePointIds(in);
   if (error.empty())
-    error = hoembed::CheckEstimatedSize(in, o.TargetEdgeLength, o.TargetNumberOfElements,
-      maximumElements, "MaximumNumberOfElements");
+    error = hoembed::CheckEstimatedSize(
+      in, o.TargetEdgeLength, o.TargetNumberOfElements, maximumElements, "MaximumNumberOfElements");
   if (!error.empty())
     throw std::runtime_error(error);
   hoembed::SurfaceReadServices read;
@@ -184,7 +184,8 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
     Read(r, local, "ear_cut");
     return true;
   };
-  read.Merge = [merge](const std::vector<Id>& tris, std::vector<double>& pts, std::vector<Id>& out) {
+  read.Merge = [merge](
+                 const std::vector<Id>& tris, std::vector<double>& pts, std::vector<Id>& out) {
     return ReadSurface(merge(Copy(tris.data(), tris.size(), 3)), pts, out, "merge");
   };
   std::vector<double> finePoints;
@@ -196,8 +197,7 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
   std::function<void(double)> report;
   if (!progress.is_none())
     report = [progress](double f) { progress(f); };
-  hoembed::MesherResult r =
-    hoembed::RunMesher(finePoints, fineTris, o, Services(services), report);
+  hoembed::MesherResult r = hoembed::RunMesher(finePoints, fineTris, o, Services(services), report);
   if (!r.Error.empty())
   {
     nb::dict failed;

@@ -86,8 +86,8 @@ hoembed::CellArrayView Cells(const In& offsets, const In& conn)
 }
 
 // The FE mesh as TetMeshArrays; `points` may be None (topology only).
-hoembed::TetMeshArrays Mesh(std::int64_t numberOfPoints, const In* points,
-  const In& types, const In& offsets, const In& conn)
+hoembed::TetMeshArrays Mesh(
+  std::int64_t numberOfPoints, const In* points, const In& types, const In& offsets, const In& conn)
 {
   hoembed::TetMeshArrays m;
   m.NumberOfPoints = numberOfPoints;
@@ -114,8 +114,8 @@ void Check(const std::string& error)
 }
 
 // The transfer driver's loops on hoembedParallel.h (std::thread in this build).
-void PoolFor(std::int64_t n, std::int64_t grain,
-  const std::function<void(std::int64_t, std::int64_t)>& body)
+void PoolFor(
+  std::int64_t n, std::int64_t grain, const std::function<void(std::int64_t, std::int64_t)>& body)
 {
   hoembed::ParallelLoop(std::int64_t(0), n, grain, body);
 }
@@ -159,11 +159,9 @@ struct Transfer
 void SetPolygons(Transfer& t, const In& offsets, const In& conn)
 {
   const std::int64_t nv = t.Driver.GetNumberOfVertices();
-  const std::int64_t npoly =
-    offsets.size() > 0 ? static_cast<std::int64_t>(offsets.size()) - 1 : 0;
+  const std::int64_t npoly = offsets.size() > 0 ? static_cast<std::int64_t>(offsets.size()) - 1 : 0;
   const std::int64_t zero = 0;
-  t.Driver.SetPolygons(
-    npoly > 0 ? Data<std::int64_t>(offsets, "offsets", offsets.size()) : &zero,
+  t.Driver.SetPolygons(npoly > 0 ? Data<std::int64_t>(offsets, "offsets", offsets.size()) : &zero,
     Data<std::int64_t>(conn, "connectivity", conn.size()), npoly, nv);
 }
 
@@ -197,9 +195,8 @@ struct Stepper
 // copy too; the package's keyword defaults are read from here. The options' members carry
 // the properties' names, so the keys are the members' names.
 #define HOEMBED_DEFAULT(dict, options, member) dict[#member] = options.member
-#define HOEMBED_DEFAULT_ENUM(dict, options, member)                                        \
-  dict[#member] = static_cast<int>(options.member)
-#define HOEMBED_DEFAULT_VECTOR3(dict, options, member)                                     \
+#define HOEMBED_DEFAULT_ENUM(dict, options, member) dict[#member] = static_cast<int>(options.member)
+#define HOEMBED_DEFAULT_VECTOR3(dict, options, member)                                             \
   dict[#member] = nb::make_tuple(options.member[0], options.member[1], options.member[2])
 nb::dict Defaults()
 {
@@ -244,8 +241,8 @@ nb::dict Defaults()
   HOEMBED_DEFAULT(stepper, p, MooneyRivlinC01);
   HOEMBED_DEFAULT(stepper, p, NewtonTolerance);
   HOEMBED_DEFAULT(stepper, p, MaxNewtonIterations);
-  stepper["ClampBox"] = nb::make_tuple(p.ClampBox[0], p.ClampBox[1], p.ClampBox[2],
-    p.ClampBox[3], p.ClampBox[4], p.ClampBox[5]);
+  stepper["ClampBox"] = nb::make_tuple(
+    p.ClampBox[0], p.ClampBox[1], p.ClampBox[2], p.ClampBox[3], p.ClampBox[4], p.ClampBox[5]);
   HOEMBED_DEFAULT_VECTOR3(stepper, o, Gravity);
   HOEMBED_DEFAULT(stepper, o, NumberOfTimeSteps);
   HOEMBED_DEFAULT(stepper, o, StaticSolve);
@@ -277,20 +274,20 @@ NB_MODULE(_hoembed, m)
     .def(nb::init<>())
     .def(
       "set_surface",
-      [](hoembed::EmbeddingDriver& d, const In& points, const In& polyOffsets,
-        const In& polyConn, const In& stripOffsets, const In& stripConn) {
+      [](hoembed::EmbeddingDriver& d, const In& points, const In& polyOffsets, const In& polyConn,
+        const In& stripOffsets, const In& stripConn) {
         const std::int64_t n = static_cast<std::int64_t>(points.size() / 3);
         const double* pd = Is<double>(points) ? Data<double>(points, "points", 3 * n) : nullptr;
         const float* pf = pd ? nullptr : Data<float>(points, "points", 3 * n);
-        Check(d.SetSurface(pd, pf, n, Cells(polyOffsets, polyConn), Cells(stripOffsets, stripConn)));
+        Check(
+          d.SetSurface(pd, pf, n, Cells(polyOffsets, polyConn), Cells(stripOffsets, stripConn)));
       },
       nb::arg("points"), nb::arg("poly_offsets"), nb::arg("poly_connectivity"),
       nb::arg("strip_offsets"), nb::arg("strip_connectivity"))
     .def(
       "prepare_and_order",
       [](hoembed::EmbeddingDriver& d, std::int64_t numberOfPoints, const In& points,
-        const In& types, const In& offsets, const In& conn, bool validate,
-        int partitions) {
+        const In& types, const In& offsets, const In& conn, bool validate, int partitions) {
         const hoembed::TetMeshArrays mesh = Mesh(numberOfPoints, &points, types, offsets, conn);
         std::string error;
         {
@@ -316,8 +313,7 @@ NB_MODULE(_hoembed, m)
         d.Embed(method, report);
       },
       nb::arg("method"), nb::arg("progress").none())
-    .def(
-      "write_arrays",
+    .def("write_arrays",
       [](const hoembed::EmbeddingDriver& d, Array cellId, Array pcoords, Array distance,
         Array residual, Array closest, Array face, Array iterations, Array visited,
         Array fallback) {
@@ -339,19 +335,19 @@ NB_MODULE(_hoembed, m)
       })
     .def("write_fallback_offsets",
       [](const hoembed::EmbeddingDriver& d, Array out) {
-        d.WriteFallbackOffsets(
-          Out<double>(out, "fallback offsets", 3 * static_cast<std::size_t>(d.GetNumberOfPoints())));
+        d.WriteFallbackOffsets(Out<double>(
+          out, "fallback offsets", 3 * static_cast<std::size_t>(d.GetNumberOfPoints())));
       })
     .def_prop_ro("fingerprint", &hoembed::EmbeddingDriver::GetFingerprint);
 
   nb::class_<Transfer>(m, "TransferDriver")
     .def(nb::init<>())
-    .def(
-      "set_mesh_topology",
+    .def("set_mesh_topology",
       [](Transfer& t, std::int64_t numberOfPoints, const In& types, const In& offsets,
         const In& conn) {
         bool rebuilt = false;
-        Check(t.Driver.SetMeshTopology(Mesh(numberOfPoints, nullptr, types, offsets, conn), rebuilt));
+        Check(
+          t.Driver.SetMeshTopology(Mesh(numberOfPoints, nullptr, types, offsets, conn), rebuilt));
       })
     .def_prop_ro("fingerprint", [](const Transfer& t) { return t.Driver.GetFingerprint(); })
     .def_static(
@@ -390,8 +386,8 @@ NB_MODULE(_hoembed, m)
       "returns which of distances, faces, fallback offsets the plan reads.")
     .def_static(
       "frame_arrays_used",
-      [](int normals, std::int64_t numberOfPoints, nb::object displacements,
-        nb::object rotations, int pointNormals) {
+      [](int normals, std::int64_t numberOfPoints, nb::object displacements, nb::object rotations,
+        int pointNormals) {
         bool d = false, r = false;
         hoembed::TransferDriver::FrameArraysUsed(static_cast<hoembed::TransferNormals>(normals),
           static_cast<hoembed::TransferPointNormals>(pointNormals), numberOfPoints,
@@ -410,8 +406,8 @@ NB_MODULE(_hoembed, m)
         double meshLength) {
         hoembed::TransferEmbedding em;
         if (!hoembed::ParseEmbeddingMethod(method.c_str(), em.Method))
-          throw std::invalid_argument("build_plan: method '" + method +
-            "' (check_surface judges the surface first)");
+          throw std::invalid_argument(
+            "build_plan: method '" + method + "' (check_surface judges the surface first)");
         const std::size_t n = cellIds.size();
         em.NumberOfVertices = static_cast<std::int64_t>(n);
         em.CellIds = Data<double>(cellIds, "EmbeddingCellId", n);
@@ -438,9 +434,8 @@ NB_MODULE(_hoembed, m)
       nb::arg("mesh_length"))
     .def(
       "evaluate_frame",
-      [](Transfer& t, const In& points, int normals, nb::object displacements,
-        nb::object rotations, bool countInverted, Array out, nb::object pointNormals,
-        int pointNormalsMode) {
+      [](Transfer& t, const In& points, int normals, nb::object displacements, nb::object rotations,
+        bool countInverted, Array out, nb::object pointNormals, int pointNormalsMode) {
         const std::size_t np = static_cast<std::size_t>(t.Driver.GetNumberOfPoints());
         hoembed::TransferFrame frame;
         frame.Points = Data<double>(points, "deformed mesh points", 3 * np);
@@ -448,11 +443,13 @@ NB_MODULE(_hoembed, m)
         frame.CountInverted = countInverted;
         In d, r;
         if (!displacements.is_none())
-          frame.Displacements = Data<double>(d = nb::cast<In>(displacements), "Displacement", 3 * np);
+          frame.Displacements =
+            Data<double>(d = nb::cast<In>(displacements), "Displacement", 3 * np);
         if (!rotations.is_none())
           frame.Rotations = Data<double>(r = nb::cast<In>(rotations), "NodalRotation", 9 * np);
         const std::size_t nv = static_cast<std::size_t>(t.Driver.GetNumberOfVertices());
-        double* outDouble = IsT<Array, double>(out) ? Out<double>(out, "output points", 3 * nv) : nullptr;
+        double* outDouble =
+          IsT<Array, double>(out) ? Out<double>(out, "output points", 3 * nv) : nullptr;
         float* outFloat = outDouble ? nullptr : Out<float>(out, "output points", 3 * nv);
         // point normals in the same pass (the driver's TransferFrame.PointNormals): float32,
         // 3 per vertex; the mode (and its fallback to recompute) is the driver's
@@ -483,7 +480,8 @@ NB_MODULE(_hoembed, m)
       "Returns the driver's warnings.")
     .def_prop_ro("number_of_inverted_cells",
       [](const Transfer& t) { return t.Driver.GetNumberOfInvertedCells(); })
-    .def_prop_ro("number_of_folded_normals",
+    .def_prop_ro(
+      "number_of_folded_normals",
       [](const Transfer& t) { return t.Driver.GetNumberOfFoldedNormals(); },
       "Transform point normals: the vertices of the last frame recomputed where the map folds.")
     .def(
@@ -533,12 +531,11 @@ NB_MODULE(_hoembed, m)
     .def(
       "build",
       [](Stepper& st, std::int64_t numberOfPoints, const In& points, const In& types,
-        const In& offsets, const In& conn, const std::vector<double>& material,
-        bool lumpedMass, bool staticSolve, const std::vector<double>& gravity,
-        const std::vector<double>& clampPlane, const std::vector<double>& clampBox,
-        nb::object fixed, nb::object forces, nb::object u0, nb::object v0,
-        nb::object prescribedMask, nb::object prescribedTargets, double prescribedSpeedLimit,
-        nb::object materialName, nb::object hyperelastic) {
+        const In& offsets, const In& conn, const std::vector<double>& material, bool lumpedMass,
+        bool staticSolve, const std::vector<double>& gravity, const std::vector<double>& clampPlane,
+        const std::vector<double>& clampBox, nb::object fixed, nb::object forces, nb::object u0,
+        nb::object v0, nb::object prescribedMask, nb::object prescribedTargets,
+        double prescribedSpeedLimit, nb::object materialName, nb::object hyperelastic) {
         // material: E, nu, density, dt, Rayleigh mass, Rayleigh stiffness, solver tolerance
         if (material.size() != 7 || gravity.size() != 3 ||
           (!clampPlane.empty() && clampPlane.size() != 6) ||
@@ -561,8 +558,8 @@ NB_MODULE(_hoembed, m)
         p.NewtonTolerance = defaults.NewtonTolerance;
         p.MaxNewtonIterations = defaults.MaxNewtonIterations;
         if (!materialName.is_none())
-          Check(hoembed::StepperDriver::ParseMaterial(
-            nb::cast<std::string>(materialName), p.Material));
+          Check(
+            hoembed::StepperDriver::ParseMaterial(nb::cast<std::string>(materialName), p.Material));
         if (!hyperelastic.is_none())
         {
           const auto h = nb::cast<std::vector<double>>(hyperelastic);
@@ -572,7 +569,8 @@ NB_MODULE(_hoembed, m)
           p.MooneyRivlinC01 = h[1];
           p.NewtonTolerance = h[2];
           // out of int's range: refused by the driver's rule as below 1
-          p.MaxNewtonIterations = (h[3] >= 1.0 && h[3] <= 2147483647.0) ? static_cast<int>(h[3]) : 0;
+          p.MaxNewtonIterations =
+            (h[3] >= 1.0 && h[3] <= 2147483647.0) ? static_cast<int>(h[3]) : 0;
         }
         p.LumpedMass = lumpedMass;
         p.UseClampPlane = !clampPlane.empty();
@@ -613,8 +611,8 @@ NB_MODULE(_hoembed, m)
           if (!error.empty())
             error += ".";
           if (error.empty())
-            error = Error("SetPrescribedMotion: ",
-              st.Driver.SetPrescribedMotion(numberOfPoints, pm, pt));
+            error =
+              Error("SetPrescribedMotion: ", st.Driver.SetPrescribedMotion(numberOfPoints, pm, pt));
           if (error.empty())
           {
             hoembed::StepperInputs in;
@@ -710,8 +708,8 @@ NB_MODULE(_hoembed, m)
         const double* t = Optional(targets, keepT, "prescribed displacement", 3 * n);
         if (m && !t)
           throw std::invalid_argument("set_prescribed_motion: a mask without targets");
-        Check(Error("SetPrescribedMotion: ",
-          st.Driver.SetPrescribedMotion(st.NumberOfPoints, m, t)));
+        Check(
+          Error("SetPrescribedMotion: ", st.Driver.SetPrescribedMotion(st.NumberOfPoints, m, t)));
       },
       nb::arg("mask").none(), nb::arg("targets").none())
     .def_prop_rw(
@@ -725,11 +723,12 @@ NB_MODULE(_hoembed, m)
       "set_background_factorization",
       [](Stepper& st, bool on, int lag) { st.Driver.Solver.SetBackgroundFactorization(on, lag); },
       nb::arg("on"), nb::arg("lag") = hoembed::StepperOptions().FactorizationLag)
-    .def("request_steps", [](Stepper& st, long long n) {
-      if (n < 0)
-        throw std::invalid_argument("request_steps: the number of steps must be >= 0");
-      st.Driver.RequestSteps(n);
-    })
+    .def("request_steps",
+      [](Stepper& st, long long n) {
+        if (n < 0)
+          throw std::invalid_argument("request_steps: the number of steps must be >= 0");
+        st.Driver.RequestSteps(n);
+      })
     .def("request_reset", [](Stepper& st) { st.Driver.RequestReset(); })
     .def_prop_ro("clock_step", [](const Stepper& st) { return st.Driver.ClockStep(); })
     .def_prop_ro(
@@ -839,12 +838,14 @@ NB_MODULE(_hoembed, m)
         : driver == "transfer"  ? FindPropertyRange(hoembed::TransferRanges, name)
                                 : nullptr;
       if (!r)
-        throw std::invalid_argument("check_range: the " + driver + " driver has no range of " + name);
+        throw std::invalid_argument(
+          "check_range: the " + driver + " driver has no range of " + name);
       return hoembed::CheckPropertyRange(*r, value);
     },
     "The driver's sentence refusing `value` for its property `name` ('' when valid).");
 
-  m.def("number_of_threads", [] { return hoembed::ParallelThreadCount(); },
+  m.def(
+    "number_of_threads", [] { return hoembed::ParallelThreadCount(); },
     "Threads the kernels' loops use (the wheel: HOEMBED_NUM_THREADS, else the hardware's; "
     "the VTK build: vtkSMPTools' estimate).");
 }

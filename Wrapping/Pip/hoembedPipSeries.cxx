@@ -30,7 +30,8 @@ void BindSeries(nb::module_& m)
   using hoembed::SeriesFiles;
   nb::class_<SeriesFiles>(m, "SeriesFiles")
     .def(nb::init<>())
-    .def("begin", [](SeriesFiles& s, const std::string& pvd) { Raise(s.Begin(pvd)); },
+    .def(
+      "begin", [](SeriesFiles& s, const std::string& pvd) { Raise(s.Begin(pvd)); },
       nb::arg("pvd_path"))
     .def(
       "start_frame",
@@ -42,7 +43,8 @@ void BindSeries(nb::module_& m)
       nb::arg("time"), nb::arg("extension"), nb::arg("data_type"),
       "The staged path to write the next frame to (extension 'vtu' or 'vtp'; '' refuses "
       "the frame as of data_type).")
-    .def("finish_frame", [](SeriesFiles& s, bool written) { Raise(s.FinishFrame(written)); },
+    .def(
+      "finish_frame", [](SeriesFiles& s, bool written) { Raise(s.FinishFrame(written)); },
       nb::arg("written"))
     .def("end", [](SeriesFiles& s) { Raise(s.End()); })
     .def("abandon", &SeriesFiles::Abandon)
@@ -62,6 +64,6 @@ void BindSeries(nb::module_& m)
       "(times, timed): the times a pipeline input is written at, and whether each update "
       "asks for its time.")
     .def_static("input_failed", &SeriesFiles::InputFailed, nb::arg("time"), nb::arg("step"))
-    .def_static("collection_text", &SeriesFiles::CollectionText, nb::arg("times"),
-      nb::arg("relative_paths"));
+    .def_static(
+      "collection_text", &SeriesFiles::CollectionText, nb::arg("times"), nb::arg("relative_paths"));
 }

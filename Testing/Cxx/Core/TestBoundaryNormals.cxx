@@ -33,8 +33,8 @@ void Load(vtkUnstructuredGrid* grid, Mesh& m)
   const auto conn = hoembed_test::MeshConnectivity(grid, m.NodesPerCell);
   m.Conn.assign(conn.begin(), conn.end());
   m.Points = hoembed_test::PointsOf(grid);
-  const std::string err =
-    m.Topo.Build(m.Conn.data(), grid->GetNumberOfCells(), m.NodesPerCell, grid->GetNumberOfPoints());
+  const std::string err = m.Topo.Build(
+    m.Conn.data(), grid->GetNumberOfCells(), m.NodesPerCell, grid->GetNumberOfPoints());
   HOEMBED_CHECK(err.empty(), "Build: %s", err.c_str());
   m.Normals.assign(m.Points.size(), -7.0);
   hoembed::ComputeBoundaryNodeNormals(m.Topo, m.Points.data(), m.Normals.data());
@@ -82,8 +82,8 @@ void BallErrors(int n, int order, double& nodalMax, double& nodalMean, double& f
     const double* nn = &m.Normals[3 * i];
     if (!m.Topo.IsBoundaryNode(i))
     {
-      HOEMBED_CHECK(nn[0] == 0 && nn[1] == 0 && nn[2] == 0, "interior node %lld has a normal",
-        (long long)i);
+      HOEMBED_CHECK(
+        nn[0] == 0 && nn[1] == 0 && nn[2] == 0, "interior node %lld has a normal", (long long)i);
       continue;
     }
     HOEMBED_CHECK(std::abs(Norm(nn) - 1) < 1e-14, "nodal normal not unit (%g)", Norm(nn));
@@ -106,7 +106,8 @@ void BallErrors(int n, int order, double& nodalMax, double& nodalMean, double& f
       }
       double x[3], xu[3], xv[3], nrm[3], s[3];
       hoembed::EvaluateBoundaryFace(m.Topo, m.Points.data(), b, uv, x, xu, xv);
-      const double len = hoembed::InterpolateBoundaryNormal(m.Topo, m.Normals.data(), b, uv, nrm, s);
+      const double len =
+        hoembed::InterpolateBoundaryNormal(m.Topo, m.Normals.data(), b, uv, nrm, s);
       HOEMBED_CHECK(len > 0.5 && std::abs(len - Norm(s)) < 1e-15, "normal sum length %g", len);
       for (int d = 0; d < 3; ++d)
         HOEMBED_CHECK(std::abs(nrm[d] - s[d] / len) < 1e-15, "normalisation");
@@ -133,12 +134,12 @@ void TestBall()
       if (order == 2)
       {
         // Second-order convergence (each halving of h divides the error by about 4).
-        HOEMBED_CHECK(nmax < 0.4 * prev, "tet10 nodal normal error %g does not converge (was %g)",
-          nmax, prev);
+        HOEMBED_CHECK(
+          nmax < 0.4 * prev, "tet10 nodal normal error %g does not converge (was %g)", nmax, prev);
         prev = nmax;
         if (n >= 8)
-          HOEMBED_CHECK(nmax < 1.5 && fmax < 1.5, "tet10 %d^3: normals off by %g / %g deg", n,
-            nmax, fmax);
+          HOEMBED_CHECK(
+            nmax < 1.5 && fmax < 1.5, "tet10 %d^3: normals off by %g / %g deg", n, nmax, fmax);
       }
     }
     prev = 1e9;
@@ -175,9 +176,10 @@ void TestBox(int order)
     ++counts[sides];
     const double* nn = &m.Normals[3 * i];
     for (int d = 0; d < 3; ++d)
-      HOEMBED_CHECK(std::abs(nn[d] - e[d]) < 1e-14, "tet%d box node %lld (%d sides): normal "
-        "(%g %g %g), expected (%g %g %g)", order == 2 ? 10 : 4, (long long)i, sides, nn[0], nn[1],
-        nn[2], e[0], e[1], e[2]);
+      HOEMBED_CHECK(std::abs(nn[d] - e[d]) < 1e-14,
+        "tet%d box node %lld (%d sides): normal "
+        "(%g %g %g), expected (%g %g %g)",
+        order == 2 ? 10 : 4, (long long)i, sides, nn[0], nn[1], nn[2], e[0], e[1], e[2]);
   }
   HOEMBED_CHECK(counts[3] == 8 && counts[2] > 0 && counts[1] > 0, "box node classes %d %d %d",
     counts[1], counts[2], counts[3]);
@@ -271,7 +273,8 @@ void TestContinuity(int order)
           hoembed::EvaluateBoundaryFace(m.Topo, m.Points.data(), b, up, xp, t1, t2);
           hoembed::EvaluateBoundaryFace(m.Topo, m.Points.data(), b, um, xm, t1, t2);
           for (int d = 0; d < 3; ++d)
-            worstFd = std::max(worstFd, std::abs((xp[d] - xm[d]) / (2 * h) - (dir ? va[d] : ua[d])));
+            worstFd =
+              std::max(worstFd, std::abs((xp[d] - xm[d]) / (2 * h) - (dir ? va[d] : ua[d])));
         }
       }
     }
@@ -322,8 +325,8 @@ void TestFingerprint()
 {
   HOEMBED_CHECK(Fnv1a({}) == 0xcbf29ce484222325ull, "FNV-1a of the empty string");
   HOEMBED_CHECK(Fnv1a({ 'a' }) == 0xaf63dc4c8601ec8cull, "FNV-1a of 'a'");
-  HOEMBED_CHECK(Fnv1a({ 'f', 'o', 'o', 'b', 'a', 'r' }) == 0x85944171f73967e8ull,
-    "FNV-1a of 'foobar'");
+  HOEMBED_CHECK(
+    Fnv1a({ 'f', 'o', 'o', 'b', 'a', 'r' }) == 0x85944171f73967e8ull, "FNV-1a of 'foobar'");
 
   auto a = hoembed_test::MakeBoxTetMesh(3, 2, 2, 1, 1, 1, 2);
   auto b = hoembed_test::MakeBoxTetMesh(3, 2, 2, 1, 1, 1, 2);

@@ -57,9 +57,8 @@ void Perturb(std::mt19937& rng, double x[30], double amount)
   {
     const double* a = x + 3 * TetEdgeCorners[e][0];
     const double* b = x + 3 * TetEdgeCorners[e][1];
-    const double len =
-      std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-        (a[2] - b[2]) * (a[2] - b[2]));
+    const double len = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+      (a[2] - b[2]) * (a[2] - b[2]));
     for (int d = 0; d < 3; ++d)
       x[3 * (4 + e) + d] += amount * len * u(rng);
   }
@@ -213,8 +212,8 @@ void TestAffine(std::mt19937& rng)
     swapNode(1, 2);
     swapNode(4, 6); // edge 01 <-> 02(=20)
     swapNode(8, 9); // edge 13 <-> 23
-    HOEMBED_CHECK(std::abs(hoembed::Tet10Volume(y) + hoembed::Tet10Volume(x)) < 1e-12 * d4,
-      "inverted volume");
+    HOEMBED_CHECK(
+      std::abs(hoembed::Tet10Volume(y) + hoembed::Tet10Volume(x)) < 1e-12 * d4, "inverted volume");
     HOEMBED_CHECK(!hoembed::Tet10IsValid(y), "inverted tet10 accepted");
   }
 }
@@ -223,8 +222,8 @@ void TestAffine(std::mt19937& rng)
 // degree-5 integrand that the cubic det J becomes) of VTK's det J.
 double DuffyVolume(vtkQuadraticTetra* cell)
 {
-  static const double g[5] = { -0.9061798459386640, -0.5384693101056831, 0.0,
-    0.5384693101056831, 0.9061798459386640 };
+  static const double g[5] = { -0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+    0.9061798459386640 };
   static const double w[5] = { 0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
     0.4786286704993665, 0.2369268850561891 };
   double vol = 0.0;
@@ -292,8 +291,8 @@ void TestBounds(std::mt19937& rng)
     const double scale = std::max(std::abs(slo), std::abs(shi));
     // True bounds (both the plain Bernstein bound and the refined one).
     HOEMBED_CHECK(lo <= slo + 1e-12 * scale, "lower bound %g above sampled min %g", lo, slo);
-    HOEMBED_CHECK(lo0 <= slo + 1e-12 * scale, "plain lower bound %g above sampled min %g", lo0,
-      slo);
+    HOEMBED_CHECK(
+      lo0 <= slo + 1e-12 * scale, "plain lower bound %g above sampled min %g", lo0, slo);
     HOEMBED_CHECK(hi >= shi - 1e-12 * scale, "upper bound %g below sampled max %g", hi, shi);
     HOEMBED_CHECK(lo >= lo0 - 1e-12 * scale, "refined bound %g worse than plain %g", lo, lo0);
     const bool valid = hoembed::Tet10IsValid(x);
@@ -332,8 +331,7 @@ void TestBounds(std::mt19937& rng)
               "of them positive at all 20 lattice points), %d/%d sampled-positive accepted, "
               "%d/%d well-shaped (min det J > 0.2 max) accepted; worst gap (min - bound)/max "
               "over accepted %.3g\n",
-    trials, sampledInvalid, hidden, acceptedGood, good, wellShapedAccepted, wellShaped,
-    worstGap);
+    trials, sampledInvalid, hidden, acceptedGood, good, wellShapedAccepted, wellShaped, worstGap);
   HOEMBED_CHECK(sampledInvalid > 100, "too few invalid elements generated (%d)", sampledInvalid);
   HOEMBED_CHECK(wellShaped > 100, "too few well-shaped elements generated (%d)", wellShaped);
 }
@@ -421,8 +419,8 @@ void TestScaledJacobian(std::mt19937& rng)
     const double s10 = hoembed::Tet10MinScaledJacobian(x);
     worst = std::max(worst, std::abs(s4 - vtk));
     HOEMBED_CHECK(std::abs(s4 - vtk) < 1e-12, "tet4 scaled Jacobian %.17g, VTK %.17g", s4, vtk);
-    HOEMBED_CHECK(std::abs(s10 - vtk) < 1e-10, "straight tet10 scaled Jacobian %.17g, VTK %.17g",
-      s10, vtk);
+    HOEMBED_CHECK(
+      std::abs(s10 - vtk) < 1e-10, "straight tet10 scaled Jacobian %.17g, VTK %.17g", s10, vtk);
     // Independent of the node numbering (even permutation of the corners).
     double r[4][3], y[30];
     const int perm[4] = { 1, 2, 0, 3 };
@@ -487,8 +485,7 @@ void TestDegenerate()
       const double sj = hoembed::Tet10MinScaledJacobian(x);
       HOEMBED_CHECK(!hoembed::Tet10IsValid(x), "non-finite node %d accepted", node);
       HOEMBED_CHECK(!(lo > 0), "non-finite node %d: lower bound %g", node, lo);
-      HOEMBED_CHECK(!std::isnan(sj) && sj <= 0, "non-finite node %d: scaled Jacobian %g", node,
-        sj);
+      HOEMBED_CHECK(!std::isnan(sj) && sj <= 0, "non-finite node %d: scaled Jacobian %g", node, sj);
     }
 }
 
@@ -671,7 +668,8 @@ void TestDetBernstein(std::mt19937& rng)
     }
   }
   std::printf("det Bernstein coefficients: worst %.2e against the expansion, %.2e against "
-              "the cubic (of max|G|^3)\n", worstExpansion, worstValue);
+              "the cubic (of max|G|^3)\n",
+    worstExpansion, worstValue);
   HOEMBED_CHECK(worstExpansion < 1e-13, "coefficients off the expansion by %g", worstExpansion);
   HOEMBED_CHECK(worstValue < 1e-13, "Bernstein form off the cubic by %g", worstValue);
   // a NaN anywhere in the Jacobians (it reaches some coefficients, not all) gives a NaN
@@ -688,8 +686,10 @@ void TestDetBernstein(std::mt19937& rng)
       G[k][e / 3][e % 3] = std::numeric_limits<double>::quiet_NaN();
       nanMissed += !std::isnan(hoembed::DetBernsteinMin(G));
     }
-  HOEMBED_CHECK(nanMissed == 0, "DetBernsteinMin: %d of 36 Jacobians with a NaN entry give a "
-    "number", nanMissed);
+  HOEMBED_CHECK(nanMissed == 0,
+    "DetBernsteinMin: %d of 36 Jacobians with a NaN entry give a "
+    "number",
+    nanMissed);
 }
 
 int main(int, char*[])

@@ -63,10 +63,11 @@ int main()
   for (std::size_t i = 0; i < values.size(); ++i)
     values[i] = static_cast<std::int64_t>((i * 2654435761u) % 1000003);
   std::vector<std::int64_t> out(values.size(), -1);
-  hoembed::ParallelLoop(std::int64_t(0), std::int64_t(values.size()), [&](std::int64_t b, std::int64_t e) {
-    for (std::int64_t i = b; i < e; ++i)
-      out[i] = values[i] * 3 + 1;
-  });
+  hoembed::ParallelLoop(
+    std::int64_t(0), std::int64_t(values.size()), [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i)
+        out[i] = values[i] * 3 + 1;
+    });
   bool same = true;
   for (std::size_t i = 0; i < values.size(); ++i)
     same = same && out[i] == values[i] * 3 + 1;
@@ -79,11 +80,12 @@ int main()
     for (int i = b; i < e; ++i)
     {
       const std::thread::id outer = std::this_thread::get_id();
-      hoembed::ParallelLoop(std::int64_t(0), std::int64_t(1000), [&](std::int64_t ib, std::int64_t ie) {
-        if (std::this_thread::get_id() != outer)
-          ++innerThreadsDiffer;
-        inner += ie - ib;
-      });
+      hoembed::ParallelLoop(
+        std::int64_t(0), std::int64_t(1000), [&](std::int64_t ib, std::int64_t ie) {
+          if (std::this_thread::get_id() != outer)
+            ++innerThreadsDiffer;
+          inner += ie - ib;
+        });
     }
   });
   Expect(inner == 8000, "nested loops complete");
@@ -114,14 +116,15 @@ int main()
   hoembed::ThreadLocal<Slot> slots;
   std::atomic<int> shared(0);
   std::atomic<std::int64_t> total(0);
-  hoembed::ParallelLoop(std::int64_t(0), std::int64_t(20000), std::int64_t(5), [&](std::int64_t b, std::int64_t e) {
-    Slot& s = slots.Local();
-    if (s.InUse++ != 0)
-      ++shared;
-    s.Items += e - b;
-    total += e - b;
-    --s.InUse;
-  });
+  hoembed::ParallelLoop(
+    std::int64_t(0), std::int64_t(20000), std::int64_t(5), [&](std::int64_t b, std::int64_t e) {
+      Slot& s = slots.Local();
+      if (s.InUse++ != 0)
+        ++shared;
+      s.Items += e - b;
+      total += e - b;
+      --s.InUse;
+    });
   Expect(shared == 0, "ThreadLocal slots are per thread");
   Expect(total == 20000, "ThreadLocal loop complete");
 

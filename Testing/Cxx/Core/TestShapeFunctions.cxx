@@ -147,8 +147,8 @@ void TestNodes()
     double N[10];
     hoembed::Tet10Shape(hoembed::Tet10NodeParametric[i], N);
     for (int j = 0; j < 10; ++j)
-      HOEMBED_CHECK(std::abs(N[j] - (i == j ? 1.0 : 0.0)) < Tol, "tet10 N%d(node %d) = %g", j,
-        i, N[j]);
+      HOEMBED_CHECK(
+        std::abs(N[j] - (i == j ? 1.0 : 0.0)) < Tol, "tet10 N%d(node %d) = %g", j, i, N[j]);
   }
   vtkNew<vtkQuadraticTriangle> q6;
   const double* p6 = q6->GetParametricCoords();
@@ -157,15 +157,15 @@ void TestNodes()
     double N[6];
     hoembed::Tri6Shape(p6 + 3 * i, N);
     for (int j = 0; j < 6; ++j)
-      HOEMBED_CHECK(std::abs(N[j] - (i == j ? 1.0 : 0.0)) < Tol, "tri6 N%d(node %d) = %g", j,
-        i, N[j]);
+      HOEMBED_CHECK(
+        std::abs(N[j] - (i == j ? 1.0 : 0.0)) < Tol, "tri6 N%d(node %d) = %g", j, i, N[j]);
   }
   // Mid-edge nodes sit on the edges TetEdgeCorners says, as VTK's edge table says.
   for (int e = 0; e < 6; ++e)
   {
     const vtkIdType* ve = vtkQuadraticTetra::GetEdgeArray(e);
-    HOEMBED_CHECK(ve[0] == hoembed::TetEdgeCorners[e][0] && ve[1] == hoembed::TetEdgeCorners[e][1] &&
-        ve[2] == 4 + e,
+    HOEMBED_CHECK(ve[0] == hoembed::TetEdgeCorners[e][0] &&
+        ve[1] == hoembed::TetEdgeCorners[e][1] && ve[2] == 4 + e,
       "edge %d: hoembed (%d %d %d) vs VTK (%lld %lld %lld)", e, hoembed::TetEdgeCorners[e][0],
       hoembed::TetEdgeCorners[e][1], 4 + e, (long long)ve[0], (long long)ve[1], (long long)ve[2]);
     for (int d = 0; d < 3; ++d)
@@ -188,8 +188,8 @@ void TestFaces(std::mt19937& rng)
       HOEMBED_CHECK(q[a] == hoembed::TetFaceNodes[f][a], "face %d node %d: %d vs VTK %lld", f, a,
         hoembed::TetFaceNodes[f][a], (long long)q[a]);
     for (int a = 0; a < 3; ++a)
-      HOEMBED_CHECK(l[a] == hoembed::TetFaceNodes[f][a], "tet4 face %d node %d: %d vs VTK %lld",
-        f, a, hoembed::TetFaceNodes[f][a], (long long)l[a]);
+      HOEMBED_CHECK(l[a] == hoembed::TetFaceNodes[f][a], "tet4 face %d node %d: %d vs VTK %lld", f,
+        a, hoembed::TetFaceNodes[f][a], (long long)l[a]);
     // Mid nodes are the mids of ab, bc, ca.
     for (int e = 0; e < 3; ++e)
     {
@@ -254,8 +254,8 @@ void TestFaces(std::mt19937& rng)
       double pc[3];
       hoembed::TetFaceToTetParametric(f, faceUV[k], pc);
       const double* want = hoembed::Tet10NodeParametric[hoembed::TetFaceNodes[f][k]];
-      HOEMBED_CHECK(MaxDiff(pc, want, 3) < Tol, "face %d node %d maps to (%g %g %g)", f, k,
-        pc[0], pc[1], pc[2]);
+      HOEMBED_CHECK(MaxDiff(pc, want, 3) < Tol, "face %d node %d maps to (%g %g %g)", f, k, pc[0],
+        pc[1], pc[2]);
     }
     for (int trial = 0; trial < 200; ++trial)
     {
@@ -291,8 +291,8 @@ void TestInterpolate(std::mt19937& rng)
     x[i] = u(rng);
   for (int e = 0; e < 6; ++e)
     for (int d = 0; d < 3; ++d)
-      x[3 * (4 + e) + d] = 0.5 *
-        (x[3 * hoembed::TetEdgeCorners[e][0] + d] + x[3 * hoembed::TetEdgeCorners[e][1] + d]);
+      x[3 * (4 + e) + d] =
+        0.5 * (x[3 * hoembed::TetEdgeCorners[e][0] + d] + x[3 * hoembed::TetEdgeCorners[e][1] + d]);
   for (int trial = 0; trial < 100; ++trial)
   {
     double pc[3], N[10], y[3], z[3];

@@ -62,8 +62,10 @@ void TestValid(int order, bool use32, int pointType)
   const std::string err = Read(g, in);
   HOEMBED_CHECK(err.empty(), "order %d: valid mesh refused: %s", order, err.c_str());
   const int npc = order == 2 ? 10 : 4;
-  HOEMBED_CHECK(in.NodesPerCell == npc && in.CellType == g->GetCellType(0), "order %d: type", order);
-  HOEMBED_CHECK(in.NumberOfCells == g->GetNumberOfCells() && in.NumberOfPoints == g->GetNumberOfPoints(),
+  HOEMBED_CHECK(
+    in.NodesPerCell == npc && in.CellType == g->GetCellType(0), "order %d: type", order);
+  HOEMBED_CHECK(
+    in.NumberOfCells == g->GetNumberOfCells() && in.NumberOfPoints == g->GetNumberOfPoints(),
     "order %d: sizes", order);
   hoembed::MeshFingerprint ref(g->GetNumberOfPoints(), g->GetNumberOfCells());
   vtkNew<vtkIdList> ids;
@@ -107,7 +109,8 @@ void TestErrors(bool use32)
   {
     auto hex = hoembed_test::MakeUnitHexahedron();
     const std::string e = Read(hex, in);
-    HOEMBED_CHECK(Has(e, "Unsupported cell type 12") && Has(e, "VTK_TETRA"), "hexahedron: %s", e.c_str());
+    HOEMBED_CHECK(
+      Has(e, "Unsupported cell type 12") && Has(e, "VTK_TETRA"), "hexahedron: %s", e.c_str());
   }
   {
     auto g = fresh();
@@ -146,7 +149,8 @@ void TestErrors(bool use32)
     auto g = fresh();
     vtkUnsignedCharArray* ghosts = g->AllocateCellGhostArray();
     ghosts->SetValue(0, vtkDataSetAttributes::EXTERIORCELL);
-    HOEMBED_CHECK(Read(g, in).empty(), "a mesh without ghost cells refused: %s", Read(g, in).c_str());
+    HOEMBED_CHECK(
+      Read(g, in).empty(), "a mesh without ghost cells refused: %s", Read(g, in).c_str());
     ghosts->SetValue(1, vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::EXTERIORCELL);
     ghosts->SetValue(3, vtkDataSetAttributes::DUPLICATECELL);
     for (bool points : { true, false })

@@ -35,7 +35,10 @@ struct Mesh
   std::vector<double> Points;
   Id NumberOfCells = 0;
   int NodesPerCell = 4;
-  Id NumberOfPoints() const { return static_cast<Id>(Points.size() / 3); }
+  Id NumberOfPoints() const
+  {
+    return static_cast<Id>(Points.size() / 3);
+  }
 };
 
 Mesh FromGrid(vtkUnstructuredGrid* grid)
@@ -65,8 +68,8 @@ void Cross(const double a[3], const double b[3], double c[3])
 
 // Integrals over a boundary face of n dA and of x.n dA / 3 (Duffy-collapsed Gauss rule,
 // exact for the polynomial integrands of tri3 and tri6 patches).
-void FaceIntegrals(const Mesh& m, const hoembed::TetMeshTopology& topo, Id b, double area[3],
-  double& flux)
+void FaceIntegrals(
+  const Mesh& m, const hoembed::TetMeshTopology& topo, Id b, double area[3], double& flux)
 {
   static const double g[4] = { -0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
     0.8611363115940526 };
@@ -149,8 +152,7 @@ void CheckMesh(vtkUnstructuredGrid* grid, const char* name)
       {
         HOEMBED_CHECK(n == -1, "%s: cell %lld face %d has no neighbour but got %lld", name,
           (long long)c, f, (long long)n);
-        HOEMBED_CHECK(topo.CellBoundaryFace[4 * c + f] >= 0, "%s: boundary face not indexed",
-          name);
+        HOEMBED_CHECK(topo.CellBoundaryFace[4 * c + f] >= 0, "%s: boundary face not indexed", name);
         continue;
       }
       const Id other = owners[0].first == c ? owners[1].first : owners[0].first;
@@ -192,8 +194,7 @@ void CheckMesh(vtkUnstructuredGrid* grid, const char* name)
     "%s: vtkDataSetSurfaceFilter has %lld faces", name,
     (long long)surf->GetOutput()->GetNumberOfCells());
   HOEMBED_CHECK(geom->GetOutput()->GetNumberOfCells() == (npc == 10 ? 4 : 1) * nbf,
-    "%s: vtkGeometryFilter has %lld faces", name,
-    (long long)geom->GetOutput()->GetNumberOfCells());
+    "%s: vtkGeometryFilter has %lld faces", name, (long long)geom->GetOutput()->GetNumberOfCells());
   // The same faces (sorted corner triples; VTK's output points are mapped to the nearest
   // mesh node, as VTK 9.1 outputs them in single precision) and, for tet4, the same
   // owning cells. (vtkDataSetSurfaceFilter takes a different path for quadratic cells,
@@ -212,8 +213,8 @@ void CheckMesh(vtkUnstructuredGrid* grid, const char* name)
       for (Id j = 0; j < m.NumberOfPoints(); ++j)
       {
         const double* x = &m.Points[3 * j];
-        const double d2 =
-          (x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]);
+        const double d2 = (x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
+          (x[2] - y[2]) * (x[2] - y[2]);
         if (d2 < best)
         {
           best = d2;
@@ -259,7 +260,8 @@ void CheckMesh(vtkUnstructuredGrid* grid, const char* name)
     const int f = topo.BoundaryFaceLocal[b];
     HOEMBED_CHECK(topo.CellBoundaryFace[4 * c + f] == b, "%s: CellBoundaryFace mismatch", name);
     for (int k = 0; k < npf; ++k)
-      HOEMBED_CHECK(topo.BoundaryFaceNodes[b * npf + k] == m.Conn[c * npc + hoembed::TetFaceNodes[f][k]],
+      HOEMBED_CHECK(
+        topo.BoundaryFaceNodes[b * npf + k] == m.Conn[c * npc + hoembed::TetFaceNodes[f][k]],
         "%s: boundary face %lld node %d", name, (long long)b, k);
   }
 
@@ -306,10 +308,13 @@ void CheckMesh(vtkUnstructuredGrid* grid, const char* name)
         if (p2 == q && q2 == p)
         {
           ++found;
-          HOEMBED_CHECK(topo.BoundaryFaceNeighbor[3 * n + e2] == b, "%s: edge neighbours not "
-                                                                    "symmetric", name);
+          HOEMBED_CHECK(topo.BoundaryFaceNeighbor[3 * n + e2] == b,
+            "%s: edge neighbours not "
+            "symmetric",
+            name);
           if (npf == 6)
-            HOEMBED_CHECK(topo.BoundaryFaceNodes[n * npf + 3 + e2] == topo.BoundaryFaceNodes[b * npf + 3 + e],
+            HOEMBED_CHECK(
+              topo.BoundaryFaceNodes[n * npf + 3 + e2] == topo.BoundaryFaceNodes[b * npf + 3 + e],
               "%s: edge mid nodes differ", name);
         }
       }
@@ -318,8 +323,8 @@ void CheckMesh(vtkUnstructuredGrid* grid, const char* name)
 
   // Boundary edges: unique, 3/2 per face, with the right mid node; Euler characteristic 2.
   const Id nbe = topo.GetNumberOfBoundaryEdges();
-  HOEMBED_CHECK(2 * nbe == 3 * nbf, "%s: %lld boundary edges for %lld faces", name,
-    (long long)nbe, (long long)nbf);
+  HOEMBED_CHECK(2 * nbe == 3 * nbf, "%s: %lld boundary edges for %lld faces", name, (long long)nbe,
+    (long long)nbf);
   std::map<std::pair<Id, Id>, Id> edgeMid;
   for (Id b = 0; b < nbf; ++b)
     for (int e = 0; e < 3; ++e)
@@ -360,8 +365,8 @@ void CheckMesh(vtkUnstructuredGrid* grid, const char* name)
       topo.NodeFaces.begin() + topo.NodeFaceOffsets[i + 1]);
     std::sort(got.begin(), got.end());
     HOEMBED_CHECK(got == nodeFaces[i], "%s: faces of node %lld", name, (long long)i);
-    HOEMBED_CHECK(topo.IsBoundaryNode(i) == !nodeFaces[i].empty(), "%s: IsBoundaryNode(%lld)",
-      name, (long long)i);
+    HOEMBED_CHECK(topo.IsBoundaryNode(i) == !nodeFaces[i].empty(), "%s: IsBoundaryNode(%lld)", name,
+      (long long)i);
   }
 }
 
@@ -391,19 +396,19 @@ void TestErrors()
   conn[7] = 0;
   err = topo.Build(conn.data(), 2, 4, 5);
   std::printf("repeated node: %s\n", err.c_str());
-  HOEMBED_CHECK(Contains(err, "cell 1") && Contains(err, "repeats point 0"), "message: %s",
-    err.c_str());
+  HOEMBED_CHECK(
+    Contains(err, "cell 1") && Contains(err, "repeats point 0"), "message: %s", err.c_str());
   conn[7] = 4;
 
   // A third tet on face (0, 1, 2).
   std::vector<Id> three = { 0, 1, 2, 3, 0, 2, 1, 4, 0, 1, 2, 5 };
   err = topo.Build(three.data(), 3, 4, 6);
   std::printf("face in 3 cells: %s\n", err.c_str());
-  HOEMBED_CHECK(Contains(err, "(0, 1, 2)") && Contains(err, "more than two"), "message: %s",
-    err.c_str());
+  HOEMBED_CHECK(
+    Contains(err, "(0, 1, 2)") && Contains(err, "more than two"), "message: %s", err.c_str());
 
-  HOEMBED_CHECK(topo.FaceNeighbor.empty() && topo.GetNumberOfBoundaryFaces() == 0 &&
-      topo.NodeFaces.empty(),
+  HOEMBED_CHECK(
+    topo.FaceNeighbor.empty() && topo.GetNumberOfBoundaryFaces() == 0 && topo.NodeFaces.empty(),
     "a failed Build left a half-built topology");
 
   err = topo.Build(conn.data(), 1, 8, 5);
@@ -436,8 +441,8 @@ void TestErrors()
   HOEMBED_CHECK(minusOne == 4, "bow tie: %d face edges without a neighbour", minusOne);
 
   // Empty mesh.
-  HOEMBED_CHECK(topo.Build(nullptr, 0, 10, 0).empty() && topo.GetNumberOfBoundaryFaces() == 0,
-    "empty mesh");
+  HOEMBED_CHECK(
+    topo.Build(nullptr, 0, 10, 0).empty() && topo.GetNumberOfBoundaryFaces() == 0, "empty mesh");
 }
 
 void TestTiming()
@@ -452,12 +457,13 @@ void TestTiming()
       const auto t0 = std::chrono::steady_clock::now();
       const std::string err =
         topo.Build(m.Conn.data(), m.NumberOfCells, m.NodesPerCell, m.NumberOfPoints());
-      const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       HOEMBED_CHECK(err.empty(), "%s", err.c_str());
       const Id expect = 2 * 2 * (Id(n) * n + 2 * Id(n) * (n + 1)); // 2 triangles per square
-      HOEMBED_CHECK(topo.GetNumberOfBoundaryFaces() == expect, "box %d: %lld boundary faces, "
-        "expected %lld", n, (long long)topo.GetNumberOfBoundaryFaces(), (long long)expect);
+      HOEMBED_CHECK(topo.GetNumberOfBoundaryFaces() == expect,
+        "box %d: %lld boundary faces, "
+        "expected %lld",
+        n, (long long)topo.GetNumberOfBoundaryFaces(), (long long)expect);
       // VTK's own boundary extraction on the same grid, for a ratio (not asserted).
       vtkNew<vtkDataSetSurfaceFilter> surf;
       surf->SetInputData(grid);
@@ -467,8 +473,8 @@ void TestTiming()
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
       std::printf("timing: tet%d box %dx%dx%d: %lld cells, %lld points, Build %.3f s "
                   "(%.0f ns/cell); vtkDataSetSurfaceFilter %.3f s (ratio %.2f)\n",
-        order == 2 ? 10 : 4, n, n, n + 1, (long long)m.NumberOfCells,
-        (long long)m.NumberOfPoints(), s, 1e9 * s / m.NumberOfCells, sv, s / sv);
+        order == 2 ? 10 : 4, n, n, n + 1, (long long)m.NumberOfCells, (long long)m.NumberOfPoints(),
+        s, 1e9 * s / m.NumberOfCells, sv, s / sv);
     }
   }
 }
@@ -485,7 +491,8 @@ void TestFan()
     for (int i = 0; i < nu; ++i)
     {
       const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
-      pts.insert(pts.end(), { std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th) });
+      pts.insert(
+        pts.end(), { std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th) });
     }
   std::vector<std::array<Id, 3>> tris;
   for (int i = 0; i < nu; ++i)
@@ -520,8 +527,8 @@ void TestFan()
   Id interior = 0;
   for (Id n : topo.FaceNeighbor)
     interior += n >= 0;
-  HOEMBED_CHECK(interior == 3 * m.NumberOfCells, "fan: %lld interior face sides",
-    (long long)interior);
+  HOEMBED_CHECK(
+    interior == 3 * m.NumberOfCells, "fan: %lld interior face sides", (long long)interior);
   std::printf("timing: fan of %lld tets around node 0: Build %.3f s (%.0f ns/cell)\n",
     (long long)m.NumberOfCells, s, 1e9 * s / m.NumberOfCells);
 }
@@ -584,7 +591,8 @@ void TestSpatialOrder()
     std::uint64_t k = 0;
     for (int d = 0; d < 3; ++d)
     {
-      const double q = std::min(2097151.0, std::max(0.0, (centre[3 * c + d] - lo[d]) * 2097151.0 / ext));
+      const double q =
+        std::min(2097151.0, std::max(0.0, (centre[3 * c + d] - lo[d]) * 2097151.0 / ext));
       const auto v = static_cast<std::uint64_t>(q);
       for (int b = 0; b < 21; ++b)
         k |= ((v >> b) & 1u) << (3 * b + d);
@@ -641,8 +649,8 @@ void TestSpatialOrder()
     return sum / std::max<Id>(n, 1);
   };
   const double sb = spread(before), sa = spread(after);
-  HOEMBED_CHECK(sa < 0.2 * sb, "spatial order: mean neighbour id distance %.1f, shuffled %.1f",
-    sa, sb);
+  HOEMBED_CHECK(
+    sa < 0.2 * sb, "spatial order: mean neighbour id distance %.1f, shuffled %.1f", sa, sb);
   std::printf("spatial order: %lld cells, mean neighbour id distance %.1f (shuffled %.1f)\n",
     (long long)nc, sa, sb);
 }
@@ -670,8 +678,8 @@ int main(int, char*[])
       p[1] = std::cos(a) * y - std::sin(a) * z;
       p[2] = std::sin(a) * y + std::cos(a) * z;
     };
-    CheckMesh(hoembed_test::MakeBoxTetMesh(6, 2, 2, 3, 1, 1, order, twist),
-      (o + " twisted bar").c_str());
+    CheckMesh(
+      hoembed_test::MakeBoxTetMesh(6, 2, 2, 3, 1, 1, order, twist), (o + " twisted bar").c_str());
   }
   TestErrors();
   TestTiming();

@@ -46,7 +46,6 @@
 
 using hoembed_test::MakeBoxTetMesh;
 
-
 namespace
 {
 
@@ -173,15 +172,21 @@ void TestBoxGrid()
     mismatches, queries);
   HOEMBED_CHECK(duplicates == 0, "BoxGrid: %d queries report an item twice", duplicates);
   HOEMBED_CHECK(hits > queries, "BoxGrid: only %d hits in %d queries (test setup)", hits, queries);
-  HOEMBED_CHECK(nearMismatches == 0, "BoxGrid::VisitNearer: %d boxes missed or visited beyond "
-    "the radius", nearMismatches);
+  HOEMBED_CHECK(nearMismatches == 0,
+    "BoxGrid::VisitNearer: %d boxes missed or visited beyond "
+    "the radius",
+    nearMismatches);
   HOEMBED_CHECK(nearHits > 1000, "BoxGrid::VisitNearer: only %d visits (test setup)", nearHits);
-  HOEMBED_CHECK(boxDistanceMismatches == 0, "AabbTree::BoxDistance2: %d of the point-box "
-    "distances differ from the clamped point's", boxDistanceMismatches);
-  HOEMBED_CHECK(nearItemMismatches == 0, "BoxGrid::NearItem: %d queries without an item, or "
-    "with one whose box misses a point some box holds", nearItemMismatches);
-  std::printf("box grid: %d queries, %d + %d hits, as a scan of every box\n", queries, hits,
-    nearHits);
+  HOEMBED_CHECK(boxDistanceMismatches == 0,
+    "AabbTree::BoxDistance2: %d of the point-box "
+    "distances differ from the clamped point's",
+    boxDistanceMismatches);
+  HOEMBED_CHECK(nearItemMismatches == 0,
+    "BoxGrid::NearItem: %d queries without an item, or "
+    "with one whose box misses a point some box holds",
+    nearItemMismatches);
+  std::printf(
+    "box grid: %d queries, %d + %d hits, as a scan of every box\n", queries, hits, nearHits);
 }
 
 } // namespace

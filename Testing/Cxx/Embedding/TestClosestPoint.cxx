@@ -48,7 +48,6 @@
 
 using hoembed_test::MakeBoxTetMesh;
 
-
 namespace
 {
 
@@ -122,12 +121,13 @@ void TestKernels()
     }
   }
   HOEMBED_CHECK(worse == 0, "tri6 closest point worse than dense sampling for %d queries", worse);
-  HOEMBED_CHECK(outside == 0, "tri6 closest point left the triangle or did not converge %d times", outside);
-  HOEMBED_CHECK(notLocal == 0, "tri6 closest point: %d answers with a nearer point around them",
-    notLocal);
-  HOEMBED_CHECK(onEdge >= 40, "tri6 closest point: only %d answers on an edge (test setup)", onEdge);
-  std::printf("tri6 closest point: %d answers on an edge, %d not local minima\n", onEdge,
-    notLocal);
+  HOEMBED_CHECK(
+    outside == 0, "tri6 closest point left the triangle or did not converge %d times", outside);
+  HOEMBED_CHECK(
+    notLocal == 0, "tri6 closest point: %d answers with a nearer point around them", notLocal);
+  HOEMBED_CHECK(
+    onEdge >= 40, "tri6 closest point: only %d answers on an edge (test setup)", onEdge);
+  std::printf("tri6 closest point: %d answers on an edge, %d not local minima\n", onEdge, notLocal);
 
   // tet10: the monomial map matches VTK's vtkQuadraticTetra; inside points are recovered;
   // outside points are no worse than dense sampling
@@ -179,7 +179,6 @@ void TestKernels()
   HOEMBED_CHECK(tetWorse == 0, "tet10 closest point worse than sampling %d times", tetWorse);
 }
 
-
 // The closed-form tet10 map (MakeTetMap from the corner Jacobians) against the shape
 // functions, and the fast validity test (Bernstein coefficients of det J) against
 // hoembed::Tet10IsValid and a dense sample of det J: it may only accept valid elements.
@@ -226,16 +225,15 @@ void TestTet10Validity()
       ++notFull;
   }
   HOEMBED_CHECK(mapErr <= 1e-13, "tet10 map: max deviation from the shape functions %g", mapErr);
-  HOEMBED_CHECK(wrongAccept == 0, "fast tet10 validity: %d elements with det J <= 0 accepted",
-    wrongAccept);
-  HOEMBED_CHECK(notFull == 0, "fast tet10 validity: %d accepted elements Tet10IsValid rejects",
-    notFull);
+  HOEMBED_CHECK(
+    wrongAccept == 0, "fast tet10 validity: %d elements with det J <= 0 accepted", wrongAccept);
+  HOEMBED_CHECK(
+    notFull == 0, "fast tet10 validity: %d accepted elements Tet10IsValid rejects", notFull);
   HOEMBED_CHECK(accepted > 50 && rejected > 50,
     "fast tet10 validity: %d accepted, %d rejected (test setup)", accepted, rejected);
   std::printf("tet10 validity: %d accepted, %d not proven by the fast test; map error %.2g\n",
     accepted, rejected, mapErr);
 }
-
 
 // The closed-form monomial maps (MakeTriangleMap for tri3/tri6, MakeTetMap for
 // tet4/tet10) against the shape functions and their derivatives at random parametric
@@ -303,12 +301,11 @@ void TestMonomialMaps()
     }
   const char* names[4] = { "tri3", "tri6", "tet4", "tet10" };
   for (int kind = 0; kind < 4; ++kind)
-    HOEMBED_CHECK(worst[kind] <= 1e-12, "%s monomial map: max deviation from the shape functions %g",
-      names[kind], worst[kind]);
+    HOEMBED_CHECK(worst[kind] <= 1e-12,
+      "%s monomial map: max deviation from the shape functions %g", names[kind], worst[kind]);
   std::printf("monomial maps: max deviation tri3 %.2g, tri6 %.2g, tet4 %.2g, tet10 %.2g\n",
     worst[0], worst[1], worst[2], worst[3]);
 }
-
 
 // hoembed::TetMapExcludes (the rule that rejects a cell for a point the pseudo-normal puts
 // outside) against the distance from x(eta) to the element by brute force (constrained
@@ -373,16 +370,21 @@ void TestTetMapExcludes()
       }
     }
   }
-  HOEMBED_CHECK(wrong == 0, "TetMapExcludes: %d exclusions with a point of the element "
-    "within reach", wrong);
-  HOEMBED_CHECK(excluded > tried / 10, "TetMapExcludes: only %d of %d excluded (test setup)",
-    excluded, tried);
-  HOEMBED_CHECK(wrongRadius == 0, "TetMapExclusionRadius: %d radii beyond the element's distance",
-    wrongRadius);
-  HOEMBED_CHECK(byRate >= 20, "TetMapExclusionRadius: the element's rate served only %d points "
-    "(test setup)", byRate);
+  HOEMBED_CHECK(wrong == 0,
+    "TetMapExcludes: %d exclusions with a point of the element "
+    "within reach",
+    wrong);
+  HOEMBED_CHECK(
+    excluded > tried / 10, "TetMapExcludes: only %d of %d excluded (test setup)", excluded, tried);
+  HOEMBED_CHECK(
+    wrongRadius == 0, "TetMapExclusionRadius: %d radii beyond the element's distance", wrongRadius);
+  HOEMBED_CHECK(byRate >= 20,
+    "TetMapExclusionRadius: the element's rate served only %d points "
+    "(test setup)",
+    byRate);
   std::printf("cell exclusion: %d of %d (point, reach) pairs excluded, none wrongly; %d radii "
-              "from the element's rate\n", excluded, tried, byRate);
+              "from the element's rate\n",
+    excluded, tried, byRate);
 }
 
 } // namespace

@@ -135,8 +135,8 @@ vtkSmartPointer<vtkPolyData> MakeSurface(bool withFarComponent, bool withIsolate
   return out;
 }
 
-vtkSmartPointer<vtkPolyData> RunFilter(vtkPolyData* surface, vtkUnstructuredGrid* mesh,
-  int method, ErrorCatcher* errors = nullptr)
+vtkSmartPointer<vtkPolyData> RunFilter(
+  vtkPolyData* surface, vtkUnstructuredGrid* mesh, int method, ErrorCatcher* errors = nullptr)
 {
   vtkNew<vtkCallbackCommand> cb;
   ErrorCatcher local;
@@ -212,8 +212,8 @@ void CheckEmbedding(const char* label, vtkPolyData* surface, vtkUnstructuredGrid
   if (!(cellId && pc && dist && res && face && closest && iters && visited))
     return;
   auto* m = vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("EmbeddingMethod"));
-  auto* fp = vtkStringArray::SafeDownCast(
-    out->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
+  auto* fp =
+    vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
   HOEMBED_CHECK(m && m->GetValue(0) == (method ? "barycentric" : "normal-offset"),
     "%s: EmbeddingMethod field data", label);
   HOEMBED_CHECK(fp && fp->GetValue(0).size() == 16, "%s: fingerprint", label);
@@ -268,7 +268,8 @@ void CheckEmbedding(const char* label, vtkPolyData* surface, vtkUnstructuredGrid
     }
     if ((fc < 0) != (d == 0.0) || (method == 1 && fc != -1))
       ++badFace;
-    if (method == 0 && (r[0] < -1e-12 || r[1] < -1e-12 || r[2] < -1e-12 || r[0] + r[1] + r[2] > 1 + 1e-12))
+    if (method == 0 &&
+      (r[0] < -1e-12 || r[1] < -1e-12 || r[2] < -1e-12 || r[0] + r[1] + r[2] > 1 + 1e-12))
       ++badPc;
     double q[3];
     for (int k = 0; k < 3; ++k)
@@ -293,13 +294,15 @@ void CheckEmbedding(const char* label, vtkPolyData* surface, vtkUnstructuredGrid
   for (vtkIdType i = 0; i < res->GetNumberOfTuples(); ++i)
     maxAll = std::max(maxAll, res->GetValue(i));
   if (checkAllResiduals)
-    HOEMBED_CHECK(maxAll <= 1e-10 * diag, "%s: EmbeddingResidual max %.3g diag", label, maxAll / diag);
+    HOEMBED_CHECK(
+      maxAll <= 1e-10 * diag, "%s: EmbeddingResidual max %.3g diag", label, maxAll / diag);
   std::printf("%s: %d of %lld vertices checked (%d inside, %d outside), max |distance - brute "
               "force| = %.3g diag, max residual = %.3g diag (all vertices: %.3g)\n",
     label, checked, static_cast<long long>(surface->GetNumberOfPoints()), nInside, nOutside,
     maxDistErr, maxRes, maxAll / diag);
   HOEMBED_CHECK(badDist == 0, "%s: %d vertices differ from brute force", label, badDist);
-  HOEMBED_CHECK(badRes == 0, "%s: %d vertices with reconstruction residual > 1e-10 diag", label, badRes);
+  HOEMBED_CHECK(
+    badRes == 0, "%s: %d vertices with reconstruction residual > 1e-10 diag", label, badRes);
   HOEMBED_CHECK(badFace == 0, "%s: %d vertices with inconsistent EmbeddingFace", label, badFace);
   HOEMBED_CHECK(badPc == 0, "%s: %d parametric coordinates outside the cell", label, badPc);
   HOEMBED_CHECK(nInside > 0 && nOutside > 0, "%s: want both inside and outside points", label);
@@ -360,7 +363,8 @@ void TestErrors(vtkPolyData* surface, vtkUnstructuredGrid* grid)
     p->GetPoint(ids->GetId(1), b);
     p->GetPoint(ids->GetId(2), c);
     // put node 3 into the plane of 0, 1, 2
-    p->SetPoint(ids->GetId(3), (a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3);
+    p->SetPoint(
+      ids->GetId(3), (a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3);
     flat->SetPoints(p);
   }
   expectError("degenerate element", surface, flat, "inverted or degenerate");
@@ -389,8 +393,8 @@ void TestErrors(vtkPolyData* surface, vtkUnstructuredGrid* grid)
     }
     grid->GetCellPoints(0, ids);
     // a cell of the other type on the corners of cell 0 (the mid nodes: any nodes)
-    vtkIdType ten[10] = { ids->GetId(0), ids->GetId(1), ids->GetId(2), ids->GetId(3), 4, 5, 6,
-      7, 8, 9 };
+    vtkIdType ten[10] = { ids->GetId(0), ids->GetId(1), ids->GetId(2), ids->GetId(3), 4, 5, 6, 7, 8,
+      9 };
     const bool is10 = grid->GetCellType(0) == VTK_QUADRATIC_TETRA;
     mixed->InsertNextCell(is10 ? VTK_TETRA : VTK_QUADRATIC_TETRA, is10 ? 4 : 10, ten);
   }
@@ -425,8 +429,10 @@ void TestSaveLoad(vtkPolyData* out)
         if (a->GetComponent(i, c) != b->GetComponent(i, c))
           ++diff;
   }
-  auto* fa = vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
-  auto* fb = vtkStringArray::SafeDownCast(back->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
+  auto* fa =
+    vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
+  auto* fb = vtkStringArray::SafeDownCast(
+    back->GetFieldData()->GetAbstractArray("EmbeddingMeshFingerprint"));
   HOEMBED_CHECK(fa && fb && fa->GetValue(0) == fb->GetValue(0), "fingerprint lost in .vtp");
   HOEMBED_CHECK(diff == 0, "%d values differ after .vtp round trip", diff);
   std::remove(file.c_str());
@@ -495,50 +501,52 @@ void TestCrossingBoundary()
   alone->SetPoints(sp);
   for (const bool isolated : { false, true })
   {
-  vtkPolyData* input = isolated ? alone.GetPointer() : surface.GetPointer();
-  auto out = RunFilter(input, grid, 0);
-  HOEMBED_CHECK(out->GetNumberOfPoints() == surface->GetNumberOfPoints(), "crossing: output size");
-  // the case must actually occur: gap points clearly inside a left cell (VTK's own test)
-  vtkNew<vtkQuadraticTetra> qt;
-  int insideVtk = 0;
-  auto* closest =
-    vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
-  int missed = 0;
-  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
-  {
-    double v[3];
-    surface->GetPoint(i, v);
-    bool in = false;
-    for (vtkIdType c = 0; c < a->GetNumberOfCells() && !in; ++c)
+    vtkPolyData* input = isolated ? alone.GetPointer() : surface.GetPointer();
+    auto out = RunFilter(input, grid, 0);
+    HOEMBED_CHECK(
+      out->GetNumberOfPoints() == surface->GetNumberOfPoints(), "crossing: output size");
+    // the case must actually occur: gap points clearly inside a left cell (VTK's own test)
+    vtkNew<vtkQuadraticTetra> qt;
+    int insideVtk = 0;
+    auto* closest =
+      vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
+    int missed = 0;
+    for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
     {
-      vtkNew<vtkIdList> ids;
-      grid->GetCellPoints(c, ids);
-      for (int k = 0; k < 10; ++k)
+      double v[3];
+      surface->GetPoint(i, v);
+      bool in = false;
+      for (vtkIdType c = 0; c < a->GetNumberOfCells() && !in; ++c)
       {
-        qt->GetPoints()->SetPoint(k, grid->GetPoint(ids->GetId(k)));
-        qt->GetPointIds()->SetId(k, k);
+        vtkNew<vtkIdList> ids;
+        grid->GetCellPoints(c, ids);
+        for (int k = 0; k < 10; ++k)
+        {
+          qt->GetPoints()->SetPoint(k, grid->GetPoint(ids->GetId(k)));
+          qt->GetPointIds()->SetId(k, k);
+        }
+        double cp[3], pc[3], d2, w[10];
+        int sub;
+        // clearly inside (VTK accepts parametric coordinates up to 1e-3 outside)
+        in = qt->EvaluatePosition(v, cp, sub, pc, d2, w) == 1 && pc[0] > 1e-3 && pc[1] > 1e-3 &&
+          pc[2] > 1e-3 && pc[0] + pc[1] + pc[2] < 1.0 - 1e-3;
       }
-      double cp[3], pc[3], d2, w[10];
-      int sub;
-      // clearly inside (VTK accepts parametric coordinates up to 1e-3 outside)
-      in = qt->EvaluatePosition(v, cp, sub, pc, d2, w) == 1 && pc[0] > 1e-3 &&
-        pc[1] > 1e-3 && pc[2] > 1e-3 && pc[0] + pc[1] + pc[2] < 1.0 - 1e-3;
+      if (in)
+      {
+        ++insideVtk;
+        if (!closest || closest->GetValue(i) != 0.0)
+          ++missed;
+      }
     }
-    if (in)
-    {
-      ++insideVtk;
-      if (!closest || closest->GetValue(i) != 0.0)
-        ++missed;
-    }
-  }
-  HOEMBED_CHECK(insideVtk >= 5, "crossing: only %d gap points inside the bulge (test setup)", insideVtk);
-  HOEMBED_CHECK(missed == 0, "crossing: %d of %d points inside a curved cell reported outside",
-    missed, insideVtk);
-  std::printf("crossing boundary%s: %d of %lld gap points inside the bulge\n",
-    isolated ? " (isolated points)" : "", insideVtk,
-    static_cast<long long>(surface->GetNumberOfPoints()));
-  CheckEmbedding(isolated ? "crossing boundary, isolated points" : "crossing boundary", input,
-    grid, out, 0, true);
+    HOEMBED_CHECK(
+      insideVtk >= 5, "crossing: only %d gap points inside the bulge (test setup)", insideVtk);
+    HOEMBED_CHECK(missed == 0, "crossing: %d of %d points inside a curved cell reported outside",
+      missed, insideVtk);
+    std::printf("crossing boundary%s: %d of %lld gap points inside the bulge\n",
+      isolated ? " (isolated points)" : "", insideVtk,
+      static_cast<long long>(surface->GetNumberOfPoints()));
+    CheckEmbedding(isolated ? "crossing boundary, isolated points" : "crossing boundary", input,
+      grid, out, 0, true);
   }
 }
 
@@ -646,11 +654,11 @@ void TestEmbedSurfaceWorkspace(vtkPolyData* surface, vtkUnstructuredGrid* grid10
   HOEMBED_CHECK(ws.GetCapacityInBytes() > 0, "workspace kept nothing");
   auto same = [](const hoembed::VertexEmbedding& a, const hoembed::VertexEmbedding& b) {
     return a.Cell == b.Cell && a.PC[0] == b.PC[0] && a.PC[1] == b.PC[1] && a.PC[2] == b.PC[2] &&
-      a.Distance == b.Distance && a.ClosestDistance == b.ClosestDistance &&
-      a.Face == b.Face && a.Inside == b.Inside;
+      a.Distance == b.Distance && a.ClosestDistance == b.ClosestDistance && a.Face == b.Face &&
+      a.Inside == b.Inside;
   };
-  auto* closest = vtkDoubleArray::SafeDownCast(
-    filterOut->GetPointData()->GetArray("EmbeddingClosestDistance"));
+  auto* closest =
+    vtkDoubleArray::SafeDownCast(filterOut->GetPointData()->GetArray("EmbeddingClosestDistance"));
   int differ = 0, differOrdered = 0, differFilter = 0, differMesh = 0;
   HOEMBED_CHECK(plain.size() == size_t(n) && reused.size() == size_t(n) &&
       ordered.size() == size_t(n) && order.size() == size_t(n),
@@ -697,7 +705,8 @@ void TestMeshReuse(vtkPolyData* surface, vtkUnstructuredGrid* grid10, vtkUnstruc
 {
   auto distances = [](vtkPolyData* out) {
     std::vector<double> d;
-    auto* a = vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
+    auto* a =
+      vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
     for (vtkIdType i = 0; a && i < a->GetNumberOfTuples(); ++i)
       d.push_back(a->GetValue(i));
     return d;
@@ -723,7 +732,8 @@ void TestMeshReuse(vtkPolyData* surface, vtkUnstructuredGrid* grid10, vtkUnstruc
     HOEMBED_CHECK(errors.Count == 0, "mesh reuse, %s: error %s", what, errors.Text.c_str());
     HOEMBED_CHECK(f->GetNumberOfMeshPreparations() == preparations,
       "mesh reuse, %s: %lld preparations, expected %lld", what,
-      static_cast<long long>(f->GetNumberOfMeshPreparations()), static_cast<long long>(preparations));
+      static_cast<long long>(f->GetNumberOfMeshPreparations()),
+      static_cast<long long>(preparations));
     auto fresh = RunFilter(s, mesh, 0);
     HOEMBED_CHECK(distances(f->GetOutput()) == distances(fresh) && !distances(fresh).empty(),
       "mesh reuse, %s: distances differ from a fresh filter's", what);

@@ -111,9 +111,10 @@ void TestKnownGeometry()
     MapPoint(mesh, r.CellId[i], &r.PCoords[3 * i], p);
     HOEMBED_CHECK(std::abs(p[0] - v[0]) < 1e-12 && std::abs(p[1] - v[1]) < 1e-12 &&
         std::abs(p[2] - 2.0) < 1e-12,
-      "point %lld: foot (%g %g %g) is not the projection of (%g %g %g)", (long long)i, p[0],
-      p[1], p[2], v[0], v[1], v[2]);
-    HOEMBED_CHECK(std::abs(r.Distance[i] - height) < 1e-12 && std::abs(r.Closest[i] - height) < 1e-12,
+      "point %lld: foot (%g %g %g) is not the projection of (%g %g %g)", (long long)i, p[0], p[1],
+      p[2], v[0], v[1], v[2]);
+    HOEMBED_CHECK(
+      std::abs(r.Distance[i] - height) < 1e-12 && std::abs(r.Closest[i] - height) < 1e-12,
       "point %lld: d = %.17g, closest %.17g, height %.17g", (long long)i, r.Distance[i],
       r.Closest[i], height);
     HOEMBED_CHECK(r.Face[i] >= 0 && r.Fallback[i] == 0 && r.Residual[i] < 1e-12,
@@ -168,8 +169,8 @@ void TestPartitionsDoNotChangeResults()
       worst = std::max({ worst, std::hypot(pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]),
         std::abs(a.Distance[i] - b.Distance[i]) });
     }
-    HOEMBED_CHECK(worst < 1e-12, "%d partitions: feet or distances differ by %g", partitions,
-      worst);
+    HOEMBED_CHECK(
+      worst < 1e-12, "%d partitions: feet or distances differ by %g", partitions, worst);
   }
 }
 
@@ -206,8 +207,8 @@ void TestWarnings()
   }
   s.Method = hoembed::EMBED_NORMAL_OFFSET;
   const std::vector<std::string> n = hoembed::EmbeddingWarnings(s);
-  HOEMBED_CHECK(n.size() == 3 && n[2].find("barycentric") == std::string::npos &&
-      n[2].back() == '.',
+  HOEMBED_CHECK(
+    n.size() == 3 && n[2].find("barycentric") == std::string::npos && n[2].back() == '.',
     "normal-offset inexact warning: '%s'", n.size() == 3 ? n[2].c_str() : "");
 }
 
@@ -230,15 +231,17 @@ void TestErrors()
   SurfacePatch outOfRange = s;
   outOfRange.Connectivity[4] = 99;
   e = Embed(mesh, outOfRange, normal, 0).Error;
-  HOEMBED_CHECK(e == "A surface polygon refers to point 99, out of range [0, 16).", "got '%s'",
-    e.c_str());
+  HOEMBED_CHECK(
+    e == "A surface polygon refers to point 99, out of range [0, 16).", "got '%s'", e.c_str());
 
   // cell 2 inverted: two corners swapped (with their mid-edge nodes as they are)
   PlainTetMesh inverted = mesh;
-  std::swap(inverted.Connectivity[inverted.Offsets[2]], inverted.Connectivity[inverted.Offsets[2] + 1]);
+  std::swap(
+    inverted.Connectivity[inverted.Offsets[2]], inverted.Connectivity[inverted.Offsets[2] + 1]);
   e = Embed(inverted, s, normal, 0).Error;
-  HOEMBED_CHECK(e == "The FE mesh has an inverted or degenerate element: cell 2 has a "
-                     "non-positive Jacobian determinant somewhere inside it.",
+  HOEMBED_CHECK(e ==
+      "The FE mesh has an inverted or degenerate element: cell 2 has a "
+      "non-positive Jacobian determinant somewhere inside it.",
     "got '%s'", e.c_str());
   // the mesh's error before the surface's
   e = Embed(inverted, outOfRange, normal, 0).Error;
@@ -256,8 +259,9 @@ void TestErrors()
   PlainTetMesh hex = mesh;
   hex.Types[1] = 12;
   e = Embed(hex, s, normal, 0).Error;
-  HOEMBED_CHECK(e == "the FE mesh mixes cell types: cell 1 has type 12, cell 0 has type 24; "
-                     "use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells.",
+  HOEMBED_CHECK(e ==
+      "the FE mesh mixes cell types: cell 1 has type 12, cell 0 has type 24; "
+      "use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells.",
     "non-tet cell: '%s'", e.c_str());
 }
 

@@ -47,7 +47,6 @@
 
 using hoembed_test::MakeBoxTetMesh;
 
-
 namespace
 {
 
@@ -64,7 +63,6 @@ void ShearMap(double x[3])
   x[2] = Z + 0.15 * std::sin(M_PI * X) * std::sin(M_PI * Y);
 }
 
-
 void TestFaceLowerBound()
 {
   auto grid = MakeBoxTetMesh(2, 2, 2, 1.0, 1.0, 1.0, 2, ShearMap);
@@ -73,7 +71,8 @@ void TestFaceLowerBound()
   const auto pts = hoembed_test::PointsOf(grid);
   hoembed::EmbeddingMesh em;
   const std::string err = em.Build(pts.data(), grid->GetNumberOfPoints(),
-    reinterpret_cast<const hoembed::EmbeddingMesh::Id*>(conn.data()), grid->GetNumberOfCells(), npc);
+    reinterpret_cast<const hoembed::EmbeddingMesh::Id*>(conn.data()), grid->GetNumberOfCells(),
+    npc);
   HOEMBED_CHECK(err.empty(), "face bound: mesh build: %s", err.c_str());
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(0.0, 1.0);

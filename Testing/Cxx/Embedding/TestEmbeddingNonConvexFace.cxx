@@ -46,9 +46,8 @@
 namespace
 {
 // VTK tet10 node order: corners 0-3, mids of edges 01, 12, 20, 03, 13, 23.
-const double Nodes[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
-  { 0.5, 0, 0.15 }, { 0.5, 0.5, -0.45 }, { 0, 0.5, 0.15 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 },
-  { 0, 0.5, 0.5 } };
+const double Nodes[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0.5, 0, 0.15 },
+  { 0.5, 0.5, -0.45 }, { 0, 0.5, 0.15 }, { 0, 0, 0.5 }, { 0.5, 0, 0.5 }, { 0, 0.5, 0.5 } };
 
 vtkSmartPointer<vtkUnstructuredGrid> MakeMesh()
 {
@@ -76,7 +75,8 @@ double SampledBottomDistance(vtkQuadraticTetra* qt, const double v[3])
       double x[3], w[10];
       int sub;
       qt->EvaluateLocation(sub, pc, x, w);
-      best = std::min(best, (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
+      best = std::min(best,
+        (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
           (x[2] - v[2]) * (x[2] - v[2]));
     }
   return std::sqrt(best);
@@ -172,8 +172,8 @@ void TestCurvedCell()
         double inv[3] = { start[0], start[1], start[2] };
         int its = 0;
         const double res = hoembed::InvertTetMap(em.CellMaps[0], v, inv, its, 8);
-        const bool invOk = res <= tol && inv[0] >= 0 && inv[1] >= 0 && inv[2] >= 0 &&
-          inv[0] + inv[1] + inv[2] <= 1;
+        const bool invOk =
+          res <= tol && inv[0] >= 0 && inv[1] >= 0 && inv[2] >= 0 && inv[0] + inv[1] + inv[2] <= 1;
         hoembed::ClosestPointResult r;
         hoembed::ClosestPointOnMap(em.CellMaps[0], v, start, r);
         if (!invOk && r.Distance2 > tol * tol)
@@ -183,12 +183,13 @@ void TestCurvedCell()
         if (d != 0.0)
         {
           ++wrong;
-          std::fprintf(stderr, "curved cell: point at pc (%g %g %g) inside, filter distance %.12g\n",
-            pc[0], pc[1], pc[2], d);
+          std::fprintf(stderr,
+            "curved cell: point at pc (%g %g %g) inside, filter distance %.12g\n", pc[0], pc[1],
+            pc[2], d);
         }
       }
-  std::printf("curved cell: %d inside points; the solve from the straight tet misses %d\n",
-    points, hard);
+  std::printf(
+    "curved cell: %d inside points; the solve from the straight tet misses %d\n", points, hard);
   HOEMBED_CHECK(hard >= 3, "only %d hard points in the curved cell (test setup)", hard);
   HOEMBED_CHECK(wrong == 0, "curved cell: %d inside points reported outside", wrong);
 }
@@ -204,7 +205,8 @@ double SampledPatchDistance(const hoembed::QuadraticMap& m, const double v[3], i
       const double uv[2] = { double(i) / n, double(j) / n };
       double p[3];
       hoembed::EvaluateMap(m, uv, p);
-      best = std::min(best, (p[0] - v[0]) * (p[0] - v[0]) + (p[1] - v[1]) * (p[1] - v[1]) +
+      best = std::min(best,
+        (p[0] - v[0]) * (p[0] - v[0]) + (p[1] - v[1]) * (p[1] - v[1]) +
           (p[2] - v[2]) * (p[2] - v[2]));
     }
   return std::sqrt(best);
@@ -246,9 +248,10 @@ void TestCertifyKernel()
       singleWorse += single > sampled + 1e-6;
     }
   }
-  std::printf("certify kernel: %d queries, the single start worse than sampling on %d\n",
-    queries, singleWorse);
-  HOEMBED_CHECK(singleWorse >= 3, "single start worse on only %d queries (test setup)", singleWorse);
+  std::printf("certify kernel: %d queries, the single start worse than sampling on %d\n", queries,
+    singleWorse);
+  HOEMBED_CHECK(
+    singleWorse >= 3, "single start worse on only %d queries (test setup)", singleWorse);
   HOEMBED_CHECK(above == 0, "certified distance above dense sampling on %d queries", above);
   HOEMBED_CHECK(below == 0, "certified distance far below dense sampling on %d queries", below);
   HOEMBED_CHECK(uncertified == 0, "%d searches ran out of nodes", uncertified);
@@ -399,7 +402,8 @@ int main(int, char*[])
     if (!(std::fabs(alone - brute) <= 1e-8 * diag))
     {
       ++aloneBad;
-      std::fprintf(stderr, "point %lld alone: filter %.12g, brute force %.12g, single start %.12g\n",
+      std::fprintf(stderr,
+        "point %lld alone: filter %.12g, brute force %.12g, single start %.12g\n",
         static_cast<long long>(q), alone, brute, single);
     }
     const double inPatch = ClosestDistanceOf(patchOut, q);

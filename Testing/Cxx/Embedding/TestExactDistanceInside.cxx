@@ -177,14 +177,17 @@ int main(int, char*[])
     if (!r.Inside)
     {
       ++wrong;
-      std::fprintf(stderr, "pc (%g %g %g): inside by construction, brute force says outside "
-                           "(boundary distance %.3g)\n", pc[0], pc[1], pc[2], r.Upper);
+      std::fprintf(stderr,
+        "pc (%g %g %g): inside by construction, brute force says outside "
+        "(boundary distance %.3g)\n",
+        pc[0], pc[1], pc[2], r.Upper);
     }
   }
-  std::printf("%zu inside points; Newton from the five fixed starts misses %d\n",
-    inside.size(), hard);
-  HOEMBED_CHECK(hard >= 1, "the fixed starts miss no inside point: the case is not hard "
-                           "(test setup)");
+  std::printf(
+    "%zu inside points; Newton from the five fixed starts misses %d\n", inside.size(), hard);
+  HOEMBED_CHECK(hard >= 1,
+    "the fixed starts miss no inside point: the case is not hard "
+    "(test setup)");
   HOEMBED_CHECK(wrong == 0, "%d inside points called outside", wrong);
 
   // scattered points around the cell: the same verdict as the embedding filter
@@ -210,8 +213,8 @@ int main(int, char*[])
   auto out = RunEmbeddingFilter(cloud, grid);
   auto* closest =
     vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("EmbeddingClosestDistance"));
-  HOEMBED_CHECK(closest && closest->GetNumberOfTuples() == cp->GetNumberOfPoints(),
-    "filter output incomplete");
+  HOEMBED_CHECK(
+    closest && closest->GetNumberOfTuples() == cp->GetNumberOfPoints(), "filter output incomplete");
   if (!closest)
     return hoembed_test::Report("TestExactDistanceInside");
   int in = 0, out_ = 0, disagree = 0;
@@ -236,10 +239,12 @@ int main(int, char*[])
     }
   }
   std::printf("%d scattered points inside, %d outside (filter)\n", in, out_);
-  HOEMBED_CHECK(in >= 100 && out_ >= 100, "scattered points: %d inside, %d outside (test setup)",
-    in, out_);
-  HOEMBED_CHECK(disagree == 0, "%d scattered points where the brute force and the filter "
-                               "disagree on inside", disagree);
+  HOEMBED_CHECK(
+    in >= 100 && out_ >= 100, "scattered points: %d inside, %d outside (test setup)", in, out_);
+  HOEMBED_CHECK(disagree == 0,
+    "%d scattered points where the brute force and the filter "
+    "disagree on inside",
+    disagree);
   HOEMBED_CHECK(undecided == 0, "%d sub-tets left undecided", undecided);
   return hoembed_test::Report("TestExactDistanceInside");
 }

@@ -29,12 +29,14 @@ hoembed::CellArrayView View(vtkCellArray* ca)
   if (ca->IsStorage64Bit())
   {
     v.Offsets64 = reinterpret_cast<const std::int64_t*>(ca->GetOffsetsArray64()->GetPointer(0));
-    v.Connectivity64 = reinterpret_cast<const std::int64_t*>(ca->GetConnectivityArray64()->GetPointer(0));
+    v.Connectivity64 =
+      reinterpret_cast<const std::int64_t*>(ca->GetConnectivityArray64()->GetPointer(0));
   }
   else
   {
     v.Offsets32 = reinterpret_cast<const std::int32_t*>(ca->GetOffsetsArray32()->GetPointer(0));
-    v.Connectivity32 = reinterpret_cast<const std::int32_t*>(ca->GetConnectivityArray32()->GetPointer(0));
+    v.Connectivity32 =
+      reinterpret_cast<const std::int32_t*>(ca->GetConnectivityArray32()->GetPointer(0));
   }
   return v;
 }
@@ -45,7 +47,8 @@ void Run(bool use32)
   vtkNew<vtkPoints> pts;
   const int nCircle = 12;
   for (int i = 0; i < nCircle; ++i)
-    pts->InsertNextPoint(std::cos(2 * vtkMath::Pi() * i / nCircle), std::sin(2 * vtkMath::Pi() * i / nCircle), 0.0);
+    pts->InsertNextPoint(
+      std::cos(2 * vtkMath::Pi() * i / nCircle), std::sin(2 * vtkMath::Pi() * i / nCircle), 0.0);
   for (int i = 0; i < 10; ++i)
     pts->InsertNextPoint(0.5 * i, (i % 2) ? 1.0 : 0.0, 1.0);
   vtkNew<vtkCellArray> polys, strips, empty;
@@ -53,7 +56,8 @@ void Run(bool use32)
     { 1, 3, 5, 7, 9, 11, 0 }, { 3, 4 } /* degenerate: no triangle */ };
   for (auto& p : polyIds)
     polys->InsertNextCell(static_cast<vtkIdType>(p.size()), p.data());
-  std::vector<std::vector<vtkIdType>> stripIds = { { 12, 13, 14, 15, 16 }, { 16, 17, 18, 19, 20, 21 }, { 12, 13, 14 } };
+  std::vector<std::vector<vtkIdType>> stripIds = { { 12, 13, 14, 15, 16 },
+    { 16, 17, 18, 19, 20, 21 }, { 12, 13, 14 } };
   for (auto& s : stripIds)
     strips->InsertNextCell(static_cast<vtkIdType>(s.size()), s.data());
   if (use32)
@@ -68,14 +72,16 @@ void Run(bool use32)
   size_t expected = 0;
   for (auto& p : polyIds)
     expected += p.size() >= 3 ? p.size() - 2 : 0;
-  HOEMBED_CHECK(tris.size() == 3 * expected, "%zu polygon triangles, expected %zu", tris.size() / 3, expected);
+  HOEMBED_CHECK(
+    tris.size() == 3 * expected, "%zu polygon triangles, expected %zu", tris.size() / 3, expected);
   size_t t = 0;
   for (auto& p : polyIds)
   {
     if (p.size() < 3)
       continue;
     double normal[3];
-    const double ref = vtkPolygon::ComputeArea(pts, static_cast<vtkIdType>(p.size()), p.data(), normal);
+    const double ref =
+      vtkPolygon::ComputeArea(pts, static_cast<vtkIdType>(p.size()), p.data(), normal);
     double sum = 0.0;
     for (size_t k = 0; k + 2 < p.size(); ++k, ++t)
     {
@@ -93,10 +99,12 @@ void Run(bool use32)
   vtkNew<vtkCellArray> ref;
   for (auto& s : stripIds)
     vtkTriangleStrip::DecomposeStrip(static_cast<int>(s.size()), s.data(), ref);
-  HOEMBED_CHECK(tris.size() == 3 * static_cast<size_t>(ref->GetNumberOfCells()), "%zu strip triangles, VTK %lld",
-    tris.size() / 3, static_cast<long long>(ref->GetNumberOfCells()));
+  HOEMBED_CHECK(tris.size() == 3 * static_cast<size_t>(ref->GetNumberOfCells()),
+    "%zu strip triangles, VTK %lld", tris.size() / 3,
+    static_cast<long long>(ref->GetNumberOfCells()));
   vtkNew<vtkIdList> cell;
-  for (vtkIdType c = 0; c < ref->GetNumberOfCells() && 3 * static_cast<size_t>(c) < tris.size(); ++c)
+  for (vtkIdType c = 0; c < ref->GetNumberOfCells() && 3 * static_cast<size_t>(c) < tris.size();
+       ++c)
   {
     ref->GetCellAtId(c, cell);
     std::multiset<std::int64_t> a(tris.begin() + 3 * c, tris.begin() + 3 * c + 3);
@@ -109,9 +117,11 @@ void Run(bool use32)
   HOEMBED_CHECK(both.size() == 3 * expected + tris.size() &&
       std::equal(tris.begin(), tris.end(), both.end() - tris.size()),
     "polygons then strips: wrong order or count");
-  HOEMBED_CHECK(hoembed::CheckSurfaceTriangles(both, pts->GetNumberOfPoints()).empty(), "valid ids refused");
+  HOEMBED_CHECK(
+    hoembed::CheckSurfaceTriangles(both, pts->GetNumberOfPoints()).empty(), "valid ids refused");
   const std::string err = hoembed::CheckSurfaceTriangles(both, 20);
-  HOEMBED_CHECK(err.find("out of range [0, 20)") != std::string::npos, "id 21 of 20 points: '%s'", err.c_str());
+  HOEMBED_CHECK(
+    err.find("out of range [0, 20)") != std::string::npos, "id 21 of 20 points: '%s'", err.c_str());
   std::vector<std::int64_t> negative = { 0, -1, 2 };
   HOEMBED_CHECK(!hoembed::CheckSurfaceTriangles(negative, 3).empty(), "negative id accepted");
 }

@@ -47,7 +47,6 @@
 
 using hoembed_test::MakeBoxTetMesh;
 
-
 namespace
 {
 
@@ -123,11 +122,13 @@ void TestTetBarycentricExcludes()
       }
     }
   }
-  HOEMBED_CHECK(wrong == 0, "TetBarycentricExcludes: %d exclusions with a point of the element "
-    "within reach", wrong);
+  HOEMBED_CHECK(wrong == 0,
+    "TetBarycentricExcludes: %d exclusions with a point of the element "
+    "within reach",
+    wrong);
   HOEMBED_CHECK(excluded > tried / 6 && excludedNear > triedNear / 10,
-    "TetBarycentricExcludes: only %d of %d excluded, %d of %d near an edge (test setup)",
-    excluded, tried, excludedNear, triedNear);
+    "TetBarycentricExcludes: only %d of %d excluded, %d of %d near an edge (test setup)", excluded,
+    tried, excludedNear, triedNear);
   // a degenerate (flat) straight tet gives a form that excludes nothing
   const double flat[12] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0 };
   hoembed::TetBarycentricForm form;
@@ -136,7 +137,8 @@ void TestTetBarycentricExcludes()
   HOEMBED_CHECK(!hoembed::TetBarycentricExcludes(form, far, 0.0),
     "TetBarycentricExcludes: a flat tet's form excluded a point");
   std::printf("straight tet + bumps: %d of %d (point, reach) pairs excluded (%d of %d near a "
-              "curved edge), %d wrongly\n", excluded, tried, excludedNear, triedNear, wrong);
+              "curved edge), %d wrongly\n",
+    excluded, tried, excludedNear, triedNear, wrong);
 }
 
 } // namespace

@@ -14,7 +14,8 @@ namespace
 using Id = std::int64_t;
 
 // Appends a straight tri6 face (mid-edge nodes at the midpoints) and returns its 6 ids.
-std::vector<Id> AddFace(std::vector<double>& pts, const double a[3], const double b[3], const double c[3])
+std::vector<Id> AddFace(
+  std::vector<double>& pts, const double a[3], const double b[3], const double c[3])
 {
   const Id base = static_cast<Id>(pts.size() / 3);
   const double* corner[3] = { a, b, c };

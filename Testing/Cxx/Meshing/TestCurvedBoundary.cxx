@@ -137,8 +137,8 @@ int main(int, char*[])
   const hoembed::CurvingResult rs = hoembed::CurveMidEdgeNodes(flat, conn, nodes, up, 0.02, floor);
   const double qs = LatticeMinScaledJacobian(flat.data());
   std::printf("sliver: straight %g, alpha %g, curved %g\n", qStraight, rs.Alpha[0], qs);
-  HOEMBED_CHECK(qs >= 0.999 * qStraight * (1.0 - 1e-9), "the sliver lost quality: %g < %g", qs,
-    qStraight);
+  HOEMBED_CHECK(
+    qs >= 0.999 * qStraight * (1.0 - 1e-9), "the sliver lost quality: %g < %g", qs, qStraight);
   HOEMBED_CHECK(hoembed::Tet10RequiredQuality(qStraight, 0.02, floor) < floor,
     "a straight shape below the floor must be acceptable as it is");
   return hoembed_test::Report("TestCurvedBoundary");

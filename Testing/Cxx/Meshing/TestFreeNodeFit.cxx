@@ -47,8 +47,8 @@ double SampledMinDet(const double x[30])
   return lowest;
 }
 
-bool AllAcceptable(const std::vector<double>& p, const std::vector<Id>& conn, double ratio,
-  double& minDet)
+bool AllAcceptable(
+  const std::vector<double>& p, const std::vector<Id>& conn, double ratio, double& minDet)
 {
   bool ok = true;
   minDet = VTK_DOUBLE_MAX;
@@ -89,8 +89,10 @@ int main(int argc, char* argv[])
   // The boundary mid-edge node at (0.5, 0.25, 1) (an edge of the top face) goes down.
   Id m = -1;
   for (Id i = 0; i < static_cast<Id>(pts.size() / 3); ++i)
-    if (!isCorner[i] && std::fabs(pts[3 * i] - 0.5) + std::fabs(pts[3 * i + 1] - 0.25) +
-          std::fabs(pts[3 * i + 2] - 1.0) < 1e-12)
+    if (!isCorner[i] &&
+      std::fabs(pts[3 * i] - 0.5) + std::fabs(pts[3 * i + 1] - 0.25) +
+          std::fabs(pts[3 * i + 2] - 1.0) <
+        1e-12)
       m = i;
   HOEMBED_CHECK(m >= 0, "no mid-edge node at (0.5, 0.25, 1)");
   if (m < 0)
@@ -122,7 +124,8 @@ int main(int argc, char* argv[])
     std::vector<double> p(pts), alpha{ 0.0 };
     std::vector<char> isFree(pts.size() / 3, 0);
     const Id fitted = hoembed::FitWithFreeNodes(p, conn, nodes, target, alpha, isFree, ratio, 0.0);
-    HOEMBED_CHECK(fitted == 0 && alpha[0] == 0.0, "fitted %lld without free nodes", (long long)fitted);
+    HOEMBED_CHECK(
+      fitted == 0 && alpha[0] == 0.0, "fitted %lld without free nodes", (long long)fitted);
     HOEMBED_CHECK(p == pts, "points moved although nothing could be fitted");
   }
   // Corners and interior mid-edge nodes free: the node reaches its target, all valid.

@@ -38,7 +38,10 @@ using Id = std::int64_t;
 
 struct ErrorCatcher : public vtkCommand
 {
-  static ErrorCatcher* New() { return new ErrorCatcher; }
+  static ErrorCatcher* New()
+  {
+    return new ErrorCatcher;
+  }
   void Execute(vtkObject*, unsigned long, void* data) override
   {
     this->Text += static_cast<const char*>(data);
@@ -46,7 +49,8 @@ struct ErrorCatcher : public vtkCommand
   std::string Text;
 };
 
-vtkSmartPointer<vtkPolyData> Cylinder(double r, double h, double cx, double cy, double cz, bool capped)
+vtkSmartPointer<vtkPolyData> Cylinder(
+  double r, double h, double cx, double cy, double cz, bool capped)
 {
   vtkNew<vtkCylinderSource> c;
   c->SetRadius(r);
@@ -116,9 +120,10 @@ void CheckWrapBounds(vtkPolyData* shell)
   limits.MaxGates = 20000;
   hoembed::SurfaceWrapResult fine = hoembed::WrapSurface(pts, tris, 0.01, 0.0025, limits);
   HOEMBED_CHECK(fine.Stopped && !fine.Aborted, "fine wrap not stopped by its bound");
-  HOEMBED_CHECK(fine.Gates == limits.MaxGates + 1, "stopped after %llu gates",
-    (unsigned long long)fine.Gates);
-  HOEMBED_CHECK(fine.Error.find("work bound") != std::string::npos, "error: '%s'", fine.Error.c_str());
+  HOEMBED_CHECK(
+    fine.Gates == limits.MaxGates + 1, "stopped after %llu gates", (unsigned long long)fine.Gates);
+  HOEMBED_CHECK(
+    fine.Error.find("work bound") != std::string::npos, "error: '%s'", fine.Error.c_str());
   HOEMBED_CHECK(fine.Points.empty() && fine.Tris.empty(), "a stopped wrap returned an envelope");
 
   limits = hoembed::SurfaceWrapLimits();
@@ -135,7 +140,8 @@ void CheckWrapBounds(vtkPolyData* shell)
   HOEMBED_CHECK(fine.Stopped && fine.Aborted && fine.Gates == 1024 && polls == 4,
     "abort: stopped %d aborted %d after %llu gates, %d polls", fine.Stopped, fine.Aborted,
     (unsigned long long)fine.Gates, polls);
-  HOEMBED_CHECK(fine.Error.find("aborted") != std::string::npos, "abort error: '%s'", fine.Error.c_str());
+  HOEMBED_CHECK(
+    fine.Error.find("aborted") != std::string::npos, "abort error: '%s'", fine.Error.c_str());
 
   // Without a callback of its own the wrap polls the thread's abort scope (how
   // vtkTet10Mesher's AbortExecute reaches it).
@@ -163,8 +169,7 @@ void CheckMesherAbort(vtkPolyData* shell)
     vtkNew<vtkCellValidator> validator;
     validator->SetInputData(out);
     validator->Update();
-    vtkDataArray* states =
-      validator->GetOutput()->GetCellData()->GetArray("ValidityState");
+    vtkDataArray* states = validator->GetOutput()->GetCellData()->GetArray("ValidityState");
     vtkIdType bad = 0;
     for (vtkIdType c = 0; states && c < states->GetNumberOfTuples(); ++c)
       bad += states->GetTuple1(c) != 0 ? 1 : 0;
@@ -176,7 +181,10 @@ void CheckMesherAbort(vtkPolyData* shell)
   // surface check (the first) and from the wrap (the others).
   struct Aborter : public vtkCommand
   {
-    static Aborter* New() { return new Aborter; }
+    static Aborter* New()
+    {
+      return new Aborter;
+    }
     void Execute(vtkObject* caller, unsigned long, void*) override
     {
       auto* alg = static_cast<vtkAlgorithm*>(caller);
@@ -248,13 +256,15 @@ void CheckTetGenBoundFallsBack()
   // the value (no clamping anywhere: 0 elements is not turned into 4)
   options.TargetNumberOfElements = 0;
   hoembed::MesherResult refused = hoembed::RunMesher(pts, tris, options, services);
-  HOEMBED_CHECK(refused.Error == "TargetNumberOfElements must be an integer in [4, 10000000] "
-                                 "(got 0).", "got '%s'", refused.Error.c_str());
+  HOEMBED_CHECK(refused.Error ==
+      "TargetNumberOfElements must be an integer in [4, 10000000] "
+      "(got 0).",
+    "got '%s'", refused.Error.c_str());
   options.TargetNumberOfElements = 500;
   options.MinimumQuality = 1.5;
-  HOEMBED_CHECK(hoembed::CheckMesherOptions(options) ==
-      "MinimumQuality must be in [0, 1] (got 1.5).", "got '%s'",
-    hoembed::CheckMesherOptions(options).c_str());
+  HOEMBED_CHECK(
+    hoembed::CheckMesherOptions(options) == "MinimumQuality must be in [0, 1] (got 1.5).",
+    "got '%s'", hoembed::CheckMesherOptions(options).c_str());
   options.MinimumQuality = hoembed::MesherOptions().MinimumQuality;
   hoembed::MesherResult plain = hoembed::RunMesher(pts, tris, options, services);
   HOEMBED_CHECK(plain.Error.empty() && !plain.Wrapped, "sphere: '%s', wrapped %d",
@@ -266,7 +276,8 @@ void CheckTetGenBoundFallsBack()
   HOEMBED_CHECK(!bounded.Conn.empty() && bounded.BoundaryCrossingsLeft == 0, "no mesh");
   bool said = false;
   for (const std::string& w : bounded.Warnings)
-    said = said || (w.find("work bound") != std::string::npos && w.find("envelope") != std::string::npos);
+    said = said ||
+      (w.find("work bound") != std::string::npos && w.find("envelope") != std::string::npos);
   HOEMBED_CHECK(said, "no warning naming the work bound and the envelope");
   std::printf("TetGen bound: %zu cells through the envelope (%zu coarsened)\n",
     bounded.MinScaledJacobian.size(), plain.MinScaledJacobian.size());
@@ -316,8 +327,8 @@ void CheckEnvelopeKeepsCavity()
   options.TargetNumberOfElements = 1500;
   options.Wrap = 1;
   const hoembed::MesherResult r = hoembed::RunMesher(pts, tris, options, services);
-  HOEMBED_CHECK(r.Error.empty() && r.Wrapped, "cavity: '%s', wrapped %d", r.Error.c_str(),
-    r.Wrapped);
+  HOEMBED_CHECK(
+    r.Error.empty() && r.Wrapped, "cavity: '%s', wrapped %d", r.Error.c_str(), r.Wrapped);
   // straight volume of the corner tets, and no tet around the centre
   double volume = 0.0;
   Id aroundCentre = 0;
@@ -333,7 +344,8 @@ void CheckEnvelopeKeepsCavity()
         e[k][d] = x[k + 1][d] - x[0][d];
     volume += (e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
                 e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
-                e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) / 6.0;
+                e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) /
+      6.0;
     for (int a = 0; a < 4; ++a)
       aroundCentre += std::sqrt(x[a][0] * x[a][0] + x[a][1] * x[a][1] + x[a][2] * x[a][2]) < 0.4;
   }

@@ -39,8 +39,8 @@ void VectorMath()
 {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-3.0, 3.0);
-  std::vector<std::array<double, 3>> vs = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
-    { 0, 0, -2 }, { 1, 1, 0 }, { 1, 1, 1 }, { -1, 1e-9, 0 }, { 0, 0, 0 } };
+  std::vector<std::array<double, 3>> vs = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0, 0, -2 },
+    { 1, 1, 0 }, { 1, 1, 1 }, { -1, 1e-9, 0 }, { 0, 0, 0 } };
   for (int i = 0; i < 2000; ++i)
     vs.push_back({ u(rng), u(rng), u(rng) * (i % 3 == 0 ? 1e-6 : 1.0) });
   int bad = 0;
@@ -142,7 +142,8 @@ void Triangulation()
 
   std::vector<Id> tris, seen;
   std::vector<double> merged;
-  HOEMBED_CHECK(hoembed::ReadSurface(in, Services(true, seen), merged, tris).empty(), "read failed");
+  HOEMBED_CHECK(
+    hoembed::ReadSurface(in, Services(true, seen), merged, tris).empty(), "read failed");
   // quad: shorter diagonal 9-11 (|p9 - p11| < |p8 - p10|)
   const std::vector<Id> quad = { 8, 9, 11, 9, 10, 11, 9, 10, 11, 9, 11, 8 };
   HOEMBED_CHECK(seen.size() >= 12 && std::equal(quad.begin(), quad.end(), seen.begin()),
@@ -170,7 +171,8 @@ void Triangulation()
   HOEMBED_CHECK(seen.size() == 24 + 3 * static_cast<size_t>(ref->GetNumberOfCells()),
     "%zu triangles in all", seen.size() / 3);
   vtkNew<vtkIdList> cell;
-  for (vtkIdType c = 0; c < ref->GetNumberOfCells() && 24 + 3 * c + 2 < static_cast<Id>(seen.size()); ++c)
+  for (vtkIdType c = 0;
+       c < ref->GetNumberOfCells() && 24 + 3 * c + 2 < static_cast<Id>(seen.size()); ++c)
   {
     ref->GetCellAtId(c, cell);
     for (int k = 0; k < 3; ++k)
@@ -178,10 +180,11 @@ void Triangulation()
         static_cast<long long>(c));
   }
   // no ear cut: the hexagon becomes a fan from its first point
-  HOEMBED_CHECK(hoembed::ReadSurface(in, Services(false, seen), merged, tris).empty(), "read failed");
+  HOEMBED_CHECK(
+    hoembed::ReadSurface(in, Services(false, seen), merged, tris).empty(), "read failed");
   const std::vector<Id> fan = { 13, 14, 15, 13, 15, 16, 13, 16, 17, 13, 17, 12 };
-  HOEMBED_CHECK(seen.size() >= 24 && std::equal(fan.begin(), fan.end(), seen.begin() + 12),
-    "fan fallback");
+  HOEMBED_CHECK(
+    seen.size() >= 24 && std::equal(fan.begin(), fan.end(), seen.begin() + 12), "fan fallback");
 }
 
 void Errors()
@@ -191,7 +194,8 @@ void Errors()
   std::vector<Id> tris;
   hoembed::SurfaceInput in;
   auto read = [&]() { return hoembed::ReadSurface(in, Services(true, seen), merged, tris); };
-  HOEMBED_CHECK(read() == "the input surface is empty (0 points, 0 cells)", "empty: %s", read().c_str());
+  HOEMBED_CHECK(
+    read() == "the input surface is empty (0 points, 0 cells)", "empty: %s", read().c_str());
   in.NumberOfPoints = 3;
   in.Points = pts.data();
   Cells lines, polys;
@@ -202,8 +206,10 @@ void Errors()
   polys.Add({ 0, 1, 5 });
   in.Polys = polys.View();
   const std::string ids = hoembed::CheckSurfacePointIds(in);
-  HOEMBED_CHECK(ids == "polygon 0 of the input names point id 5, but the surface has 3 points "
-                       "(ids 0..2)", "ids: %s", ids.c_str());
+  HOEMBED_CHECK(ids ==
+      "polygon 0 of the input names point id 5, but the surface has 3 points "
+      "(ids 0..2)",
+    "ids: %s", ids.c_str());
   polys.Conn[2] = 2;
   pts[4] = std::nan("");
   HOEMBED_CHECK(read() == "the input surface has a non-finite coordinate (NaN or Inf) at point 1",
@@ -212,7 +218,8 @@ void Errors()
   hoembed::SurfaceReadServices none = Services(true, seen);
   none.Merge = [](const std::vector<Id>&, std::vector<double>&, std::vector<Id>&) { return false; };
   HOEMBED_CHECK(hoembed::ReadSurface(in, none, merged, tris) ==
-      "the input has no usable triangles after triangulation", "merge failure");
+      "the input has no usable triangles after triangulation",
+    "merge failure");
 }
 
 // A closed unit cube of 12 triangles: EstimatedElements(edge) = 6 sqrt(2) / edge^3.
@@ -238,7 +245,8 @@ void Estimate()
   HOEMBED_CHECK(hoembed::CheckEstimatedSize(in, 0.1, 7, 9000, "Max").empty(), "8485 <= 9000");
   const std::string msg = hoembed::CheckEstimatedSize(in, 0.1, 7, 8000, "Max");
   HOEMBED_CHECK(msg.rfind("the mesh would have about 8485 elements", 0) == 0 &&
-      msg.find("more than Max = 8000") != std::string::npos, "size: %s", msg.c_str());
+      msg.find("more than Max = 8000") != std::string::npos,
+    "size: %s", msg.c_str());
 }
 } // namespace
 

@@ -41,7 +41,10 @@ using Id = std::int64_t;
 
 struct ErrorCatcher : public vtkCommand
 {
-  static ErrorCatcher* New() { return new ErrorCatcher; }
+  static ErrorCatcher* New()
+  {
+    return new ErrorCatcher;
+  }
   void Execute(vtkObject*, unsigned long, void* data) override
   {
     this->Text += static_cast<const char*>(data);
@@ -153,7 +156,8 @@ void CheckWrapKernel(const char* name, vtkPolyData* soup, double alpha, double o
   HOEMBED_CHECK(check.SignedVolume > 0.0, "%s: envelope volume %g", name, check.SignedVolume);
   const Id crossings = hoembed::SurfaceCheck::CountSelfIntersections(
     w.Points.data(), np, w.Tris.data(), nt, 1e-12, 10);
-  HOEMBED_CHECK(crossings == 0, "%s: envelope self-intersects (%lld pairs)", name, (long long)crossings);
+  HOEMBED_CHECK(
+    crossings == 0, "%s: envelope self-intersects (%lld pairs)", name, (long long)crossings);
   vtkSmartPointer<vtkPolyData> env = FromArrays(w.Points, w.Tris);
   vtkNew<vtkSelectEnclosedPoints> inside;
   inside->SetInputData(soup);
@@ -162,8 +166,10 @@ void CheckWrapKernel(const char* name, vtkPolyData* soup, double alpha, double o
   Id outside = 0;
   for (vtkIdType i = 0; i < soup->GetNumberOfPoints(); ++i)
     outside += inside->IsInside(i) ? 0 : 1;
-  HOEMBED_CHECK(outside == 0, "%s: %lld input vertices outside the envelope", name, (long long)outside);
-  std::printf("%s: envelope of %lld triangles, volume %.4g\n", name, (long long)nt, check.SignedVolume);
+  HOEMBED_CHECK(
+    outside == 0, "%s: %lld input vertices outside the envelope", name, (long long)outside);
+  std::printf(
+    "%s: envelope of %lld triangles, volume %.4g\n", name, (long long)nt, check.SignedVolume);
 }
 
 // The filter: completes, every element valid by VTK's validator and its own bound, and
@@ -180,8 +186,8 @@ void CheckMesher(
   mesher->SetTargetNumberOfElements(400);
   mesher->Update();
   vtkUnstructuredGrid* mesh = mesher->GetOutput();
-  HOEMBED_CHECK(catcher->Text.empty() && mesh->GetNumberOfCells() > 0, "%s: %s", name,
-    catcher->Text.c_str());
+  HOEMBED_CHECK(
+    catcher->Text.empty() && mesh->GetNumberOfCells() > 0, "%s: %s", name, catcher->Text.c_str());
   if (mesh->GetNumberOfCells() == 0)
     return;
   vtkDataArray* q = mesh->GetCellData()->GetArray("MinScaledJacobian");
@@ -190,8 +196,9 @@ void CheckMesher(
   vtkNew<vtkCellValidator> validator;
   validator->SetInputData(mesh);
   validator->Update();
-  vtkDataArray* states =
-    vtkUnstructuredGrid::SafeDownCast(validator->GetOutput())->GetCellData()->GetArray("ValidityState");
+  vtkDataArray* states = vtkUnstructuredGrid::SafeDownCast(validator->GetOutput())
+                           ->GetCellData()
+                           ->GetArray("ValidityState");
   const short bad = static_cast<short>(vtkCellValidator::State::IntersectingEdges) |
     static_cast<short>(vtkCellValidator::State::IntersectingFaces) |
     static_cast<short>(vtkCellValidator::State::FacesAreOrientedIncorrectly);
@@ -207,8 +214,8 @@ void CheckMesher(
   // Containment: distance of every input vertex to the curved mesh (0 inside a cell).
   double b[6];
   surface->GetBounds(b);
-  const double diag =
-    std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
+  const double diag = std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
   // The curved boundary, subdivided (VTK's own tri6 subdivision): inside test by ray
   // parity, and the distance of the vertices outside to it.
   vtkNew<vtkDataSetSurfaceFilter> boundary;
@@ -237,7 +244,8 @@ void CheckMesher(
   // The curved boundary follows the surface between its nodes only to the element size's
   // sagitta (a percent or two of the diagonal here); a part left out would be tens of
   // percent away.
-  HOEMBED_CHECK(worst < 0.03, "%s: an input vertex is %g of the diagonal outside the mesh", name, worst);
+  HOEMBED_CHECK(
+    worst < 0.03, "%s: an input vertex is %g of the diagonal outside the mesh", name, worst);
   std::printf("%s: %lld cells, min scaled Jacobian %.3g, %g envelope nodes, worst outside %.2e\n",
     name, (long long)mesh->GetNumberOfCells(), qmin, envNodes, worst);
 }
@@ -254,7 +262,8 @@ int main(int, char*[])
   vtkSmartPointer<vtkPolyData> farApart = Append(sphere, Sphere(0.3, 4.0));
   vtkSmartPointer<vtkPolyData> nested = Append(sphere, Sphere(0.4, 0.0));
   vtkSmartPointer<vtkPolyData> duplicated = Append(sphere, sphere);
-  vtkSmartPointer<vtkPolyData> finned = Append(sphere, Triangulated(planeSource)); // a sheet through it
+  vtkSmartPointer<vtkPolyData> finned =
+    Append(sphere, Triangulated(planeSource)); // a sheet through it
   vtkSmartPointer<vtkPolyData> flipped = Sphere(1.0, 0.0);
   for (vtkIdType c = 0; c < flipped->GetNumberOfCells(); c += 3)
     flipped->ReverseCell(c);
@@ -267,7 +276,8 @@ int main(int, char*[])
     std::vector<double> pts = { 0, 0, 0, 1, 0, 0, 2, 0, 0 };
     std::vector<Id> tris = { 0, 1, 2, 0, 0, 1 };
     hoembed::SurfaceWrapResult w = hoembed::WrapSurface(pts, tris, 0.1, 0.01);
-    HOEMBED_CHECK(w.Error.find("non-zero area") != std::string::npos, "degenerate: '%s'", w.Error.c_str());
+    HOEMBED_CHECK(
+      w.Error.find("non-zero area") != std::string::npos, "degenerate: '%s'", w.Error.c_str());
   }
 
   CheckMesher("open sphere", open, true);

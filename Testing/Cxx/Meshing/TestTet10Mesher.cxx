@@ -42,7 +42,10 @@ namespace
 {
 struct ErrorCatcher : public vtkCommand
 {
-  static ErrorCatcher* New() { return new ErrorCatcher; }
+  static ErrorCatcher* New()
+  {
+    return new ErrorCatcher;
+  }
   void Execute(vtkObject*, unsigned long, void* data) override
   {
     this->Text += static_cast<const char*>(data);
@@ -66,7 +69,8 @@ vtkSmartPointer<vtkPolyData> Sphere(bool bumpy)
       double x[3];
       pd->GetPoint(i, x);
       vtkMath::Normalize(x);
-      const double r = 1.0 + 0.12 * std::sin(5 * x[0]) * std::cos(4 * x[1]) + 0.05 * std::sin(9 * x[2]);
+      const double r =
+        1.0 + 0.12 * std::sin(5 * x[0]) * std::cos(4 * x[1]) + 0.05 * std::sin(9 * x[2]);
       pd->GetPoints()->SetPoint(i, r * x[0], r * x[1], r * x[2]);
     }
   }
@@ -131,8 +135,8 @@ void CheckShape(const char* name, vtkPolyData* surface, double target)
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(pointOrder.size()); ++k)
       movedPoints += pointOrder[k] != k;
     HOEMBED_CHECK(movedCells == 0 && movedPoints == 0,
-      "%s: output not in memory order (%lld cells, %lld nodes move)", name,
-      (long long)movedCells, (long long)movedPoints);
+      "%s: output not in memory order (%lld cells, %lld nodes move)", name, (long long)movedCells,
+      (long long)movedPoints);
   }
 
   // Validity: VTK's Jacobian at the corners, the 20 cubic lattice points and random points.
@@ -178,12 +182,14 @@ void CheckShape(const char* name, vtkPolyData* surface, double target)
   vtkNew<vtkCellValidator> validator;
   validator->SetInputData(g);
   validator->Update();
-  vtkDataArray* states =
-    vtkUnstructuredGrid::SafeDownCast(validator->GetOutput())->GetCellData()->GetArray("ValidityState");
+  vtkDataArray* states = vtkUnstructuredGrid::SafeDownCast(validator->GetOutput())
+                           ->GetCellData()
+                           ->GetArray("ValidityState");
   vtkIdType flagged = 0;
   for (vtkIdType c = 0; c < nc; ++c)
     flagged += states->GetTuple1(c) != 0 ? 1 : 0;
-  HOEMBED_CHECK(flagged == 0, "%s: %lld cells flagged by vtkCellValidator", name, (long long)flagged);
+  HOEMBED_CHECK(
+    flagged == 0, "%s: %lld cells flagged by vtkCellValidator", name, (long long)flagged);
   vtkDataArray* q = g->GetCellData()->GetArray("MinScaledJacobian");
   HOEMBED_CHECK(q && q->GetRange()[0] > 0.0, "%s: MinScaledJacobian", name);
   // The quality floor (MinimumQuality, default 0.05): every cell at the floor, or as good
@@ -209,8 +215,9 @@ void CheckShape(const char* name, vtkPolyData* surface, double target)
       const double straight = vtkMeshQuality::TetScaledJacobian(tet);
       failing += all[c] >= std::min(floor, 0.999 * straight) - 1e-9 ? 0 : 1;
     }
-    HOEMBED_CHECK(failing == 0, "%s (target %g): %lld cells below the floor and their straight shape",
-      name, target, (long long)failing);
+    HOEMBED_CHECK(failing == 0,
+      "%s (target %g): %lld cells below the floor and their straight shape", name, target,
+      (long long)failing);
     std::sort(all.begin(), all.end());
     vtkDataArray* poor = g->GetFieldData()->GetArray("PoorElementCount");
     vtkDataArray* quantiles = g->GetFieldData()->GetArray("MinScaledJacobianQuantiles");
@@ -307,8 +314,9 @@ void CheckShape(const char* name, vtkPolyData* surface, double target)
   const double vFine = Volume(surface);
   HOEMBED_CHECK(std::fabs(vCurved - vFine) < std::fabs(vStraight - vFine),
     "%s: curved volume %g not closer to %g than straight %g", name, vCurved, vFine, vStraight);
-  std::printf("%s (target %g): %lld cells, %.4f of boundary mid-edge nodes on the surface, volume error "
-              "curved %.2e straight %.2e\n",
+  std::printf(
+    "%s (target %g): %lld cells, %.4f of boundary mid-edge nodes on the surface, volume error "
+    "curved %.2e straight %.2e\n",
     name, target, (long long)nc, frac, (vCurved - vFine) / vFine, (vStraight - vFine) / vFine);
 }
 

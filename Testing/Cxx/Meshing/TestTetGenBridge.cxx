@@ -23,7 +23,10 @@ namespace
 class ErrorCatcher : public vtkCommand
 {
 public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
+  static ErrorCatcher* New()
+  {
+    return new ErrorCatcher;
+  }
   void Execute(vtkObject*, unsigned long, void* data) override
   {
     this->Text += data ? static_cast<const char*>(data) : "";
@@ -87,7 +90,8 @@ int main(int, char*[])
   HOEMBED_CHECK(hoembed::TetGenWorkIsBounded(), "TetGen built without the checkpoint patch");
   hoembed::TetGenResult ok = hoembed::RunTetGen(pts, tris, params);
   const size_t nTets = ok.Tets.size() / 4;
-  HOEMBED_CHECK(ok.Error.empty() && nTets > 500, "reference run: '%s', %zu tets", ok.Error.c_str(), nTets);
+  HOEMBED_CHECK(
+    ok.Error.empty() && nTets > 500, "reference run: '%s', %zu tets", ok.Error.c_str(), nTets);
   HOEMBED_CHECK(ok.CreatedTetrahedra >= nTets && !ok.Stopped, "created %llu for %zu tets",
     static_cast<unsigned long long>(ok.CreatedTetrahedra), nTets);
 
@@ -111,7 +115,10 @@ int main(int, char*[])
   // is unaffected, and scopes nest.
   {
     int polls = 0;
-    hoembed::ScopedTetGenAbort outer([&polls]() { ++polls; return false; });
+    hoembed::ScopedTetGenAbort outer([&polls]() {
+      ++polls;
+      return false;
+    });
     {
       hoembed::ScopedTetGenAbort inner([]() { return true; });
       hoembed::TetGenResult aborted = hoembed::RunTetGen(pts, tris, params);
@@ -132,10 +139,12 @@ int main(int, char*[])
     std::vector<std::int64_t> bad = tris;
     bad[7] = static_cast<std::int64_t>(pts.size() / 3);
     hoembed::TetGenResult r = hoembed::RunTetGen(pts, bad, params);
-    HOEMBED_CHECK(r.Error.find("does not exist") != std::string::npos, "bad id: '%s'", r.Error.c_str());
+    HOEMBED_CHECK(
+      r.Error.find("does not exist") != std::string::npos, "bad id: '%s'", r.Error.c_str());
     bad[7] = -1;
     r = hoembed::RunTetGen(pts, bad, params);
-    HOEMBED_CHECK(r.Error.find("does not exist") != std::string::npos, "negative id: '%s'", r.Error.c_str());
+    HOEMBED_CHECK(
+      r.Error.find("does not exist") != std::string::npos, "negative id: '%s'", r.Error.c_str());
   }
 
   // vtkTet10Mesher: point ids, NaN properties, the element limit.

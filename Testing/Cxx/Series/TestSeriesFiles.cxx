@@ -47,7 +47,8 @@ std::map<std::string, std::string> Snapshot(const fs::path& root)
 }
 
 // a series of `times.size()` frames named `ext`, each frame a text file; "" on success
-std::string WriteSeries(const std::string& pvd, const std::vector<double>& times, const std::string& ext)
+std::string WriteSeries(
+  const std::string& pvd, const std::vector<double>& times, const std::string& ext)
 {
   hoembed::SeriesFiles files;
   std::string error = files.Begin(pvd);
@@ -94,7 +95,8 @@ int main(int, char*[])
       HOEMBED_CHECK(!fs::exists(pvd), "the .pvd exists before End");
     }
     HOEMBED_CHECK(files.End().empty(), "End failed");
-    HOEMBED_CHECK(files.GetNumberOfFrames() == times.size(), "%zu frames", files.GetNumberOfFrames());
+    HOEMBED_CHECK(
+      files.GetNumberOfFrames() == times.size(), "%zu frames", files.GetNumberOfFrames());
     HOEMBED_CHECK(files.GetFrameFileName(1) == (dir / "out" / "beam" / "beam_000001.vtp").string(),
       "frame 1 is %s", files.GetFrameFileName(1).c_str());
     HOEMBED_CHECK(files.GetFrameFileName(99).empty(), "frame 99 has a name");
@@ -103,8 +105,8 @@ int main(int, char*[])
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(dir / "out"))
       names.push_back(e.path().filename().string());
-    HOEMBED_CHECK(names.size() == 2, "%zu entries beside the series (staging or .part left?)",
-      names.size());
+    HOEMBED_CHECK(
+      names.size() == 2, "%zu entries beside the series (staging or .part left?)", names.size());
     vtkNew<vtkXMLDataParser> parser;
     parser->SetFileName(pvd.c_str());
     HOEMBED_CHECK(parser->Parse() == 1, "VTK cannot parse the .pvd");
@@ -139,11 +141,12 @@ int main(int, char*[])
     files.StartFrame(8.0, "vtu", "", staged);
     std::ofstream(staged) << "half a fr";
     const std::string error = files.FinishFrame(false);
-    HOEMBED_CHECK(Contains(error, "Frame 1 (t = 8): cannot write '" + staged + "'"),
-      "message: %s", error.c_str());
+    HOEMBED_CHECK(Contains(error, "Frame 1 (t = 8): cannot write '" + staged + "'"), "message: %s",
+      error.c_str());
     HOEMBED_CHECK(!files.IsOpen(), "the series is still open after a failed frame");
     HOEMBED_CHECK(Snapshot(dir) == before, "a failed frame changed the old series");
-    HOEMBED_CHECK(Contains(files.End(), "EndSeries called without BeginSeries()"), "End after failure");
+    HOEMBED_CHECK(
+      Contains(files.End(), "EndSeries called without BeginSeries()"), "End after failure");
   }
   {
     hoembed::SeriesFiles files;
@@ -180,23 +183,25 @@ int main(int, char*[])
   HOEMBED_CHECK(Contains(error, "holds 'notes.txt', which is not a step file of this series"),
     "message: %s", error.c_str());
   error = WriteSeries((dir / "refuse" / ".pvd").string(), { 0.0 }, "vtu");
-  HOEMBED_CHECK(Contains(error, "has no file name (or starts with '.')"), "message: %s", error.c_str());
+  HOEMBED_CHECK(
+    Contains(error, "has no file name (or starts with '.')"), "message: %s", error.c_str());
   error = WriteSeries("", { 0.0 }, "vtu");
   HOEMBED_CHECK(Contains(error, "is not set"), "message: %s", error.c_str());
   const auto refused = Snapshot(dir / "refuse");
-  HOEMBED_CHECK(refused.size() == 5, "%zu entries after the refusals (something written)",
-    refused.size());
-  error = WriteSeries((dir / "refuse" / "t.pvd").string(),
-    { 0.0, std::numeric_limits<double>::quiet_NaN() }, "vtu");
+  HOEMBED_CHECK(
+    refused.size() == 5, "%zu entries after the refusals (something written)", refused.size());
+  error = WriteSeries(
+    (dir / "refuse" / "t.pvd").string(), { 0.0, std::numeric_limits<double>::quiet_NaN() }, "vtu");
   HOEMBED_CHECK(Contains(error, "Frame 1: the time is nan (a finite time is needed)."),
     "message: %s", error.c_str());
   error = WriteSeries((dir / "refuse" / "t.pvd").string(), { 0.0 }, "");
-  HOEMBED_CHECK(Contains(error, "Frame 0: unsupported data type vtkPolyData (vtkUnstructuredGrid "
-                                "or vtkPolyData expected)."),
+  HOEMBED_CHECK(Contains(error,
+                  "Frame 0: unsupported data type vtkPolyData (vtkUnstructuredGrid "
+                  "or vtkPolyData expected)."),
     "message: %s", error.c_str());
   error = WriteSeries((dir / "refuse" / "t.pvd").string(), {}, "vtu");
-  HOEMBED_CHECK(Contains(error, "The series has no frames: nothing written."), "message: %s",
-    error.c_str());
+  HOEMBED_CHECK(
+    Contains(error, "The series has no frames: nothing written."), "message: %s", error.c_str());
   HOEMBED_CHECK(Snapshot(dir / "refuse") == refused, "a refused frame left files");
   {
     hoembed::SeriesFiles files;
@@ -208,10 +213,13 @@ int main(int, char*[])
 
   // The step files it may replace, and no others.
   using hoembed::SeriesFiles;
-  HOEMBED_CHECK(SeriesFiles::IsStepFile("s_000012.vtu", "s") && SeriesFiles::IsStepFile("s_999999.vtp.part", "s"),
+  HOEMBED_CHECK(SeriesFiles::IsStepFile("s_000012.vtu", "s") &&
+      SeriesFiles::IsStepFile("s_999999.vtp.part", "s"),
     "step files refused");
-  HOEMBED_CHECK(!SeriesFiles::IsStepFile("s_00001.vtu", "s") && !SeriesFiles::IsStepFile("s_000001.vti", "s") &&
-      !SeriesFiles::IsStepFile("t_000001.vtu", "s") && !SeriesFiles::IsStepFile("s_0000a1.vtu", "s") &&
+  HOEMBED_CHECK(!SeriesFiles::IsStepFile("s_00001.vtu", "s") &&
+      !SeriesFiles::IsStepFile("s_000001.vti", "s") &&
+      !SeriesFiles::IsStepFile("t_000001.vtu", "s") &&
+      !SeriesFiles::IsStepFile("s_0000a1.vtu", "s") &&
       !SeriesFiles::IsStepFile("s_000001.vtu.bak", "s"),
     "a foreign file taken for a step file");
   HOEMBED_CHECK(SeriesFiles::FrameName("beam", 42, "vtu") == "beam_000042.vtu", "frame name");

@@ -27,7 +27,10 @@ namespace
 class Quiet : public vtkCommand
 {
 public:
-  static Quiet* New() { return new Quiet; }
+  static Quiet* New()
+  {
+    return new Quiet;
+  }
   void Execute(vtkObject*, unsigned long, void* data) override
   {
     if (data)
@@ -87,8 +90,8 @@ int main(int, char*[])
       for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
         for (int c = 0; c < 3; ++c)
           diff = std::max(diff, std::abs(a->GetComponent(i, c) - b->GetComponent(i, c)));
-      HOEMBED_CHECK(diff == 0.0, "frame %d differs from the stepper at t = %g by %g", k,
-        0.05 * k, diff);
+      HOEMBED_CHECK(
+        diff == 0.0, "frame %d differs from the stepper at t = %g by %g", k, 0.05 * k, diff);
       HOEMBED_CHECK(k == 0 || a->GetRange(2)[0] < 0.0, "frame %d shows no sagging", k);
     }
   }

@@ -36,7 +36,10 @@ using hoembed_test::MakeBoxTetMesh;
 class ErrorCatcher : public vtkCommand
 {
 public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
+  static ErrorCatcher* New()
+  {
+    return new ErrorCatcher;
+  }
   void Execute(vtkObject*, unsigned long, void* data) override
   {
     if (data)
@@ -68,9 +71,10 @@ void TestQuadrature()
           for (int q = 0; q < n; ++q)
             s += w[q] * std::pow(pc[3 * q], a) * std::pow(pc[3 * q + 1], b) *
               std::pow(pc[3 * q + 2], c);
-          const double exact = Factorial(a) * Factorial(b) * Factorial(c) / Factorial(a + b + c + 3);
-          HOEMBED_CHECK(std::abs(s - exact) < 1e-14, "m=%d monomial r^%d s^%d t^%d: %g vs %g", m,
-            a, b, c, s, exact);
+          const double exact =
+            Factorial(a) * Factorial(b) * Factorial(c) / Factorial(a + b + c + 3);
+          HOEMBED_CHECK(std::abs(s - exact) < 1e-14, "m=%d monomial r^%d s^%d t^%d: %g vs %g", m, a,
+            b, c, s, exact);
         }
   }
 }
@@ -85,8 +89,8 @@ void CurvedTet10(double x[30])
       x[3 * a + i] = corners[a][i];
   for (int e = 0; e < 6; ++e)
     for (int i = 0; i < 3; ++i)
-      x[3 * (4 + e) + i] = 0.5 * (corners[hoembed::TetEdgeCorners[e][0]][i] +
-                                   corners[hoembed::TetEdgeCorners[e][1]][i]) +
+      x[3 * (4 + e) + i] = 0.5 *
+          (corners[hoembed::TetEdgeCorners[e][0]][i] + corners[hoembed::TetEdgeCorners[e][1]][i]) +
         0.03 * std::sin(3.0 * e + i);
 }
 
@@ -309,7 +313,7 @@ void TestRigidRotation(int order)
     vtkMath::Multiply3x3(Q, X, y);
     for (int i = 0; i < 3; ++i)
     {
-      u0->SetComponent(p, i, y[i] - X[i] + 5.0); // rotate and translate
+      u0->SetComponent(p, i, y[i] - X[i] + 5.0);  // rotate and translate
       v0->SetComponent(p, i, i == 0 ? 0.7 : 0.0); // uniform drift velocity (pure translation)
     }
   }
@@ -340,10 +344,10 @@ void TestRigidRotation(int order)
       errR = std::max(errR, std::abs(rot->GetComponent(p, k) - Q[k / 3][k % 3]));
   }
   HOEMBED_CHECK(errU < 1e-9, "order %d: rigid rotation drifted by %g", order, errU);
-  HOEMBED_CHECK(MaxAbs(vm) < 1e-6, "order %d: rigid rotation has stress %g (E = 1e6)", order,
-    MaxAbs(vm));
-  HOEMBED_CHECK(errR < 1e-9, "order %d: NodalRotation differs from the rigid rotation by %g",
-    order, errR);
+  HOEMBED_CHECK(
+    MaxAbs(vm) < 1e-6, "order %d: rigid rotation has stress %g (E = 1e6)", order, MaxAbs(vm));
+  HOEMBED_CHECK(
+    errR < 1e-9, "order %d: NodalRotation differs from the rigid rotation by %g", order, errR);
   std::printf("rigid rotation (order %d): drift %.2e, max von Mises %.2e, rotation err %.2e\n",
     order, errU, MaxAbs(vm), errR);
 }
@@ -371,8 +375,8 @@ void TestLargeDeflection()
   HOEMBED_CHECK(tip > 1.0, "beam should deflect a lot (tip %g of length 4)", tip);
   HOEMBED_CHECK(std::abs(V / V0 - 1.0) < 0.02, "volume changed by %g %% under large deflection",
     100.0 * (V / V0 - 1.0));
-  std::printf("large deflection: tip %.3f (L = 4), volume change %.3f %%\n", tip,
-    100.0 * (V / V0 - 1.0));
+  std::printf(
+    "large deflection: tip %.3f (L = 4), volume change %.3f %%\n", tip, 100.0 * (V / V0 - 1.0));
 
   // Release: start from the deflected state, no gravity.
   vtkNew<vtkDoubleArray> u0;
@@ -454,16 +458,17 @@ void TestLargeTimeSteps()
     // One linearised solve per step: a step that swings the beam through a large angle
     // (dt = 0.5 here: ~50 degrees in the first step) overshoots its strain energy once,
     // then dissipates; it never grows without bound.
-    HOEMBED_CHECK(e0 > 0.0 && maxE <= 10.0 * e0, "dt = %g: energy grew from %g to %g", dt, e0,
-      maxE);
+    HOEMBED_CHECK(
+      e0 > 0.0 && maxE <= 10.0 * e0, "dt = %g: energy grew from %g to %g", dt, e0, maxE);
     HOEMBED_CHECK(prev <= (dt > 0.1 ? 1e-2 : 1.0) * e0, "dt = %g: energy not dissipated: %g of %g",
       dt, prev, e0);
     if (dt != 0.5)
     {
       HOEMBED_CHECK(maxRise < 1e-9, "dt = %g: energy rose by %g of E0 in one step", dt, maxRise);
     }
-    std::printf("dt = %g: E0 = %.4g, max E / E0 = %.6f, largest one-step rise %.2e E0, final E/E0 %.3g\n",
-      dt, e0, maxE / e0, maxRise, prev / e0);
+    std::printf(
+      "dt = %g: E0 = %.4g, max E / E0 = %.6f, largest one-step rise %.2e E0, final E/E0 %.3g\n", dt,
+      e0, maxE / e0, maxRise, prev / e0);
   }
   mesh->GetPointData()->RemoveArray("V0");
 }
@@ -484,30 +489,34 @@ void TestTimeProtocol()
   const double* range = info->Get(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
   HOEMBED_CHECK(range && std::abs(range[1] - 0.2) < 1e-15, "TIME_RANGE wrong");
   RunAt(s, 0.03);
-  HOEMBED_CHECK(s->GetLastNumberOfSteps() == 3, "first request took %d steps", s->GetLastNumberOfSteps());
+  HOEMBED_CHECK(
+    s->GetLastNumberOfSteps() == 3, "first request took %d steps", s->GetLastNumberOfSteps());
   vtkNew<vtkDoubleArray> first;
   first->DeepCopy(s->GetOutput()->GetPointData()->GetArray("Displacement"));
   RunAt(s, 0.04);
-  HOEMBED_CHECK(s->GetLastNumberOfSteps() == 1, "sequential frame took %d steps",
-    s->GetLastNumberOfSteps());
+  HOEMBED_CHECK(
+    s->GetLastNumberOfSteps() == 1, "sequential frame took %d steps", s->GetLastNumberOfSteps());
   const double dataTime = s->GetOutput()->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP());
   HOEMBED_CHECK(std::abs(dataTime - 0.04) < 1e-15, "DATA_TIME_STEP %g", dataTime);
   int progressEvents = 0;
   vtkNew<vtkCallbackCommand> counter;
   counter->SetClientData(&progressEvents);
-  counter->SetCallback([](vtkObject*, unsigned long, void* cd, void*) { ++*static_cast<int*>(cd); });
+  counter->SetCallback(
+    [](vtkObject*, unsigned long, void* cd, void*) { ++*static_cast<int*>(cd); });
   s->AddObserver(vtkCommand::ProgressEvent, counter);
   RunAt(s, 0.10);
   s->RemoveObservers(vtkCommand::ProgressEvent);
   HOEMBED_CHECK(progressEvents >= 2, "only %d progress events for 6 steps", progressEvents);
-  HOEMBED_CHECK(s->GetLastNumberOfSteps() == 6, "jump forward took %d steps", s->GetLastNumberOfSteps());
+  HOEMBED_CHECK(
+    s->GetLastNumberOfSteps() == 6, "jump forward took %d steps", s->GetLastNumberOfSteps());
   RunAt(s, 0.03);
   HOEMBED_CHECK(s->GetLastNumberOfSteps() == 3, "jump back took %d steps (restart expected)",
     s->GetLastNumberOfSteps());
   vtkDataArray* again = s->GetOutput()->GetPointData()->GetArray("Displacement");
   double diff = 0.0;
   for (vtkIdType i = 0; i < again->GetNumberOfValues(); ++i)
-    diff = std::max(diff, std::abs(again->GetComponent(i / 3, i % 3) - first->GetComponent(i / 3, i % 3)));
+    diff = std::max(
+      diff, std::abs(again->GetComponent(i / 3, i % 3) - first->GetComponent(i / 3, i % 3)));
   HOEMBED_CHECK(diff == 0.0, "restart is not bitwise reproducible: %g", diff);
   HOEMBED_CHECK(s->GetOutput()->GetNumberOfPoints() == mesh->GetNumberOfPoints() &&
       s->GetOutput()->GetNumberOfCells() == mesh->GetNumberOfCells(),
@@ -545,8 +554,8 @@ bool ExpectError(vtkCorotationalFEMStepper* s, const char* needle, double t = 0.
   s->GetExecutive()->RemoveObservers(vtkCommand::ErrorEvent);
   const bool found = catcher->Messages.find(needle) != std::string::npos;
   const bool empty = s->GetOutput()->GetNumberOfPoints() == 0;
-  HOEMBED_CHECK(found, "expected an error containing '%s', got: %s", needle,
-    catcher->Messages.c_str());
+  HOEMBED_CHECK(
+    found, "expected an error containing '%s', got: %s", needle, catcher->Messages.c_str());
   HOEMBED_CHECK(empty, "output not empty after error '%s'", needle);
   return found && empty;
 }
@@ -653,8 +662,7 @@ void TestLiveMode()
   target->SetNumberOfComponents(3);
   target->SetNumberOfTuples(np);
   const double c[3] = { 0.5 * L, 0.5, 0.5 };
-  auto rigid = [&](double angle, vtkIdType p, double u[3])
-  {
+  auto rigid = [&](double angle, vtkIdType p, double u[3]) {
     double X[3];
     mesh->GetPoint(p, X);
     const double ca = std::cos(angle), sa = std::sin(angle);
@@ -714,7 +722,8 @@ void TestLiveMode()
   }
   HOEMBED_CHECK(d && err < 1e-8, "held beam is %g from the rigid motion", err);
   vtkDataArray* vm = s->GetOutput()->GetCellData()->GetArray("VonMisesStress");
-  HOEMBED_CHECK(vm && MaxAbs(vm) < 1e-6 * 1e5, "stress in a rigid motion: %g", vm ? MaxAbs(vm) : -1.0);
+  HOEMBED_CHECK(
+    vm && MaxAbs(vm) < 1e-6 * 1e5, "stress in a rigid motion: %g", vm ? MaxAbs(vm) : -1.0);
   // a load change continues from the state
   vtkNew<vtkDoubleArray> forces;
   forces->SetNumberOfComponents(3);
@@ -734,8 +743,8 @@ void TestLiveMode()
   s->AddObserver(vtkCommand::ErrorEvent, catcher);
   HOEMBED_CHECK(!s->Step(1), "Step accepted with LiveMode off");
   s->RemoveObservers(vtkCommand::ErrorEvent);
-  HOEMBED_CHECK(catcher->Messages.find("LiveMode") != std::string::npos,
-    "no LiveMode error: %s", catcher->Messages.c_str());
+  HOEMBED_CHECK(catcher->Messages.find("LiveMode") != std::string::npos, "no LiveMode error: %s",
+    catcher->Messages.c_str());
 }
 } // namespace
 
@@ -748,8 +757,7 @@ void TestDiagnosticsOff()
   auto on = MakeStepper(mesh);
   auto off = MakeStepper(mesh);
   off->ComputeDiagnosticsOff();
-  auto same = [&](const char* what)
-  {
+  auto same = [&](const char* what) {
     vtkUnstructuredGrid* a = on->GetOutput();
     vtkUnstructuredGrid* b = off->GetOutput();
     bool equal = a->GetNumberOfPoints() == b->GetNumberOfPoints();

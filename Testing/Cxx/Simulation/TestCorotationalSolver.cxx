@@ -82,8 +82,8 @@ struct Record
 {
   std::vector<std::vector<double>> X; // positions after each step
   std::vector<int> Iterations;
-  long long Factorizations = 0;   // synchronous
-  long long Background = 0;       // taken from the worker
+  long long Factorizations = 0; // synchronous
+  long long Background = 0;     // taken from the worker
 };
 
 // mode: -1 synchronous; else background with that lag. switchOffAt: the step from which
@@ -94,8 +94,8 @@ Record Run(const Beam& b, int mode, int switchOffAt = -1, int steps = 32)
   std::string error;
   long long badCell = -1;
   Record r;
-  if (!s.Initialize(10, b.NC, b.Conn.data(), b.NP, b.Rest.data(), 2e5, 0.45, 1000.0, false,
-        error, badCell))
+  if (!s.Initialize(
+        10, b.NC, b.Conn.data(), b.NP, b.Rest.data(), 2e5, 0.45, 1000.0, false, error, badCell))
   {
     HOEMBED_CHECK(false, "Initialize: %s", error.c_str());
     return r;
@@ -139,7 +139,8 @@ Record Run(const Beam& b, int mode, int switchOffAt = -1, int steps = 32)
   return r;
 }
 
-double RelativeDifference(const Beam& b, const std::vector<double>& x, const std::vector<double>& ref)
+double RelativeDifference(
+  const Beam& b, const std::vector<double>& x, const std::vector<double>& ref)
 {
   double d = 0.0, u = 0.0;
   for (size_t k = 0; k < x.size(); ++k)
@@ -193,17 +194,17 @@ void TestBackgroundFactorization()
     CompareWithSynchronous(b, sync, r, what.c_str());
     // only the first step factorises on the calling thread: every grab and release is
     // stepped with a stand-in while the worker runs
-    HOEMBED_CHECK(r.Factorizations == 1, "%s: %lld synchronous factorisations", what.c_str(),
-      r.Factorizations);
+    HOEMBED_CHECK(
+      r.Factorizations == 1, "%s: %lld synchronous factorisations", what.c_str(), r.Factorizations);
     if (lag < 1000)
     {
-      HOEMBED_CHECK(r.Background >= 2, "%s: %lld background factors taken", what.c_str(),
-        r.Background);
+      HOEMBED_CHECK(
+        r.Background >= 2, "%s: %lld background factors taken", what.c_str(), r.Background);
     }
     else
     {
-      HOEMBED_CHECK(r.Background == 0, "%s: %lld background factors taken", what.c_str(),
-        r.Background);
+      HOEMBED_CHECK(
+        r.Background == 0, "%s: %lld background factors taken", what.c_str(), r.Background);
     }
   }
   // with a lag the run does not depend on timing: bitwise the same twice
@@ -222,8 +223,8 @@ void TestBackgroundFactorization()
   // switched off while a stand-in serves (step 23: mid grabbed, its factor not ready)
   const Record off = Run(b, 3, 23);
   CompareWithSynchronous(b, sync, off, "switched off at step 23");
-  HOEMBED_CHECK(off.Factorizations >= 2, "switched off: %lld synchronous factorisations",
-    off.Factorizations);
+  HOEMBED_CHECK(
+    off.Factorizations >= 2, "switched off: %lld synchronous factorisations", off.Factorizations);
 
   // destroyed (and switched off) with the worker running: joined, nothing leaks
   Run(b, 0, -1, 6);     // the grab's job just started

@@ -80,8 +80,8 @@ int main(int, char*[])
         {
           for (int l = 0; l < 3; ++l)
           {
-            const double c = lambda * (i == j) * (k == l) +
-              mu * ((i == k) * (j == l) + (i == l) * (j == k));
+            const double c =
+              lambda * (i == j) * (k == l) + mu * ((i == k) * (j == l) + (i == l) * (j == k));
             const double a = A[9 * (3 * i + j) + 3 * k + l];
             HOEMBED_CHECK(std::abs(a - c) <= 1e-9 * E, "%s: C_%d%d%d%d = %.10g, expected %.10g",
               names[m], i, j, k, l, a, c);
@@ -126,8 +126,8 @@ int main(int, char*[])
     const HyperelasticLaw mg = HyperelasticLaw::Make(Material::MooneyRivlin, E, nu, 1e4, 3e4);
     double P[9], A[81];
     mg.Tangent(I, P, A, false);
-    HOEMBED_CHECK(std::abs(A[9 * 1 + 1] - 2 * (1e4 + 3e4)) <= 1e-6, "mooney-rivlin: shear %g",
-      A[9 * 1 + 1]);
+    HOEMBED_CHECK(
+      std::abs(A[9 * 1 + 1] - 2 * (1e4 + 3e4)) <= 1e-6, "mooney-rivlin: shear %g", A[9 * 1 + 1]);
     CheckDerivatives(mg, F1, "mooney-rivlin given");
   }
   return hoembed_test::Report("TestHyperelasticMaterial");

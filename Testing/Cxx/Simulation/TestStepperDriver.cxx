@@ -44,8 +44,8 @@ bool SamePositions(const hoembed::StepperDriver& d, vtkUnstructuredGrid* out)
   return n > 0 && std::memcmp(x.data(), d.Solver.GetPositions(), x.size() * sizeof(double)) == 0;
 }
 
-std::string Build(hoembed::StepperDriver& d, const PlainMesh& m, const hoembed::StepperParameters& p,
-  const double gravity[3])
+std::string Build(hoembed::StepperDriver& d, const PlainMesh& m,
+  const hoembed::StepperParameters& p, const double gravity[3])
 {
   hoembed::TetMeshInput mesh;
   std::string error = mesh.Read(m.View(), hoembed::TetMeshInput::KeepPoints);
@@ -140,8 +140,8 @@ void TestErrors()
   p.ClampPlaneNormal[0] = 1.0;
   hoembed::StepperDriver d2;
   e = Build(d2, m, p, g);
-  HOEMBED_CHECK(e == "Rest cell 0 is inverted or has zero volume (det J <= 0).", "got '%s'",
-    e.c_str());
+  HOEMBED_CHECK(
+    e == "Rest cell 0 is inverted or has zero volume (det J <= 0).", "got '%s'", e.c_str());
   // a free body has no static equilibrium
   std::swap(m.Connectivity[0], m.Connectivity[1]);
   p.UseClampPlane = false;
@@ -218,8 +218,8 @@ void TestPrescribedMotion()
     }
   HOEMBED_CHECK(d.Mask == before && d.Targets.size() == 3 * static_cast<std::size_t>(n),
     "a refused motion changed the driver's");
-  HOEMBED_CHECK(d.SetPrescribedMotion(n, nullptr, nullptr).empty() && d.Mask.empty() &&
-      d.Targets.empty(),
+  HOEMBED_CHECK(
+    d.SetPrescribedMotion(n, nullptr, nullptr).empty() && d.Mask.empty() && d.Targets.empty(),
     "clearing the motion failed");
 }
 // The clamps' array rule (CheckFixedArray): every kind of array and its sentence.
@@ -228,8 +228,8 @@ void TestFixedArrayRule()
   using K = hoembed::StepperDriver::FixedArrayKind;
   auto check = [](const char* name, K kind, long long tuples, const char* expected) {
     const std::string e = hoembed::StepperDriver::CheckFixedArray(name, kind, tuples, 10);
-    HOEMBED_CHECK(e == expected, "'%s': got '%s', expected '%s'", name ? name : "(null)",
-      e.c_str(), expected);
+    HOEMBED_CHECK(
+      e == expected, "'%s': got '%s', expected '%s'", name ? name : "(null)", e.c_str(), expected);
   };
   check(nullptr, K::Absent, 0, "");
   check("", K::Absent, 0, "");
@@ -243,7 +243,8 @@ void TestFixedArrayRule()
   check("Fixed", K::CellOrField, 3,
     "FixedArrayName 'Fixed' is cell or field data, not point data: the clamps are per node "
     "(nonzero = clamped).");
-  check("Clamp", K::Numeric, 9, "FixedArrayName 'Clamp' has 9 tuples, expected 10 (one per point).");
+  check(
+    "Clamp", K::Numeric, 9, "FixedArrayName 'Clamp' has 9 tuples, expected 10 (one per point).");
 }
 
 // The live clock against vtkCorotationalFEMStepper in LiveMode (which runs it): steps
@@ -284,8 +285,8 @@ void TestLiveClock()
     for (int k = 0; k < 3; ++k)
     {
       vtkDataArray* a = out->GetPointData()->GetArray(names[k]);
-      HOEMBED_CHECK(a && std::memcmp(a->GetVoidPointer(0), ours[k]->data(),
-                           ours[k]->size() * sizeof(double)) == 0,
+      HOEMBED_CHECK(a &&
+          std::memcmp(a->GetVoidPointer(0), ours[k]->data(), ours[k]->size() * sizeof(double)) == 0,
         "%s: %s differs from the filter's", what, names[k]);
     }
     HOEMBED_CHECK(filter->GetSimulationTime() == d.ClockStep() * p.TimeStep,
@@ -344,8 +345,8 @@ void TestHyperelastic(int order)
     filter->SetClampPlaneNormal(1.0, 0.0, 0.0);
     filter->SetGravity(gravity[0], gravity[1], gravity[2]);
     filter->SetMaterial(names[k - 1]);
-    HOEMBED_CHECK(filter->GetMaterial() == k, "SetMaterial(%s) gave %d", names[k - 1],
-      filter->GetMaterial());
+    HOEMBED_CHECK(
+      filter->GetMaterial() == k, "SetMaterial(%s) gave %d", names[k - 1], filter->GetMaterial());
     hoembed::StepperDriver d;
     HOEMBED_CHECK(Build(d, m, p, gravity).empty(), "%s: driver set-up failed", names[k - 1]);
     for (long long step : { 3, 6 })
@@ -386,30 +387,29 @@ void TestHyperelastic(int order)
     double dev = 0.0;
     for (long long q = 0; q < 3 * n; ++q)
       dev = std::max(dev, std::abs(r.Solver.GetPositions()[q] - target[q]));
-    HOEMBED_CHECK(dev <= 1e-10, "%s order %d: the rigidly rotated body moved by %g",
-      names[k - 1], order, dev);
+    HOEMBED_CHECK(
+      dev <= 1e-10, "%s order %d: the rigidly rotated body moved by %g", names[k - 1], order, dev);
   }
   // the rules
   hoembed::StepperParameters p;
   int index = 0;
   HOEMBED_CHECK(hoembed::StepperDriver::ParseMaterial("rubber", index) ==
-      "Material 'rubber' is not one of corotated, stvk, neo-hookean, mooney-rivlin." &&
+        "Material 'rubber' is not one of corotated, stvk, neo-hookean, mooney-rivlin." &&
       index == -1,
     "ParseMaterial");
-  HOEMBED_CHECK(hoembed::StepperDriver::ParseMaterial("mooney-rivlin", index).empty() &&
-      index == 3,
+  HOEMBED_CHECK(hoembed::StepperDriver::ParseMaterial("mooney-rivlin", index).empty() && index == 3,
     "ParseMaterial(mooney-rivlin) = %d", index);
   p.Material = 4;
   HOEMBED_CHECK(hoembed::StepperDriver::CheckMaterial(p).find("Material must be one of 0 "
-                                                             "(corotated)") == 0,
+                                                              "(corotated)") == 0,
     "%s", hoembed::StepperDriver::CheckMaterial(p).c_str());
   p.Material = 3;
   p.MooneyRivlinC01 = std::nan("");
-  HOEMBED_CHECK(hoembed::StepperDriver::CheckParameters(p).find("MooneyRivlinC01") == 0,
-    "NaN C01 accepted");
+  HOEMBED_CHECK(
+    hoembed::StepperDriver::CheckParameters(p).find("MooneyRivlinC01") == 0, "NaN C01 accepted");
   hoembed::StepperDriver d;
-  HOEMBED_CHECK(Build(d, m, p, gravity).find("MooneyRivlinC01 must be") == 0,
-    "Build took a NaN C01");
+  HOEMBED_CHECK(
+    Build(d, m, p, gravity).find("MooneyRivlinC01 must be") == 0, "Build took a NaN C01");
 }
 } // namespace
 

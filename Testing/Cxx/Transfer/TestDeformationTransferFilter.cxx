@@ -54,7 +54,11 @@ struct Messages
         return true;
     return false;
   }
-  void Clear() { Errors.clear(); Warnings.clear(); }
+  void Clear()
+  {
+    Errors.clear();
+    Warnings.clear();
+  }
 };
 
 // A gently curved box: the boundary's tri6 faces are really curved.
@@ -99,8 +103,8 @@ void RandomRigid(std::mt19937& rng, double R[3][3], double t[3])
     t[d] = 5.0 * g(rng);
 }
 
-vtkSmartPointer<vtkPolyData> Run(vtkDeformationTransferFilter* f, vtkPolyData* surface,
-  vtkUnstructuredGrid* mesh)
+vtkSmartPointer<vtkPolyData> Run(
+  vtkDeformationTransferFilter* f, vtkPolyData* surface, vtkUnstructuredGrid* mesh)
 {
   f->SetInputData(0, surface);
   f->SetInputData(1, mesh);
@@ -142,8 +146,12 @@ public:
   vtkSmartPointer<vtkUnstructuredGrid> Rest;
 
 protected:
-  TimeRotatedMesh() { this->SetNumberOfInputPorts(0); }
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  TimeRotatedMesh()
+  {
+    this->SetNumberOfInputPorts(0);
+  }
+  int RequestInformation(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
   {
     double steps[3] = { 0.0, 1.0, 2.0 };
     double range[2] = { 0.0, 2.0 };
@@ -188,7 +196,8 @@ void TestKernels()
     double worst = 0.0;
     for (int k = 0; k < 50; ++k)
     {
-      hoembed::TransferEntry e{ { 0.5 * uni(rng) + 0.3, 0.5 * uni(rng) + 0.2, 0.7 * uni(rng) }, 0.0, 0, -1 };
+      hoembed::TransferEntry e{ { 0.5 * uni(rng) + 0.3, 0.5 * uni(rng) + 0.2, 0.7 * uni(rng) }, 0.0,
+        0, -1 };
       double w[10], ref[3] = { 0, 0, 0 }, got[3];
       if (npc == 10)
         vtkQuadraticTetra::InterpolationFunctions(e.PC, w);
@@ -200,7 +209,8 @@ void TestKernels()
       hoembed::EvaluateTransfer(&e, npc, coeffs.data(), nullptr, 0, 1, got);
       worst = std::max(worst, std::sqrt(vtkMath::Distance2BetweenPoints(ref, got)));
     }
-    HOEMBED_CHECK(worst < 1e-13, "cell map coefficients (%d nodes) differ from VTK by %g", npc, worst);
+    HOEMBED_CHECK(
+      worst < 1e-13, "cell map coefficients (%d nodes) differ from VTK by %g", npc, worst);
   }
   // Face (u, v) <-> tet parametric coordinates round trip, all four faces.
   double worst = 0.0;
@@ -213,7 +223,8 @@ void TestKernels()
       hoembed::TetParametricToFace(f, pc, back);
       worst = std::max(worst, std::fabs(back[0] - uv[0]) + std::fabs(back[1] - uv[1]));
     }
-  HOEMBED_CHECK(worst < 1e-14, "TetParametricToFace does not invert TetFaceToTetParametric (%g)", worst);
+  HOEMBED_CHECK(
+    worst < 1e-14, "TetParametricToFace does not invert TetFaceToTetParametric (%g)", worst);
 }
 
 void TestIdentityAndRigid(int order, bool barycentric)
@@ -221,16 +232,20 @@ void TestIdentityAndRigid(int order, bool barycentric)
   auto mesh = MakeBoxTetMesh(4, 2, 2, 4.0, 1.0, 1.0, order, Curve);
   std::vector<EmbeddedVertex> truth;
   auto surface = MakeEmbeddedSurface(
-    mesh, [](const double* p) { return 0.15 * std::sin(2.0 * p[0]) + 0.05; }, 40, truth, barycentric);
+    mesh, [](const double* p) { return 0.15 * std::sin(2.0 * p[0]) + 0.05; }, 40, truth,
+    barycentric);
   const double diag = Diagonal(surface);
   const char* what = barycentric ? "barycentric" : "normal-offset";
   vtkNew<vtkDeformationTransferFilter> f;
   auto out = Run(f, surface, mesh);
   HOEMBED_CHECK(out->GetNumberOfPoints() == surface->GetNumberOfPoints(), "identity: wrong size");
   const double idErr = MaxDiff(out->GetPoints(), Coordinates(surface->GetPoints())) / diag;
-  HOEMBED_CHECK(idErr < 1e-10, "identity (tet%d, %s): error %g of the diagonal", order == 2 ? 10 : 4, what, idErr);
-  HOEMBED_CHECK(out->GetPolys()->GetNumberOfCells() == surface->GetPolys()->GetNumberOfCells(), "topology not passed");
-  HOEMBED_CHECK(!out->GetPointData()->GetArray("EmbeddingCellId"), "embedding arrays passed to the output");
+  HOEMBED_CHECK(idErr < 1e-10, "identity (tet%d, %s): error %g of the diagonal",
+    order == 2 ? 10 : 4, what, idErr);
+  HOEMBED_CHECK(out->GetPolys()->GetNumberOfCells() == surface->GetPolys()->GetNumberOfCells(),
+    "topology not passed");
+  HOEMBED_CHECK(
+    !out->GetPointData()->GetArray("EmbeddingCellId"), "embedding arrays passed to the output");
 
   std::mt19937 rng(11 + order);
   double worstRigid = 0.0;
@@ -238,13 +253,16 @@ void TestIdentityAndRigid(int order, bool barycentric)
   {
     const double err = RigidError(f, surface, mesh, surface->GetPoints(), rng, diag);
     worstRigid = std::max(worstRigid, err);
-    HOEMBED_CHECK(err < 1e-9, "rigid (tet%d, %s): error %g of the diagonal", order == 2 ? 10 : 4, what, err);
+    HOEMBED_CHECK(
+      err < 1e-9, "rigid (tet%d, %s): error %g of the diagonal", order == 2 ? 10 : 4, what, err);
   }
   std::printf("generated curved box, tet%d, %s: identity error %.3g, rigid error %.3g of the "
               "diagonal\n",
     order == 2 ? 10 : 4, what, idErr, worstRigid);
-  HOEMBED_CHECK(f->GetTopologyBuildCount() == 1, "topology rebuilt for new coordinates (%d builds)", f->GetTopologyBuildCount());
-  HOEMBED_CHECK(f->GetPlanBuildCount() == 1, "plan rebuilt for new coordinates (%d builds)", f->GetPlanBuildCount());
+  HOEMBED_CHECK(f->GetTopologyBuildCount() == 1, "topology rebuilt for new coordinates (%d builds)",
+    f->GetTopologyBuildCount());
+  HOEMBED_CHECK(f->GetPlanBuildCount() == 1, "plan rebuilt for new coordinates (%d builds)",
+    f->GetPlanBuildCount());
 }
 
 // A smooth non-rigid deformation: bend about the y axis and twist about x.
@@ -271,7 +289,8 @@ void TestAgainstReference(int order)
   vtkNew<vtkDeformationTransferFilter> f;
   auto out = Run(f, surface, bent);
   const double err = MaxDiff(out->GetPoints(), ReferenceTransfer(bent, truth)) / diag;
-  HOEMBED_CHECK(err < 1e-12, "bend+twist (tet%d): differs from the independent reference by %g", order == 2 ? 10 : 4, err);
+  HOEMBED_CHECK(err < 1e-12, "bend+twist (tet%d): differs from the independent reference by %g",
+    order == 2 ? 10 : 4, err);
   std::printf("bend+twist, tet%d: %.3g of the diagonal from the independent reference\n",
     order == 2 ? 10 : 4, err);
 
@@ -309,8 +328,10 @@ void TestAgainstReference(int order)
   {
     const double* x = &rest[3 * i];
     const double a = 0.3 * x[0], b = 0.2 * x[1];
-    double Ra[3][3] = { { std::cos(a), -std::sin(a), 0 }, { std::sin(a), std::cos(a), 0 }, { 0, 0, 1 } };
-    double Rb[3][3] = { { 1, 0, 0 }, { 0, std::cos(b), -std::sin(b) }, { 0, std::sin(b), std::cos(b) } };
+    double Ra[3][3] = { { std::cos(a), -std::sin(a), 0 }, { std::sin(a), std::cos(a), 0 },
+      { 0, 0, 1 } };
+    double Rb[3][3] = { { 1, 0, 0 }, { 0, std::cos(b), -std::sin(b) },
+      { 0, std::sin(b), std::cos(b) } };
     double Rm[3][3];
     vtkMath::Multiply3x3(Ra, Rb, Rm);
     rot->SetTuple(i, &Rm[0][0]);
@@ -325,10 +346,13 @@ void TestAgainstReference(int order)
   vtkNew<vtkDeformationTransferFilter> h;
   h->SetNormalModeToRotate();
   auto out3 = Run(h, surface, rotated);
-  const double err3 = MaxDiff(out3->GetPoints(), ReferenceTransfer(bent, truth, expectNormals)) / diag;
-  HOEMBED_CHECK(err3 < 1e-12, "rotated normals (tet%d): differ from the reference by %g", order == 2 ? 10 : 4, err3);
+  const double err3 =
+    MaxDiff(out3->GetPoints(), ReferenceTransfer(bent, truth, expectNormals)) / diag;
+  HOEMBED_CHECK(err3 < 1e-12, "rotated normals (tet%d): differ from the reference by %g",
+    order == 2 ? 10 : 4, err3);
   const double diff3 = MaxDiff(out3->GetPoints(), Coordinates(out->GetPoints())) / diag;
-  HOEMBED_CHECK(diff3 > 1e-4, "rotated normals give the recomputed result (%g): test cannot fail", diff3);
+  HOEMBED_CHECK(
+    diff3 > 1e-4, "rotated normals give the recomputed result (%g): test cannot fail", diff3);
 
   // ROTATE_NORMALS without the arrays: warning, recomputed normals.
   Messages msg;
@@ -365,7 +389,8 @@ void TestDeformNormals(int order)
   }
   const double c = std::cos(0.7), s = std::sin(0.7);
   const double shear[3][3] = { { 1.0, 0.1, 0.35 }, { -0.05, 1.1, 0.2 }, { 0.3, 0.0, 0.9 } };
-  const double rotation[3][3] = { { c, -s, 0.0 }, { s * 0.6, c * 0.6, 0.8 }, { -s * 0.8, -c * 0.8, 0.6 } };
+  const double rotation[3][3] = { { c, -s, 0.0 }, { s * 0.6, c * 0.6, 0.8 },
+    { -s * 0.8, -c * 0.8, 0.6 } };
   for (int which = 0; which < 2; ++which)
   {
     const auto& A = which == 0 ? shear : rotation;
@@ -399,23 +424,28 @@ void TestDeformNormals(int order)
     HOEMBED_CHECK(msg.Warnings.empty(), "DEFORM_NORMALS (tet%d) warned: %s", tet,
       msg.Warnings.empty() ? "" : msg.Warnings[0].c_str());
     const double err = MaxDiff(out->GetPoints(), ReferenceTransfer(moved, truth, expect)) / diag;
-    HOEMBED_CHECK(err < 1e-12, "deformed normals (tet%d, %s): differ from normalise(A n) by %g", tet,
-      which == 0 ? "shear" : "rotation", err);
+    HOEMBED_CHECK(err < 1e-12, "deformed normals (tet%d, %s): differ from normalise(A n) by %g",
+      tet, which == 0 ? "shear" : "rotation", err);
     vtkNew<vtkDeformationTransferFilter> g; // recomputed surface normals
     auto surfaceNormals = Run(g, surface, moved);
     const double diff = MaxDiff(out->GetPoints(), Coordinates(surfaceNormals->GetPoints())) / diag;
     if (which == 0)
     {
-      HOEMBED_CHECK(diff > 1e-3, "deformed normals (tet%d) equal the recomputed ones under a shear "
-                                 "(%g): test cannot fail", tet, diff);
+      HOEMBED_CHECK(diff > 1e-3,
+        "deformed normals (tet%d) equal the recomputed ones under a shear "
+        "(%g): test cannot fail",
+        tet, diff);
     }
     else
     {
-      HOEMBED_CHECK(diff < 1e-12, "deformed normals (tet%d) differ from the recomputed ones under "
-                                  "a rotation (%g)", tet, diff);
+      HOEMBED_CHECK(diff < 1e-12,
+        "deformed normals (tet%d) differ from the recomputed ones under "
+        "a rotation (%g)",
+        tet, diff);
     }
     std::printf("DEFORM_NORMALS, tet%d, %s: %.3g from the reference, %.3g from the recomputed "
-                "normals\n", tet, which == 0 ? "shear" : "rotation", err, diff);
+                "normals\n",
+      tet, which == 0 ? "shear" : "rotation", err, diff);
   }
   // Without Displacement: a warning naming it, and the recomputed normals.
   auto plain = Deformed(mesh, [](const double* x, double* y) {
@@ -431,7 +461,8 @@ void TestDeformNormals(int order)
   HOEMBED_CHECK(!msg.Warnings.empty() && msg.Warnings[0].find("Displacement") != std::string::npos,
     "no warning for DEFORM_NORMALS without Displacement");
   vtkNew<vtkDeformationTransferFilter> g;
-  HOEMBED_CHECK(MaxDiff(out->GetPoints(), Coordinates(Run(g, surface, plain)->GetPoints())) / diag < 1e-14,
+  HOEMBED_CHECK(
+    MaxDiff(out->GetPoints(), Coordinates(Run(g, surface, plain)->GetPoints())) / diag < 1e-14,
     "DEFORM_NORMALS fallback does not recompute the normals");
 }
 
@@ -439,7 +470,8 @@ void TestTimeAndCaching()
 {
   auto mesh = MakeBoxTetMesh(3, 2, 2, 3.0, 1.0, 1.0, 2, Curve);
   std::vector<EmbeddedVertex> truth;
-  auto surface = MakeEmbeddedSurface(mesh, [](const double*) { return 0.1; }, 10, truth);
+  auto surface = MakeEmbeddedSurface(
+    mesh, [](const double*) { return 0.1; }, 10, truth);
   vtkNew<TimeRotatedMesh> source;
   source->Rest = mesh;
   vtkNew<vtkDeformationTransferFilter> f;
@@ -448,7 +480,8 @@ void TestTimeAndCaching()
   f->UpdateInformation();
   vtkInformation* outInfo = f->GetOutputInformation(0);
   HOEMBED_CHECK(outInfo->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()) == 3,
-    "TIME_STEPS not forwarded (%d)", outInfo->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
+    "TIME_STEPS not forwarded (%d)",
+    outInfo->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
   const double diag = Diagonal(surface);
   for (double t : { 1.0, 2.0, 0.0 })
   {
@@ -468,11 +501,13 @@ void TestTimeAndCaching()
       expect[3 * i + 2] = x[2];
     }
     const double err = MaxDiff(out->GetPoints(), expect) / diag;
-    HOEMBED_CHECK(err < 1e-9, "time %g: the surface is not the mesh's rotation at that time (%g)", t, err);
+    HOEMBED_CHECK(
+      err < 1e-9, "time %g: the surface is not the mesh's rotation at that time (%g)", t, err);
   }
   // The source makes a new grid (and a new cell array object via ShallowCopy of a fresh
   // CopyStructure) each time: the fingerprint is unchanged, so no topology rebuild.
-  HOEMBED_CHECK(f->GetTopologyBuildCount() == 1, "topology rebuilt over time (%d)", f->GetTopologyBuildCount());
+  HOEMBED_CHECK(
+    f->GetTopologyBuildCount() == 1, "topology rebuilt over time (%d)", f->GetTopologyBuildCount());
   HOEMBED_CHECK(f->GetPlanBuildCount() == 1, "plan rebuilt over time (%d)", f->GetPlanBuildCount());
   // A deep copy of the cells (a new cell array) with the same topology: no rebuild either.
   auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
@@ -480,7 +515,8 @@ void TestTimeAndCaching()
   vtkNew<vtkDeformationTransferFilter> g;
   Run(g, surface, mesh);
   Run(g, surface, copy);
-  HOEMBED_CHECK(g->GetTopologyBuildCount() == 1, "deep-copied mesh rebuilt the topology (%d)", g->GetTopologyBuildCount());
+  HOEMBED_CHECK(g->GetTopologyBuildCount() == 1, "deep-copied mesh rebuilt the topology (%d)",
+    g->GetTopologyBuildCount());
 }
 
 void TestPointNormals()
@@ -489,7 +525,8 @@ void TestPointNormals()
   // on the transferred patch surface, where triangles of a patch have similar areas.
   auto mesh = MakeBoxTetMesh(3, 2, 2, 3.0, 1.0, 1.0, 2, Curve);
   std::vector<EmbeddedVertex> truth;
-  auto surface = MakeEmbeddedSurface(mesh, [](const double*) { return 0.1; }, 0, truth);
+  auto surface = MakeEmbeddedSurface(
+    mesh, [](const double*) { return 0.1; }, 0, truth);
   vtkNew<vtkDeformationTransferFilter> f;
   f->ComputePointNormalsOn();
   auto out = Run(f, surface, Deformed(mesh, BendTwist));
@@ -527,13 +564,15 @@ void TestBadInput()
 {
   auto mesh = MakeBoxTetMesh(3, 2, 2, 3.0, 1.0, 1.0, 2, Curve);
   std::vector<EmbeddedVertex> truth;
-  auto surface = MakeEmbeddedSurface(mesh, [](const double*) { return 0.1; }, 10, truth);
+  auto surface = MakeEmbeddedSurface(
+    mesh, [](const double*) { return 0.1; }, 10, truth);
   auto check = [&](vtkPolyData* s, vtkUnstructuredGrid* m, const char* expect, const char* what) {
     vtkNew<vtkDeformationTransferFilter> f;
     Messages msg;
     msg.Watch(f);
     vtkSmartPointer<vtkPolyData> out = Run(f, s, m);
-    HOEMBED_CHECK(msg.ErrorContains(expect), "%s: no error mentioning '%s' (%zu errors)", what, expect, msg.Errors.size());
+    HOEMBED_CHECK(msg.ErrorContains(expect), "%s: no error mentioning '%s' (%zu errors)", what,
+      expect, msg.Errors.size());
     HOEMBED_CHECK(out->GetNumberOfPoints() == 0, "%s: output not empty", what);
   };
   for (const char* name : { "EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance" })
@@ -569,7 +608,8 @@ void TestBadInput()
   {
     auto s = vtkSmartPointer<vtkPolyData>::New();
     s->DeepCopy(surface);
-    vtkDataArray::SafeDownCast(s->GetPointData()->GetArray("EmbeddingCellId"))->SetComponent(3, 0, 99999);
+    vtkDataArray::SafeDownCast(s->GetPointData()->GetArray("EmbeddingCellId"))
+      ->SetComponent(3, 0, 99999);
     check(s, mesh, "cell id outside", "cell id out of range");
   }
   {
@@ -762,8 +802,9 @@ void TestRealCurvedMeshes(const std::string& dir)
       const double size = mesh->GetLength();
       std::vector<EmbeddedVertex> truth;
       auto surface = MakeEmbeddedSurface(
-        mesh, [size](const double* p) { return size * (0.02 + 0.01 * std::sin(40.0 * p[0] / size)); },
-        50, truth);
+        mesh,
+        [size](const double* p) { return size * (0.02 + 0.01 * std::sin(40.0 * p[0] / size)); }, 50,
+        truth);
       const double diag = Diagonal(surface);
       vtkNew<vtkDeformationTransferFilter> f;
       auto rest = Run(f, surface, mesh);
@@ -771,7 +812,8 @@ void TestRealCurvedMeshes(const std::string& dir)
       HOEMBED_CHECK(idErr < 1e-10, "%s tet%d: identity error %g", name, order == 2 ? 10 : 4, idErr);
       std::mt19937 rng(5);
       const double rigidErr = RigidError(f, surface, mesh, surface->GetPoints(), rng, diag);
-      HOEMBED_CHECK(rigidErr < 1e-9, "%s tet%d: rigid error %g", name, order == 2 ? 10 : 4, rigidErr);
+      HOEMBED_CHECK(
+        rigidErr < 1e-9, "%s tet%d: rigid error %g", name, order == 2 ? 10 : 4, rigidErr);
       // A smooth non-rigid map (a swirl about z), against the independent reference.
       double c[3];
       mesh->GetCenter(c);
@@ -783,7 +825,8 @@ void TestRealCurvedMeshes(const std::string& dir)
       });
       auto sw = Run(f, surface, swirled);
       const double refErr = MaxDiff(sw->GetPoints(), ReferenceTransfer(swirled, truth)) / diag;
-      HOEMBED_CHECK(refErr < 1e-12, "%s tet%d: swirl differs from the reference by %g", name, order == 2 ? 10 : 4, refErr);
+      HOEMBED_CHECK(refErr < 1e-12, "%s tet%d: swirl differs from the reference by %g", name,
+        order == 2 ? 10 : 4, refErr);
       std::printf("real curved mesh %s (vtkTet10Mesher, tet%d, %lld cells, %lld surface points): "
                   "identity %.3g, rigid %.3g, swirl vs reference %.3g of the diagonal\n",
         name, order == 2 ? 10 : 4, static_cast<long long>(mesh->GetNumberOfCells()),

@@ -227,8 +227,8 @@ void TestAffineInside()
   std::vector<double> out(s.Points.size());
   std::vector<std::string> warnings;
   HOEMBED_CHECK(d.EvaluateFrame(f, out.data(), nullptr, warnings).empty(), "frame failed");
-  HOEMBED_CHECK(MaxDistance(out, expected) < 1e-12 * 6.0, "affine map: error %g",
-    MaxDistance(out, expected));
+  HOEMBED_CHECK(
+    MaxDistance(out, expected) < 1e-12 * 6.0, "affine map: error %g", MaxDistance(out, expected));
 }
 
 // The topology is rebuilt only when the cells change; a new topology drops the plan.
@@ -255,8 +255,8 @@ void TestCachesAndInvertedCells()
   hoembed::TransferFrame f;
   f.Points = other.Points.data();
   std::string error = d.EvaluateFrame(f, out.data(), nullptr, warnings);
-  HOEMBED_CHECK(error == "no transfer plan for this mesh (BuildPlan first)", "got '%s'",
-    error.c_str());
+  HOEMBED_CHECK(
+    error == "no transfer plan for this mesh (BuildPlan first)", "got '%s'", error.c_str());
 
   HOEMBED_CHECK(Plan(d, mesh, e).empty(), "plan failed");
   std::vector<double> mirrored(mesh.Points);
@@ -291,25 +291,29 @@ void TestErrors()
   hoembed::TransferSurfaceInfo info = Info(e);
   info.Method = nullptr;
   error = d.CheckSurface(info, method, used);
-  HOEMBED_CHECK(error == "the surface (port 0) has no field data EmbeddingMethod: is it the "
-                         "output of vtkEmbeddingCoordinatesFilter?",
+  HOEMBED_CHECK(error ==
+      "the surface (port 0) has no field data EmbeddingMethod: is it the "
+      "output of vtkEmbeddingCoordinatesFilter?",
     "got '%s'", error.c_str());
   error = d.CheckSurface(Info(e, "closest"), method, used);
-  HOEMBED_CHECK(error == "unknown EmbeddingMethod 'closest' (expected normal-offset or barycentric)",
+  HOEMBED_CHECK(
+    error == "unknown EmbeddingMethod 'closest' (expected normal-offset or barycentric)",
     "got '%s'", error.c_str());
   info = Info(e);
   info.Fingerprint = "0123";
   error = d.CheckSurface(info, method, used);
-  HOEMBED_CHECK(error.rfind("the FE mesh (port 1) is not the mesh the surface was embedded in: ", 0) == 0 &&
+  HOEMBED_CHECK(
+    error.rfind("the FE mesh (port 1) is not the mesh the surface was embedded in: ", 0) == 0 &&
       error.find("embedding fingerprint 0123") != std::string::npos,
     "got '%s'", error.c_str());
   info = Info(e);
   info.Distances = { true, 1, e.N - 1 };
   info.ParametricCoords = { true, 2, e.N };
   error = d.CheckSurface(info, method, used);
-  HOEMBED_CHECK(error == "the surface (port 0) lacks point data arrays, or they do not have one "
-                         "tuple per point: EmbeddingParametricCoords (3 components) "
-                         "EmbeddingDistance (1 component)",
+  HOEMBED_CHECK(error ==
+      "the surface (port 0) lacks point data arrays, or they do not have one "
+      "tuple per point: EmbeddingParametricCoords (3 components) "
+      "EmbeddingDistance (1 component)",
     "got '%s'", error.c_str());
   // barycentric: no distances read
   info = Info(e, "barycentric");
@@ -329,13 +333,14 @@ void TestErrors()
   Embedded badCell = e;
   badCell.CellIds[5] = static_cast<double>(mesh.Types.size());
   error = d.BuildPlan(badCell.View(), hoembed::TransferOptions().FaceTolerance, 6.0);
-  HOEMBED_CHECK(error.rfind("invalid embedding for this mesh: 1 vertices with a cell id outside", 0) == 0 &&
+  HOEMBED_CHECK(
+    error.rfind("invalid embedding for this mesh: 1 vertices with a cell id outside", 0) == 0 &&
       error.find("(first bad vertex 5)") != std::string::npos,
     "cell id out of range: '%s'", error.c_str());
 
   // a frame with a NaN coordinate
-  HOEMBED_CHECK(d.BuildPlan(e.View(), hoembed::TransferOptions().FaceTolerance, 6.0).empty(),
-    "plan failed");
+  HOEMBED_CHECK(
+    d.BuildPlan(e.View(), hoembed::TransferOptions().FaceTolerance, 6.0).empty(), "plan failed");
   std::vector<double> x(mesh.Points);
   x[3 * 11 + 2] = std::numeric_limits<double>::quiet_NaN();
   hoembed::TransferFrame f;

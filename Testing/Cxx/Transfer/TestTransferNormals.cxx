@@ -22,7 +22,10 @@ struct Surface
   std::vector<double> Points;
   std::vector<I> Offsets{ 0 }, Conn;
   I NumberOfPoints = 0;
-  I NumberOfPolys() const { return static_cast<I>(this->Offsets.size()) - 1; }
+  I NumberOfPolys() const
+  {
+    return static_cast<I>(this->Offsets.size()) - 1;
+  }
   void Add(std::initializer_list<I> ids)
   {
     this->Conn.insert(this->Conn.end(), ids);
@@ -100,8 +103,8 @@ std::vector<double> BruteForce(const Surface& s)
   }
   for (I i = 0; i < s.NumberOfPoints; ++i)
   {
-    const double len = std::sqrt(acc[3 * i] * acc[3 * i] + acc[3 * i + 1] * acc[3 * i + 1] +
-      acc[3 * i + 2] * acc[3 * i + 2]);
+    const double len = std::sqrt(
+      acc[3 * i] * acc[3 * i] + acc[3 * i + 1] * acc[3 * i + 1] + acc[3 * i + 2] * acc[3 * i + 2]);
     for (int c = 0; c < 3; ++c)
       out[3 * i + c] = len > 0.0 ? acc[3 * i + c] / len : 0.0;
   }

@@ -186,7 +186,8 @@ void TestKernel(int order)
     HOEMBED_CHECK(std::fabs(len - 1.0) < 1e-6, "kernel tet%d: normal %d not unit (%g)",
       order == 2 ? 10 : 4, i, len);
   }
-  HOEMBED_CHECK(out == plain, "kernel tet%d: positions differ with normals on", order == 2 ? 10 : 4);
+  HOEMBED_CHECK(
+    out == plain, "kernel tet%d: positions differ with normals on", order == 2 ? 10 : 4);
   // the AVX2 copy of the kernel (where the CPU has it) against the plain one: same bits
   if (hoembed::SetTransferKernelSimd(0) == false)
   {
@@ -205,8 +206,8 @@ void TestKernel(int order)
     std::printf("kernel tet%d: AVX2 copy %s\n", order == 2 ? 10 : 4,
       simd ? "compared bitwise with the plain one" : "not available here");
   }
-  HOEMBED_CHECK(worst < 1e-4, "kernel tet%d: cof(F) n0 off VTK's by %g degrees",
-    order == 2 ? 10 : 4, worst);
+  HOEMBED_CHECK(
+    worst < 1e-4, "kernel tet%d: cof(F) n0 off VTK's by %g degrees", order == 2 ? 10 : 4, worst);
   std::printf("kernel tet%d: cof(F) n0 against VTK's derivatives: worst %.3g degrees\n",
     order == 2 ? 10 : 4, worst);
 }
@@ -292,7 +293,8 @@ void TestFilter(int order)
     f->SetInputData(0, surface);
   }
   fast->SetPointNormalsModeToTransform();
-  HOEMBED_CHECK(slow->GetPointNormalsMode() == vtkDeformationTransferFilter::RECOMPUTE_POINT_NORMALS,
+  HOEMBED_CHECK(
+    slow->GetPointNormalsMode() == vtkDeformationTransferFilter::RECOMPUTE_POINT_NORMALS,
     "the default point normals mode is not recompute");
   Warnings warnings;
   vtkNew<vtkCallbackCommand> cb;
@@ -315,7 +317,8 @@ void TestFilter(int order)
     double R[3][3];
   };
   std::vector<Frame> frames;
-  frames.push_back({ "rest", WithDisplacement(rest, rest), { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } } });
+  frames.push_back(
+    { "rest", WithDisplacement(rest, rest), { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } } });
   for (int k = 0; k < 2; ++k)
   {
     std::normal_distribution<double> g(0.0, 1.0);
@@ -325,11 +328,15 @@ void TestFilter(int order)
       c /= len;
     vtkMath::QuaternionToMatrix3x3(q, R);
     const double t[3] = { 3.0 * g(rng), 3.0 * g(rng), 3.0 * g(rng) };
-    Frame fr{ "rigid", WithDisplacement(Deformed(rest, [&](const double* x, double* y) {
-      vtkMath::Multiply3x3(R, x, y);
-      for (int d = 0; d < 3; ++d)
-        y[d] += t[d];
-    }), rest), {} };
+    Frame fr{ "rigid",
+      WithDisplacement(Deformed(rest,
+                         [&](const double* x, double* y) {
+                           vtkMath::Multiply3x3(R, x, y);
+                           for (int d = 0; d < 3; ++d)
+                             y[d] += t[d];
+                         }),
+        rest),
+      {} };
     std::copy(&R[0][0], &R[0][0] + 9, &fr.R[0][0]);
     frames.push_back(fr);
   }
@@ -349,12 +356,12 @@ void TestFilter(int order)
       auto* n0 = vtkFloatArray::SafeDownCast(plainFast->GetPointData()->GetNormals());
       auto* n1 = vtkFloatArray::SafeDownCast(a->GetPointData()->GetNormals());
       HOEMBED_CHECK(SamePoints(plainFast, a) && n0 && n1 &&
-          std::memcmp(n0->GetPointer(0), n1->GetPointer(0),
-            sizeof(float) * 3 * n0->GetNumberOfTuples()) == 0,
+          std::memcmp(
+            n0->GetPointer(0), n1->GetPointer(0), sizeof(float) * 3 * n0->GetNumberOfTuples()) == 0,
         "tet%d %s: the AVX2 and the plain kernel differ", tet, fr.Name);
     }
-    HOEMBED_CHECK(SamePoints(a, b), "tet%d %s: positions differ between the point normal modes",
-      tet, fr.Name);
+    HOEMBED_CHECK(
+      SamePoints(a, b), "tet%d %s: positions differ between the point normal modes", tet, fr.Name);
     const AngleStats s = Angles(a, b);
     std::printf("tet%d, %lld vertices, %s: angle transformed vs recomputed normals: median "
                 "%.3g, 99th percentile %.3g, max %.3g degrees\n",
@@ -384,8 +391,8 @@ void TestFilter(int order)
       pd->SetNormals(rn);
       expect->GetPointData()->ShallowCopy(pd);
       const AngleStats r = Angles(a, expect);
-      HOEMBED_CHECK(r.Max < 1e-3, "tet%d %s: transformed normals off R n0 by %g degrees", tet,
-        fr.Name, r.Max);
+      HOEMBED_CHECK(
+        r.Max < 1e-3, "tet%d %s: transformed normals off R n0 by %g degrees", tet, fr.Name, r.Max);
     }
     else if (order == 2)
     {
@@ -407,15 +414,18 @@ void TestFilter(int order)
   }
   HOEMBED_CHECK(warnings.All.empty(), "tet%d: unexpected warning %s", tet,
     warnings.All.empty() ? "" : warnings.All[0].c_str());
-  HOEMBED_CHECK(fast->GetNumberOfFoldedPointNormals() == 0, "tet%d: folded normals on a fold-free map", tet);
+  HOEMBED_CHECK(
+    fast->GetNumberOfFoldedPointNormals() == 0, "tet%d: folded normals on a fold-free map", tet);
   // a mirrored mesh (det F < 0 everywhere: the map turns the surface inside out): every
   // normal comes from the polygons, the recompute mode's bits
   {
-    auto mirrored = WithDisplacement(Deformed(rest, [](const double* x, double* y) {
-      y[0] = x[0];
-      y[1] = x[1];
-      y[2] = -x[2];
-    }), rest);
+    auto mirrored = WithDisplacement(Deformed(rest,
+                                       [](const double* x, double* y) {
+                                         y[0] = x[0];
+                                         y[1] = x[1];
+                                         y[2] = -x[2];
+                                       }),
+      rest);
     auto a = run(fast, mirrored);
     auto b = run(slow, mirrored);
     auto* na = vtkFloatArray::SafeDownCast(a->GetPointData()->GetNormals());
@@ -425,8 +435,8 @@ void TestFilter(int order)
       static_cast<long long>(fast->GetNumberOfFoldedPointNormals()),
       static_cast<long long>(a->GetNumberOfPoints()));
     HOEMBED_CHECK(na && nb &&
-        std::memcmp(na->GetPointer(0), nb->GetPointer(0),
-          sizeof(float) * 3 * na->GetNumberOfTuples()) == 0,
+        std::memcmp(
+          na->GetPointer(0), nb->GetPointer(0), sizeof(float) * 3 * na->GetNumberOfTuples()) == 0,
       "tet%d mirrored: the folded normals are not the recomputed ones", tet);
   }
   // one inverted cell (a corner pushed through the opposite face): the vertices in it get
@@ -496,8 +506,8 @@ void TestFilter(int order)
     auto* na = vtkFloatArray::SafeDownCast(a->GetPointData()->GetNormals());
     auto* nb = vtkFloatArray::SafeDownCast(b->GetPointData()->GetNormals());
     HOEMBED_CHECK(na && nb &&
-        std::memcmp(na->GetPointer(0), nb->GetPointer(0),
-          sizeof(float) * 3 * na->GetNumberOfTuples()) == 0,
+        std::memcmp(
+          na->GetPointer(0), nb->GetPointer(0), sizeof(float) * 3 * na->GetNumberOfTuples()) == 0,
       "tet%d: without Displacement the normals are not the recomputed ones", tet);
   }
   // the rest surface's points changed (a new surface object): the rest normals follow
@@ -531,7 +541,8 @@ void TestFilter(int order)
       "tet%d: the rest normals did not follow the surface's new points (%g)", tet, worst);
     fast->SetInputData(0, surface);
     auto back = run(fast, frames.front().Mesh);
-    HOEMBED_CHECK(Angles(back, ref).Max < 1e-3, "tet%d: rest normals not rebuilt for the surface", tet);
+    HOEMBED_CHECK(
+      Angles(back, ref).Max < 1e-3, "tet%d: rest normals not rebuilt for the surface", tet);
   }
 }
 } // namespace

@@ -12,6 +12,7 @@ In the VTK build (Debian VTK 9.1, ``make build``) the wrapped VTK classes
 they call the same compiled drivers as the functions. The pip wheel has no wrapped
 classes (``hoembed.BACKEND`` says which build this is).
 """
+
 import importlib.util as _util
 
 # VTK 9.1 segfaults when a wrapped HOEmbed module is imported before the VTK modules it
@@ -22,30 +23,44 @@ import vtkmodules.vtkCommonExecutionModel  # noqa: F401
 
 from ._errors import HOEmbedError
 from ._hoembed import number_of_threads
-from .meshing import tet10_mesh
 from .embedding import embed
-from .transfer import transfer
-from .simulation import simulate
-from .series import write_series
-from .models import thorny_tail
 from .live import live
+from .meshing import tet10_mesh
+from .models import thorny_tail
+from .series import write_series
+from .simulation import simulate
+from .transfer import transfer
 
 __version__ = "0.1.0"
 
-__all__ = ["HOEmbedError", "tet10_mesh", "embed", "transfer", "simulate", "write_series",
-           "thorny_tail", "live", "number_of_threads"]
+__all__ = [
+    "HOEmbedError",
+    "tet10_mesh",
+    "embed",
+    "transfer",
+    "simulate",
+    "write_series",
+    "thorny_tail",
+    "live",
+    "number_of_threads",
+]
 
 # The wrapped classes exist in the VTK build only. Looked up, not imported under a
 # try: a wrapped module that is there but fails to import is an error to see.
 if _util.find_spec(".hoembedFiltersMeshing", __name__) is not None:
-    from .hoembedFiltersMeshing import vtkTet10Mesher
     from .hoembedFiltersEmbedding import vtkEmbeddingCoordinatesFilter
-    from .hoembedFiltersTransfer import vtkDeformationTransferFilter
+    from .hoembedFiltersMeshing import vtkTet10Mesher
     from .hoembedFiltersSimulation import vtkCorotationalFEMStepper
+    from .hoembedFiltersTransfer import vtkDeformationTransferFilter
     from .hoembedIOSeries import vtkTimeSeriesWriter
+
     BACKEND = "vtk"
-    __all__ += ["vtkTet10Mesher", "vtkEmbeddingCoordinatesFilter",
-                "vtkDeformationTransferFilter", "vtkCorotationalFEMStepper",
-                "vtkTimeSeriesWriter"]
+    __all__ += [
+        "vtkTet10Mesher",
+        "vtkEmbeddingCoordinatesFilter",
+        "vtkDeformationTransferFilter",
+        "vtkCorotationalFEMStepper",
+        "vtkTimeSeriesWriter",
+    ]
 else:
     BACKEND = "pip"

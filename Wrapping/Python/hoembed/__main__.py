@@ -1,4 +1,5 @@
 """``python -m hoembed``: the command-line program (see hoembed.cli)."""
+
 import sys
 
 from .cli import main

@@ -1,4 +1,5 @@
 """numpy views of the VTK arrays the drivers read (adapting only: no algorithm here)."""
+
 import types
 
 import numpy as np

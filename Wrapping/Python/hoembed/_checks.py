@@ -5,8 +5,15 @@ before any driver runs. Pure Python."""
 import numpy as np
 
 from ._arrays import N
-from ._errors import (HOEmbedArgumentError, HOEmbedError, check_callable, check_dataset,
-                      check_int, check_real, check_vector)
+from ._errors import (
+    HOEmbedArgumentError,
+    HOEmbedError,
+    check_callable,
+    check_dataset,
+    check_int,
+    check_real,
+    check_vector,
+)
 from ._hoembed import DEFAULTS, check_range
 
 # values of hoembed::EmbeddingMethod (= vtkEmbeddingCoordinatesFilter's Method)
@@ -30,8 +37,8 @@ def point_normals_argument(who, value, default):
         value = default
     if not isinstance(value, str) or value not in POINT_NORMALS_MODES:
         raise HOEmbedArgumentError(
-            f"{who}: point_normals must be 'transform', 'recompute', True or False, "
-            f"not {value!r}")
+            f"{who}: point_normals must be 'transform', 'recompute', True or False, not {value!r}"
+        )
     return POINT_NORMALS_MODES[value]
 
 
@@ -110,8 +117,17 @@ def driver_ranges(func, driver, values):
     return {prop: value for prop, (_, value) in values.items()}
 
 
-def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                   radius_edge_ratio, min_dihedral_angle, progress, quality_target):
+def mesh_arguments(
+    surface,
+    n_elements,
+    edge_length,
+    order,
+    curve_boundary,
+    radius_edge_ratio,
+    min_dihedral_angle,
+    progress,
+    quality_target,
+):
     """Check tet10_mesh()'s arguments: their types here, their ranges by the mesher driver.
     Returns the vtkTet10Mesher properties they set."""
     f = "tet10_mesh"
@@ -119,16 +135,30 @@ def mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
     if not isinstance(curve_boundary, (bool, int)):
         raise HOEmbedArgumentError(f"{f}: curve_boundary must be True or False")
     check_callable(f, "progress", progress)
-    props = driver_ranges(f, "mesher", dict(
-        TargetNumberOfElements=("n_elements", check_int(f, "n_elements", n_elements)),
-        TargetEdgeLength=("edge_length", check_real(f, "edge_length", edge_length, finite=False)),
-        ElementOrder=("order", check_int(f, "order", order)),
-        RadiusEdgeRatio=("radius_edge_ratio", check_real(
-            f, "radius_edge_ratio", radius_edge_ratio, finite=False)),
-        MinDihedralAngle=("min_dihedral_angle", check_real(
-            f, "min_dihedral_angle", min_dihedral_angle, finite=False)),
-        CurvedQualityTarget=("quality_target", check_real(
-            f, "quality_target", quality_target, finite=False))))
+    props = driver_ranges(
+        f,
+        "mesher",
+        dict(
+            TargetNumberOfElements=("n_elements", check_int(f, "n_elements", n_elements)),
+            TargetEdgeLength=(
+                "edge_length",
+                check_real(f, "edge_length", edge_length, finite=False),
+            ),
+            ElementOrder=("order", check_int(f, "order", order)),
+            RadiusEdgeRatio=(
+                "radius_edge_ratio",
+                check_real(f, "radius_edge_ratio", radius_edge_ratio, finite=False),
+            ),
+            MinDihedralAngle=(
+                "min_dihedral_angle",
+                check_real(f, "min_dihedral_angle", min_dihedral_angle, finite=False),
+            ),
+            CurvedQualityTarget=(
+                "quality_target",
+                check_real(f, "quality_target", quality_target, finite=False),
+            ),
+        ),
+    )
     return dict(props, CurveBoundary=bool(curve_boundary))
 
 
@@ -136,11 +166,15 @@ def embed_arguments(surface, fe_mesh, method, n_partitions, progress):
     """Check embed()'s arguments; returns (method value, n_partitions as int)."""
     if not isinstance(method, str) or method not in EMBED_METHODS:
         raise HOEmbedArgumentError(
-            f"embed: method must be one of {sorted(EMBED_METHODS)}, not {method!r}")
+            f"embed: method must be one of {sorted(EMBED_METHODS)}, not {method!r}"
+        )
     check_dataset("embed", "surface", surface, "vtkPolyData")
     check_dataset("embed", "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
-    n_partitions = driver_ranges("embed", "embedding", dict(NumberOfPartitions=(
-        "n_partitions", check_int("embed", "n_partitions", n_partitions))))["NumberOfPartitions"]
+    n_partitions = driver_ranges(
+        "embed",
+        "embedding",
+        dict(NumberOfPartitions=("n_partitions", check_int("embed", "n_partitions", n_partitions))),
+    )["NumberOfPartitions"]
     check_callable("embed", "progress", progress)
     return EMBED_METHODS[method], n_partitions
 
@@ -149,35 +183,59 @@ def transfer_arguments(embedded_surface, deformed_mesh, normals):
     """Check transfer()'s arguments; returns the normal mode's value."""
     if not isinstance(normals, str) or normals not in NORMAL_MODES:
         raise HOEmbedArgumentError(
-            f"transfer: normals must be 'recompute', 'rotate' or 'deform', not {normals!r}")
+            f"transfer: normals must be 'recompute', 'rotate' or 'deform', not {normals!r}"
+        )
     check_dataset("transfer", "embedded_surface", embedded_surface, "vtkPolyData")
     check_dataset("transfer", "deformed_mesh", deformed_mesh, "vtkUnstructuredGrid")
     return NORMAL_MODES[normals]
 
 
-def simulate_arguments(fe_mesh, steps, dt, young, poisson, density, gravity, rayleigh_mass,
-                       rayleigh_stiffness, every, solver_tolerance, progress):
+def simulate_arguments(
+    fe_mesh,
+    steps,
+    dt,
+    young,
+    poisson,
+    density,
+    gravity,
+    rayleigh_mass,
+    rayleigh_stiffness,
+    every,
+    solver_tolerance,
+    progress,
+):
     """Their types here, their ranges by the stepper driver (its sentences name the
     stepper property each argument sets), before the stepper runs."""
     f = "simulate"
     check_dataset(f, "fe_mesh", fe_mesh, "vtkUnstructuredGrid")
     gravity = check_vector(f, "gravity (Gravity)", gravity)
-    real = {"dt": ("TimeStep", dt), "young": ("YoungModulus", young),
-            "poisson": ("PoissonRatio", poisson), "density": ("Density", density),
-            "rayleigh_mass": ("RayleighMass", rayleigh_mass),
-            "rayleigh_stiffness": ("RayleighStiffness", rayleigh_stiffness),
-            "solver_tolerance": ("SolverTolerance", solver_tolerance)}
-    values = {prop: (arg, check_real(f, arg, value, finite=False))
-              for arg, (prop, value) in real.items()}
+    real = {
+        "dt": ("TimeStep", dt),
+        "young": ("YoungModulus", young),
+        "poisson": ("PoissonRatio", poisson),
+        "density": ("Density", density),
+        "rayleigh_mass": ("RayleighMass", rayleigh_mass),
+        "rayleigh_stiffness": ("RayleighStiffness", rayleigh_stiffness),
+        "solver_tolerance": ("SolverTolerance", solver_tolerance),
+    }
+    values = {
+        prop: (arg, check_real(f, arg, value, finite=False)) for arg, (prop, value) in real.items()
+    }
     values["NumberOfTimeSteps"] = ("steps", check_int(f, "steps", steps))
     props = driver_ranges(f, "stepper", values)
     return dict(
-        steps=props["NumberOfTimeSteps"], dt=props["TimeStep"], young=props["YoungModulus"],
-        poisson=props["PoissonRatio"], density=props["Density"], gravity=gravity,
-        rayleigh_mass=props["RayleighMass"], rayleigh_stiffness=props["RayleighStiffness"],
+        steps=props["NumberOfTimeSteps"],
+        dt=props["TimeStep"],
+        young=props["YoungModulus"],
+        poisson=props["PoissonRatio"],
+        density=props["Density"],
+        gravity=gravity,
+        rayleigh_mass=props["RayleighMass"],
+        rayleigh_stiffness=props["RayleighStiffness"],
         every=check_int(f, "every", every, 1),  # simulate()'s own argument
         solver_tolerance=props["SolverTolerance"],
-        progress=check_callable(f, "progress", progress))
+        progress=check_callable(f, "progress", progress),
+    )
 
 
 def simulate_vector(n_points, values, what):
@@ -188,7 +246,8 @@ def simulate_vector(n_points, values, what):
         raise HOEmbedArgumentError(f"simulate: {what} must be numbers") from None
     if values.shape != (n_points, 3):
         raise HOEmbedArgumentError(
-            f"simulate: {what} must have shape ({n_points}, 3), got {values.shape}")
+            f"simulate: {what} must have shape ({n_points}, 3), got {values.shape}"
+        )
     if not np.all(np.isfinite(values)):
         bad = int(np.flatnonzero(~np.all(np.isfinite(values), axis=1))[0])
         raise HOEmbedArgumentError(f"simulate: {what} is not finite at node {bad}")
@@ -203,15 +262,15 @@ def simulate_prescribed(prescribed, speed_limit, n_points):
         speed_limit = float(speed_limit)
     except (TypeError, ValueError):
         raise HOEmbedArgumentError("simulate: prescribed_speed_limit must be a number") from None
-    driver_ranges("simulate", "stepper",
-                  dict(PrescribedSpeedLimit=("prescribed_speed_limit", speed_limit)))
+    driver_ranges(
+        "simulate", "stepper", dict(PrescribedSpeedLimit=("prescribed_speed_limit", speed_limit))
+    )
     if prescribed is None:
         return None, None, speed_limit
     try:
         mask, displacement = prescribed
     except (TypeError, ValueError):
-        raise HOEmbedArgumentError(
-            "simulate: prescribed must be (mask, displacement)") from None
+        raise HOEmbedArgumentError("simulate: prescribed must be (mask, displacement)") from None
     try:
         mask = np.asarray(mask, dtype=float)
     except (TypeError, ValueError):
@@ -219,14 +278,14 @@ def simulate_prescribed(prescribed, speed_limit, n_points):
     if mask.shape != (n_points,):
         raise HOEmbedArgumentError(
             f"simulate: prescribed mask must have {n_points} entries (one per node), "
-            f"got shape {mask.shape}")
+            f"got shape {mask.shape}"
+        )
     if not np.all(np.isfinite(mask)):
         raise HOEmbedArgumentError("simulate: prescribed mask holds NaN or Inf")
     try:
         d = np.asarray(displacement, dtype=float)
     except (TypeError, ValueError):
-        raise HOEmbedArgumentError(
-            "simulate: prescribed displacement must be numbers") from None
+        raise HOEmbedArgumentError("simulate: prescribed displacement must be numbers") from None
     if d.shape == (3,):
         d = np.tile(d, (n_points, 1))
     d = simulate_vector(n_points, d, "prescribed displacement")
@@ -244,14 +303,17 @@ def simulate_clamps(fixed, n_points):
     elif isinstance(fixed, dict):
         unknown = set(fixed) - {"plane", "box"}
         if unknown or not fixed:
-            raise HOEmbedArgumentError("simulate: fixed dict needs a 'plane' or 'box' "
-                                       f"entry (unknown keys: {sorted(map(str, unknown))})")
+            raise HOEmbedArgumentError(
+                "simulate: fixed dict needs a 'plane' or 'box' "
+                f"entry (unknown keys: {sorted(map(str, unknown))})"
+            )
         if "plane" in fixed:
             try:
                 origin, normal = fixed["plane"]
             except (TypeError, ValueError):
                 raise HOEmbedArgumentError(
-                    "simulate: fixed['plane'] must be (origin, normal)") from None
+                    "simulate: fixed['plane'] must be (origin, normal)"
+                ) from None
             origin = check_vector("simulate", "fixed['plane'] origin", origin)
             normal = check_vector("simulate", "fixed['plane'] normal", normal)
             if not any(normal):
@@ -260,18 +322,22 @@ def simulate_clamps(fixed, n_points):
         if "box" in fixed:
             box = check_vector("simulate", "fixed['box']", fixed["box"], 6)
             if box[0] > box[1] or box[2] > box[3] or box[4] > box[5]:
-                raise HOEmbedArgumentError("simulate: fixed['box'] must be (xmin, xmax, "
-                                           f"ymin, ymax, zmin, zmax), got {box}")
+                raise HOEmbedArgumentError(
+                    "simulate: fixed['box'] must be (xmin, xmax, "
+                    f"ymin, ymax, zmin, zmax), got {box}"
+                )
             out["box"] = box
     else:
         try:
             mask = np.asarray(fixed, dtype=float).reshape(-1)
         except (TypeError, ValueError):
-            raise HOEmbedArgumentError("simulate: fixed must be a mask, an array name or "
-                                       "a dict") from None
+            raise HOEmbedArgumentError(
+                "simulate: fixed must be a mask, an array name or a dict"
+            ) from None
         if mask.shape[0] != n_points:
             raise HOEmbedArgumentError(
-                f"simulate: fixed mask must have {n_points} entries, got {mask.shape[0]}")
+                f"simulate: fixed mask must have {n_points} entries, got {mask.shape[0]}"
+            )
         if not np.all(np.isfinite(mask)):
             raise HOEmbedArgumentError("simulate: fixed mask holds NaN or Inf")
         out["mask"] = (mask != 0).astype(np.uint8)
@@ -409,16 +475,20 @@ WRITE_SERIES_DOC = """Write a time series readable by ParaView and ``pyvista.rea
 def series_path(folder, name):
     """write_series()'s name and folder checked, the folder created; the .pvd path."""
     import os
+
     folder = os.fspath(folder)
     name = str(name)
     if not name or name.startswith(".") or os.sep in name or (os.altsep and os.altsep in name):
-        raise HOEmbedError(f"write_series: the series name {name!r} must be a plain file "
-                           "name (no folder, not starting with '.')")
+        raise HOEmbedError(
+            f"write_series: the series name {name!r} must be a plain file "
+            "name (no folder, not starting with '.')"
+        )
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError as err:
-        raise HOEmbedError(f"write_series: cannot create the output folder {folder!r}: "
-                           f"{err.strerror or err}") from None
+        raise HOEmbedError(
+            f"write_series: cannot create the output folder {folder!r}: {err.strerror or err}"
+        ) from None
     if not os.access(folder, os.W_OK | os.X_OK):
         raise HOEmbedError(f"write_series: the output folder {folder!r} is not writable")
     return os.path.join(folder, f"{name}.pvd")

@@ -68,8 +68,10 @@ def run_filter(algorithm, warnings=None):
     callback = _attach_calldata(lambda o, e, c=None: obs(o, e, c))
     attached = []
     for alg in _pipeline(algorithm):
-        for target, events in ((alg, (vtkCommand.ErrorEvent, vtkCommand.WarningEvent)),
-                               (alg.GetExecutive(), (vtkCommand.ErrorEvent,))):
+        for target, events in (
+            (alg, (vtkCommand.ErrorEvent, vtkCommand.WarningEvent)),
+            (alg.GetExecutive(), (vtkCommand.ErrorEvent,)),
+        ):
             for event in events:
                 attached.append((target, target.AddObserver(event, callback)))
     try:
@@ -91,6 +93,7 @@ def run_filter(algorithm, warnings=None):
 # Types and shapes are checked here; a value's range is its driver's (check_range of the
 # compiled module, hoembed::MesherRanges / StepperRanges), refused before any driver runs.
 
+
 class HOEmbedArgumentError(HOEmbedError, ValueError):
     """A bad argument of a pyvista-level function, refused before any filter runs.
 
@@ -101,35 +104,40 @@ class HOEmbedArgumentError(HOEmbedError, ValueError):
 def check_int(func, name, value, low=None, high=None):
     """``value`` as an int in [low, high]; bools, floats with a fraction, NaN refused."""
     import numbers
+
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        if isinstance(value, numbers.Real) and not isinstance(value, bool) and \
-                float(value).is_integer():
+        if (
+            isinstance(value, numbers.Real)
+            and not isinstance(value, bool)
+            and float(value).is_integer()
+        ):
             value = int(value)
         else:
             raise HOEmbedArgumentError(f"{func}: {name} must be an integer, got {value!r}")
     value = int(value)
     if (low is not None and value < low) or (high is not None and value > high):
-        raise HOEmbedArgumentError(f"{func}: {name} must be {_range_text(low, high)}, "
-                                   f"got {value}")
+        raise HOEmbedArgumentError(f"{func}: {name} must be {_range_text(low, high)}, got {value}")
     return value
 
 
-def check_real(func, name, value, low=None, high=None, low_open=False, high_open=False,
-               finite=True):
+def check_real(
+    func, name, value, low=None, high=None, low_open=False, high_open=False, finite=True
+):
     """``value`` as a float in the range (bounds closed unless ``*_open``), finite unless
     ``finite`` is False (the caller then leaves the range to a driver's check_range)."""
     import math
     import numbers
+
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         try:
             import numpy as np
+
             if isinstance(value, np.ndarray) and value.shape == ():
                 value = value.item()
             else:
                 raise TypeError
         except TypeError:
-            raise HOEmbedArgumentError(f"{func}: {name} must be a number, got {value!r}") \
-                from None
+            raise HOEmbedArgumentError(f"{func}: {name} must be a number, got {value!r}") from None
     value = float(value)
     bad = finite and not math.isfinite(value)
     bad = bad or (low is not None and (value <= low if low_open else value < low))
@@ -137,13 +145,15 @@ def check_real(func, name, value, low=None, high=None, low_open=False, high_open
     if bad:
         raise HOEmbedArgumentError(
             f"{func}: {name} must be a finite number{_range_text(low, high, low_open, high_open, ' ')}"
-            f", got {value!r}")
+            f", got {value!r}"
+        )
     return value
 
 
 def check_vector(func, name, value, n=3):
     """``value`` as a tuple of ``n`` finite floats."""
     import numpy as np
+
     try:
         arr = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -157,8 +167,9 @@ def check_dataset(func, name, value, vtk_type):
     """``value`` must be a VTK dataset of class ``vtk_type`` (pyvista objects are)."""
     if not (hasattr(value, "IsA") and value.IsA(vtk_type)):
         kind = value.GetClassName() if hasattr(value, "GetClassName") else type(value).__name__
-        raise HOEmbedArgumentError(f"{func}: {name} must be a {vtk_type} (or its pyvista "
-                                   f"wrapper), got {kind}")
+        raise HOEmbedArgumentError(
+            f"{func}: {name} must be a {vtk_type} (or its pyvista wrapper), got {kind}"
+        )
     return value
 
 
@@ -170,8 +181,7 @@ def check_callable(func, name, value):
 
 def _range_text(low, high, low_open=False, high_open=False, lead=""):
     if low is not None and high is not None:
-        return (f"{lead}in {'(' if low_open else '['}{low:g}, {high:g}"
-                f"{')' if high_open else ']'}")
+        return f"{lead}in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
     if low is not None:
         return f"{lead}{'>' if low_open else '>='} {low:g}"
     if high is not None:

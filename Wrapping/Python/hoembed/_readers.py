@@ -7,12 +7,27 @@
 - glTF / .glb files: pyvista (vtkGLTFReader) gives a multiblock of meshes;
   surface_of merges the blocks into one surface.
 """
+
 import numpy as np
 
-_PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2",
-              "int16": "i2", "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4",
-              "uint": "u4", "uint32": "u4", "float": "f4", "float32": "f4", "double": "f8",
-              "float64": "f8"}
+_PLY_TYPES = {
+    "char": "i1",
+    "int8": "i1",
+    "uchar": "u1",
+    "uint8": "u1",
+    "short": "i2",
+    "int16": "i2",
+    "ushort": "u2",
+    "uint16": "u2",
+    "int": "i4",
+    "int32": "i4",
+    "uint": "u4",
+    "uint32": "u4",
+    "float": "f4",
+    "float32": "f4",
+    "double": "f8",
+    "float64": "f8",
+}
 
 
 class PlyError(ValueError):
@@ -37,8 +52,14 @@ def ply_elements(path):
             fmt = w[1]
         elif w[0] == "element" and len(w) == 3 and w[2].isdigit():
             elements.append((w[1], int(w[2]), []))
-        elif w[0] == "property" and elements and w[1] == "list" and len(w) == 5 and \
-                w[2] in _PLY_TYPES and w[3] in _PLY_TYPES:
+        elif (
+            w[0] == "property"
+            and elements
+            and w[1] == "list"
+            and len(w) == 5
+            and w[2] in _PLY_TYPES
+            and w[3] in _PLY_TYPES
+        ):
             elements[-1][2].append((w[4], _PLY_TYPES[w[2]], _PLY_TYPES[w[3]]))
         elif w[0] == "property" and elements and len(w) == 3 and w[1] in _PLY_TYPES:
             elements[-1][2].append((w[2], _PLY_TYPES[w[1]]))
@@ -101,7 +122,7 @@ class _Ascii:
         if self.pos + count > len(self.words):
             raise PlyError("the ASCII PLY file ends early (truncated)")
         try:
-            out = np.array(self.words[self.pos:self.pos + count], dtype=np.float64)
+            out = np.array(self.words[self.pos : self.pos + count], dtype=np.float64)
         except ValueError:
             raise PlyError("the ASCII PLY file has a value that is not a number") from None
         self.pos += count
@@ -152,8 +173,11 @@ def read_ply(path):
     with open(path, "rb") as fh:
         fh.seek(body)
         data = fh.read()
-    stream = _Ascii(data) if fmt == "ascii" else \
-        _Binary(data, "<" if fmt == "binary_little_endian" else ">")
+    stream = (
+        _Ascii(data)
+        if fmt == "ascii"
+        else _Binary(data, "<" if fmt == "binary_little_endian" else ">")
+    )
     points, tris = None, []
     for name, count, props in elements:
         if all(len(p) == 2 for p in props):
@@ -189,6 +213,7 @@ def surface_of(data):
     or a multiblock (glTF scenes: one block per mesh, nested) merged and reduced to its
     surface. None when nothing with cells is in it."""
     import pyvista
+
     if isinstance(data, pyvista.MultiBlock):
         parts = []
 
@@ -198,6 +223,7 @@ def surface_of(data):
                     collect(b)
                 elif b is not None and b.n_cells > 0:
                     parts.append(b if isinstance(b, pyvista.PolyData) else b.extract_surface())
+
         collect(data)
         if not parts:
             return None

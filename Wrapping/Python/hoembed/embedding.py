@@ -1,12 +1,20 @@
 """pyvista-level embed(): hoembed::EmbeddingDriver through _hoembed (the driver
 vtkEmbeddingCoordinatesFilter runs; the same outputs bit for bit, Testing/Python/
 test_two_routes.py)."""
+
 import warnings as _warnings
 
 import numpy as np
 import pyvista
-from vtkmodules.vtkCommonCore import (VTK_DOUBLE, VTK_ID_TYPE, VTK_INT, VTK_SIGNED_CHAR,
-                                      VTK_UNSIGNED_CHAR, vtkIdTypeArray, vtkStringArray)
+from vtkmodules.vtkCommonCore import (
+    VTK_DOUBLE,
+    VTK_ID_TYPE,
+    VTK_INT,
+    VTK_SIGNED_CHAR,
+    VTK_UNSIGNED_CHAR,
+    vtkIdTypeArray,
+    vtkStringArray,
+)
 
 from . import _arrays
 from ._arrays import N
@@ -22,8 +30,13 @@ __all__ = ["embed"]
 _D = DEFAULTS["embedding"]
 
 
-def embed(surface, fe_mesh, method=EMBED_METHOD_NAMES[_D["Method"]],
-          n_partitions=_D["NumberOfPartitions"], progress=None):
+def embed(
+    surface,
+    fe_mesh,
+    method=EMBED_METHOD_NAMES[_D["Method"]],
+    n_partitions=_D["NumberOfPartitions"],
+    progress=None,
+):
     """Embedding coordinates of a fine triangle surface in a (curved) tet FE mesh.
 
     Parameters
@@ -69,39 +82,58 @@ def embed(surface, fe_mesh, method=EMBED_METHOD_NAMES[_D["Method"]],
         not reproduce (``EmbeddingResidual`` over 1e-6 of the mesh's diagonal: the
         barycentric method outside a curved mesh), through Python's ``warnings``.
     """
-    method_value, n_partitions = embed_arguments(surface, fe_mesh, method, n_partitions,
-                                                 progress)
+    method_value, n_partitions = embed_arguments(surface, fe_mesh, method, n_partitions, progress)
     if surface.GetNumberOfPoints() == 0:
         raise HOEmbedError("embed: the surface is empty: it has no points.")
     if fe_mesh.GetNumberOfPoints() == 0 or fe_mesh.GetNumberOfCells() == 0:
         raise HOEmbedError("embed: the FE mesh is empty: it needs points and tet4 or tet10 cells.")
     driver = EmbeddingDriver()
     try:
-        driver.set_surface(_arrays.points(surface.GetPoints()), *_arrays.cells(surface.GetPolys()),
-                           *_arrays.cells(surface.GetStrips()))
+        driver.set_surface(
+            _arrays.points(surface.GetPoints()),
+            *_arrays.cells(surface.GetPolys()),
+            *_arrays.cells(surface.GetStrips()),
+        )
         offsets, conn = _arrays.cells(fe_mesh.GetCells())
         types = _arrays.cell_types(fe_mesh)
-        driver.prepare_and_order(fe_mesh.GetNumberOfPoints(), _arrays.points(fe_mesh.GetPoints()),
-                                 types, offsets, conn, _D["ValidateElements"], n_partitions)
+        driver.prepare_and_order(
+            fe_mesh.GetNumberOfPoints(),
+            _arrays.points(fe_mesh.GetPoints()),
+            types,
+            offsets,
+            conn,
+            _D["ValidateElements"],
+            n_partitions,
+        )
         if progress is not None:
             progress(0.1)
-        driver.embed(method_value,
-                     None if progress is None else (lambda x: progress(0.1 + 0.9 * x)))
+        driver.embed(
+            method_value, None if progress is None else (lambda x: progress(0.1 + 0.9 * x))
+        )
         n = surface.GetNumberOfPoints()
-        out = {N.EmbeddingCellId: (np.empty(n, np.int64), VTK_ID_TYPE),
-               N.EmbeddingParametricCoords: (np.empty((n, 3)), VTK_DOUBLE),
-               N.EmbeddingDistance: (np.empty(n), VTK_DOUBLE),
-               N.EmbeddingResidual: (np.empty(n), VTK_DOUBLE),
-               N.EmbeddingFace: (np.empty(n, np.int8), VTK_SIGNED_CHAR),
-               N.EmbeddingIterations: (np.empty(n, np.int32), VTK_INT),
-               N.EmbeddingElementsVisited: (np.empty(n, np.int32), VTK_INT),
-               N.EmbeddingClosestDistance: (np.empty(n), VTK_DOUBLE),
-               N.EmbeddingFallback: (np.empty(n, np.uint8), VTK_UNSIGNED_CHAR)}
+        out = {
+            N.EmbeddingCellId: (np.empty(n, np.int64), VTK_ID_TYPE),
+            N.EmbeddingParametricCoords: (np.empty((n, 3)), VTK_DOUBLE),
+            N.EmbeddingDistance: (np.empty(n), VTK_DOUBLE),
+            N.EmbeddingResidual: (np.empty(n), VTK_DOUBLE),
+            N.EmbeddingFace: (np.empty(n, np.int8), VTK_SIGNED_CHAR),
+            N.EmbeddingIterations: (np.empty(n, np.int32), VTK_INT),
+            N.EmbeddingElementsVisited: (np.empty(n, np.int32), VTK_INT),
+            N.EmbeddingClosestDistance: (np.empty(n), VTK_DOUBLE),
+            N.EmbeddingFallback: (np.empty(n, np.uint8), VTK_UNSIGNED_CHAR),
+        }
         a = {k: v[0] for k, v in out.items()}
         uncertified, fallbacks, warnings = driver.write_arrays(
-            a[N.EmbeddingCellId], a[N.EmbeddingParametricCoords], a[N.EmbeddingDistance],
-            a[N.EmbeddingResidual], a[N.EmbeddingClosestDistance], a[N.EmbeddingFace],
-            a[N.EmbeddingIterations], a[N.EmbeddingElementsVisited], a[N.EmbeddingFallback])
+            a[N.EmbeddingCellId],
+            a[N.EmbeddingParametricCoords],
+            a[N.EmbeddingDistance],
+            a[N.EmbeddingResidual],
+            a[N.EmbeddingClosestDistance],
+            a[N.EmbeddingFace],
+            a[N.EmbeddingIterations],
+            a[N.EmbeddingElementsVisited],
+            a[N.EmbeddingFallback],
+        )
         if fallbacks > 0:
             q = np.empty((n, 3))
             driver.write_fallback_offsets(q)
@@ -115,8 +147,10 @@ def embed(surface, fe_mesh, method=EMBED_METHOD_NAMES[_D["Method"]],
     for name, (values, vtk_type) in out.items():
         pd.AddArray(_arrays.to_vtk(values, name, vtk_type))
     fd = result.GetFieldData()
-    for name, value in ((N.EmbeddingMethod, method),
-                        (N.EmbeddingMeshFingerprint, driver.fingerprint)):
+    for name, value in (
+        (N.EmbeddingMethod, method),
+        (N.EmbeddingMeshFingerprint, driver.fingerprint),
+    ):
         s = vtkStringArray()
         s.SetName(name)
         s.InsertNextValue(value)

@@ -19,6 +19,7 @@ without a file). Controls: left-drag on the surface pulls it (left-drag elsewher
 the camera), ``space`` pause, ``r`` reset, ``m`` FE mesh wireframe, ``b`` tet4 +
 barycentric side by side, ``q`` quit.
 """
+
 import time
 
 import numpy as np
@@ -26,8 +27,7 @@ import pyvista
 from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 from ._arrays import N
-from ._checks import (NORMAL_MODES, POINT_NORMALS_MODES, point_normals_argument,
-                      simulate_arguments)
+from ._checks import NORMAL_MODES, POINT_NORMALS_MODES, point_normals_argument, simulate_arguments
 from ._errors import HOEmbedArgumentError, HOEmbedError
 from ._hoembed import DEFAULTS
 from .simulation import build_stepper
@@ -43,8 +43,10 @@ _N_ELEMENTS = DEFAULTS["mesher"]["TargetNumberOfElements"]
 def _edge_lengths(points, cells):
     """Mean corner edge length of the cells (rows of node ids, corners first)."""
     p = np.asarray(points)
-    e = [np.linalg.norm(p[cells[:, a]] - p[cells[:, b]], axis=1)
-         for a, b in ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))]
+    e = [
+        np.linalg.norm(p[cells[:, a]] - p[cells[:, b]], axis=1)
+        for a, b in ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
+    ]
     return float(np.mean(e))
 
 
@@ -102,12 +104,24 @@ class LiveSession:
         of about half a second at 3000 tet10 (Benchmarks/RESULTS.md, live loop).
     """
 
-    def __init__(self, fe_mesh, embedded, fixed=None, dt=1.0 / 60.0, young=2e5,
-                 poisson=0.45, density=_STEPPER["Density"], gravity=(0.0, 0.0, 0.0),
-                 rayleigh_mass=1.0,
-                 rayleigh_stiffness=0.005, grab_radius=None, speed_limit=None,
-                 normals="recompute", point_normals="transform",
-                 background_factorization=True):
+    def __init__(
+        self,
+        fe_mesh,
+        embedded,
+        fixed=None,
+        dt=1.0 / 60.0,
+        young=2e5,
+        poisson=0.45,
+        density=_STEPPER["Density"],
+        gravity=(0.0, 0.0, 0.0),
+        rayleigh_mass=1.0,
+        rayleigh_stiffness=0.005,
+        grab_radius=None,
+        speed_limit=None,
+        normals="recompute",
+        point_normals="transform",
+        background_factorization=True,
+    ):
         self.fe_rest = pyvista.wrap(fe_mesh).copy()
         n = self.fe_rest.n_points
         self.fixed = np.zeros(n, bool) if fixed is None else np.asarray(fixed, bool)
@@ -126,13 +140,25 @@ class LiveSession:
             raise HOEmbedArgumentError(f"live: normals must be one of {sorted(NORMAL_MODES)}")
         # True: the default mode (the session drew recomputed normals before "transform")
         self._pn_mode = point_normals_argument("live", point_normals, "transform")
-        a = simulate_arguments(self.fe_rest, 1, self.dt, young, poisson, density, gravity,
-                               rayleigh_mass, rayleigh_stiffness, 1,
-                               _STEPPER["SolverTolerance"], None)
+        a = simulate_arguments(
+            self.fe_rest,
+            1,
+            self.dt,
+            young,
+            poisson,
+            density,
+            gravity,
+            rayleigh_mass,
+            rayleigh_stiffness,
+            1,
+            _STEPPER["SolverTolerance"],
+            None,
+        )
         speed = 0.5 * self.h / self.dt if speed_limit is None else float(speed_limit)
         try:
-            st = build_stepper(self.fe_rest, a, {}, self.fixed.astype(np.float64), False,
-                               False, speed_limit=speed)  # (per grab when automatic)
+            st = build_stepper(
+                self.fe_rest, a, {}, self.fixed.astype(np.float64), False, False, speed_limit=speed
+            )  # (per grab when automatic)
             st.set_background_factorization(bool(background_factorization))
         except HOEmbedError as e:
             raise HOEmbedError(f"live: {e}") from None
@@ -149,8 +175,7 @@ class LiveSession:
         pd = self._fe.point_data
         for name, width in ((N.Displacement, 3), (N.Velocity, 3), (N.NodalRotation, 9)):
             pd[name] = np.zeros((n, width))
-        self._disp, self._vel, self._rot = (pd[N.Displacement], pd[N.Velocity],
-                                            pd[N.NodalRotation])
+        self._disp, self._vel, self._rot = (pd[N.Displacement], pd[N.Velocity], pd[N.NodalRotation])
         self.grabbed = None  # FE node ids
         self.grab_start = None  # their positions when grabbed
         self.grab_point = None
@@ -248,8 +273,9 @@ class LiveSession:
         mask = np.zeros(n)
         mask[self.grabbed] = 1.0
         target = np.zeros((n, 3))
-        target[self.grabbed] = (self.grab_start + (self.target_point - self.grab_point)
-                                - self.rest[self.grabbed])
+        target[self.grabbed] = (
+            self.grab_start + (self.target_point - self.grab_point) - self.rest[self.grabbed]
+        )
         try:
             self.stepper.set_prescribed_motion(mask, target.reshape(-1))
         except RuntimeError as e:
@@ -307,23 +333,29 @@ class LiveApp:
         b = session.surface.bounds
         # the baseline sits beside the model along x; the camera looks along -z
         self.offset = 1.15 * (b[1] - b[0]) + 0.1 * max(b[3] - b[2], b[5] - b[4])
-        self.surface_actor = self.pl.add_mesh(session.surface, color="#d8b48a",
-                                              smooth_shading=True, name="surface")
-        self.mesh_actor = self.pl.add_mesh(session.fe, style="wireframe", color="#2a4d69",
-                                           opacity=0.5, name="fe")
+        self.surface_actor = self.pl.add_mesh(
+            session.surface, color="#d8b48a", smooth_shading=True, name="surface"
+        )
+        self.mesh_actor = self.pl.add_mesh(
+            session.fe, style="wireframe", color="#2a4d69", opacity=0.5, name="fe"
+        )
         # the actors draw the session's outputs (updated in place every frame), not the
         # copies pyvista made when adding them
         self.surface_actor.mapper.SetInputData(session.surface)
         self.mesh_actor.mapper.SetInputData(session.fe)
         self.mesh_actor.SetVisibility(False)
         self.base_actor = None
-        self.marker = self.pl.add_mesh(pyvista.Sphere(radius=0.3 * session.h), color="red",
-                                       name="marker")
+        self.marker = self.pl.add_mesh(
+            pyvista.Sphere(radius=0.3 * session.h), color="red", name="marker"
+        )
         self.marker.SetVisibility(False)
         self.text = self.pl.add_text("", position="upper_left", font_size=10, name="status")
-        self.pl.add_text("drag the surface | space pause | r reset | m FE mesh | "
-                         "b tet4 side by side | q quit", position="lower_left", font_size=8,
-                         name="help")
+        self.pl.add_text(
+            "drag the surface | space pause | r reset | m FE mesh | b tet4 side by side | q quit",
+            position="lower_left",
+            font_size=8,
+            name="help",
+        )
         self.picker = vtkCellPicker()
         self.picker.SetTolerance(0.0005)
         self.picker.PickFromListOn()
@@ -369,8 +401,9 @@ class LiveApp:
         self._drag_depth = ren.GetDisplayPoint()[2]
         if self.baseline is not None:
             self.baseline.grab(p)  # same rest geometry (shown shifted)
-            self.baseline.stepper.prescribed_speed_limit = \
+            self.baseline.stepper.prescribed_speed_limit = (
                 self.session.stepper.prescribed_speed_limit
+            )
         self.dragging = True
         self.marker.SetPosition(*p)
         self.marker.SetVisibility(True)
@@ -414,13 +447,17 @@ class LiveApp:
             return
         if self.baseline is None:
             self.baseline = self.baseline_factory()
-            self.base_actor = self.pl.add_mesh(self.baseline.surface, color="#9fb8c8",
-                                               smooth_shading=True, name="baseline")
+            self.base_actor = self.pl.add_mesh(
+                self.baseline.surface, color="#9fb8c8", smooth_shading=True, name="baseline"
+            )
             self.base_actor.mapper.SetInputData(self.baseline.surface)
             self.base_actor.SetPosition(self.offset, 0.0, 0.0)
-            self.base_label = self.pl.add_text("left: tet10 + normal-offset | right: tet4 + "
-                                               "barycentric", position="upper_right",
-                                               font_size=9, name="baseline_label")
+            self.base_label = self.pl.add_text(
+                "left: tet10 + normal-offset | right: tet4 + barycentric",
+                position="upper_right",
+                font_size=9,
+                name="baseline_label",
+            )
             self.show_baseline = True
         else:
             self.show_baseline = not self.show_baseline
@@ -443,10 +480,12 @@ class LiveApp:
         s = self.session
         state = "paused" if self.paused else "running"
         stages = " + ".join(f"{k} {1e3 * v:.1f}" for k, v in self.stages.items())
-        self.status = (f"t = {s.time:.2f} s ({state})   frame {self.frame_ms:.1f} ms"
-                       + (f" ({stages} ms)" if stages else "")
-                       + f"\n{s.surface.n_points} surface vertices, {s.fe_rest.n_cells} "
-                         f"{s.kind} elements")
+        self.status = (
+            f"t = {s.time:.2f} s ({state})   frame {self.frame_ms:.1f} ms"
+            + (f" ({stages} ms)" if stages else "")
+            + f"\n{s.surface.n_points} surface vertices, {s.fe_rest.n_cells} "
+            f"{s.kind} elements"
+        )
         self.text.SetText(2, self.status)  # the upper left corner
 
     # -- wiring to VTK's interactor ---------------------------------------------------
@@ -470,6 +509,7 @@ class LiveApp:
                     style.GetCommand(tags[event]).SetAbortFlag(1)
                 elif not had:
                     default()
+
             tags[event] = style.AddObserver(event, callback, 1.0)
 
         def on_press():
@@ -509,6 +549,7 @@ def _report(label):
         if pct >= last[0] + 10 or f >= 1.0 and last[0] < 100:
             last[0] = pct
             print(f"\r{label}: {pct:3d}%", end="\n" if f >= 1.0 else "", flush=True)
+
     return progress
 
 
@@ -516,15 +557,21 @@ def prepare(surface=None, n_elements=_N_ELEMENTS, progress=True, order=2):
     """Mesh and embed a surface (the built-in thorny tail when None), printing progress.
     Returns (surface, fe_mesh, embedded, clamp mask)."""
     import hoembed
+
     builtin = surface is None
     if builtin:
         surface = hoembed.thorny_tail()
     kind = "tet10" if order == 2 else "tet4"
     method = "normal-offset" if order == 2 else "barycentric"
-    fe = hoembed.tet10_mesh(surface, n_elements=n_elements, order=order,
-                            progress=_report(f"{kind} mesh") if progress else None)
-    emb = hoembed.embed(surface, fe, method=method,
-                        progress=_report(f"embedding ({method})") if progress else None)
+    fe = hoembed.tet10_mesh(
+        surface,
+        n_elements=n_elements,
+        order=order,
+        progress=_report(f"{kind} mesh") if progress else None,
+    )
+    emb = hoembed.embed(
+        surface, fe, method=method, progress=_report(f"embedding ({method})") if progress else None
+    )
     return surface, fe, emb, default_clamp(fe, builtin)
 
 
@@ -556,7 +603,9 @@ def run_cli(args):
     """``hoembed live [SURFACE]`` (hoembed.cli): read the file the way ``hoembed run``
     does (in a child process), then open the window."""
     import sys
+
     from . import cli
+
     try:
         if args.elements < 4:
             raise cli.UsageError("--elements must be at least 4")
@@ -565,8 +614,7 @@ def run_cli(args):
         if not np.all(np.isfinite(args.gravity)):
             raise cli.UsageError("--gravity must be finite")
         surface = None if args.surface is None else cli._read_surface(args.surface)
-        live(surface, n_elements=args.elements, young=args.young,
-             gravity=tuple(args.gravity))
+        live(surface, n_elements=args.elements, young=args.young, gravity=tuple(args.gravity))
     except (cli.UsageError, HOEmbedError, OSError) as err:
         print(f"hoembed live: error: {err}", file=sys.stderr)
         return 2

@@ -10,30 +10,48 @@ VTK 9.3 or later decimates, smooths and locates with other round-off and tie-bre
 the wheel's mesh may differ from the VTK build's in its details (element count and
 quality close, not equal; every mesh valid and covering the surface either way).
 """
+
 import math
 import warnings as _warnings
 
 import numpy as np
 import pyvista
 from vtkmodules.util.numpy_support import numpy_to_vtk
-from vtkmodules.vtkCommonCore import (VTK_DOUBLE, VTK_ID_TYPE, VTK_UNSIGNED_CHAR,
-                                      reference, vtkIdList, vtkIdTypeArray, vtkDoubleArray,
-                                      vtkPoints)
-from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, VTK_TETRA, vtkCellArray,
-                                           vtkGenericCell, vtkPolyData, vtkPolygon,
-                                           vtkQuadraticTetra, vtkStaticCellLocator,
-                                           vtkStaticPointLocator, vtkUnstructuredGrid)
-from vtkmodules.vtkFiltersCore import (vtkCleanPolyData, vtkQuadricDecimation,
-                                       vtkWindowedSincPolyDataFilter)
+from vtkmodules.vtkCommonCore import (
+    VTK_DOUBLE,
+    VTK_ID_TYPE,
+    VTK_UNSIGNED_CHAR,
+    reference,
+    vtkDoubleArray,
+    vtkIdList,
+    vtkIdTypeArray,
+    vtkPoints,
+)
+from vtkmodules.vtkCommonDataModel import (
+    VTK_QUADRATIC_TETRA,
+    VTK_TETRA,
+    vtkCellArray,
+    vtkGenericCell,
+    vtkPolyData,
+    vtkPolygon,
+    vtkQuadraticTetra,
+    vtkStaticCellLocator,
+    vtkStaticPointLocator,
+    vtkUnstructuredGrid,
+)
+from vtkmodules.vtkFiltersCore import (
+    vtkCleanPolyData,
+    vtkQuadricDecimation,
+    vtkWindowedSincPolyDataFilter,
+)
 from vtkmodules.vtkFiltersGeneral import vtkCellValidator
 
 from . import _arrays
 from ._arrays import N
 from ._checks import MESH_DOC, mesh_arguments
 from ._errors import HOEmbedError
-from ._hoembed import DEFAULTS
+from ._hoembed import DEFAULTS, mesh_surface
 from ._hoembed import MESHER_SERVICE_SETTINGS as _SETTINGS
-from ._hoembed import mesh_surface
 
 __all__ = ["tet10_mesh"]
 
@@ -52,16 +70,19 @@ def _triangles(tris):
     tris = np.ascontiguousarray(tris, dtype=np.int64).reshape(-1)
     cells = vtkCellArray()
     offsets = np.arange(0, tris.size + 1, 3, dtype=np.int64)
-    cells.SetData(numpy_to_vtk(offsets, deep=True, array_type=VTK_ID_TYPE),
-                  numpy_to_vtk(tris, deep=True, array_type=VTK_ID_TYPE))
+    cells.SetData(
+        numpy_to_vtk(offsets, deep=True, array_type=VTK_ID_TYPE),
+        numpy_to_vtk(tris, deep=True, array_type=VTK_ID_TYPE),
+    )
     return cells
 
 
 def _poly(points, tris):
     """vtkPolyData of float64 points (n, 3) and triangles."""
     pts = vtkPoints()
-    pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3),
-                             deep=True))
+    pts.SetData(
+        numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3), deep=True)
+    )
     pd = vtkPolyData()
     pd.SetPoints(pts)
     pd.SetPolys(_triangles(tris))
@@ -71,8 +92,11 @@ def _poly(points, tris):
 def _to_arrays(pd):
     """(points float64, triangles int64) of poly data, or None if a polygon is not a
     triangle (vtkTet10Mesher's ToArrays)."""
-    pts = np.ascontiguousarray(_arrays.points(pd.GetPoints()), dtype=np.float64) \
-        if pd.GetNumberOfPoints() else np.zeros((0, 3))
+    pts = (
+        np.ascontiguousarray(_arrays.points(pd.GetPoints()), dtype=np.float64)
+        if pd.GetNumberOfPoints()
+        else np.zeros((0, 3))
+    )
     off, conn = _arrays.cells(pd.GetPolys())
     if off.size > 1 and np.any(np.diff(off) != 3):
         return None
@@ -105,8 +129,9 @@ class _Locator:
         return n
 
     def ray(self, a, b):
-        if not self.locator.IntersectWithLine(a, b, 0.0, self.t, self.hit, self.pcoords,
-                                              self.sub_id, self.cell_id, self.cell):
+        if not self.locator.IntersectWithLine(
+            a, b, 0.0, self.t, self.hit, self.pcoords, self.sub_id, self.cell_id, self.cell
+        ):
             return None
         return tuple(self.hit)
 
@@ -169,9 +194,11 @@ class _VTKServices:
         self.vertex_locator = vtkStaticPointLocator()
         self.vertex_locator.SetDataSet(fine)
         self.vertex_locator.BuildLocator()
-        self.fine_points = np.ascontiguousarray(_arrays.points(fine.GetPoints()),
-                                                dtype=np.float64) \
-            if fine.GetNumberOfPoints() else np.zeros((0, 3))
+        self.fine_points = (
+            np.ascontiguousarray(_arrays.points(fine.GetPoints()), dtype=np.float64)
+            if fine.GetNumberOfPoints()
+            else np.zeros((0, 3))
+        )
         self.near = vtkIdList()
         self.diagonal = fine.GetLength()
         self.unit = None
@@ -203,11 +230,15 @@ class _VTKServices:
         # decimated into the same coarse surface, scaled)
         if self.unit is None:
             self.exponent = math.frexp(self.diagonal)[1]
-            pts = _arrays.points(self.fine.GetPoints()) if self.fine.GetNumberOfPoints() \
+            pts = (
+                _arrays.points(self.fine.GetPoints())
+                if self.fine.GetNumberOfPoints()
                 else np.zeros((0, 3))
+            )
             scaled = vtkPoints()
-            scaled.SetData(numpy_to_vtk(np.ldexp(np.asarray(pts, dtype=np.float64),
-                                                 -self.exponent), deep=True))
+            scaled.SetData(
+                numpy_to_vtk(np.ldexp(np.asarray(pts, dtype=np.float64), -self.exponent), deep=True)
+            )
             self.unit = vtkPolyData()
             self.unit.ShallowCopy(self.fine)
             self.unit.SetPoints(scaled)
@@ -288,17 +319,30 @@ def _grid(r):
     pts.SetData(numpy_to_vtk(np.ascontiguousarray(r["points"]), deep=True))
     grid.SetPoints(pts)
     cells = vtkCellArray()
-    cells.SetData(numpy_to_vtk(np.arange(0, npc * n + 1, npc, dtype=np.int64), deep=True,
-                               array_type=VTK_ID_TYPE),
-                  numpy_to_vtk(conn.reshape(-1), deep=True, array_type=VTK_ID_TYPE))
+    cells.SetData(
+        numpy_to_vtk(
+            np.arange(0, npc * n + 1, npc, dtype=np.int64), deep=True, array_type=VTK_ID_TYPE
+        ),
+        numpy_to_vtk(conn.reshape(-1), deep=True, array_type=VTK_ID_TYPE),
+    )
     grid.SetCells(VTK_QUADRATIC_TETRA if npc == 10 else VTK_TETRA, cells)
-    grid.GetCellData().AddArray(_arrays.to_vtk(np.asarray(r[N.MinScaledJacobian]).reshape(-1),
-                                               N.MinScaledJacobian, VTK_DOUBLE))
-    grid.GetPointData().AddArray(_arrays.to_vtk(np.asarray(r[N.BoundaryNode]).reshape(-1),
-                                                N.BoundaryNode, VTK_UNSIGNED_CHAR))
+    grid.GetCellData().AddArray(
+        _arrays.to_vtk(
+            np.asarray(r[N.MinScaledJacobian]).reshape(-1), N.MinScaledJacobian, VTK_DOUBLE
+        )
+    )
+    grid.GetPointData().AddArray(
+        _arrays.to_vtk(np.asarray(r[N.BoundaryNode]).reshape(-1), N.BoundaryNode, VTK_UNSIGNED_CHAR)
+    )
     fd = grid.GetFieldData()
-    for name in (N.RelaxedNodeCount, N.CurvedNodeCount, N.EnvelopeNodeCount,
-                 N.BoundaryCrossingsFound, N.BoundaryCrossingsLeft, N.PoorElementCount):
+    for name in (
+        N.RelaxedNodeCount,
+        N.CurvedNodeCount,
+        N.EnvelopeNodeCount,
+        N.BoundaryCrossingsFound,
+        N.BoundaryCrossingsLeft,
+        N.PoorElementCount,
+    ):
         a = vtkIdTypeArray()
         a.SetName(name)
         a.InsertNextValue(int(r[name]))
@@ -320,40 +364,60 @@ def _grid(r):
 _D = DEFAULTS["mesher"]
 
 
-def tet10_mesh(surface, n_elements=_D["TargetNumberOfElements"],
-               edge_length=_D["TargetEdgeLength"], order=_D["ElementOrder"],
-               curve_boundary=_D["CurveBoundary"], radius_edge_ratio=_D["RadiusEdgeRatio"],
-               min_dihedral_angle=_D["MinDihedralAngle"], progress=None,
-               quality_target=_D["CurvedQualityTarget"]):
-    options = mesh_arguments(surface, n_elements, edge_length, order, curve_boundary,
-                             radius_edge_ratio, min_dihedral_angle, progress, quality_target)
+def tet10_mesh(
+    surface,
+    n_elements=_D["TargetNumberOfElements"],
+    edge_length=_D["TargetEdgeLength"],
+    order=_D["ElementOrder"],
+    curve_boundary=_D["CurveBoundary"],
+    radius_edge_ratio=_D["RadiusEdgeRatio"],
+    min_dihedral_angle=_D["MinDihedralAngle"],
+    progress=None,
+    quality_target=_D["CurvedQualityTarget"],
+):
+    options = mesh_arguments(
+        surface,
+        n_elements,
+        edge_length,
+        order,
+        curve_boundary,
+        radius_edge_ratio,
+        min_dihedral_angle,
+        progress,
+        quality_target,
+    )
     r = _run(surface, options, progress)[0]
     if progress is not None:
         progress(1.0)
     return pyvista.wrap(_grid(r))
 
 
-tet10_mesh.__doc__ = MESH_DOC + """
+tet10_mesh.__doc__ = (
+    MESH_DOC
+    + """
 The errors read "tet10_mesh: " and vtkTet10Mesher's sentence, and the mesher's warnings go
 through Python's ``warnings`` (RuntimeWarning). The C++ algorithm is vtkTet10Mesher's; its
 decimation, smoothing, locators and cell validator come from the VTK Python in use: in
 the VTK build the mesh equals vtkTet10Mesher's bit for bit, with a pip VTK it can differ
 from it in its details (Benchmarks/RESULTS.md, pip section).
 """
+)
 
 
 def _run(surface, options, progress=None):
     """mesh_surface on the surface's arrays; returns (result dict, services)."""
     n = surface.GetNumberOfPoints()
-    points = np.ascontiguousarray(_arrays.points(surface.GetPoints()), dtype=np.float64) \
-        if n else np.zeros((0, 3))
+    points = (
+        np.ascontiguousarray(_arrays.points(surface.GetPoints()), dtype=np.float64)
+        if n
+        else np.zeros((0, 3))
+    )
     services = _VTKServices(surface.GetPoints())
     cells = []
     for ca in (surface.GetVerts(), surface.GetLines(), surface.GetPolys(), surface.GetStrips()):
         cells.extend(_arrays.cells(ca))
     try:
-        r = mesh_surface(points, *cells, options, MAXIMUM_NUMBER_OF_ELEMENTS, services,
-                         progress)
+        r = mesh_surface(points, *cells, options, MAXIMUM_NUMBER_OF_ELEMENTS, services, progress)
     except RuntimeError as e:
         raise HOEmbedError(f"tet10_mesh: {e}") from None
     for w in r["warnings"]:

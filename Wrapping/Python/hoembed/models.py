@@ -4,6 +4,7 @@
 seahorse tail, covered with sharp thorns far smaller than any element of a coarse FE
 mesh, so only a good embedding keeps their shape when the tail bends (paper Figs. 3-5).
 """
+
 import numpy as np
 import pyvista
 
@@ -12,14 +13,22 @@ __all__ = ["thorny_tail"]
 
 def _centreline(u, length, curl):
     """A planar spiral that curls up by `curl` turns, lifted slightly out of its plane."""
-    theta = 2.0 * np.pi * curl * u ** 1.5
+    theta = 2.0 * np.pi * curl * u**1.5
     radius = length / (2.0 * np.pi * curl) * (1.0 - 0.55 * u)
     c = np.stack([radius * np.sin(theta), radius * (1 - np.cos(theta)), 0.15 * length * u], axis=-1)
     return c
 
 
-def thorny_tail(rings=360, sectors=128, length=10.0, thickness=1.0, curl=0.6, thorn_height=0.35,
-                thorn_rows=10, thorn_pitch=0.045):
+def thorny_tail(
+    rings=360,
+    sectors=128,
+    length=10.0,
+    thickness=1.0,
+    curl=0.6,
+    thorn_height=0.35,
+    thorn_rows=10,
+    thorn_pitch=0.045,
+):
     """A closed, manifold, consistently oriented triangle surface of a curled thorny tail.
 
     Parameters
@@ -63,8 +72,9 @@ def thorny_tail(rings=360, sectors=128, length=10.0, thickness=1.0, curl=0.6, th
         d = np.sqrt(((uu - cu) / width_u) ** 2 + (dv / width_v) ** 2)
         bump = np.maximum(bump, np.clip(1.0 - d, 0.0, None) ** 1.6)
     r = base[:, None] * (1.0 + thorn_height * bump)
-    ring_pts = (c[:, None, :] + r[..., None] * (np.cos(vv)[..., None] * N[:, None, :] +
-                                                np.sin(vv)[..., None] * B[:, None, :]))
+    ring_pts = c[:, None, :] + r[..., None] * (
+        np.cos(vv)[..., None] * N[:, None, :] + np.sin(vv)[..., None] * B[:, None, :]
+    )
     c0 = _centreline(np.array([0.0]), length, curl)[0]
     c1 = _centreline(np.array([1.0]), length, curl)[0]
     points = np.vstack([ring_pts.reshape(-1, 3), c0, c1])
@@ -82,11 +92,15 @@ def thorny_tail(rings=360, sectors=128, length=10.0, thickness=1.0, curl=0.6, th
     faces.append(np.column_stack([np.full(len(quads), 3), quads[:, 0], quads[:, 1], quads[:, 2]]))
     faces.append(np.column_stack([np.full(len(quads), 3), quads[:, 0], quads[:, 2], quads[:, 3]]))
     jj = np.arange(sectors)
-    faces.append(np.column_stack([np.full(sectors, 3), np.full(sectors, south), pid(0, jj + 1),
-                                  pid(0, jj)]))
+    faces.append(
+        np.column_stack([np.full(sectors, 3), np.full(sectors, south), pid(0, jj + 1), pid(0, jj)])
+    )
     last = rings - 1
-    faces.append(np.column_stack([np.full(sectors, 3), np.full(sectors, north), pid(last, jj),
-                                  pid(last, jj + 1)]))
+    faces.append(
+        np.column_stack(
+            [np.full(sectors, 3), np.full(sectors, north), pid(last, jj), pid(last, jj + 1)]
+        )
+    )
     surface = pyvista.PolyData(points, np.vstack(faces).ravel(), deep=True)
     if surface.volume < 0:  # make the normals point outward
         surface = surface.flip_normals()

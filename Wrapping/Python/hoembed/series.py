@@ -6,6 +6,7 @@ written here by the XML writers of the VTK Python in use, with vtkTimeSeriesWrit
 settings (appended data, zlib), into the staged path SeriesFiles gives. The errors are the
 writer's sentences, after "write_series: ".
 """
+
 import pyvista
 from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkUnstructuredGrid
@@ -13,7 +14,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm, vtkStreamingDemandD
 from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter, vtkXMLUnstructuredGridWriter
 
 from ._checks import WRITE_SERIES_DOC, series_frame_times, series_path
-from ._errors import HOEmbedError, _ErrorObserver, _attach_calldata, _clean
+from ._errors import HOEmbedError, _attach_calldata, _clean, _ErrorObserver
 from ._hoembed import SeriesFiles
 
 __all__ = ["write_series"]
@@ -87,10 +88,14 @@ def _algorithm_series(files, path, alg, times):
         if not exe.UpdateInformation():
             fail("The input failed to provide its information.")
         info = alg.GetOutputInformation(0)
-        advertised = [float(t) for t in (info.Get(_SDDP.TIME_STEPS()) or ())] \
-            if info.Has(_SDDP.TIME_STEPS()) else None
+        advertised = (
+            [float(t) for t in (info.Get(_SDDP.TIME_STEPS()) or ())]
+            if info.Has(_SDDP.TIME_STEPS())
+            else None
+        )
         steps, timed = SeriesFiles.input_times(
-            None if times is None else [float(t) for t in times], advertised)
+            None if times is None else [float(t) for t in times], advertised
+        )
         _check(files.begin, path)
         for k, t in enumerate(steps):
             if timed:

@@ -2,14 +2,20 @@
 vtkDeformationTransferFilter runs; the same points bit for bit). This only reads the
 surface's and the mesh's VTK objects: the driver checks them (CheckMeshSize,
 CheckSurface: the filter's messages) and says which arrays it reads (FrameArraysUsed)."""
+
 import numpy as np
 import pyvista
 from vtkmodules.vtkCommonCore import VTK_FLOAT
 
 from . import _arrays
 from ._arrays import N
-from ._checks import (NORMAL_MODE_NAMES, POINT_NORMALS_MODE_NAMES, POINT_NORMALS_MODES,
-                      point_normals_argument, transfer_arguments)
+from ._checks import (
+    NORMAL_MODE_NAMES,
+    POINT_NORMALS_MODE_NAMES,
+    POINT_NORMALS_MODES,
+    point_normals_argument,
+    transfer_arguments,
+)
 from ._errors import HOEmbedError
 from ._hoembed import DEFAULTS, TransferDriver
 
@@ -40,8 +46,13 @@ def _fail(message):
     raise HOEmbedError(f"transfer: {message}")
 
 
-def transfer(embedded_surface, deformed_mesh, normals=NORMAL_MODE_NAMES[_D["NormalMode"]],
-             compute_point_normals=_D["ComputePointNormals"], warnings=None):
+def transfer(
+    embedded_surface,
+    deformed_mesh,
+    normals=NORMAL_MODE_NAMES[_D["NormalMode"]],
+    compute_point_normals=_D["ComputePointNormals"],
+    warnings=None,
+):
     """The deformed fine surface for a deformed FE mesh: v' = p' + d n' (paper eq. 4).
 
     Parameters
@@ -90,15 +101,24 @@ def transfer(embedded_surface, deformed_mesh, normals=NORMAL_MODE_NAMES[_D["Norm
     >>> deformed_surface = hoembed.transfer(embedded, deformed_mesh)
     """
     mode = transfer_arguments(embedded_surface, deformed_mesh, normals)
-    pn_mode = point_normals_argument("transfer", compute_point_normals,
-                                     POINT_NORMALS_MODE_NAMES[_D["PointNormalsMode"]])
+    pn_mode = point_normals_argument(
+        "transfer", compute_point_normals, POINT_NORMALS_MODE_NAMES[_D["PointNormalsMode"]]
+    )
     plan = TransferPlan(embedded_surface, deformed_mesh, mode)
     mesh = deformed_mesh
     mpd = mesh.GetPointData()
-    nrm = None if pn_mode is None else \
-        np.empty((embedded_surface.GetNumberOfPoints(), 3), dtype=np.float32)
-    frame_warnings = plan.evaluate(mesh.GetPoints().GetData(), mpd.GetArray(N.Displacement),
-                                   mpd.GetArray(N.NodalRotation), nrm, pn_mode or 0)
+    nrm = (
+        None
+        if pn_mode is None
+        else np.empty((embedded_surface.GetNumberOfPoints(), 3), dtype=np.float32)
+    )
+    frame_warnings = plan.evaluate(
+        mesh.GetPoints().GetData(),
+        mpd.GetArray(N.Displacement),
+        mpd.GetArray(N.NodalRotation),
+        nrm,
+        pn_mode or 0,
+    )
     if warnings is not None:
         warnings.extend(f"transfer: {w}" for w in frame_warnings)
     out = plan.output(False)
@@ -128,29 +148,56 @@ class TransferPlan:
         fd, pd = surface.GetFieldData(), surface.GetPointData()
         method = _field_string(fd, N.EmbeddingMethod)
         nv = surface.GetNumberOfPoints()
-        cell_ids, pcoords, dist, faces, fallback = (pd.GetArray(name) for name in (
-            N.EmbeddingCellId, N.EmbeddingParametricCoords, N.EmbeddingDistance,
-            N.EmbeddingFace, N.EmbeddingFallbackOffset))
+        cell_ids, pcoords, dist, faces, fallback = (
+            pd.GetArray(name)
+            for name in (
+                N.EmbeddingCellId,
+                N.EmbeddingParametricCoords,
+                N.EmbeddingDistance,
+                N.EmbeddingFace,
+                N.EmbeddingFallbackOffset,
+            )
+        )
         try:
             use_dist, use_faces, use_fallback = driver.check_surface(
-                nv, method, _field_string(fd, N.EmbeddingMeshFingerprint), _shape(cell_ids),
-                _shape(pcoords), _shape(dist), _shape(faces), _shape(fallback))
+                nv,
+                method,
+                _field_string(fd, N.EmbeddingMeshFingerprint),
+                _shape(cell_ids),
+                _shape(pcoords),
+                _shape(dist),
+                _shape(faces),
+                _shape(fallback),
+            )
         except RuntimeError as e:
             _fail(e)
         d = _arrays.doubles
-        float_out = surface.GetPoints() is not None and \
-            surface.GetPoints().GetDataType() == VTK_FLOAT
+        float_out = (
+            surface.GetPoints() is not None and surface.GetPoints().GetDataType() == VTK_FLOAT
+        )
         self.points = np.empty((nv, 3), dtype=np.float32 if float_out else np.float64)
         try:
-            driver.build_plan(method, d(cell_ids), d(pcoords), d(dist) if use_dist else None,
-                              d(faces) if use_faces else None,
-                              d(fallback) if use_fallback else None,
-                              _D["FaceTolerance"], mesh.GetLength())
+            driver.build_plan(
+                method,
+                d(cell_ids),
+                d(pcoords),
+                d(dist) if use_dist else None,
+                d(faces) if use_faces else None,
+                d(fallback) if use_fallback else None,
+                _D["FaceTolerance"],
+                mesh.GetLength(),
+            )
         except RuntimeError as e:
             _fail(e)
 
-    def evaluate(self, points, displacements=None, rotations=None, point_normals=None,
-                 point_normals_mode=_D["PointNormalsMode"]):
+    def evaluate(
+        self,
+        points,
+        displacements=None,
+        rotations=None,
+        point_normals=None,
+        point_normals_mode=_D["PointNormalsMode"],
+    ):
         """The deformed surface points into self.points for the mesh's deformed `points`
         (a VTK data array or an (n, 3) array) and, when the normal modes read them, its
         Displacement and NodalRotation (VTK arrays, arrays or None). With
@@ -159,17 +206,23 @@ class TransferPlan:
         transform sets the rest surface points once). Returns the driver's warnings."""
         d = _arrays.doubles
         # without point normals the frame reads no more than recompute's (nothing extra)
-        mode = point_normals_mode if point_normals is not None else \
-            POINT_NORMALS_MODES["recompute"]
+        mode = point_normals_mode if point_normals is not None else POINT_NORMALS_MODES["recompute"]
         if point_normals is not None:
             self._prepare_normals(mode)
         use_disp, use_rot = TransferDriver.frame_arrays_used(
-            self.mode, self.nmp, _shape(displacements), _shape(rotations), mode)
+            self.mode, self.nmp, _shape(displacements), _shape(rotations), mode
+        )
         try:
             return self.driver.evaluate_frame(
-                d(points), self.mode, d(displacements) if use_disp else None,
-                d(rotations) if use_rot else None, _D["CheckInvertedElements"], self.points,
-                point_normals, mode)
+                d(points),
+                self.mode,
+                d(displacements) if use_disp else None,
+                d(rotations) if use_rot else None,
+                _D["CheckInvertedElements"],
+                self.points,
+                point_normals,
+                mode,
+            )
         except RuntimeError as e:
             _fail(e)
 
