@@ -164,13 +164,13 @@ int main(int, char*[])
     }
     const double nan = std::numeric_limits<double>::quiet_NaN();
     mesher->SetRadiusEdgeRatio(nan);
-    ExpectMeshError(mesher, sphere, "RadiusEdgeRatio is nan");
+    ExpectMeshError(mesher, sphere, "RadiusEdgeRatio must be in [1.05, 100] (got nan).");
     mesher->SetRadiusEdgeRatio(1.5);
     mesher->SetMinDihedralAngle(nan);
-    ExpectMeshError(mesher, sphere, "MinDihedralAngle is nan");
+    ExpectMeshError(mesher, sphere, "MinDihedralAngle must be in [0, 30] (got nan).");
     mesher->SetMinDihedralAngle(10.0);
     mesher->SetTargetEdgeLength(nan);
-    ExpectMeshError(mesher, sphere, "TargetEdgeLength is nan");
+    ExpectMeshError(mesher, sphere, "TargetEdgeLength must be >= 0 (got nan).");
     mesher->SetTargetEdgeLength(0.0);
 
     mesher->SetTargetNumberOfElements(10000000);
