@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 APT_PACKAGES=(build-essential cmake ninja-build pkg-config
   libvtk9-dev python3-vtk9 libeigen3-dev libsuitesparse-dev libcgal-dev
   python3 python3-dev python3-venv python3-pip python3-numpy python3-scipy python3-matplotlib
-  python3-pil xvfb xauth patch clang-format)
+  python3-pil xvfb xauth patch clang-format libceres-dev)
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
