@@ -1,9 +1,11 @@
 """The Python examples run and write what they say (the VTK-pipeline one and the pyvista one)."""
 
+import json
 import pathlib
 import subprocess
 import sys
 
+import pytest
 import pyvista as pv
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "Examples" / "Python"
@@ -45,3 +47,27 @@ def test_pyvista_pipeline_example(tmp_path):
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "surface.pvd").is_file() and (tmp_path / "fe_mesh.pvd").is_file()
     assert "tet10 elements" in out.stdout
+
+
+def test_lagrange_fe_result_example(tmp_path):
+    """gmsh's curved P2 mesh, scikit-fem's solution on it, written as VTK Lagrange
+    tetrahedra: the embedding is exact, the transfer at rest is the identity, and inside the
+    mesh the transfer equals VTK's own vtkProbeFilter of the displacement field."""
+    pytest.importorskip("gmsh", reason="the gmsh wheel is not installed (scripts/setup.sh)")
+    pytest.importorskip("skfem", reason="scikit-fem is not installed (scripts/setup.sh)")
+    out = subprocess.run(
+        [sys.executable, str(EXAMPLES / "lagrange_fe_result.py"), "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    assert out.returncode == 0, out.stderr
+    summary = json.loads(out.stdout.strip().splitlines()[-1])
+    assert summary["cells"] > 300 and summary["surface_vertices"] > 10000
+    assert summary["residual"] <= 1e-10
+    assert summary["rest_move"] <= 1e-10
+    # most of the fine surface lies just inside the curved P2 boundary
+    assert summary["inside"] > summary["surface_vertices"] / 4
+    assert summary["probed"] > 0.9 * summary["inside"]
+    assert summary["probe_difference"] <= 1e-8
+    assert (tmp_path / "lagrange_fe_result.png").stat().st_size > 10000
