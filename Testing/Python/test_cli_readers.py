@@ -184,7 +184,7 @@ def test_run_on_strip_ply_and_glb(tmp_path):
                 str(tmp_path / f.suffix[1:]),
             ],
             capture_output=True,
-            text=True,
+            encoding="utf-8",
             timeout=600,
         )
         assert out.returncode == 0, out.stderr

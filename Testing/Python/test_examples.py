@@ -15,7 +15,7 @@ def test_vtk_pipeline_example(tmp_path):
     out = subprocess.run(
         [sys.executable, str(EXAMPLES / "vtk_pipeline.py"), str(tmp_path)],
         capture_output=True,
-        text=True,
+        encoding="utf-8",
         timeout=600,
     )
     assert out.returncode == 0, out.stderr
@@ -41,7 +41,7 @@ def test_pyvista_pipeline_example(tmp_path):
             str(tmp_path),
         ],
         capture_output=True,
-        text=True,
+        encoding="utf-8",
         timeout=600,
     )
     assert out.returncode == 0, out.stderr
@@ -58,7 +58,7 @@ def test_lagrange_fe_result_example(tmp_path):
     out = subprocess.run(
         [sys.executable, str(EXAMPLES / "lagrange_fe_result.py"), "--out", str(tmp_path)],
         capture_output=True,
-        text=True,
+        encoding="utf-8",
         timeout=900,
     )
     assert out.returncode == 0, out.stderr

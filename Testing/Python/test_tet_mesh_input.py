@@ -34,7 +34,7 @@ def run_isolated(body):
     proc = subprocess.run(
         [sys.executable, "-c", src],
         capture_output=True,
-        text=True,
+        encoding="utf-8",
         timeout=300,
         env=dict(os.environ),
     )
