@@ -25,15 +25,20 @@ output arrays of the transfer, the polygon and incidence arrays of the recompute
 normals, the factor and the matrix of the step's CG), against the stream bandwidth of
 this machine measured in the same run (a numpy copy of 256 MB: read + write).
 
+Overlap (LiveSession(overlap=True), off in `hoembed live`): the step of the next frame on
+a second thread while this frame is transferred; on 2 threads, --overlap-rounds rounds of
+an overlapped pass and a sequential pass, alternated (frame_ms_overlap: the overlapped
+median; overlap_speedup: the sequential peer's median over it).
+
 Grab and release (--grab-repeats, default 3 per mode): from rest, a grab of the tip, a
 drag of --drag-frames frames, a release and 30 free frames, on 2 threads, alternately
 with the stepper's BackgroundFactorization off (the synchronous refactorisation at the
-grab and at the release: the peer) and on; per kind of frame (grab, drag, release, free)
+grab and at the release: the peer) and on (as `hoembed live` runs); per kind of frame (grab, drag, release, free)
 the median and maximum wall time and the CG iterations, and after how many frames the
 grab's own factor was taken.
 
     .venv/bin/python Benchmarks/bench_live.py [--frames 60] [--vertices 1000000]
-        [--grab-repeats 3] [--drag-frames 60] [--passes 1,2] [--point-normals transform]
+        [--grab-repeats 3] [--drag-frames 60] [--overlap-rounds 2] [--passes 1,2] [--point-normals transform]
         [--float-points] [--save DIR]
 
 After the 2-thread passes, the last frame of the drag is transferred with both kinds of
@@ -90,7 +95,7 @@ def run_pass(session, frames, app=None):
         session.drag(p)
         c0, t0 = time.process_time(), time.perf_counter()
         if app is None:
-            stages = session.step()
+            stages = session.step()  # with overlap: the step ran beside the transfer
         else:
             app.tick()
             stages = dict(app.stages)
@@ -246,6 +251,12 @@ def main():
     )
     ap.add_argument("--drag-frames", type=int, default=60)
     ap.add_argument(
+        "--overlap-rounds",
+        type=int,
+        default=2,
+        help="2 threads: rounds of (overlap, sequential) passes, alternated",
+    )
+    ap.add_argument(
         "--passes", default="1,2", help="thread counts of the frame-time passes ('' for none)"
     )
     ap.add_argument(
@@ -317,7 +328,17 @@ def main():
             summarise(rows, skip)
         )
         result["grabbed_nodes"] = grabbed
-        if threads == 2:  # the other point normals mode, beside it
+        if threads == 2:  # LiveSession(overlap=True) against the sequential loop, alternated
+            # with the sequential one: rounds of (sequential, overlap) passes
+            seq, ovl = [], []
+            for _ in range(args.overlap_rounds):
+                session.overlap = True
+                ovl += run_pass(session, args.frames)[0][skip:]
+                session.overlap = False
+                seq += run_pass(session, args.frames)[0][skip:]
+            result["passes"]["2 threads, overlap"] = summarise(ovl, 0)
+            result["passes"]["2 threads, sequential beside overlap"] = summarise(seq, 0)
+            # the other point normals mode, beside it
             other = next(m for m in modes if m != args.point_normals)
             session.point_normals = other
             rows, _ = run_pass(session, args.frames)
@@ -373,6 +394,12 @@ def main():
         two = passes["2 threads"]
         bare = passes["2 threads, no point normals"]
         result["frame_ms"] = two["wall"]["median_ms"]
+        if "2 threads, overlap" in passes:
+            # LiveSession(overlap=True): the next frame's step beside this one's transfer
+            ovl = passes["2 threads, overlap"]["wall"]["median_ms"]
+            peer = passes["2 threads, sequential beside overlap"]["wall"]["median_ms"]
+            result["frame_ms_overlap"] = ovl
+            result["overlap_speedup"] = peer / ovl
         result["frame_cpu_ms"] = two["cpu"]["median_ms"]
         if "1 thread" in passes:
             result["frame_ms_1_thread"] = passes["1 thread"]["wall"]["median_ms"]
@@ -424,6 +451,8 @@ def main():
     # the last line: the figures of the issue, in one object (bench_live.json has all)
     keys = (
         "frame_ms",
+        "frame_ms_overlap",
+        "overlap_speedup",
         "vertices",
         "elements",
         "point_normals",

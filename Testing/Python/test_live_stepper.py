@@ -394,3 +394,62 @@ def test_grab_release_with_background_factorization_matches_linear_backward_eule
     assert np.linalg.norm(u) > 0
     if lag == 1:
         assert background >= 2
+
+
+def test_live_session_overlap_shows_the_same_frames_one_call_late():
+    # LiveSession(overlap=True) steps the next frame on a second thread while the
+    # transfer draws this one: each step() shows what the sequential session showed one
+    # call before (the FE nodes, the fine surface, its point normals, the time), through
+    # free frames, a grab, a drag, a release and a reset. To round-off only: two
+    # sequential sessions alike differ by ~3e-15 after a few frames (the stepper's
+    # reductions depend on where its vectors lie in memory).
+    from hoembed.live import LiveSession, prepare
+
+    surface = hoembed.thorny_tail(rings=60, sectors=24)
+    _, fe, emb, clamp = prepare(surface, n_elements=200, progress=False)
+    seq = LiveSession(fe, emb, fixed=clamp, background_factorization=False)
+    ovl = LiveSession(fe, emb, fixed=clamp, background_factorization=False, overlap=True)
+    assert not seq.overlap and ovl.overlap
+    # the transfer writes the surface's own points (no copy per frame)
+    assert np.shares_memory(ovl.transfer.points, np.asarray(ovl.surface.points))
+    size = np.ptp(np.asarray(fe.points), axis=0).max()
+
+    def shown(s):
+        return (
+            np.array(s.positions()),
+            np.array(s.surface.points),
+            np.array(s.surface.point_data["Normals"]),
+            s.time,
+        )
+
+    def same(a, b, label):
+        np.testing.assert_allclose(a[0], b[0], rtol=0, atol=1e-12 * size, err_msg=label)
+        np.testing.assert_allclose(a[1], b[1], rtol=0, atol=1e-12 * size, err_msg=label)
+        np.testing.assert_allclose(a[2], b[2], rtol=0, atol=1e-6, err_msg=label)
+        assert a[3] == b[3], label
+
+    same(shown(ovl), shown(seq), "rest")
+    tip = seq.positions()[np.argmax(seq.positions()[:, 0])]
+    moved = 0.0
+    before = shown(seq)
+    for k in range(14):
+        if k == 2:
+            for s in (seq, ovl):
+                s.grab(tip)
+        if 2 <= k < 9:
+            for s in (seq, ovl):
+                s.drag(tip + np.array([0.0, 0.1 * (k - 1), 0.05 * (k - 1)]))
+        if k == 9:
+            for s in (seq, ovl):
+                s.release()
+        seq.step()
+        stages = ovl.step()
+        assert set(stages) >= {"step", "transfer", "frame"}
+        same(shown(ovl), before, f"frame {k}")
+        before = shown(seq)
+        moved = max(moved, np.abs(before[1] - np.asarray(emb.points)).max())
+    assert moved > 0.1 * size  # dragged frames, not the rest state
+    for s in (seq, ovl):
+        s.reset()
+    same(shown(ovl), shown(seq), "reset")
+    assert ovl.time == 0.0
