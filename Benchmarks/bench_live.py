@@ -22,7 +22,10 @@ software renderer, not what a GPU does) a further pass times the window's whole 
 
 Bytes per frame: what each stage must read and write at the least (the plan and the
 output arrays of the transfer, the polygon and incidence arrays of the recomputed
-normals, the factor and the matrix of the step's CG), against the stream bandwidth of
+normals; for the step, the solver's own count (stepper.traffic: the element matrices
+read and the step matrix written by the assembly, the matrix per CG product, the factor
+per preconditioner application) times the mean products and applications per step),
+against the stream bandwidth of
 this machine measured in the same run (a numpy copy of 256 MB: read + write).
 
 Overlap (LiveSession(overlap=True), off in `hoembed live`): the step of the next frame on
@@ -33,13 +36,13 @@ median; overlap_speedup: the sequential peer's median over it).
 Grab and release (--grab-repeats, default 3 per mode): from rest, a grab of the tip, a
 drag of --drag-frames frames, a release and 30 free frames, on 2 threads, alternately
 with the stepper's BackgroundFactorization off (the synchronous refactorisation at the
-grab and at the release: the peer) and on (as `hoembed live` runs); per kind of frame (grab, drag, release, free)
-the median and maximum wall time and the CG iterations, and after how many frames the
-grab's own factor was taken.
+grab and at the release: the peer) and on (as `hoembed live` runs); per kind of frame
+(grab, drag, release, free) the median and maximum wall time and the CG iterations, and
+after how many frames the grab's own factor was taken.
 
     .venv/bin/python Benchmarks/bench_live.py [--frames 60] [--vertices 1000000]
-        [--grab-repeats 3] [--drag-frames 60] [--overlap-rounds 2] [--passes 1,2] [--point-normals transform]
-        [--float-points] [--save DIR]
+        [--grab-repeats 3] [--drag-frames 60] [--overlap-rounds 2] [--passes 1,2]
+        [--point-normals transform] [--float-points] [--save DIR]
 
 After the 2-thread passes, the last frame of the drag is transferred with both kinds of
 point normals and the angle between them reported (normals_angle_deg: median, 99th and
@@ -413,6 +416,16 @@ def main():
         result[f"frame_ms_{other}_normals"] = o["wall"]["median_ms"]
         result[f"normals_ms_{other}"] = o["transfer"]["median_ms"] - bare["transfer"]["median_ms"]
         moved = frame_bytes(fine, point_bytes)
+        # the step: the solver's least bytes per product, preconditioner application and
+        # assembly (stepper.traffic), times the CG's counts per step (the projection's
+        # products, then one product and one application per iteration)
+        tr = session.stepper.traffic
+        it = two["iterations_mean"]
+        moved["step"] = int(
+            (tr["guess_products"] + it) * tr["product_bytes"]
+            + it * tr["preconditioner_bytes"]
+            + tr["assembly_bytes"]
+        )
         result["bytes_per_frame"] = moved
         result["stream_ms_per_frame"] = {k: 1e3 * v / bandwidth for k, v in moved.items()}
     if "grab_release" in result:

@@ -453,3 +453,33 @@ def test_live_session_overlap_shows_the_same_frames_one_call_late():
         s.reset()
     same(shown(ovl), shown(seq), "reset")
     assert ovl.time == 0.0
+
+
+@pytest.mark.parametrize("n_elements", [200, 1500])
+def test_stepper_traffic_counts_the_mesh(n_elements):
+    # stepper.traffic (the bytes bench_live.py sets against the stream bandwidth) against
+    # the mesh counted here: the node pairs sharing a cell are the blocks of the step
+    # matrix (9 doubles each) and the entries of the scalar mass (a double and an index
+    # each); below 1000 cells the products go element by element (30 x 30 doubles each)
+    from hoembed.live import LiveSession, prepare
+
+    surface = hoembed.thorny_tail(rings=60, sectors=24)
+    _, fe, emb, clamp = prepare(surface, n_elements=n_elements, progress=False)
+    s = LiveSession(fe, emb, fixed=clamp, background_factorization=False)
+    cells = fe.cell_connectivity.reshape(fe.n_cells, -1)
+    n, npc = fe.n_points, cells.shape[1]
+    pairs = np.unique((cells[:, :, None] * n + cells[:, None, :]).ravel()).size
+    mass = 12 * pairs + 4 * (n + 1)
+    ke = fe.n_cells * (3 * npc) ** 2 * 8
+    s.step()
+    t = s.stepper.traffic
+    if fe.n_cells >= 1000:
+        assert t["product_bytes"] == 72 * pairs + mass
+        assert t["assembly_bytes"] == ke + 72 * pairs
+        assert t["guess_products"] == 4
+    else:
+        assert t["product_bytes"] == ke + mass
+        assert t["assembly_bytes"] == 0 and t["guess_products"] == 0
+    # a factor of the free DOFs: at least its diagonal blocks, at most a dense lower half
+    free = 3 * int((~clamp).sum())
+    assert 2 * 9 * 8 * (free // 3) < t["preconditioner_bytes"] < 8 * free * free
