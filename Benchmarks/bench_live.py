@@ -260,6 +260,12 @@ def main():
         help="2 threads: rounds of (overlap, sequential) passes, alternated",
     )
     ap.add_argument(
+        "--solver-tolerance",
+        type=float,
+        default=None,
+        help="the session's solver_tolerance (default: the stepper's SolverTolerance)",
+    )
+    ap.add_argument(
         "--passes", default="1,2", help="thread counts of the frame-time passes ('' for none)"
     )
     ap.add_argument(
@@ -301,7 +307,11 @@ def main():
         # transform mode are then those of the rounded points, as the filter's)
         embedded.points = np.asarray(embedded.points, dtype=np.float32)
     session = LiveSession(
-        fe, embedded, fixed=default_clamp(fe, builtin=True), point_normals=args.point_normals
+        fe,
+        embedded,
+        fixed=default_clamp(fe, builtin=True),
+        point_normals=args.point_normals,
+        solver_tolerance=args.solver_tolerance,
     )
     modes = ("recompute", "transform")
     point_bytes = session.transfer.points.dtype.itemsize
@@ -315,6 +325,7 @@ def main():
         "setup_s": setup,
         "load_average_start": load_start,
         "point_normals": args.point_normals,
+        "solver_tolerance": args.solver_tolerance,  # None: the stepper's default
         "output_point_bytes": point_bytes,
         "stream_bandwidth_GBps": bandwidth / 1e9,
         "passes": {},
@@ -407,6 +418,7 @@ def main():
         if "1 thread" in passes:
             result["frame_ms_1_thread"] = passes["1 thread"]["wall"]["median_ms"]
         result["step_ms"] = two["step"]["median_ms"]
+        result["iterations_mean"] = two["iterations_mean"]
         result["solve_ms"] = two["solve"]["median_ms"]
         result["assembly_ms"] = two["assembly"]["median_ms"]
         result["transfer_ms"] = bare["transfer"]["median_ms"]
@@ -472,6 +484,8 @@ def main():
         "step_ms",
         "solve_ms",
         "assembly_ms",
+        "iterations_mean",
+        "solver_tolerance",
         "transfer_ms",
         "normals_ms",
         "frame_ms_recompute_normals",

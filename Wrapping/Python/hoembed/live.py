@@ -113,6 +113,9 @@ class LiveSession:
         a drag or a release acts on the frame after the next). Default off (each
         ``step()`` shows its own step): on the shared 2-core machine it did not pay
         (Benchmarks/RESULTS.md, live loop).
+    solver_tolerance : float, optional
+        The stepper's SolverTolerance (default: the stepper's own); a looser one takes
+        fewer CG iterations per frame (Benchmarks/RESULTS.md, live loop).
     background_factorization : bool
         The stepper's BackgroundFactorization (default on): a grab or a release is
         stepped at once while the new factorisation runs on a thread, instead of a frame
@@ -137,6 +140,7 @@ class LiveSession:
         point_normals="transform",
         background_factorization=True,
         overlap=False,
+        solver_tolerance=None,
     ):
         self.fe_rest = pyvista.wrap(fe_mesh).copy()
         n = self.fe_rest.n_points
@@ -167,7 +171,7 @@ class LiveSession:
             rayleigh_mass,
             rayleigh_stiffness,
             1,
-            _STEPPER["SolverTolerance"],
+            _STEPPER["SolverTolerance"] if solver_tolerance is None else solver_tolerance,
             None,
         )
         speed = 0.5 * self.h / self.dt if speed_limit is None else float(speed_limit)
