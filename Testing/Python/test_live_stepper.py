@@ -483,3 +483,27 @@ def test_stepper_traffic_counts_the_mesh(n_elements):
     # a factor of the free DOFs: at least its diagonal blocks, at most a dense lower half
     free = 3 * int((~clamp).sum())
     assert 2 * 9 * 8 * (free // 3) < t["preconditioner_bytes"] < 8 * free * free
+
+
+def test_live_session_solver_tolerance_reaches_the_stepper():
+    # LiveSession(solver_tolerance=...) is the stepper's SolverTolerance: a tight one
+    # takes more CG iterations on the same dragged frames than a loose one, and a bad one
+    # is refused with the stepper's range sentence
+    from hoembed._errors import HOEmbedError
+    from hoembed.live import LiveSession, prepare
+
+    surface = hoembed.thorny_tail(rings=60, sectors=24)
+    _, fe, emb, clamp = prepare(surface, n_elements=200, progress=False)
+    its = {}
+    for tol in (1e-10, 1e-2):
+        s = LiveSession(fe, emb, fixed=clamp, background_factorization=False, solver_tolerance=tol)
+        tip = s.positions()[np.argmax(s.positions()[:, 0])]
+        s.grab(tip)
+        its[tol] = 0
+        for k in range(5):
+            s.drag(tip + np.array([0.0, 0.1 * (k + 1), 0.05 * (k + 1)]))
+            s.step()
+            its[tol] += s.stepper.timings["iterations"]
+    assert its[1e-10] > its[1e-2] > 0, its
+    with pytest.raises((HOEmbedError, ValueError), match="SolverTolerance"):
+        LiveSession(fe, emb, fixed=clamp, solver_tolerance=-1.0)
