@@ -108,9 +108,9 @@ class LiveSession:
         area-weighted normals; Benchmarks/RESULTS.md). False: none.
     overlap : bool
         Step the next frame on a second thread while the transfer draws this one.
-        ``step()`` then shows the state the
-        previous ``step()`` computed: the same frames, bit for bit, one call late (a grab,
-        a drag or a release acts on the frame after the next). Default off (each
+        ``step()`` then shows the state the previous ``step()`` computed: the same
+        frames (to the stepper's own run-to-run round-off), one call late (a grab, a
+        drag or a release acts on the frame after the next). Default off (each
         ``step()`` shows its own step): on the shared 2-core machine it did not pay
         (Benchmarks/RESULTS.md, live loop).
     solver_tolerance : float, optional
