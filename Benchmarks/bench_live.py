@@ -22,19 +22,27 @@ software renderer, not what a GPU does) a further pass times the window's whole 
 
 Bytes per frame: what each stage must read and write at the least (the plan and the
 output arrays of the transfer, the polygon and incidence arrays of the recomputed
-normals, the factor and the matrix of the step's CG), against the stream bandwidth of
+normals; for the step, the solver's own count (stepper.traffic: the element matrices
+read and the step matrix written by the assembly, the matrix per CG product, the factor
+per preconditioner application) times the mean products and applications per step),
+against the stream bandwidth of
 this machine measured in the same run (a numpy copy of 256 MB: read + write).
+
+Overlap (LiveSession(overlap=True), off in `hoembed live`): the step of the next frame on
+a second thread while this frame is transferred; on 2 threads, --overlap-rounds rounds of
+an overlapped pass and a sequential pass, alternated (frame_ms_overlap: the overlapped
+median; overlap_speedup: the sequential peer's median over it).
 
 Grab and release (--grab-repeats, default 3 per mode): from rest, a grab of the tip, a
 drag of --drag-frames frames, a release and 30 free frames, on 2 threads, alternately
 with the stepper's BackgroundFactorization off (the synchronous refactorisation at the
-grab and at the release: the peer) and on; per kind of frame (grab, drag, release, free)
-the median and maximum wall time and the CG iterations, and after how many frames the
-grab's own factor was taken.
+grab and at the release: the peer) and on (as `hoembed live` runs); per kind of frame
+(grab, drag, release, free) the median and maximum wall time and the CG iterations, and
+after how many frames the grab's own factor was taken.
 
     .venv/bin/python Benchmarks/bench_live.py [--frames 60] [--vertices 1000000]
-        [--grab-repeats 3] [--drag-frames 60] [--passes 1,2] [--point-normals transform]
-        [--float-points] [--save DIR]
+        [--grab-repeats 3] [--drag-frames 60] [--overlap-rounds 2] [--passes 1,2]
+        [--point-normals transform] [--float-points] [--save DIR]
 
 After the 2-thread passes, the last frame of the drag is transferred with both kinds of
 point normals and the angle between them reported (normals_angle_deg: median, 99th and
@@ -90,7 +98,7 @@ def run_pass(session, frames, app=None):
         session.drag(p)
         c0, t0 = time.process_time(), time.perf_counter()
         if app is None:
-            stages = session.step()
+            stages = session.step()  # with overlap: the step ran beside the transfer
         else:
             app.tick()
             stages = dict(app.stages)
@@ -246,6 +254,18 @@ def main():
     )
     ap.add_argument("--drag-frames", type=int, default=60)
     ap.add_argument(
+        "--overlap-rounds",
+        type=int,
+        default=2,
+        help="2 threads: rounds of (overlap, sequential) passes, alternated",
+    )
+    ap.add_argument(
+        "--solver-tolerance",
+        type=float,
+        default=None,
+        help="the session's solver_tolerance (default: the stepper's SolverTolerance)",
+    )
+    ap.add_argument(
         "--passes", default="1,2", help="thread counts of the frame-time passes ('' for none)"
     )
     ap.add_argument(
@@ -287,7 +307,11 @@ def main():
         # transform mode are then those of the rounded points, as the filter's)
         embedded.points = np.asarray(embedded.points, dtype=np.float32)
     session = LiveSession(
-        fe, embedded, fixed=default_clamp(fe, builtin=True), point_normals=args.point_normals
+        fe,
+        embedded,
+        fixed=default_clamp(fe, builtin=True),
+        point_normals=args.point_normals,
+        solver_tolerance=args.solver_tolerance,
     )
     modes = ("recompute", "transform")
     point_bytes = session.transfer.points.dtype.itemsize
@@ -301,6 +325,7 @@ def main():
         "setup_s": setup,
         "load_average_start": load_start,
         "point_normals": args.point_normals,
+        "solver_tolerance": args.solver_tolerance,  # None: the stepper's default
         "output_point_bytes": point_bytes,
         "stream_bandwidth_GBps": bandwidth / 1e9,
         "passes": {},
@@ -317,7 +342,17 @@ def main():
             summarise(rows, skip)
         )
         result["grabbed_nodes"] = grabbed
-        if threads == 2:  # the other point normals mode, beside it
+        if threads == 2:  # LiveSession(overlap=True) against the sequential loop, alternated
+            # with the sequential one: rounds of (sequential, overlap) passes
+            seq, ovl = [], []
+            for _ in range(args.overlap_rounds):
+                session.overlap = True
+                ovl += run_pass(session, args.frames)[0][skip:]
+                session.overlap = False
+                seq += run_pass(session, args.frames)[0][skip:]
+            result["passes"]["2 threads, overlap"] = summarise(ovl, 0)
+            result["passes"]["2 threads, sequential beside overlap"] = summarise(seq, 0)
+            # the other point normals mode, beside it
             other = next(m for m in modes if m != args.point_normals)
             session.point_normals = other
             rows, _ = run_pass(session, args.frames)
@@ -373,10 +408,17 @@ def main():
         two = passes["2 threads"]
         bare = passes["2 threads, no point normals"]
         result["frame_ms"] = two["wall"]["median_ms"]
+        if "2 threads, overlap" in passes:
+            # LiveSession(overlap=True): the next frame's step beside this one's transfer
+            ovl = passes["2 threads, overlap"]["wall"]["median_ms"]
+            peer = passes["2 threads, sequential beside overlap"]["wall"]["median_ms"]
+            result["frame_ms_overlap"] = ovl
+            result["overlap_speedup"] = peer / ovl
         result["frame_cpu_ms"] = two["cpu"]["median_ms"]
         if "1 thread" in passes:
             result["frame_ms_1_thread"] = passes["1 thread"]["wall"]["median_ms"]
         result["step_ms"] = two["step"]["median_ms"]
+        result["iterations_mean"] = two["iterations_mean"]
         result["solve_ms"] = two["solve"]["median_ms"]
         result["assembly_ms"] = two["assembly"]["median_ms"]
         result["transfer_ms"] = bare["transfer"]["median_ms"]
@@ -386,6 +428,16 @@ def main():
         result[f"frame_ms_{other}_normals"] = o["wall"]["median_ms"]
         result[f"normals_ms_{other}"] = o["transfer"]["median_ms"] - bare["transfer"]["median_ms"]
         moved = frame_bytes(fine, point_bytes)
+        # the step: the solver's least bytes per product, preconditioner application and
+        # assembly (stepper.traffic), times the CG's counts per step (the projection's
+        # products, then one product and one application per iteration)
+        tr = session.stepper.traffic
+        it = two["iterations_mean"]
+        moved["step"] = int(
+            (tr["guess_products"] + it) * tr["product_bytes"]
+            + it * tr["preconditioner_bytes"]
+            + tr["assembly_bytes"]
+        )
         result["bytes_per_frame"] = moved
         result["stream_ms_per_frame"] = {k: 1e3 * v / bandwidth for k, v in moved.items()}
     if "grab_release" in result:
@@ -424,12 +476,16 @@ def main():
     # the last line: the figures of the issue, in one object (bench_live.json has all)
     keys = (
         "frame_ms",
+        "frame_ms_overlap",
+        "overlap_speedup",
         "vertices",
         "elements",
         "point_normals",
         "step_ms",
         "solve_ms",
         "assembly_ms",
+        "iterations_mean",
+        "solver_tolerance",
         "transfer_ms",
         "normals_ms",
         "frame_ms_recompute_normals",

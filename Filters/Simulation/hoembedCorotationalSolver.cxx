@@ -845,6 +845,39 @@ const CorotationalSolver::Timings& CorotationalSolver::GetTimings() const
   return this->P->T;
 }
 
+CorotationalSolver::Traffic CorotationalSolver::GetTraffic() const
+{
+  const Impl& I = *this->P;
+  Traffic t;
+  const long long ke = static_cast<long long>(I.Ke.size()) * 8;
+  const long long mass = static_cast<long long>(I.MN.nonZeros()) * (8 + 4) + (I.NP + 1) * 4;
+  if (I.Assembled())
+  {
+    const long long blocks = static_cast<long long>(I.S.size()) * 8;
+    t.ProductBytes = blocks + mass;
+    t.AssemblyBytes = ke + blocks;
+  }
+  else
+  {
+    t.ProductBytes = ke + mass;
+  }
+  if (I.Cur)
+  {
+    const auto factor = [](const auto& f) {
+      // Val and Row read by the forward and the backward solve; the diagonal once each
+      return 2 *
+        (static_cast<long long>(f.Val.size()) * sizeof(f.Val[0]) +
+          static_cast<long long>(f.Row.size()) * 4) +
+        2 * static_cast<long long>(f.DiagInv.size()) * 8;
+    };
+    t.PreconditionerBytes = !I.Large() ? factor(I.Cur->SmallBlocks)
+      : I.Cur->UseLargeBlocks          ? factor(I.Cur->LargeBlocks)
+                                       : 0; // CHOLMOD's own solve: not estimated
+  }
+  t.GuessProducts = I.GuessDepth();
+  return t;
+}
+
 void CorotationalSolver::ResetTimings()
 {
   this->P->T = Timings();

@@ -153,6 +153,20 @@ public:
     double BackgroundFactorization = 0.0; ///< the worker's seconds for the jobs finished
   };
 
+  /// Bytes one step's CG reads at the least (arrays read once, vectors not counted):
+  /// per product with the step matrix (its blocks, or the element matrices on small
+  /// meshes; the mass), per preconditioner application (the factor in use, both
+  /// triangular solves), per assembly (the element matrices read, the blocks written),
+  /// and the products of the initial-guess projection (GuessProducts per step).
+  struct Traffic
+  {
+    long long ProductBytes = 0;
+    long long PreconditionerBytes = 0;
+    long long AssemblyBytes = 0;
+    int GuessProducts = 0;
+  };
+  Traffic GetTraffic() const;
+
   CorotationalSolver();
   ~CorotationalSolver();
   CorotationalSolver(const CorotationalSolver&) = delete;

@@ -394,3 +394,116 @@ def test_grab_release_with_background_factorization_matches_linear_backward_eule
     assert np.linalg.norm(u) > 0
     if lag == 1:
         assert background >= 2
+
+
+def test_live_session_overlap_shows_the_same_frames_one_call_late():
+    # LiveSession(overlap=True) steps the next frame on a second thread while the
+    # transfer draws this one: each step() shows what the sequential session showed one
+    # call before (the FE nodes, the fine surface, its point normals, the time), through
+    # free frames, a grab, a drag, a release and a reset. To round-off only: two
+    # sequential sessions alike differ by ~3e-15 after a few frames (the stepper's
+    # reductions depend on where its vectors lie in memory).
+    from hoembed.live import LiveSession, prepare
+
+    surface = hoembed.thorny_tail(rings=60, sectors=24)
+    _, fe, emb, clamp = prepare(surface, n_elements=200, progress=False)
+    seq = LiveSession(fe, emb, fixed=clamp, background_factorization=False)
+    ovl = LiveSession(fe, emb, fixed=clamp, background_factorization=False, overlap=True)
+    assert not seq.overlap and ovl.overlap
+    # the transfer writes the surface's own points (no copy per frame)
+    assert np.shares_memory(ovl.transfer.points, np.asarray(ovl.surface.points))
+    size = np.ptp(np.asarray(fe.points), axis=0).max()
+
+    def shown(s):
+        return (
+            np.array(s.positions()),
+            np.array(s.surface.points),
+            np.array(s.surface.point_data["Normals"]),
+            s.time,
+        )
+
+    def same(a, b, label):
+        np.testing.assert_allclose(a[0], b[0], rtol=0, atol=1e-12 * size, err_msg=label)
+        np.testing.assert_allclose(a[1], b[1], rtol=0, atol=1e-12 * size, err_msg=label)
+        np.testing.assert_allclose(a[2], b[2], rtol=0, atol=1e-6, err_msg=label)
+        assert a[3] == b[3], label
+
+    same(shown(ovl), shown(seq), "rest")
+    tip = seq.positions()[np.argmax(seq.positions()[:, 0])]
+    moved = 0.0
+    before = shown(seq)
+    for k in range(14):
+        if k == 2:
+            for s in (seq, ovl):
+                s.grab(tip)
+        if 2 <= k < 9:
+            for s in (seq, ovl):
+                s.drag(tip + np.array([0.0, 0.1 * (k - 1), 0.05 * (k - 1)]))
+        if k == 9:
+            for s in (seq, ovl):
+                s.release()
+        seq.step()
+        stages = ovl.step()
+        assert set(stages) >= {"step", "transfer", "frame"}
+        same(shown(ovl), before, f"frame {k}")
+        before = shown(seq)
+        moved = max(moved, np.abs(before[1] - np.asarray(emb.points)).max())
+    assert moved > 0.1 * size  # dragged frames, not the rest state
+    for s in (seq, ovl):
+        s.reset()
+    same(shown(ovl), shown(seq), "reset")
+    assert ovl.time == 0.0
+
+
+@pytest.mark.parametrize("n_elements", [200, 1500])
+def test_stepper_traffic_counts_the_mesh(n_elements):
+    # stepper.traffic (the bytes bench_live.py sets against the stream bandwidth) against
+    # the mesh counted here: the node pairs sharing a cell are the blocks of the step
+    # matrix (9 doubles each) and the entries of the scalar mass (a double and an index
+    # each); below 1000 cells the products go element by element (30 x 30 doubles each)
+    from hoembed.live import LiveSession, prepare
+
+    surface = hoembed.thorny_tail(rings=60, sectors=24)
+    _, fe, emb, clamp = prepare(surface, n_elements=n_elements, progress=False)
+    s = LiveSession(fe, emb, fixed=clamp, background_factorization=False)
+    cells = fe.cell_connectivity.reshape(fe.n_cells, -1)
+    n, npc = fe.n_points, cells.shape[1]
+    pairs = np.unique((cells[:, :, None] * n + cells[:, None, :]).ravel()).size
+    mass = 12 * pairs + 4 * (n + 1)
+    ke = fe.n_cells * (3 * npc) ** 2 * 8
+    s.step()
+    t = s.stepper.traffic
+    if fe.n_cells >= 1000:
+        assert t["product_bytes"] == 72 * pairs + mass
+        assert t["assembly_bytes"] == ke + 72 * pairs
+        assert t["guess_products"] == 4
+    else:
+        assert t["product_bytes"] == ke + mass
+        assert t["assembly_bytes"] == 0 and t["guess_products"] == 0
+    # a factor of the free DOFs: at least its diagonal blocks, at most a dense lower half
+    free = 3 * int((~clamp).sum())
+    assert 2 * 9 * 8 * (free // 3) < t["preconditioner_bytes"] < 8 * free * free
+
+
+def test_live_session_solver_tolerance_reaches_the_stepper():
+    # LiveSession(solver_tolerance=...) is the stepper's SolverTolerance: a tight one
+    # takes more CG iterations on the same dragged frames than a loose one, and a bad one
+    # is refused with the stepper's range sentence
+    from hoembed._errors import HOEmbedError
+    from hoembed.live import LiveSession, prepare
+
+    surface = hoembed.thorny_tail(rings=60, sectors=24)
+    _, fe, emb, clamp = prepare(surface, n_elements=200, progress=False)
+    its = {}
+    for tol in (1e-10, 1e-2):
+        s = LiveSession(fe, emb, fixed=clamp, background_factorization=False, solver_tolerance=tol)
+        tip = s.positions()[np.argmax(s.positions()[:, 0])]
+        s.grab(tip)
+        its[tol] = 0
+        for k in range(5):
+            s.drag(tip + np.array([0.0, 0.1 * (k + 1), 0.05 * (k + 1)]))
+            s.step()
+            its[tol] += s.stepper.timings["iterations"]
+    assert its[1e-10] > its[1e-2] > 0, its
+    with pytest.raises((HOEmbedError, ValueError), match="SolverTolerance"):
+        LiveSession(fe, emb, fixed=clamp, solver_tolerance=-1.0)

@@ -749,6 +749,19 @@ NB_MODULE(_hoembed, m)
       },
       "Seconds and counts of the last advance: steps, rotation, assembly, solve, "
       "iterations, factorizations, factorization, background_factorizations.")
+    .def_prop_ro(
+      "traffic",
+      [](const Stepper& st) {
+        const auto t = st.Driver.Solver.GetTraffic();
+        nb::dict d;
+        d["product_bytes"] = t.ProductBytes;
+        d["preconditioner_bytes"] = t.PreconditionerBytes;
+        d["assembly_bytes"] = t.AssemblyBytes;
+        d["guess_products"] = t.GuessProducts;
+        return d;
+      },
+      "Bytes a step's CG reads at the least (the solver's Traffic): per product, per "
+      "preconditioner application, per assembly; guess_products per step.")
     .def(
       "advance_live",
       [](Stepper& st) {

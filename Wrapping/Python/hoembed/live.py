@@ -40,6 +40,14 @@ _STEPPER = DEFAULTS["stepper"]
 _N_ELEMENTS = DEFAULTS["mesher"]["TargetNumberOfElements"]
 
 
+def _vtk_view(array):
+    """A numpy view (no copy) of a VTK data array's memory."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    view = vtk_to_numpy(array)
+    return view.reshape(array.GetNumberOfTuples(), array.GetNumberOfComponents())
+
+
 def _edge_lengths(points, cells):
     """Mean corner edge length of the cells (rows of node ids, corners first)."""
     p = np.asarray(points)
@@ -98,6 +106,16 @@ class LiveSession:
         deformation (cof(F) n0, in the transfer's pass; recomputed per vertex where the
         map folds), about 0.6x the cost of ``"recompute"`` (the deformed polygons'
         area-weighted normals; Benchmarks/RESULTS.md). False: none.
+    overlap : bool
+        Step the next frame on a second thread while the transfer draws this one.
+        ``step()`` then shows the state the previous ``step()`` computed: the same
+        frames (to the stepper's own run-to-run round-off), one call late (a grab, a
+        drag or a release acts on the frame after the next). Default off (each
+        ``step()`` shows its own step): on the shared 2-core machine it did not pay
+        (Benchmarks/RESULTS.md, live loop).
+    solver_tolerance : float, optional
+        The stepper's SolverTolerance (default: the stepper's own); a looser one takes
+        fewer CG iterations per frame (Benchmarks/RESULTS.md, live loop).
     background_factorization : bool
         The stepper's BackgroundFactorization (default on): a grab or a release is
         stepped at once while the new factorisation runs on a thread, instead of a frame
@@ -121,6 +139,8 @@ class LiveSession:
         normals="recompute",
         point_normals="transform",
         background_factorization=True,
+        overlap=False,
+        solver_tolerance=None,
     ):
         self.fe_rest = pyvista.wrap(fe_mesh).copy()
         n = self.fe_rest.n_points
@@ -151,7 +171,7 @@ class LiveSession:
             rayleigh_mass,
             rayleigh_stiffness,
             1,
-            _STEPPER["SolverTolerance"],
+            _STEPPER["SolverTolerance"] if solver_tolerance is None else solver_tolerance,
             None,
         )
         speed = 0.5 * self.h / self.dt if speed_limit is None else float(speed_limit)
@@ -165,8 +185,12 @@ class LiveSession:
         self.stepper = st
         self.mode = NORMAL_MODES[normals]
         self.transfer = TransferPlan(embedded, self.fe_rest, self.mode)
-        # the frame's outputs, updated in place (the window's actors draw these objects)
+        # the frame's outputs, updated in place (the window's actors draw these objects);
+        # the transfer writes straight into the surface's points (no copy per frame)
         self._surface = self.transfer.output(True)
+        self.transfer.points = _vtk_view(self._surface.GetPoints().GetData())
+        self.overlap = bool(overlap)
+        self._worker = None  # the stepping thread of overlap (made on first use)
         # the FE mesh as the stepper's output has it (vtkCorotationalFEMStepper with
         # ComputeDiagnostics off): the state written into its arrays in place
         self._fe = self.fe_rest.copy()
@@ -185,18 +209,25 @@ class LiveSession:
 
     def _frame(self):
         """The current state into the outputs: the FE mesh's points, the transfer."""
+        self._write_state()
+        self._transfer()
+
+    def _write_state(self):
+        """The stepper's current state into the FE mesh output (what the transfer reads)."""
         self.stepper.write_frame(self._x, self._disp, self._vel, self._rot)
         self._fe.points[:] = self._x
         self._fe.GetPoints().Modified()
         for name in (N.Displacement, N.Velocity, N.NodalRotation):
             self._fe.GetPointData().GetArray(name).Modified()
+        self._time = self.stepper.clock_step * self.dt
+
+    def _transfer(self):
+        """The fine surface (and its point normals) of the FE mesh output's state."""
         # the point normals in the transfer's pass (the driver's TransferFrame.PointNormals),
         # straight into the surface's Normals array
         on = self._pn_mode is not None
         nrm = self._surface.point_data[N.Normals] if on else None
         self.transfer.evaluate(self._x, self._disp, self._rot, nrm, self._pn_mode or 0)
-        points = self._surface.points
-        points[:] = self.transfer.points
         if on:
             self._surface.GetPointData().GetNormals().Modified()
         self._surface.GetPoints().Modified()
@@ -300,13 +331,17 @@ class LiveSession:
 
     @property
     def time(self):
-        return self.stepper.clock_step * self.dt
+        """The simulated time of the frame shown (with overlap, the stepper is one step
+        ahead)."""
+        return self._time
 
     # -- frame ------------------------------------------------------------------------
     def step(self):
         """One frame: a time step, then the transfer (with point normals). Returns the
         wall seconds of each stage."""
         t0 = time.perf_counter()
+        if self.overlap:
+            return self._step_overlapped(t0)
         self.stepper.request_steps(1)
         self._advance()
         t1 = time.perf_counter()
@@ -314,6 +349,32 @@ class LiveSession:
         t2 = time.perf_counter()
         self.frames += 1
         return {"step": t1 - t0, "transfer": t2 - t1}
+
+    def _step_overlapped(self, t0):
+        """overlap: the stepper's state (the previous call's step) is shown while the
+        next step runs on the worker thread; both calls release the GIL, and the step
+        reads nothing the transfer writes (the state is copied out first)."""
+        if self._worker is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            self._worker = ThreadPoolExecutor(1, thread_name_prefix="hoembed-live-step")
+        self._write_state()
+        self.stepper.request_steps(1)
+
+        def advance():
+            t = time.perf_counter()
+            self._advance()
+            return time.perf_counter() - t
+
+        pending = self._worker.submit(advance)
+        try:
+            t1 = time.perf_counter()
+            self._transfer()
+            t2 = time.perf_counter()
+        finally:
+            step = pending.result()  # the stepper is idle between calls
+        self.frames += 1
+        return {"step": step, "transfer": t2 - t1, "frame": time.perf_counter() - t0}
 
 
 class LiveApp:
