@@ -23,6 +23,7 @@
 
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedLagrangeEmbedding.h"
 #include "hoembedPropertyRange.h"
 #include "hoembedSurfaceTriangles.h"
 #include "hoembedTetMeshInput.h"
@@ -130,8 +131,17 @@ public:
 private:
   std::string PrepareMesh(const TetMeshArrays& mesh, bool validateElements);
 
+  double MeshDiagonal() const
+  {
+    return this->Lagrange ? this->LagrangeMesh.Diagonal : this->Mesh.Diagonal;
+  }
+
   // mesh-sized: kept
   EmbeddingMesh Mesh;
+  /// Lagrange tets of order 3 and 4 (orders 1 and 2 are tet4 and tet10 node for node and
+  /// take the EmbeddingMesh path): per-vertex certified search, no flood
+  LagrangeEmbeddingMesh LagrangeMesh;
+  bool Lagrange = false;
   std::string Fingerprint; // of the prepared mesh; empty: none prepared
   // surface-sized
   EmbedWorkspace Flood;

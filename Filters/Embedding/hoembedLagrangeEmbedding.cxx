@@ -1,0 +1,1008 @@
+#include "hoembedLagrangeEmbedding.h"
+
+#include "hoembedEmbeddingFlood.h" // EMBED_* values
+#include "hoembedParallel.h"
+#include "hoembedShapeFunctions.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hoembed
+{
+namespace
+{
+using Id = LagrangeEmbeddingMesh::Id;
+
+double Dot(const double a[3], const double b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// Solve A x = b (3 x 3, A[r][c]) by Cramer's rule; false when singular.
+bool Solve3(const double A[3][3], const double b[3], double x[3])
+{
+  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+    A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+    A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  double scale = 0.0;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      scale = std::max(scale, std::abs(A[r][c]));
+  if (!(std::abs(det) > 1e-300) || !(std::abs(det) > 1e-14 * scale * scale * scale))
+    return false;
+  for (int k = 0; k < 3; ++k)
+  {
+    double M[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        M[r][c] = c == k ? b[r] : A[r][c];
+    x[k] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+             M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+      det;
+  }
+  return true;
+}
+
+// Gauss-Jordan inverse of an n x n matrix (row-major, n <= 15), partial pivoting.
+std::vector<double> Inverse(std::vector<double> a, int n)
+{
+  std::vector<double> inv(static_cast<std::size_t>(n) * n, 0.0);
+  for (int i = 0; i < n; ++i)
+    inv[i * n + i] = 1.0;
+  for (int c = 0; c < n; ++c)
+  {
+    int piv = c;
+    for (int r = c + 1; r < n; ++r)
+      if (std::abs(a[r * n + c]) > std::abs(a[piv * n + c]))
+        piv = r;
+    for (int k = 0; k < n; ++k)
+    {
+      std::swap(a[c * n + k], a[piv * n + k]);
+      std::swap(inv[c * n + k], inv[piv * n + k]);
+    }
+    const double d = a[c * n + c];
+    for (int k = 0; k < n; ++k)
+    {
+      a[c * n + k] /= d;
+      inv[c * n + k] /= d;
+    }
+    for (int r = 0; r < n; ++r)
+    {
+      if (r == c)
+        continue;
+      const double f = a[r * n + c];
+      for (int k = 0; k < n; ++k)
+      {
+        a[r * n + k] -= f * a[c * n + k];
+        inv[r * n + k] -= f * inv[c * n + k];
+      }
+    }
+  }
+  return inv;
+}
+
+double Fact(int n)
+{
+  double f = 1.0;
+  for (int i = 2; i <= n; ++i)
+    f *= i;
+  return f;
+}
+
+// Face (u, v) -> the cell's parametric point, and the parametric directions of u and v.
+void FaceFrame(int lf, double du[3], double dv[3])
+{
+  const double* Pa = Tet10NodeParametric[TetFaceNodes[lf][0]];
+  const double* Pb = Tet10NodeParametric[TetFaceNodes[lf][1]];
+  const double* Pc = Tet10NodeParametric[TetFaceNodes[lf][2]];
+  for (int i = 0; i < 3; ++i)
+  {
+    du[i] = Pb[i] - Pa[i];
+    dv[i] = Pc[i] - Pa[i];
+  }
+}
+
+// Euclidean projection of (u, v) onto the reference triangle.
+void ProjectTriangle(double uv[2])
+{
+  double u = uv[0], v = uv[1];
+  if (u + v > 1.0)
+  {
+    const double s = 0.5 * (u + v - 1.0);
+    u -= s;
+    v -= s;
+  }
+  u = std::max(0.0, u);
+  v = std::max(0.0, v);
+  if (u > 1.0)
+    u = 1.0;
+  if (v > 1.0 - u)
+    v = 1.0 - u;
+  uv[0] = u;
+  uv[1] = v;
+}
+
+struct Interval
+{
+  double Lo = HUGE_VAL, Hi = -HUGE_VAL;
+  void Add(double x)
+  {
+    Lo = std::min(Lo, x);
+    Hi = std::max(Hi, x);
+  }
+};
+Interval Mul(const Interval& a, const Interval& b)
+{
+  Interval r;
+  r.Add(a.Lo * b.Lo);
+  r.Add(a.Lo * b.Hi);
+  r.Add(a.Hi * b.Lo);
+  r.Add(a.Hi * b.Hi);
+  return r;
+}
+Interval Sum(const Interval& a, const Interval& b)
+{
+  Interval r;
+  r.Lo = a.Lo + b.Lo;
+  r.Hi = a.Hi + b.Hi;
+  return r;
+}
+} // namespace
+
+std::string LagrangeEmbeddingMesh::Build(
+  std::vector<double> points, std::vector<Id> conn, int nodesPerCell, Id* firstInvalidCell)
+{
+  const int order = LagrangeTetOrder(nodesPerCell);
+  this->Basis = GetLagrangeTetBasis(order);
+  if (!this->Basis)
+    return "a Lagrange tetrahedron needs 4, 10, 20 or 35 nodes";
+  this->NodesPerCell = nodesPerCell;
+  this->Points = std::move(points);
+  this->Connectivity = std::move(conn);
+  const Id npts = static_cast<Id>(this->Points.size() / 3);
+  const Id ncells = static_cast<Id>(this->Connectivity.size() / nodesPerCell);
+  std::vector<Id> corners(4 * ncells);
+  for (Id c = 0; c < ncells; ++c)
+    for (int k = 0; k < 4; ++k)
+      corners[4 * c + k] = this->Connectivity[nodesPerCell * c + k];
+  const std::string err = this->Corners.Build(corners.data(), ncells, 4, npts);
+  if (!err.empty())
+    return err;
+  const Id nfaces = this->Corners.GetNumberOfBoundaryFaces();
+  if (nfaces == 0)
+    return "the mesh has no boundary faces";
+  const LagrangeTetBasis& b = *this->Basis;
+  // the diagonal of the nodes' box
+  double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
+  for (Id i = 0; i < npts; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::min(lo[d], this->Points[3 * i + d]);
+      hi[d] = std::max(hi[d], this->Points[3 * i + d]);
+    }
+  this->Diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  // cells: control-point boxes and validity
+  std::vector<double> cellBoxes(6 * ncells);
+  std::vector<unsigned char> invalid(ncells, 0);
+  ParallelLoop(Id(0), ncells, [&](Id cb, Id ce) {
+    double x[3 * MaxLagrangeTetNodes], ctrl[3 * MaxLagrangeTetNodes];
+    for (Id c = cb; c < ce; ++c)
+    {
+      GatherCell(this->Points.data(), this->Connectivity.data(), nodesPerCell, c, x);
+      LagrangeTetToBernstein(b, x, ctrl);
+      double* box = &cellBoxes[6 * c];
+      for (int d = 0; d < 3; ++d)
+      {
+        box[d] = HUGE_VAL;
+        box[d + 3] = -HUGE_VAL;
+      }
+      for (int k = 0; k < nodesPerCell; ++k)
+        for (int d = 0; d < 3; ++d)
+        {
+          box[d] = std::min(box[d], ctrl[3 * k + d]);
+          box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
+        }
+      if (firstInvalidCell)
+        invalid[c] = LagrangeTetIsValid(b, x) ? 0 : 1;
+    }
+  });
+  if (firstInvalidCell)
+  {
+    *firstInvalidCell = ncells;
+    for (Id c = 0; c < ncells; ++c)
+      if (invalid[c])
+      {
+        *firstInvalidCell = c;
+        break;
+      }
+  }
+  this->CellTree.Build(cellBoxes);
+  // the triangle's Bernstein collocation of degree p (faces and their sub-patches)
+  const int p = b.Order;
+  this->TriLattice.clear();
+  for (int i1 = 0; i1 <= p; ++i1)
+    for (int i2 = 0; i1 + i2 <= p; ++i2)
+      this->TriLattice.insert(this->TriLattice.end(), { p - i1 - i2, i1, i2 });
+  const int nt = static_cast<int>(this->TriLattice.size() / 3);
+  std::vector<double> M(static_cast<std::size_t>(nt) * nt);
+  for (int i = 0; i < nt; ++i)
+    for (int j = 0; j < nt; ++j)
+    {
+      double v = Fact(p);
+      for (int m = 0; m < 3; ++m)
+        v *= std::pow(double(this->TriLattice[3 * i + m]) / p, this->TriLattice[3 * j + m]) /
+          Fact(this->TriLattice[3 * j + m]);
+      M[i * nt + j] = v;
+    }
+  this->TriToBernstein = Inverse(M, nt);
+  // nodal normals and the face boxes
+  this->NodalNormals.assign(3 * npts, 0.0);
+  ComputeLagrangeBoundaryNormals(b, this->Corners, this->Points.data(),
+    this->Connectivity.data(), this->NodalNormals.data());
+  std::vector<double> faceBoxes(6 * nfaces);
+  ParallelLoop(Id(0), nfaces, [&](Id fb, Id fe) {
+    double x[3 * MaxLagrangeTetNodes], ctrl[3 * MaxLagrangeTetNodes];
+    for (Id f = fb; f < fe; ++f)
+    {
+      const Id c = this->Corners.BoundaryFaceCell[f];
+      const int opposite = TetFaceOpposite[this->Corners.BoundaryFaceLocal[f]];
+      GatherCell(this->Points.data(), this->Connectivity.data(), nodesPerCell, c, x);
+      LagrangeTetToBernstein(b, x, ctrl);
+      double* box = &faceBoxes[6 * f];
+      for (int d = 0; d < 3; ++d)
+      {
+        box[d] = HUGE_VAL;
+        box[d + 3] = -HUGE_VAL;
+      }
+      // the face's control points are the cell's with no weight on the opposite corner
+      for (int k = 0; k < nodesPerCell; ++k)
+        if (b.Lattice[4 * k + opposite] == 0)
+          for (int d = 0; d < 3; ++d)
+          {
+            box[d] = std::min(box[d], ctrl[3 * k + d]);
+            box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
+          }
+    }
+  });
+  this->FaceTree.Build(faceBoxes);
+  return std::string();
+}
+
+void LagrangeEmbeddingMesh::CellPoint(Id c, const double pc[3], double x[3]) const
+{
+  double nodes[3 * MaxLagrangeTetNodes], J[3][3];
+  GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, nodes);
+  EvaluateLagrangeTet(*this->Basis, nodes, pc, x, J);
+}
+
+void LagrangeEmbeddingMesh::FacePoint(
+  Id f, const double uv[2], double x[3], double xu[3], double xv[3], double (*H)[3]) const
+{
+  const Id c = this->Corners.BoundaryFaceCell[f];
+  const int lf = this->Corners.BoundaryFaceLocal[f];
+  double nodes[3 * MaxLagrangeTetNodes], J[3][3], HH[3][3][3], pc[3], du[3], dv[3];
+  GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, nodes);
+  TetFaceToTetParametric(lf, uv, pc);
+  EvaluateLagrangeTet(*this->Basis, nodes, pc, x, J, H ? HH : nullptr);
+  FaceFrame(lf, du, dv);
+  for (int d = 0; d < 3; ++d)
+  {
+    if (xu)
+      xu[d] = J[0][d] * du[0] + J[1][d] * du[1] + J[2][d] * du[2];
+    if (xv)
+      xv[d] = J[0][d] * dv[0] + J[1][d] * dv[1] + J[2][d] * dv[2];
+    if (H) // H[0] = x_uu, H[1] = x_uv, H[2] = x_vv
+    {
+      double a = 0, m = 0, z = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+        {
+          a += HH[i][j][d] * du[i] * du[j];
+          m += HH[i][j][d] * du[i] * dv[j];
+          z += HH[i][j][d] * dv[i] * dv[j];
+        }
+      H[0][d] = a;
+      H[1][d] = m;
+      H[2][d] = z;
+    }
+  }
+}
+
+namespace
+{
+// Local closest point on one face: projected Newton over the reference triangle (an
+// active set of its three sides), monotone in |x - v|^2. Returns that squared distance.
+template <typename Eval>
+double LocalFaceSolve(const Eval& eval, const double v[3], double uv[2], int& iterations)
+{
+  ProjectTriangle(uv);
+  double x[3], xu[3], xv[3], H[3][3];
+  eval(uv, x, xu, xv, H);
+  double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
+  double f = Dot(e, e);
+  for (int it = 0; it < 60; ++it)
+  {
+    ++iterations;
+    const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
+    double A[2][2] = { { 2 * (Dot(xu, xu) + Dot(e, H[0])), 2 * (Dot(xu, xv) + Dot(e, H[1])) },
+      { 0, 2 * (Dot(xv, xv) + Dot(e, H[2])) } };
+    A[1][0] = A[0][1];
+    // binding sides: at the bound with the gradient pushing out
+    const double eps = 1e-15;
+    const bool b0 = uv[0] <= eps && g[0] > 0, b1 = uv[1] <= eps && g[1] > 0;
+    const bool b2 = uv[0] + uv[1] >= 1 - eps && g[0] + g[1] < 0;
+    const int nb = int(b0) + int(b1) + int(b2);
+    double step[2] = { 0, 0 };
+    if (nb >= 2)
+      break; // a corner with both sides binding: a KKT point
+    if (nb == 1)
+    {
+      const double t[2] = { b0 ? 0.0 : (b1 ? 1.0 : 1.0), b0 ? 1.0 : (b1 ? 0.0 : -1.0) };
+      const double gt = g[0] * t[0] + g[1] * t[1];
+      const double ht = t[0] * (A[0][0] * t[0] + A[0][1] * t[1]) +
+        t[1] * (A[1][0] * t[0] + A[1][1] * t[1]);
+      const double a = ht > 0 ? -gt / ht : -gt;
+      step[0] = a * t[0];
+      step[1] = a * t[1];
+    }
+    else
+    {
+      const double tr = A[0][0] + A[1][1];
+      double mu = 0.0;
+      const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+      if (!(A[0][0] > 0 && det > 1e-14 * tr * tr))
+      {
+        const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+        const double lmin = 0.5 * tr - disc;
+        mu = -lmin + 1e-3 * std::abs(tr) + 1e-300;
+      }
+      const double a00 = A[0][0] + mu, a11 = A[1][1] + mu;
+      const double dd = a00 * a11 - A[0][1] * A[1][0];
+      if (!(dd > 0))
+      {
+        step[0] = -g[0];
+        step[1] = -g[1];
+      }
+      else
+      {
+        step[0] = -(a11 * g[0] - A[0][1] * g[1]) / dd;
+        step[1] = -(a00 * g[1] - A[1][0] * g[0]) / dd;
+      }
+    }
+    double alpha = 1.0;
+    bool moved = false;
+    for (int ls = 0; ls < 40; ++ls, alpha *= 0.5)
+    {
+      double t[2] = { uv[0] + alpha * step[0], uv[1] + alpha * step[1] };
+      ProjectTriangle(t);
+      double y[3], yu[3], yv[3], yH[3][3];
+      eval(t, y, yu, yv, yH);
+      const double en[3] = { y[0] - v[0], y[1] - v[1], y[2] - v[2] };
+      const double fn = Dot(en, en);
+      if (fn <= f)
+      {
+        const double change = std::abs(t[0] - uv[0]) + std::abs(t[1] - uv[1]);
+        uv[0] = t[0];
+        uv[1] = t[1];
+        std::copy(y, y + 3, x);
+        std::copy(yu, yu + 3, xu);
+        std::copy(yv, yv + 3, xv);
+        for (int k = 0; k < 3; ++k)
+          std::copy(yH[k], yH[k] + 3, H[k]);
+        std::copy(en, en + 3, e);
+        moved = change > 1e-16;
+        f = fn;
+        break;
+      }
+    }
+    if (!moved)
+      break;
+  }
+  return f;
+}
+
+struct SubTriangle
+{
+  double Q[3][2];
+  int Depth;
+};
+} // namespace
+
+void LagrangeEmbeddingMesh::SearchFace(Id f, const double v[3], double& best2, Id& bestFace,
+  double bestUV[2], bool& certified) const
+{
+  const LagrangeTetBasis& b = *this->Basis;
+  const int p = b.Order;
+  const int nt = static_cast<int>(this->TriLattice.size() / 3);
+  auto eval = [&](const double uv[2], double x[3], double xu[3], double xv[3], double H[3][3]) {
+    this->FacePoint(f, uv, x, xu, xv, H);
+  };
+  const double tol = this->SearchTolerance * this->Diagonal;
+  auto threshold = [&]() {
+    const double r = std::max(0.0, std::sqrt(best2) - tol);
+    return r * r;
+  };
+  auto tryStart = [&](double uv[2]) {
+    int its = 0;
+    const double d2 = LocalFaceSolve(eval, v, uv, its);
+    if (d2 < best2)
+    {
+      best2 = d2;
+      bestFace = f;
+      bestUV[0] = uv[0];
+      bestUV[1] = uv[1];
+    }
+  };
+  {
+    double c[2] = { 1.0 / 3, 1.0 / 3 };
+    tryStart(c);
+  }
+  SubTriangle stack[256];
+  int top = 0;
+  stack[top++] = { { { 0, 0 }, { 1, 0 }, { 0, 1 } }, 0 };
+  int budget = 4000;
+  std::vector<double> vals(3 * nt), net(3 * nt);
+  while (top > 0)
+  {
+    const SubTriangle s = stack[--top];
+    if (--budget < 0)
+    {
+      certified = false;
+      return;
+    }
+    // the sub-patch's Bernstein net: its values at the lattice, collocated
+    for (int i = 0; i < nt; ++i)
+    {
+      const int* l = &this->TriLattice[3 * i];
+      double uv[2];
+      for (int k = 0; k < 2; ++k)
+        uv[k] = (l[0] * s.Q[0][k] + l[1] * s.Q[1][k] + l[2] * s.Q[2][k]) / p;
+      this->FacePoint(f, uv, &vals[3 * i]);
+    }
+    for (int i = 0; i < nt; ++i)
+    {
+      double acc[3] = { 0, 0, 0 };
+      for (int k = 0; k < nt; ++k)
+        for (int d = 0; d < 3; ++d)
+          acc[d] += this->TriToBernstein[i * nt + k] * vals[3 * k + d];
+      for (int d = 0; d < 3; ++d)
+        net[3 * i + d] = acc[d];
+    }
+    // the box lower bound (convex hull of the net)
+    Interval box[3];
+    for (int i = 0; i < nt; ++i)
+      for (int d = 0; d < 3; ++d)
+        box[d].Add(net[3 * i + d]);
+    double lb = 0.0;
+    for (int d = 0; d < 3; ++d)
+    {
+      const double gap = std::max(0.0, std::max(box[d].Lo - v[d], v[d] - box[d].Hi));
+      lb += gap * gap;
+    }
+    if (lb >= threshold())
+      continue;
+    // interval Hessian of |x - v|^2 in the sub-triangle's own coordinates (s, t)
+    bool convex = false;
+    if (p == 1)
+      convex = true; // a flat triangle: |x - v|^2 is convex
+    else
+    {
+      auto pos = [&](int i1, int i2) {
+        // position of (n - i1 - i2, i1, i2) in TriLattice (i1 outer, i2 inner)
+        int k = 0;
+        for (int a = 0; a < i1; ++a)
+          k += p - a + 1;
+        return k + i2;
+      };
+      Interval xs[3], xt[3], xss[3], xst[3], xtt[3];
+      for (int i1 = 0; i1 < p; ++i1)
+        for (int i2 = 0; i1 + i2 < p; ++i2)
+          for (int d = 0; d < 3; ++d)
+          {
+            const double b0 = net[3 * pos(i1, i2) + d];
+            xs[d].Add(p * (net[3 * pos(i1 + 1, i2) + d] - b0));
+            xt[d].Add(p * (net[3 * pos(i1, i2 + 1) + d] - b0));
+          }
+      const double pp = double(p) * (p - 1);
+      for (int i1 = 0; i1 <= p - 2; ++i1)
+        for (int i2 = 0; i1 + i2 <= p - 2; ++i2)
+          for (int d = 0; d < 3; ++d)
+          {
+            const double b00 = net[3 * pos(i1, i2) + d];
+            const double b10 = net[3 * pos(i1 + 1, i2) + d];
+            const double b01 = net[3 * pos(i1, i2 + 1) + d];
+            xss[d].Add(pp * (net[3 * pos(i1 + 2, i2) + d] - 2 * b10 + b00));
+            xtt[d].Add(pp * (net[3 * pos(i1, i2 + 2) + d] - 2 * b01 + b00));
+            xst[d].Add(pp * (net[3 * pos(i1 + 1, i2 + 1) + d] - b10 - b01 + b00));
+          }
+      Interval hss, htt, hst;
+      hss.Lo = hss.Hi = htt.Lo = htt.Hi = hst.Lo = hst.Hi = 0.0;
+      for (int d = 0; d < 3; ++d)
+      {
+        Interval e;
+        e.Lo = box[d].Lo - v[d];
+        e.Hi = box[d].Hi - v[d];
+        hss = Sum(hss, Sum(Mul(xs[d], xs[d]), Mul(e, xss[d])));
+        htt = Sum(htt, Sum(Mul(xt[d], xt[d]), Mul(e, xtt[d])));
+        hst = Sum(hst, Sum(Mul(xs[d], xt[d]), Mul(e, xst[d])));
+      }
+      const double off = std::max(std::abs(hst.Lo), std::abs(hst.Hi));
+      convex = hss.Lo > 0 && htt.Lo > 0 && hss.Lo * htt.Lo > off * off * (1 + 1e-12);
+    }
+    if (convex)
+    {
+      // f >= f(c) + grad f(c) . (u - c) on the sub-triangle; c: the best point when it
+      // lies in it (then the bound is tight), else the sub-triangle's centroid
+      double c[2] = { (s.Q[0][0] + s.Q[1][0] + s.Q[2][0]) / 3,
+        (s.Q[0][1] + s.Q[1][1] + s.Q[2][1]) / 3 };
+      if (bestFace == f)
+      {
+        // barycentric coordinates of bestUV in the sub-triangle
+        const double a[2] = { s.Q[1][0] - s.Q[0][0], s.Q[1][1] - s.Q[0][1] };
+        const double bb[2] = { s.Q[2][0] - s.Q[0][0], s.Q[2][1] - s.Q[0][1] };
+        const double r[2] = { bestUV[0] - s.Q[0][0], bestUV[1] - s.Q[0][1] };
+        const double det = a[0] * bb[1] - a[1] * bb[0];
+        const double l1 = (r[0] * bb[1] - r[1] * bb[0]) / det;
+        const double l2 = (a[0] * r[1] - a[1] * r[0]) / det;
+        const double m = -1e-12;
+        if (l1 >= m && l2 >= m && 1 - l1 - l2 >= m)
+        {
+          c[0] = bestUV[0];
+          c[1] = bestUV[1];
+        }
+      }
+      for (int pass = 0; pass < 2; ++pass)
+      {
+        double x[3], xu[3], xv[3];
+        this->FacePoint(f, c, x, xu, xv);
+        const double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
+        const double fc = Dot(e, e);
+        const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
+        double lin = HUGE_VAL;
+        for (int k = 0; k < 3; ++k)
+          lin = std::min(lin, g[0] * (s.Q[k][0] - c[0]) + g[1] * (s.Q[k][1] - c[1]));
+        if (fc + lin >= threshold())
+          break;
+        if (pass == 0)
+        {
+          // a nearer point may lie here: solve from c and bound again from it
+          double uv[2] = { c[0], c[1] };
+          tryStart(uv);
+          if (bestFace == f)
+          {
+            c[0] = bestUV[0];
+            c[1] = bestUV[1];
+            // c must lie in the sub-triangle for the bound: keep the centroid otherwise
+            const double a[2] = { s.Q[1][0] - s.Q[0][0], s.Q[1][1] - s.Q[0][1] };
+            const double bb[2] = { s.Q[2][0] - s.Q[0][0], s.Q[2][1] - s.Q[0][1] };
+            const double r[2] = { c[0] - s.Q[0][0], c[1] - s.Q[0][1] };
+            const double det = a[0] * bb[1] - a[1] * bb[0];
+            const double l1 = (r[0] * bb[1] - r[1] * bb[0]) / det;
+            const double l2 = (a[0] * r[1] - a[1] * r[0]) / det;
+            if (!(l1 >= -1e-12 && l2 >= -1e-12 && 1 - l1 - l2 >= -1e-12))
+            {
+              c[0] = (s.Q[0][0] + s.Q[1][0] + s.Q[2][0]) / 3;
+              c[1] = (s.Q[0][1] + s.Q[1][1] + s.Q[2][1]) / 3;
+            }
+          }
+          continue;
+        }
+        convex = false; // not settled: split
+      }
+      if (convex)
+        continue;
+    }
+    else
+    {
+      // a better point than the best may lie here: polish from the centroid
+      double c[2] = { (s.Q[0][0] + s.Q[1][0] + s.Q[2][0]) / 3,
+        (s.Q[0][1] + s.Q[1][1] + s.Q[2][1]) / 3 };
+      double x[3];
+      this->FacePoint(f, c, x);
+      const double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
+      if (Dot(e, e) < best2)
+        tryStart(c);
+      if (lb >= threshold())
+        continue;
+    }
+    if (s.Depth >= 24 || top + 4 > 256)
+    {
+      certified = false;
+      continue;
+    }
+    // split at the edge midpoints
+    double m[3][2];
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 2; ++d)
+        m[k][d] = 0.5 * (s.Q[k][d] + s.Q[(k + 1) % 3][d]);
+    const int dp = s.Depth + 1;
+    stack[top++] = { { { s.Q[0][0], s.Q[0][1] }, { m[0][0], m[0][1] }, { m[2][0], m[2][1] } }, dp };
+    stack[top++] = { { { m[0][0], m[0][1] }, { s.Q[1][0], s.Q[1][1] }, { m[1][0], m[1][1] } }, dp };
+    stack[top++] = { { { m[2][0], m[2][1] }, { m[1][0], m[1][1] }, { s.Q[2][0], s.Q[2][1] } }, dp };
+    stack[top++] = { { { m[0][0], m[0][1] }, { m[1][0], m[1][1] }, { m[2][0], m[2][1] } }, dp };
+  }
+}
+
+double LagrangeEmbeddingMesh::ClosestBoundaryPoint(
+  const double v[3], Id& face, double uv[2], bool& certified) const
+{
+  double best2 = HUGE_VAL;
+  face = -1;
+  certified = true;
+  this->FaceTree.VisitNearer(
+    v, best2, [&](Id f) { this->SearchFace(f, v, best2, face, uv, certified); });
+  return best2;
+}
+
+bool LagrangeEmbeddingMesh::Locate(const double v[3], Id& cell, double pc[3]) const
+{
+  const LagrangeTetBasis& b = *this->Basis;
+  const double tiny = 1e-300;
+  double reach2 = std::max(tiny, 1e-24 * this->Diagonal * this->Diagonal);
+  bool found = false;
+  this->CellTree.VisitNearer(v, reach2, [&](Id c) {
+    if (found)
+      return;
+    double x[3 * MaxLagrangeTetNodes];
+    GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, x);
+    // starts: the straight tet's barycentric coordinates of v, the centroid
+    double starts[2][3] = { { 0.25, 0.25, 0.25 }, { 0.25, 0.25, 0.25 } };
+    {
+      double A[3][3], r[3];
+      for (int i = 0; i < 3; ++i)
+      {
+        for (int d = 0; d < 3; ++d)
+          A[d][i] = x[3 * (i + 1) + d] - x[d];
+        r[i] = v[i] - x[i];
+      }
+      double s[3];
+      if (Solve3(A, r, s))
+        std::copy(s, s + 3, starts[0]);
+    }
+    for (int k = 0; k < 2 && !found; ++k)
+    {
+      double q[3] = { starts[k][0], starts[k][1], starts[k][2] };
+      double y[3], J[3][3];
+      EvaluateLagrangeTet(b, x, q, y, J);
+      double r = std::sqrt((y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+        (y[2] - v[2]) * (y[2] - v[2]));
+      for (int it = 0; it < 60 && r > 1e-15 * this->Diagonal; ++it)
+      {
+        double A[3][3], rhs[3], step[3];
+        for (int d = 0; d < 3; ++d)
+        {
+          for (int i = 0; i < 3; ++i)
+            A[d][i] = J[i][d];
+          rhs[d] = v[d] - y[d];
+        }
+        if (!Solve3(A, rhs, step))
+          break;
+        double alpha = 1.0;
+        bool better = false;
+        for (int ls = 0; ls < 30; ++ls, alpha *= 0.5)
+        {
+          const double t[3] = { q[0] + alpha * step[0], q[1] + alpha * step[1],
+            q[2] + alpha * step[2] };
+          double yn[3], Jn[3][3];
+          EvaluateLagrangeTet(b, x, t, yn, Jn);
+          const double rn = std::sqrt((yn[0] - v[0]) * (yn[0] - v[0]) +
+            (yn[1] - v[1]) * (yn[1] - v[1]) + (yn[2] - v[2]) * (yn[2] - v[2]));
+          if (rn < r)
+          {
+            std::copy(t, t + 3, q);
+            std::copy(yn, yn + 3, y);
+            for (int i = 0; i < 3; ++i)
+              std::copy(Jn[i], Jn[i] + 3, J[i]);
+            r = rn;
+            better = true;
+            break;
+          }
+        }
+        if (!better)
+          break;
+        // far outside the reference tet: not this cell
+        if (q[0] < -1 || q[1] < -1 || q[2] < -1 || q[0] + q[1] + q[2] > 2)
+          break;
+      }
+      const double m = -1e-10;
+      if (r <= 1e-12 * this->Diagonal && q[0] >= m && q[1] >= m && q[2] >= m &&
+        1 - q[0] - q[1] - q[2] >= m)
+      {
+        found = true;
+        cell = c;
+        std::copy(q, q + 3, pc);
+        reach2 = 0.0; // stops the traversal
+      }
+    }
+  });
+  return found;
+}
+
+bool LagrangeEmbeddingMesh::Offset(Id c, const double pc[3], const double v[3], double q[3]) const
+{
+  double nodes[3 * MaxLagrangeTetNodes], x[3], J[3][3], A[3][3], r[3];
+  GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, nodes);
+  EvaluateLagrangeTet(*this->Basis, nodes, pc, x, J);
+  for (int d = 0; d < 3; ++d)
+  {
+    for (int i = 0; i < 3; ++i)
+      A[d][i] = J[i][d];
+    r[d] = v[d] - x[d];
+  }
+  if (Solve3(A, r, q))
+    return true;
+  q[0] = q[1] = q[2] = 0.0;
+  return false;
+}
+
+int LagrangeEmbeddingMesh::NormalOffset(
+  const double p[3], Id& f, double uv[2], double& d, int& iterations) const
+{
+  const LagrangeTetBasis& b = *this->Basis;
+  const double tolF = 1e-13 * this->Diagonal;
+  int lastEdge = -1;
+  for (int hop = 0; hop < 16; ++hop)
+  {
+    const Id c = this->Corners.BoundaryFaceCell[f];
+    const int lf = this->Corners.BoundaryFaceLocal[f];
+    double nodes[3 * MaxLagrangeTetNodes], normals[3 * MaxLagrangeTetNodes], du[3], dv[3];
+    GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, nodes);
+    GatherCell(
+      this->NodalNormals.data(), this->Connectivity.data(), this->NodesPerCell, c, normals);
+    FaceFrame(lf, du, dv);
+    auto residual = [&](const double t[2], double dd, double F[3], double A[3][3]) {
+      double pc[3], x[3], J[3][3], s[3], Js[3][3];
+      TetFaceToTetParametric(lf, t, pc);
+      EvaluateLagrangeTet(b, nodes, pc, x, J);
+      EvaluateLagrangeTet(b, normals, pc, s, Js);
+      const double sl = std::sqrt(Dot(s, s));
+      if (!(sl > 1e-12))
+        return false;
+      double sh[3], xu[3], xv[3], su[3], sv[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        sh[k] = s[k] / sl;
+        xu[k] = J[0][k] * du[0] + J[1][k] * du[1] + J[2][k] * du[2];
+        xv[k] = J[0][k] * dv[0] + J[1][k] * dv[1] + J[2][k] * dv[2];
+        su[k] = Js[0][k] * du[0] + Js[1][k] * du[1] + Js[2][k] * du[2];
+        sv[k] = Js[0][k] * dv[0] + Js[1][k] * dv[1] + Js[2][k] * dv[2];
+      }
+      const double shu = Dot(sh, su), shv = Dot(sh, sv);
+      for (int k = 0; k < 3; ++k)
+      {
+        F[k] = x[k] + dd * sh[k] - p[k];
+        if (A)
+        {
+          A[k][0] = xu[k] + dd * (su[k] - sh[k] * shu) / sl;
+          A[k][1] = xv[k] + dd * (sv[k] - sh[k] * shv) / sl;
+          A[k][2] = sh[k];
+        }
+      }
+      return true;
+    };
+    int exitEdge = -1;
+    double lastNorm = HUGE_VAL;
+    for (int it = 0; it < 40; ++it)
+    {
+      ++iterations;
+      double F[3], A[3][3], step[3];
+      if (!residual(uv, d, F, A))
+        return -1;
+      const double nF = std::sqrt(Dot(F, F));
+      const bool inside = uv[0] >= -1e-12 && uv[1] >= -1e-12 && uv[0] + uv[1] <= 1 + 1e-12;
+      if (inside && nF <= tolF)
+        return 0;
+      const double rhs[3] = { -F[0], -F[1], -F[2] };
+      if (!Solve3(A, rhs, step))
+        return -1;
+      if (inside && nF <= 100 * tolF && std::abs(step[0]) + std::abs(step[1]) < 1e-13)
+        return 0; // stagnation at round-off
+      if (it > 0 && !(nF < lastNorm) && nF > 100 * tolF)
+        return -1;
+      lastNorm = nF;
+      double t[2] = { uv[0] + step[0], uv[1] + step[1] };
+      // leaving the triangle: stop at the side crossed first, then go across it
+      double a = 1.0;
+      int side = -1;
+      if (t[1] < 0 && step[1] < 0)
+      {
+        const double s = -uv[1] / step[1];
+        if (s < a)
+          a = s, side = 0; // v = 0: edge ab
+      }
+      if (t[0] + t[1] > 1 && step[0] + step[1] > 0)
+      {
+        const double s = (1 - uv[0] - uv[1]) / (step[0] + step[1]);
+        if (s < a)
+          a = s, side = 1; // edge bc
+      }
+      if (t[0] < 0 && step[0] < 0)
+      {
+        const double s = -uv[0] / step[0];
+        if (s < a)
+          a = s, side = 2; // u = 0: edge ca
+      }
+      a = std::max(0.0, a);
+      uv[0] += a * step[0];
+      uv[1] += a * step[1];
+      d += a * step[2];
+      if (side >= 0)
+      {
+        ProjectTriangle(uv);
+        exitEdge = side;
+        break;
+      }
+    }
+    if (exitEdge < 0)
+      return -1;
+    // across edge exitEdge to the neighbouring boundary face
+    const Id g = this->Corners.BoundaryFaceNeighbor[3 * f + exitEdge];
+    if (g < 0 || (exitEdge == lastEdge && hop > 8))
+      return -1;
+    const std::int64_t* cc = &this->Connectivity[this->NodesPerCell * c];
+    const Id A0 = cc[TetFaceNodes[lf][exitEdge]], B0 = cc[TetFaceNodes[lf][(exitEdge + 1) % 3]];
+    const double t = exitEdge == 0 ? uv[0] : (exitEdge == 1 ? uv[1] : 1 - uv[1]);
+    const Id gc = this->Corners.BoundaryFaceCell[g];
+    const int glf = this->Corners.BoundaryFaceLocal[g];
+    const std::int64_t* gcc = &this->Connectivity[this->NodesPerCell * gc];
+    int ge = -1;
+    double gt = 0;
+    for (int e = 0; e < 3; ++e)
+    {
+      const Id a0 = gcc[TetFaceNodes[glf][e]], b0 = gcc[TetFaceNodes[glf][(e + 1) % 3]];
+      if (a0 == A0 && b0 == B0)
+        ge = e, gt = t;
+      else if (a0 == B0 && b0 == A0)
+        ge = e, gt = 1 - t;
+    }
+    if (ge < 0)
+      return -1;
+    f = g;
+    lastEdge = ge;
+    if (ge == 0)
+      uv[0] = gt, uv[1] = 0;
+    else if (ge == 1)
+      uv[0] = 1 - gt, uv[1] = gt;
+    else
+      uv[0] = 0, uv[1] = 1 - gt;
+  }
+  return -1;
+}
+
+void LagrangeEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding& r) const
+{
+  r = VertexEmbedding();
+  Id cell = -1;
+  double pc[3];
+  if (this->Locate(v, cell, pc))
+  {
+    // inside: clamp round-off into the reference tet
+    double lsum = 0;
+    for (int i = 0; i < 3; ++i)
+    {
+      pc[i] = std::max(0.0, pc[i]);
+      lsum += pc[i];
+    }
+    if (lsum > 1)
+      for (int i = 0; i < 3; ++i)
+        pc[i] /= lsum;
+    double x[3];
+    this->CellPoint(cell, pc, x);
+    r.Cell = cell;
+    std::copy(pc, pc + 3, r.PC);
+    r.Inside = true;
+    r.Residual = std::sqrt((x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
+      (x[2] - v[2]) * (x[2] - v[2]));
+    return;
+  }
+  Id f = -1;
+  double uv[2] = { 1.0 / 3, 1.0 / 3 };
+  bool certified = true;
+  const double d2 = this->ClosestBoundaryPoint(v, f, uv, certified);
+  r.Uncertified = !certified;
+  r.ClosestDistance = std::sqrt(d2);
+  r.BoundaryFace = f;
+  r.UV[0] = uv[0];
+  r.UV[1] = uv[1];
+  double x[3];
+  this->FacePoint(f, uv, x);
+  const Id closestCell = this->Corners.BoundaryFaceCell[f];
+  const int closestLocal = this->Corners.BoundaryFaceLocal[f];
+  double closestPC[3];
+  TetFaceToTetParametric(closestLocal, uv, closestPC);
+  if (method == EMBED_BARYCENTRIC)
+  {
+    // the closest cell's map extrapolated: its inverse from the closest point
+    double nodes[3 * MaxLagrangeTetNodes];
+    GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, closestCell,
+      nodes);
+    double q[3] = { closestPC[0], closestPC[1], closestPC[2] };
+    double y[3], J[3][3];
+    for (int it = 0; it < 40; ++it)
+    {
+      ++r.Iterations;
+      EvaluateLagrangeTet(*this->Basis, nodes, q, y, J);
+      double A[3][3], rhs[3], step[3];
+      for (int d = 0; d < 3; ++d)
+      {
+        for (int i = 0; i < 3; ++i)
+          A[d][i] = J[i][d];
+        rhs[d] = v[d] - y[d];
+      }
+      if (!Solve3(A, rhs, step) || Dot(rhs, rhs) <= 1e-30 * this->Diagonal * this->Diagonal)
+        break;
+      for (int i = 0; i < 3; ++i)
+        q[i] += step[i];
+    }
+    EvaluateLagrangeTet(*this->Basis, nodes, q, y, J);
+    r.Cell = closestCell;
+    std::copy(q, q + 3, r.PC);
+    r.Residual = std::sqrt((y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+      (y[2] - v[2]) * (y[2] - v[2]));
+    return;
+  }
+  // normal offset from the closest point; d starts at the signed distance along n
+  double s[3];
+  {
+    double nodes[3 * MaxLagrangeTetNodes], J[3][3];
+    GatherCell(this->NodalNormals.data(), this->Connectivity.data(), this->NodesPerCell,
+      closestCell, nodes);
+    EvaluateLagrangeTet(*this->Basis, nodes, closestPC, s, J);
+  }
+  const double e[3] = { v[0] - x[0], v[1] - x[1], v[2] - x[2] };
+  double d = (Dot(e, s) >= 0 ? 1.0 : -1.0) * r.ClosestDistance;
+  Id nf = f;
+  double nuv[2] = { uv[0], uv[1] };
+  int its = 0;
+  const int status = this->NormalOffset(v, nf, nuv, d, its);
+  r.Iterations = its;
+  if (status == 0)
+  {
+    const Id c = this->Corners.BoundaryFaceCell[nf];
+    const int lf = this->Corners.BoundaryFaceLocal[nf];
+    ProjectTriangle(nuv);
+    TetFaceToTetParametric(lf, nuv, r.PC);
+    r.Cell = c;
+    r.Face = static_cast<signed char>(lf);
+    r.Distance = d;
+    r.BoundaryFace = nf;
+    // the residual of the reconstruction p + d n from the stored values
+    double nodes[3 * MaxLagrangeTetNodes], normals[3 * MaxLagrangeTetNodes], y[3], n[3],
+      J[3][3];
+    GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, nodes);
+    GatherCell(
+      this->NodalNormals.data(), this->Connectivity.data(), this->NodesPerCell, c, normals);
+    EvaluateLagrangeTet(*this->Basis, nodes, r.PC, y, J);
+    EvaluateLagrangeTet(*this->Basis, normals, r.PC, n, J);
+    const double nl = std::sqrt(Dot(n, n));
+    double res2 = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double w = y[k] + d * n[k] / nl - v[k];
+      res2 += w * w;
+    }
+    r.Residual = std::sqrt(res2);
+    return;
+  }
+  // fallback: the closest point and v = p + J(pc) q
+  r.Fallback = true;
+  r.Cell = closestCell;
+  std::copy(closestPC, closestPC + 3, r.PC);
+  r.Face = -1;
+  r.Distance = 0.0;
+  double q[3], y[3], J[3][3], nodes[3 * MaxLagrangeTetNodes];
+  this->Offset(closestCell, closestPC, v, q);
+  GatherCell(
+    this->Points.data(), this->Connectivity.data(), this->NodesPerCell, closestCell, nodes);
+  EvaluateLagrangeTet(*this->Basis, nodes, closestPC, y, J);
+  double res2 = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const double w = y[k] + J[0][k] * q[0] + J[1][k] * q[1] + J[2][k] * q[2] - v[k];
+    res2 += w * w;
+  }
+  r.Residual = std::sqrt(res2);
+}
+} // namespace hoembed
