@@ -248,20 +248,35 @@ void LagrangeTetToBernstein(const LagrangeTetBasis& b, const double* y, double* 
   }
 }
 
-double LagrangeTetDetBernsteinMin(const LagrangeTetBasis& b, const double* x, double* hi)
+namespace
+{
+// Bernstein coefficients of det J over the sub-tet of parametric corners P (4 x 3): det J
+// at the sub-tet's lattice of degree 3 (p - 1), collocated. `sampleMin` receives the
+// smallest of those values (actual values of det J). Returns the smallest coefficient,
+// `hi` the largest magnitude.
+double SubTetDetMin(
+  const LagrangeTetBasis& b, const double* x, const double P[4][3], double& hi, double& sampleMin)
 {
   const int n = b.NumberOfDetNodes;
   double values[220];
+  sampleMin = HUGE_VAL;
   for (int i = 0; i < n; ++i)
   {
-    double p[3], J[3][3], Jt[3][3];
-    EvaluateLagrangeTet(b, x, &b.DetNodes[3 * i], p, J);
+    const double* l = &b.DetNodes[3 * i];
+    const double w[4] = { 1.0 - l[0] - l[1] - l[2], l[0], l[1], l[2] };
+    double pc[3];
+    for (int d = 0; d < 3; ++d)
+      pc[d] = w[0] * P[0][d] + w[1] * P[1][d] + w[2] * P[2][d] + w[3] * P[3][d];
+    double pos[3], J[3][3], Jt[3][3];
+    EvaluateLagrangeTet(b, x, pc, pos, J);
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c)
         Jt[r][c] = J[c][r];
     values[i] = Determinant3(Jt);
+    sampleMin = std::min(sampleMin, values[i]);
   }
-  double lo = HUGE_VAL, big = 0.0;
+  double lo = HUGE_VAL;
+  hi = 0.0;
   for (int i = 0; i < n; ++i)
   {
     double c = 0.0;
@@ -272,8 +287,58 @@ double LagrangeTetDetBernsteinMin(const LagrangeTetBasis& b, const double* x, do
       lo = c;
     else if (!std::isnan(lo))
       lo = std::min(lo, c);
-    big = std::max(big, std::abs(c));
+    hi = std::max(hi, std::abs(c));
   }
+  return lo;
+}
+
+// 1: det J > 0 proven on the sub-tet, 0: a value <= 0 found (invalid), -1: not settled
+// within `depth` red refinements.
+int SubTetValid(const LagrangeTetBasis& b, const double* x, const double P[4][3], double scale,
+  int depth)
+{
+  double hi = 0.0, sampleMin = 0.0;
+  const double lo = SubTetDetMin(b, x, P, hi, sampleMin);
+  if (!(sampleMin > 0.0))
+    return 0;
+  if (lo > 1e-9 * scale)
+    return 1;
+  if (depth == 0)
+    return -1;
+  double m[4][4][3]; // edge midpoints (m[i][i] = corner i)
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int d = 0; d < 3; ++d)
+        m[i][j][d] = 0.5 * (P[i][d] + P[j][d]);
+  // red refinement: four corner tets and the octahedron split along m02 - m13
+  const int kids[8][4][2] = { { { 0, 0 }, { 0, 1 }, { 0, 2 }, { 0, 3 } },
+    { { 0, 1 }, { 1, 1 }, { 1, 2 }, { 1, 3 } }, { { 0, 2 }, { 1, 2 }, { 2, 2 }, { 2, 3 } },
+    { { 0, 3 }, { 1, 3 }, { 2, 3 }, { 3, 3 } }, { { 0, 1 }, { 0, 2 }, { 0, 3 }, { 1, 3 } },
+    { { 0, 1 }, { 0, 2 }, { 1, 2 }, { 1, 3 } }, { { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } },
+    { { 0, 2 }, { 1, 2 }, { 1, 3 }, { 2, 3 } } };
+  int result = 1;
+  for (const auto& kid : kids)
+  {
+    double Q[4][3];
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d)
+        Q[k][d] = m[kid[k][0]][kid[k][1]][d];
+    const int r = SubTetValid(b, x, Q, scale, depth - 1);
+    if (r == 0)
+      return 0;
+    if (r < 0)
+      result = -1;
+  }
+  return result;
+}
+
+const double ReferenceCorners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+} // namespace
+
+double LagrangeTetDetBernsteinMin(const LagrangeTetBasis& b, const double* x, double* hi)
+{
+  double big = 0.0, sampleMin = 0.0;
+  const double lo = SubTetDetMin(b, x, ReferenceCorners, big, sampleMin);
   if (hi)
     *hi = big;
   return lo;
@@ -281,9 +346,11 @@ double LagrangeTetDetBernsteinMin(const LagrangeTetBasis& b, const double* x, do
 
 bool LagrangeTetIsValid(const LagrangeTetBasis& b, const double* x)
 {
-  double hi = 0.0;
-  const double lo = LagrangeTetDetBernsteinMin(b, x, &hi);
-  return lo > 1e-9 * hi && hi > 0.0;
+  double hi = 0.0, sampleMin = 0.0;
+  SubTetDetMin(b, x, ReferenceCorners, hi, sampleMin);
+  if (!(hi > 0.0))
+    return false;
+  return SubTetValid(b, x, ReferenceCorners, hi, 3) == 1;
 }
 
 void ComputeLagrangeBoundaryNormals(const LagrangeTetBasis& b, const TetMeshTopology& corners,

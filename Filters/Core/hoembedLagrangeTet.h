@@ -17,9 +17,12 @@
  *
  * Validity: det J is a polynomial of degree 3 (p - 1); its Bernstein coefficients, from
  * its values at the lattice of that degree (collocation, exact for that degree), bound it
- * below over the whole cell. The cell is accepted when the smallest coefficient is above
- * 1e-9 of the largest magnitude (round-off of the collocation): never an invalid cell, at
- * worst a valid cell within that margin of zero is refused.
+ * below over the whole cell. Where the bound is not conclusive (at degree 9, order 4, it
+ * is loose), the cell is split into 8 sub-tets (red refinement), up to 3 levels, each
+ * bounded the same way from its own lattice. A sub-tet is proven when its smallest
+ * coefficient is above 1e-9 of the cell's largest magnitude (round-off of the
+ * collocation); a lattice value <= 0 is a counterexample. Never an invalid cell; at worst
+ * a valid cell within that margin of zero is refused.
  *
  * Plain C++ (no VTK); read-only tables built once per order (thread safe).
  */
@@ -92,8 +95,7 @@ HOEMBEDCORE_EXPORT void LagrangeTetToBernstein(
 HOEMBEDCORE_EXPORT double LagrangeTetDetBernsteinMin(
   const LagrangeTetBasis& b, const double* x, double* hi = nullptr);
 
-/// det J > 0 proven over the whole cell (smallest Bernstein coefficient above 1e-9 of
-/// the largest magnitude).
+/// det J > 0 proven over the whole cell (the bound above, refined by subdivision).
 HOEMBEDCORE_EXPORT bool LagrangeTetIsValid(const LagrangeTetBasis& b, const double* x);
 
 /**
