@@ -141,6 +141,14 @@ Interval Mul(const Interval& a, const Interval& b)
   r.Add(a.Hi * b.Hi);
   return r;
 }
+Interval Square(const Interval& a)
+{
+  Interval r;
+  const double m = std::max(a.Lo * a.Lo, a.Hi * a.Hi);
+  r.Lo = a.Lo > 0 ? a.Lo * a.Lo : (a.Hi < 0 ? a.Hi * a.Hi : 0.0);
+  r.Hi = m;
+  return r;
+}
 Interval Sum(const Interval& a, const Interval& b)
 {
   Interval r;
@@ -483,11 +491,9 @@ void LagrangeEmbeddingMesh::SearchFace(Id f, const double v[3], double& best2, I
     }
     if (lb >= threshold())
       continue;
-    // interval Hessian of |x - v|^2 in the sub-triangle's own coordinates (s, t)
-    bool convex = false;
-    if (p == 1)
-      convex = true; // a flat triangle: |x - v|^2 is convex
-    else
+    // interval Hessian of f = |x - v|^2 in the sub-triangle's own coordinates (s, t)
+    // (p = 1: J constant, no second derivatives: the same bound with zero nets)
+    double lambda = 0.0; // lower bound of the smallest eigenvalue of the Hessian of f
     {
       auto pos = [&](int i1, int i2) {
         // position of (n - i1 - i2, i1, i2) in TriLattice (i1 outer, i2 inner)
@@ -517,6 +523,9 @@ void LagrangeEmbeddingMesh::SearchFace(Id f, const double v[3], double& best2, I
             xtt[d].Add(pp * (net[3 * pos(i1, i2 + 2) + d] - 2 * b01 + b00));
             xst[d].Add(pp * (net[3 * pos(i1 + 1, i2 + 1) + d] - b10 - b01 + b00));
           }
+      if (p < 2)
+        for (int d = 0; d < 3; ++d)
+          xss[d].Lo = xss[d].Hi = xtt[d].Lo = xtt[d].Hi = xst[d].Lo = xst[d].Hi = 0.0;
       Interval hss, htt, hst;
       hss.Lo = hss.Hi = htt.Lo = htt.Hi = hst.Lo = hst.Hi = 0.0;
       for (int d = 0; d < 3; ++d)
@@ -524,88 +533,79 @@ void LagrangeEmbeddingMesh::SearchFace(Id f, const double v[3], double& best2, I
         Interval e;
         e.Lo = box[d].Lo - v[d];
         e.Hi = box[d].Hi - v[d];
-        hss = Sum(hss, Sum(Mul(xs[d], xs[d]), Mul(e, xss[d])));
-        htt = Sum(htt, Sum(Mul(xt[d], xt[d]), Mul(e, xtt[d])));
+        hss = Sum(hss, Sum(Square(xs[d]), Mul(e, xss[d])));
+        htt = Sum(htt, Sum(Square(xt[d]), Mul(e, xtt[d])));
         hst = Sum(hst, Sum(Mul(xs[d], xt[d]), Mul(e, xst[d])));
       }
       const double off = std::max(std::abs(hst.Lo), std::abs(hst.Hi));
-      convex = hss.Lo > 0 && htt.Lo > 0 && hss.Lo * htt.Lo > off * off * (1 + 1e-12);
+      // the smallest eigenvalue of any matrix with diagonal >= (hss.Lo, htt.Lo) and
+      // off-diagonal within +-off is at least that of [[hss.Lo, off], [off, htt.Lo]]
+      const double mean = 0.5 * (hss.Lo + htt.Lo), half = 0.5 * (hss.Lo - htt.Lo);
+      lambda = 2.0 * (mean - std::sqrt(half * half + off * off)); // f's Hessian is 2 h
     }
-    if (convex)
-    {
-      // f >= f(c) + grad f(c) . (u - c) on the sub-triangle; c: the best point when it
-      // lies in it (then the bound is tight), else the sub-triangle's centroid
-      double c[2] = { (s.Q[0][0] + s.Q[1][0] + s.Q[2][0]) / 3,
-        (s.Q[0][1] + s.Q[1][1] + s.Q[2][1]) / 3 };
-      if (bestFace == f)
-      {
-        // barycentric coordinates of bestUV in the sub-triangle
-        const double a[2] = { s.Q[1][0] - s.Q[0][0], s.Q[1][1] - s.Q[0][1] };
-        const double bb[2] = { s.Q[2][0] - s.Q[0][0], s.Q[2][1] - s.Q[0][1] };
-        const double r[2] = { bestUV[0] - s.Q[0][0], bestUV[1] - s.Q[0][1] };
-        const double det = a[0] * bb[1] - a[1] * bb[0];
-        const double l1 = (r[0] * bb[1] - r[1] * bb[0]) / det;
-        const double l2 = (a[0] * r[1] - a[1] * r[0]) / det;
-        const double m = -1e-12;
-        if (l1 >= m && l2 >= m && 1 - l1 - l2 >= m)
-        {
-          c[0] = bestUV[0];
-          c[1] = bestUV[1];
-        }
-      }
-      for (int pass = 0; pass < 2; ++pass)
-      {
-        double x[3], xu[3], xv[3];
-        this->FacePoint(f, c, x, xu, xv);
-        const double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
-        const double fc = Dot(e, e);
-        const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
-        double lin = HUGE_VAL;
-        for (int k = 0; k < 3; ++k)
-          lin = std::min(lin, g[0] * (s.Q[k][0] - c[0]) + g[1] * (s.Q[k][1] - c[1]));
-        if (fc + lin >= threshold())
-          break;
-        if (pass == 0)
-        {
-          // a nearer point may lie here: solve from c and bound again from it
-          double uv[2] = { c[0], c[1] };
-          tryStart(uv);
-          if (bestFace == f)
-          {
-            c[0] = bestUV[0];
-            c[1] = bestUV[1];
-            // c must lie in the sub-triangle for the bound: keep the centroid otherwise
-            const double a[2] = { s.Q[1][0] - s.Q[0][0], s.Q[1][1] - s.Q[0][1] };
-            const double bb[2] = { s.Q[2][0] - s.Q[0][0], s.Q[2][1] - s.Q[0][1] };
-            const double r[2] = { c[0] - s.Q[0][0], c[1] - s.Q[0][1] };
-            const double det = a[0] * bb[1] - a[1] * bb[0];
-            const double l1 = (r[0] * bb[1] - r[1] * bb[0]) / det;
-            const double l2 = (a[0] * r[1] - a[1] * r[0]) / det;
-            if (!(l1 >= -1e-12 && l2 >= -1e-12 && 1 - l1 - l2 >= -1e-12))
-            {
-              c[0] = (s.Q[0][0] + s.Q[1][0] + s.Q[2][0]) / 3;
-              c[1] = (s.Q[0][1] + s.Q[1][1] + s.Q[2][1]) / 3;
-            }
-          }
-          continue;
-        }
-        convex = false; // not settled: split
-      }
-      if (convex)
-        continue;
-    }
-    else
-    {
-      // a better point than the best may lie here: polish from the centroid
-      double c[2] = { (s.Q[0][0] + s.Q[1][0] + s.Q[2][0]) / 3,
-        (s.Q[0][1] + s.Q[1][1] + s.Q[2][1]) / 3 };
-      double x[3];
-      this->FacePoint(f, c, x);
+    // Second-order bound at a point c of the sub-triangle: for every u in it, with d the
+    // local coordinates of u - c, f(u) >= f(c) + grad f(c) . d + lambda / 2 |d|^2; with
+    // lambda < 0 that is concave in d, so its minimum is at a corner; with lambda >= 0 the
+    // linear part alone (at a corner too) is a bound. c: the best point when it lies in
+    // the sub-triangle (then grad f . d >= 0 there and the bound is tight), else the
+    // centroid.
+    const double cen[2] = { (s.Q[0][0] + s.Q[1][0] + s.Q[2][0]) / 3,
+      (s.Q[0][1] + s.Q[1][1] + s.Q[2][1]) / 3 };
+    auto local = [&](const double u[2], double l[2]) {
+      const double a0[2] = { s.Q[1][0] - s.Q[0][0], s.Q[1][1] - s.Q[0][1] };
+      const double b0[2] = { s.Q[2][0] - s.Q[0][0], s.Q[2][1] - s.Q[0][1] };
+      const double r[2] = { u[0] - s.Q[0][0], u[1] - s.Q[0][1] };
+      const double det = a0[0] * b0[1] - a0[1] * b0[0];
+      l[0] = (r[0] * b0[1] - r[1] * b0[0]) / det;
+      l[1] = (a0[0] * r[1] - a0[1] * r[0]) / det;
+      const double m = -1e-12;
+      return l[0] >= m && l[1] >= m && 1 - l[0] - l[1] >= m;
+    };
+    auto secondOrder = [&](const double c[2], double& fc) {
+      double x[3], xu[3], xv[3], cl[2];
+      this->FacePoint(f, c, x, xu, xv);
+      local(c, cl);
       const double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
-      if (Dot(e, e) < best2)
-        tryStart(c);
-      if (lb >= threshold())
-        continue;
+      fc = Dot(e, e);
+      const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
+      const double corners[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+      double low = HUGE_VAL;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double dl[2] = { corners[k][0] - cl[0], corners[k][1] - cl[1] };
+        const double lin = g[0] * (s.Q[k][0] - c[0]) + g[1] * (s.Q[k][1] - c[1]);
+        low = std::min(low, lin + 0.5 * std::min(0.0, lambda) * (dl[0] * dl[0] + dl[1] * dl[1]));
+      }
+      return fc + low;
+    };
+    double c[2] = { cen[0], cen[1] }, cl[2];
+    if (bestFace == f && local(bestUV, cl))
+      c[0] = bestUV[0], c[1] = bestUV[1];
+    double fc = 0.0;
+    if (secondOrder(c, fc) >= threshold())
+      continue;
+    if (fc < best2 || !(bestFace == f && c[0] == bestUV[0] && c[1] == bestUV[1]))
+    {
+      // a nearer point may lie here: solve from c, then bound again from the result
+      double fcen = fc;
+      if (c[0] != cen[0] || c[1] != cen[1])
+      {
+        double x[3];
+        this->FacePoint(f, cen, x);
+        fcen = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
+          (x[2] - v[2]) * (x[2] - v[2]);
+      }
+      if (fcen < best2 || fc < best2)
+      {
+        double uv[2] = { c[0], c[1] };
+        tryStart(uv);
+        if (bestFace == f && local(bestUV, cl))
+        {
+          c[0] = bestUV[0], c[1] = bestUV[1];
+          if (secondOrder(c, fc) >= threshold())
+            continue;
+        }
+      }
     }
     if (s.Depth >= 24 || top + 4 > 256)
     {

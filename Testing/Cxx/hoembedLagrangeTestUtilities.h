@@ -92,6 +92,16 @@ inline void Curve(double x[3])
   x[2] = y[2] + 0.12 * std::sin(0.9 * y[0] + 0.6 * y[1]);
 }
 
+/// A strong curving (held-out style: faces bent enough for the squared distance to have
+/// several local minima on one face, the cells still valid).
+inline void CurveStrongly(double x[3])
+{
+  const double y[3] = { x[0], x[1], x[2] };
+  x[0] = y[0] + 0.22 * std::sin(2.3 * y[1] + 0.4 * y[2]);
+  x[1] = y[1] + 0.22 * std::sin(2.1 * y[2] + 0.5 * y[0]);
+  x[2] = y[2] + 0.22 * std::sin(2.5 * y[0] + 0.3 * y[1]);
+}
+
 /// The mesh's arrays as the drivers read them (type 71, or `type`).
 inline PlainTetMesh AsPlainMesh(const LagrangeBox& m, int type = 71)
 {

@@ -5,8 +5,9 @@
 //    InterpolateFunctions) on curved cells; derivatives against finite differences;
 //  - validity: a cell folded by one moved node is refused, the curved box accepted;
 //  - closest distances: a brute force (every boundary face sampled on a lattice, the best
-//    candidates refined by zooming lattices: no Newton, no bounds) on a curved box of each
-//    order, every point: excess <= 1e-8 of the diagonal; residuals <= 1e-10;
+//    candidates refined by zooming lattices: no Newton, no bounds) on a mildly and a
+//    strongly curved box of each order, every point: excess <= 1e-8 of the diagonal;
+//    residuals <= 1e-10;
 //  - a tet10 mesh re-expressed exactly at order 3 (the quadratic map at vtkLagrangeTetra's
 //    nodes): its closest distances equal the tet10 path's to 1e-10 of the diagonal;
 //  - rigid motion: p' + d n' of the moved mesh rebuilds R v + t to 1e-9 of the diagonal;
@@ -171,16 +172,20 @@ double BruteDistance(const hoembed::LagrangeEmbeddingMesh& m, const double v[3])
   return std::sqrt(best);
 }
 
-void TestClosestPerOrder()
+void TestClosestPerOrder(bool strong)
 {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> box(-0.7, 2.7);
+  std::mt19937 rng(strong ? 13 : 11);
+  // the strongly curved box: points close to its boundary, where the faces' bends matter
+  std::uniform_real_distribution<double> box(strong ? -0.45 : -0.7, strong ? 2.45 : 2.7);
   for (int p = 1; p <= 4; ++p)
   {
-    LagrangeBox mesh = MakeLagrangeBox(2, p, [](const double* c, std::int64_t, const double pc[3],
-                                                double x[3]) {
+    LagrangeBox mesh = MakeLagrangeBox(2, p, [strong](const double* c, std::int64_t,
+                                                const double pc[3], double x[3]) {
       StraightPoint(c, pc, x);
-      Curve(x);
+      if (strong)
+        CurveStrongly(x);
+      else
+        Curve(x);
     });
     hoembed::LagrangeEmbeddingMesh m;
     std::int64_t bad = -1;
@@ -242,9 +247,9 @@ void TestClosestPerOrder()
         worstRigid = std::max(worstRigid, std::abs(got - want) / diag);
       }
     }
-    std::printf("order %d: %d inside, %d outside, excess %.2e, below %.2e, residual %.2e, "
+    std::printf("%s order %d: %d inside, %d outside, excess %.2e, below %.2e, residual %.2e, "
                 "rigid %.2e, fallbacks %d, uncertified %d\n",
-      p, inside, outside, worstExcess, worstBelow, worstResidual, worstRigid, fallbacks,
+      strong ? "strongly curved" : "curved", p, inside, outside, worstExcess, worstBelow, worstResidual, worstRigid, fallbacks,
       uncertified);
     HOEMBED_CHECK(inside > 3 && outside > 10, "order %d: both kinds of points", p);
     HOEMBED_CHECK(worstExcess <= 1e-8, "order %d: excess %g", p, worstExcess);
@@ -363,7 +368,8 @@ void TestErrors()
 int main(int, char*[])
 {
   TestAgainstVTKCell();
-  TestClosestPerOrder();
+  TestClosestPerOrder(false);
+  TestClosestPerOrder(true);
   TestTet10AsOrder3();
   TestErrors();
   return Report("TestLagrangeEmbedding");
