@@ -16,7 +16,6 @@ import time
 
 import numpy as np
 import pyvista as pv
-import vtkmodules.vtkCommonDataModel as dm
 import vtkmodules.vtkFiltersCore as fc
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "Testing" / "Python"))

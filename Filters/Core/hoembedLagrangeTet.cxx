@@ -20,15 +20,15 @@ namespace
 // nodes of order 4 follow VTK's recursive numbering, which a table states plainly.
 // TestLagrangeTet compares every node with vtkLagrangeTetra's parametric coordinates.
 const int Order1[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-const int Order2[] = { 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1,
-  0, 1, 0, 1, 1 };
-const int Order3[] = { 0, 0, 0, 3, 0, 0, 0, 3, 0, 0, 0, 3, 1, 0, 0, 2, 0, 0, 2, 1, 0, 1, 2, 0, 0,
-  2, 0, 0, 1, 0, 0, 0, 1, 0, 0, 2, 2, 0, 1, 1, 0, 2, 0, 2, 1, 0, 1, 2, 1, 0, 1, 1, 1, 1, 0, 1, 1, 1,
-  1, 0 };
-const int Order4[] = { 0, 0, 0, 4, 0, 0, 0, 4, 0, 0, 0, 4, 1, 0, 0, 2, 0, 0, 3, 0, 0, 3, 1, 0, 2,
-  2, 0, 1, 3, 0, 0, 3, 0, 0, 2, 0, 0, 1, 0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 3, 0, 1, 2, 0, 2, 1, 0, 3, 0,
-  3, 1, 0, 2, 2, 0, 1, 3, 1, 0, 1, 2, 0, 1, 1, 0, 2, 1, 2, 1, 1, 1, 2, 2, 1, 1, 0, 1, 1, 0, 1, 2, 0,
-  2, 1, 1, 1, 0, 1, 2, 0, 2, 1, 0, 1, 1, 1 };
+const int Order2[] = { 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0,
+  1, 0, 1, 1 };
+const int Order3[] = { 0, 0, 0, 3, 0, 0, 0, 3, 0, 0, 0, 3, 1, 0, 0, 2, 0, 0, 2, 1, 0, 1, 2, 0, 0, 2,
+  0, 0, 1, 0, 0, 0, 1, 0, 0, 2, 2, 0, 1, 1, 0, 2, 0, 2, 1, 0, 1, 2, 1, 0, 1, 1, 1, 1, 0, 1, 1, 1, 1,
+  0 };
+const int Order4[] = { 0, 0, 0, 4, 0, 0, 0, 4, 0, 0, 0, 4, 1, 0, 0, 2, 0, 0, 3, 0, 0, 3, 1, 0, 2, 2,
+  0, 1, 3, 0, 0, 3, 0, 0, 2, 0, 0, 1, 0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 3, 0, 1, 2, 0, 2, 1, 0, 3, 0, 3,
+  1, 0, 2, 2, 0, 1, 3, 1, 0, 1, 2, 0, 1, 1, 0, 2, 1, 2, 1, 1, 1, 2, 2, 1, 1, 0, 1, 1, 0, 1, 2, 0, 2,
+  1, 1, 1, 0, 1, 2, 0, 2, 1, 0, 1, 1, 1 };
 
 double Factorial(int n)
 {
@@ -294,8 +294,8 @@ double SubTetDetMin(
 
 // 1: det J > 0 proven on the sub-tet, 0: a value <= 0 found (invalid), -1: not settled
 // within `depth` red refinements.
-int SubTetValid(const LagrangeTetBasis& b, const double* x, const double P[4][3], double scale,
-  int depth)
+int SubTetValid(
+  const LagrangeTetBasis& b, const double* x, const double P[4][3], double scale, int depth)
 {
   double hi = 0.0, sampleMin = 0.0;
   const double lo = SubTetDetMin(b, x, P, hi, sampleMin);

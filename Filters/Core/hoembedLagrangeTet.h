@@ -110,8 +110,7 @@ HOEMBEDCORE_EXPORT bool LagrangeTetIsValid(const LagrangeTetBasis& b, const doub
  * over the cell's nodes (the others' shape functions vanish on the face), normalised.
  */
 HOEMBEDCORE_EXPORT void ComputeLagrangeBoundaryNormals(const LagrangeTetBasis& b,
-  const TetMeshTopology& corners, const double* points, const std::int64_t* conn,
-  double* normals);
+  const TetMeshTopology& corners, const double* points, const std::int64_t* conn, double* normals);
 
 /// Gather the nodes of cell c (3 doubles each) from a point array.
 inline void GatherCell(

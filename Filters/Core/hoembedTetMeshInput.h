@@ -62,7 +62,7 @@ public:
   enum Keep
   {
     KeepTopology = 0,
-    KeepPoints = 1,     ///< the points as doubles (Points)
+    KeepPoints = 1,      ///< the points as doubles (Points)
     KeepFingerprint = 2, ///< the fingerprint (Fingerprint)
     /// also accept VTK_LAGRANGE_TETRAHEDRON (71) of order 1-4 (4, 10, 20 or 35 nodes in
     /// VTK's order, one order per mesh): the embedding and the transfer, which handle them

@@ -189,8 +189,8 @@ std::string LagrangeEmbeddingMesh::Build(
       lo[d] = std::min(lo[d], this->Points[3 * i + d]);
       hi[d] = std::max(hi[d], this->Points[3 * i + d]);
     }
-  this->Diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-    (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  this->Diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+    (hi[2] - lo[2]) * (hi[2] - lo[2]));
   // cells: control-point boxes and validity
   std::vector<double> cellBoxes(6 * ncells);
   std::vector<unsigned char> invalid(ncells, 0);
@@ -247,8 +247,8 @@ std::string LagrangeEmbeddingMesh::Build(
   this->TriToBernstein = Inverse(M, nt);
   // nodal normals and the face boxes
   this->NodalNormals.assign(3 * npts, 0.0);
-  ComputeLagrangeBoundaryNormals(b, this->Corners, this->Points.data(),
-    this->Connectivity.data(), this->NodalNormals.data());
+  ComputeLagrangeBoundaryNormals(
+    b, this->Corners, this->Points.data(), this->Connectivity.data(), this->NodalNormals.data());
   std::vector<double> faceBoxes(6 * nfaces);
   ParallelLoop(Id(0), nfaces, [&](Id fb, Id fe) {
     double x[3 * MaxLagrangeTetNodes], ctrl[3 * MaxLagrangeTetNodes];
@@ -349,8 +349,8 @@ double LocalFaceSolve(const Eval& eval, const double v[3], double uv[2], int& it
     {
       const double t[2] = { b0 ? 0.0 : (b1 ? 1.0 : 1.0), b0 ? 1.0 : (b1 ? 0.0 : -1.0) };
       const double gt = g[0] * t[0] + g[1] * t[1];
-      const double ht = t[0] * (A[0][0] * t[0] + A[0][1] * t[1]) +
-        t[1] * (A[1][0] * t[0] + A[1][1] * t[1]);
+      const double ht =
+        t[0] * (A[0][0] * t[0] + A[0][1] * t[1]) + t[1] * (A[1][0] * t[0] + A[1][1] * t[1]);
       const double a = ht > 0 ? -gt / ht : -gt;
       step[0] = a * t[0];
       step[1] = a * t[1];
@@ -418,8 +418,8 @@ struct SubTriangle
 };
 } // namespace
 
-void LagrangeEmbeddingMesh::SearchFace(Id f, const double v[3], double& best2, Id& bestFace,
-  double bestUV[2], bool& certified) const
+void LagrangeEmbeddingMesh::SearchFace(
+  Id f, const double v[3], double& best2, Id& bestFace, double bestUV[2], bool& certified) const
 {
   const LagrangeTetBasis& b = *this->Basis;
   const int p = b.Order;
@@ -916,8 +916,8 @@ void LagrangeEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding
   {
     // the closest cell's map extrapolated: its inverse from the closest point
     double nodes[3 * MaxLagrangeTetNodes];
-    GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, closestCell,
-      nodes);
+    GatherCell(
+      this->Points.data(), this->Connectivity.data(), this->NodesPerCell, closestCell, nodes);
     double q[3] = { closestPC[0], closestPC[1], closestPC[2] };
     double y[3], J[3][3];
     for (int it = 0; it < 40; ++it)
@@ -947,8 +947,8 @@ void LagrangeEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding
   double s[3];
   {
     double nodes[3 * MaxLagrangeTetNodes], J[3][3];
-    GatherCell(this->NodalNormals.data(), this->Connectivity.data(), this->NodesPerCell,
-      closestCell, nodes);
+    GatherCell(
+      this->NodalNormals.data(), this->Connectivity.data(), this->NodesPerCell, closestCell, nodes);
     EvaluateLagrangeTet(*this->Basis, nodes, closestPC, s, J);
   }
   const double e[3] = { v[0] - x[0], v[1] - x[1], v[2] - x[2] };
@@ -969,8 +969,7 @@ void LagrangeEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding
     r.Distance = d;
     r.BoundaryFace = nf;
     // the residual of the reconstruction p + d n from the stored values
-    double nodes[3 * MaxLagrangeTetNodes], normals[3 * MaxLagrangeTetNodes], y[3], n[3],
-      J[3][3];
+    double nodes[3 * MaxLagrangeTetNodes], normals[3 * MaxLagrangeTetNodes], y[3], n[3], J[3][3];
     GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, nodes);
     GatherCell(
       this->NodalNormals.data(), this->Connectivity.data(), this->NodesPerCell, c, normals);

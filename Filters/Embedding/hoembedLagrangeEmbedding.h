@@ -71,17 +71,17 @@ public:
 
   const LagrangeTetBasis* Basis = nullptr;
   int NodesPerCell = 0;
-  std::vector<double> Points;   ///< 3 per node
-  std::vector<Id> Connectivity; ///< NodesPerCell per cell
-  TetMeshTopology Corners;      ///< topology of the corner tets (boundary faces, neighbours)
+  std::vector<double> Points;       ///< 3 per node
+  std::vector<Id> Connectivity;     ///< NodesPerCell per cell
+  TetMeshTopology Corners;          ///< topology of the corner tets (boundary faces, neighbours)
   std::vector<double> NodalNormals; ///< 3 per node (ComputeLagrangeBoundaryNormals)
   double Diagonal = 0.0;
   /// tolerance of the certified search, relative to Diagonal
   double SearchTolerance = 1e-10;
 
 private:
-  void SearchFace(Id f, const double v[3], double& best2, Id& bestFace, double bestUV[2],
-    bool& certified) const;
+  void SearchFace(
+    Id f, const double v[3], double& best2, Id& bestFace, double bestUV[2], bool& certified) const;
   int NormalOffset(const double p[3], Id& f, double uv[2], double& d, int& iterations) const;
   bool Locate(const double v[3], Id& cell, double pc[3]) const;
 

@@ -58,15 +58,15 @@ void Fallback(const LagrangeTetBasis& b, const std::int64_t* conn, const double*
 } // namespace
 
 void EvaluateLagrangeTransfer(const LagrangeTetBasis& b, const std::int64_t* conn,
-  const double* points, const double* nodalNormals, const TransferEntry* plan,
-  std::int64_t begin, std::int64_t end, double* out)
+  const double* points, const double* nodalNormals, const TransferEntry* plan, std::int64_t begin,
+  std::int64_t end, double* out)
 {
   Transfer(b, conn, points, nodalNormals, plan, begin, end, out);
 }
 
 void EvaluateLagrangeTransfer(const LagrangeTetBasis& b, const std::int64_t* conn,
-  const double* points, const double* nodalNormals, const TransferEntry* plan,
-  std::int64_t begin, std::int64_t end, float* out)
+  const double* points, const double* nodalNormals, const TransferEntry* plan, std::int64_t begin,
+  std::int64_t end, float* out)
 {
   Transfer(b, conn, points, nodalNormals, plan, begin, end, out);
 }

@@ -34,12 +34,10 @@ HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateLagrangeTransfer(const LagrangeTetBas
 /// x'(pc) + J'(pc) q.
 HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateLagrangeFallback(const LagrangeTetBasis& b,
   const std::int64_t* conn, const double* points, const TransferEntry* plan,
-  const std::int64_t* vertices, const double* q, std::int64_t begin, std::int64_t end,
-  double* out);
+  const std::int64_t* vertices, const double* q, std::int64_t begin, std::int64_t end, double* out);
 HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateLagrangeFallback(const LagrangeTetBasis& b,
   const std::int64_t* conn, const double* points, const TransferEntry* plan,
-  const std::int64_t* vertices, const double* q, std::int64_t begin, std::int64_t end,
-  float* out);
+  const std::int64_t* vertices, const double* q, std::int64_t begin, std::int64_t end, float* out);
 
 /// Cells [begin, end) whose det J is <= 0 at a corner or the centroid (counted as the tet
 /// kernels count theirs).

@@ -110,7 +110,8 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
   }
   const std::string problem = this->Lagrange
     ? this->Topology.Build(corners.data(), input.NumberOfCells, 4, input.NumberOfPoints)
-    : this->Topology.Build(input.Connectivity.data(), input.NumberOfCells, npc, input.NumberOfPoints);
+    : this->Topology.Build(
+        input.Connectivity.data(), input.NumberOfCells, npc, input.NumberOfPoints);
   if (!problem.empty())
   {
     this->ForgetMesh();
@@ -122,8 +123,8 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
   this->NumberOfCells = input.NumberOfCells;
   ++this->TopologyVersion;
   const int tableNodes = this->Lagrange ? 4 : npc; // the tet tables are not used then
-  this->CellCoeffs.assign(
-    static_cast<size_t>(CellCoefficientSize(tableNodes)) * (this->Lagrange ? 0 : input.NumberOfCells),
+  this->CellCoeffs.assign(static_cast<size_t>(CellCoefficientSize(tableNodes)) *
+      (this->Lagrange ? 0 : input.NumberOfCells),
     0.0);
   this->FaceCoeffs.assign(static_cast<size_t>(FaceCoefficientSize(tableNodes)) *
       (this->Lagrange ? 0 : this->Topology.GetNumberOfBoundaryFaces()),

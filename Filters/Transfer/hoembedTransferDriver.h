@@ -271,8 +271,8 @@ private:
   TetMeshTopology Topology; // of the corner tets for Lagrange cells of order 3-4
   /// Lagrange tets of order 3-4 (hoembedLagrangeTransfer.h); null for tet4 / tet10
   const LagrangeTetBasis* Lagrange = nullptr;
-  std::string EvaluateLagrangeFrame(const TransferFrame& frame, double* outDouble,
-    float* outFloat, std::vector<std::string>& warnings);
+  std::string EvaluateLagrangeFrame(const TransferFrame& frame, double* outDouble, float* outFloat,
+    std::vector<std::string>& warnings);
   int TopologyVersion = 0;
   // step 2
   std::vector<TransferEntry> Plan;

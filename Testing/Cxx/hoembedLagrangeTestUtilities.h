@@ -36,8 +36,8 @@ struct LagrangeBox
  * their exact lattice position (integers).
  */
 inline LagrangeBox MakeLagrangeBox(int n, int p,
-  const std::function<void(const double* corners, std::int64_t cell, const double pc[3],
-    double x[3])>& place)
+  const std::function<void(
+    const double* corners, std::int64_t cell, const double pc[3], double x[3])>& place)
 {
   vtkSmartPointer<vtkUnstructuredGrid> straight = MakeBoxTetMesh(n, n, n, n, n, n, 1);
   const hoembed::LagrangeTetBasis& b = *hoembed::GetLagrangeTetBasis(p);
@@ -79,8 +79,8 @@ inline void StraightPoint(const double* corners, const double pc[3], double x[3]
 {
   const double w[4] = { 1 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
   for (int d = 0; d < 3; ++d)
-    x[d] = w[0] * corners[d] + w[1] * corners[3 + d] + w[2] * corners[6 + d] +
-      w[3] * corners[9 + d];
+    x[d] =
+      w[0] * corners[d] + w[1] * corners[3 + d] + w[2] * corners[6 + d] + w[3] * corners[9 + d];
 }
 
 /// A smooth curving of the box (cube size 1): small enough that every cell stays valid.

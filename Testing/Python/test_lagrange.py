@@ -13,6 +13,7 @@ import hoembed
 import numpy as np
 import pytest
 import pyvista as pv
+import vtkmodules.vtkCommonCore as vtkCommonCore
 import vtkmodules.vtkCommonDataModel as dm
 from filter_routes import embed as filter_embed
 from filter_routes import transfer as filter_transfer
@@ -74,7 +75,7 @@ def vtk_location(mesh, cell_id, pcoords):
     cell.Initialize()
     x = [0.0, 0.0, 0.0]
     w = [0.0] * len(ids)
-    cell.EvaluateLocation(0, list(pcoords), x, w)
+    cell.EvaluateLocation(vtkCommonCore.reference(0), list(pcoords), x, w)
     return np.array(x)
 
 
@@ -104,6 +105,7 @@ def boundary_samples(mesh, per_face=6):
 def case(request):
     mesh = lagrange_box(request.param)
     surface = pv.Sphere(radius=1.35, center=(1.0, 1.0, 1.0), theta_resolution=10, phi_resolution=8)
+    surface.points = surface.points.astype(np.float64)  # the transfer writes the input's type
     return request.param, mesh, surface
 
 
@@ -111,8 +113,14 @@ def test_routes_agree_and_points_rebuilt(case):
     order, mesh, surface = case
     got = hoembed.embed(surface, mesh)
     via_filter = filter_embed(surface, mesh)
-    for name in ("EmbeddingCellId", "EmbeddingParametricCoords", "EmbeddingDistance",
-                 "EmbeddingClosestDistance", "EmbeddingResidual", "EmbeddingFace"):
+    for name in (
+        "EmbeddingCellId",
+        "EmbeddingParametricCoords",
+        "EmbeddingDistance",
+        "EmbeddingClosestDistance",
+        "EmbeddingResidual",
+        "EmbeddingFace",
+    ):
         assert np.array_equal(got[name], via_filter[name]), name
     diag = mesh.length
     assert got["EmbeddingResidual"].max() <= 1e-10 * diag
@@ -152,5 +160,7 @@ def test_mixed_mesh_refused(case):
     mixed = pv.UnstructuredGrid(mixed.cells, types, mixed.points)
     with pytest.raises(hoembed.HOEmbedError, match="embed.*mixes cell types"):
         hoembed.embed(surface, mixed)
-    with pytest.raises(hoembed.HOEmbedError, match="vtkEmbeddingCoordinatesFilter.*mixes cell types"):
+    with pytest.raises(
+        hoembed.HOEmbedError, match="vtkEmbeddingCoordinatesFilter.*mixes cell types"
+    ):
         filter_embed(surface, mixed)

@@ -71,11 +71,11 @@ void TestAgainstVTKCell()
       hoembed::EvaluateLagrangeTet(b, x.data(), pc, hx, J, H);
       hoembed::LagrangeTetShape(b, pc, N.data());
       for (int d = 0; d < 3; ++d)
-        HOEMBED_CHECK(std::abs(vx[d] - hx[d]) < 1e-12, "order %d: x differs from VTK's by %g",
-          p, vx[d] - hx[d]);
+        HOEMBED_CHECK(std::abs(vx[d] - hx[d]) < 1e-12, "order %d: x differs from VTK's by %g", p,
+          vx[d] - hx[d]);
       for (int k = 0; k < n; ++k)
-        HOEMBED_CHECK(std::abs(w[k] - N[k]) < 1e-12, "order %d: N_%d %g vs VTK %g", p, k, N[k],
-          w[k]);
+        HOEMBED_CHECK(
+          std::abs(w[k] - N[k]) < 1e-12, "order %d: N_%d %g vs VTK %g", p, k, N[k], w[k]);
       // derivatives against central differences
       const double h = 1e-6;
       for (int i = 0; i < 3; ++i)
@@ -90,8 +90,8 @@ void TestAgainstVTKCell()
         {
           HOEMBED_CHECK(std::abs((xa[d] - xc[d]) / (2 * h) - J[i][d]) < 1e-7, "order %d dx", p);
           for (int j = 0; j < 3; ++j)
-            HOEMBED_CHECK(std::abs((Ja[j][d] - Jc[j][d]) / (2 * h) - H[i][j][d]) < 1e-6,
-              "order %d d2x", p);
+            HOEMBED_CHECK(
+              std::abs((Ja[j][d] - Jc[j][d]) / (2 * h) - H[i][j][d]) < 1e-6, "order %d d2x", p);
         }
       }
     }
@@ -133,8 +133,8 @@ double BruteDistance(const hoembed::LagrangeEmbeddingMesh& m, const double v[3])
       }
     cand.push_back({ best, { double(f), bu, bv } });
   }
-  std::sort(cand.begin(), cand.end(),
-    [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::sort(
+    cand.begin(), cand.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   double best = HUGE_VAL;
   for (std::size_t k = 0; k < std::min<std::size_t>(6, cand.size()); ++k)
   {
@@ -179,14 +179,14 @@ void TestClosestPerOrder(bool strong)
   std::uniform_real_distribution<double> box(strong ? -0.45 : -0.7, strong ? 2.45 : 2.7);
   for (int p = 1; p <= 4; ++p)
   {
-    LagrangeBox mesh = MakeLagrangeBox(2, p, [strong](const double* c, std::int64_t,
-                                                const double pc[3], double x[3]) {
-      StraightPoint(c, pc, x);
-      if (strong)
-        CurveStrongly(x);
-      else
-        Curve(x);
-    });
+    LagrangeBox mesh = MakeLagrangeBox(
+      2, p, [strong](const double* c, std::int64_t, const double pc[3], double x[3]) {
+        StraightPoint(c, pc, x);
+        if (strong)
+          CurveStrongly(x);
+        else
+          Curve(x);
+      });
     hoembed::LagrangeEmbeddingMesh m;
     std::int64_t bad = -1;
     const std::string err = m.Build(mesh.Points, mesh.Connectivity, mesh.NodesPerCell, &bad);
@@ -197,8 +197,8 @@ void TestClosestPerOrder(bool strong)
     int inside = 0, outside = 0, fallbacks = 0, uncertified = 0;
     // a rigid motion of the mesh: its nodal normals rotate with it
     const double ang = 0.7, ca = std::cos(ang), sa = std::sin(ang);
-    const double R[3][3] = { { ca, -sa, 0 }, { sa * 0.6, ca * 0.6, 0.8 }, { -sa * 0.8, -ca * 0.8,
-      0.6 } };
+    const double R[3][3] = { { ca, -sa, 0 }, { sa * 0.6, ca * 0.6, 0.8 },
+      { -sa * 0.8, -ca * 0.8, 0.6 } };
     const double t[3] = { 3.0, -1.0, 0.5 };
     std::vector<double> moved(mesh.Points.size());
     for (std::size_t i = 0; i < mesh.Points.size() / 3; ++i)
@@ -249,8 +249,8 @@ void TestClosestPerOrder(bool strong)
     }
     std::printf("%s order %d: %d inside, %d outside, excess %.2e, below %.2e, residual %.2e, "
                 "rigid %.2e, fallbacks %d, uncertified %d\n",
-      strong ? "strongly curved" : "curved", p, inside, outside, worstExcess, worstBelow, worstResidual, worstRigid, fallbacks,
-      uncertified);
+      strong ? "strongly curved" : "curved", p, inside, outside, worstExcess, worstBelow,
+      worstResidual, worstRigid, fallbacks, uncertified);
     HOEMBED_CHECK(inside > 3 && outside > 10, "order %d: both kinds of points", p);
     HOEMBED_CHECK(worstExcess <= 1e-8, "order %d: excess %g", p, worstExcess);
     HOEMBED_CHECK(worstBelow <= 1e-8, "order %d: below the brute force by %g", p, worstBelow);
@@ -324,16 +324,17 @@ void TestTet10AsOrder3()
   for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
     worst = std::max(worst, std::abs(a[i] - b[i]));
   const double diag = std::sqrt(3.0) * 2.4; // about the curved box's diagonal
-  std::printf("tet10 vs order 3: closest distances differ by %.2e of the diagonal\n",
-    worst / diag);
+  std::printf("tet10 vs order 3: closest distances differ by %.2e of the diagonal\n", worst / diag);
   HOEMBED_CHECK(worst <= 1e-10 * diag, "tet10 vs order 3: %g", worst);
   HOEMBED_CHECK(a.size() == 100 && b.size() == 100, "points embedded");
 }
 
 void TestErrors()
 {
-  LagrangeBox cubic = MakeLagrangeBox(1, 3, [](const double* c, std::int64_t, const double pc[3],
-                                              double x[3]) { StraightPoint(c, pc, x); });
+  LagrangeBox cubic =
+    MakeLagrangeBox(1, 3, [](const double* c, std::int64_t, const double pc[3], double x[3]) {
+      StraightPoint(c, pc, x);
+    });
   std::vector<double> points = { 0.2, 0.2, 0.2 }, closest;
   PlainTetMesh mixed = AsPlainMesh(cubic);
   mixed.Types[1] = 24;

@@ -62,11 +62,11 @@ std::string EmbedPoints(const PlainTetMesh& mesh, const std::vector<double>& poi
 
 void TestOrder(int p)
 {
-  LagrangeBox box = MakeLagrangeBox(2, p, [](const double* c, std::int64_t, const double pc[3],
-                                             double x[3]) {
-    StraightPoint(c, pc, x);
-    Curve(x);
-  });
+  LagrangeBox box =
+    MakeLagrangeBox(2, p, [](const double* c, std::int64_t, const double pc[3], double x[3]) {
+      StraightPoint(c, pc, x);
+      Curve(x);
+    });
   const PlainTetMesh mesh = AsPlainMesh(box);
   std::mt19937 rng(3 + p);
   std::uniform_real_distribution<double> u(-0.5, 2.5);
