@@ -31,8 +31,6 @@ def lagrange_box(order, n=2, amplitude=0.1):
     cell.Initialize()
     pc = np.array([cell.GetParametricCoords()[i] for i in range(3 * npc)]).reshape(-1, 3)
     bary = np.column_stack([1 - pc.sum(axis=1), pc])
-    grid = np.array(np.meshgrid(*[np.arange(n + 1)] * 3, indexing="ij")).reshape(3, -1).T
-    index = {tuple(g): i for i, g in enumerate(grid)}
     keys, conn = {}, []
     for cube in np.ndindex(n, n, n):
         for perm in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
