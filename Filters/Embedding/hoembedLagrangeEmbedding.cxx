@@ -432,9 +432,18 @@ void LagrangeEmbeddingMesh::SearchFace(
     const double r = std::max(0.0, std::sqrt(best2) - tol);
     return r * r;
   };
+  // this face's own local solution (a KKT point of the face: the tight place to bound
+  // from, also when another face holds the same point as the best one)
+  double ownUV[2] = { 0, 0 }, ownD2 = HUGE_VAL;
   auto tryStart = [&](double uv[2]) {
     int its = 0;
     const double d2 = LocalFaceSolve(eval, v, uv, its);
+    if (d2 < ownD2)
+    {
+      ownD2 = d2;
+      ownUV[0] = uv[0];
+      ownUV[1] = uv[1];
+    }
     if (d2 < best2)
     {
       best2 = d2;
@@ -443,10 +452,8 @@ void LagrangeEmbeddingMesh::SearchFace(
       bestUV[1] = uv[1];
     }
   };
-  {
-    double c[2] = { 1.0 / 3, 1.0 / 3 };
-    tryStart(c);
-  }
+  // no solve up front: the root's bounds drop most faces a search visits, and where they
+  // do not, a local solve starts from the first sub-triangle holding a nearer point
   SubTriangle stack[256];
   int top = 0;
   stack[top++] = { { { 0, 0 }, { 1, 0 }, { 0, 1 } }, 0 };
@@ -579,32 +586,30 @@ void LagrangeEmbeddingMesh::SearchFace(
       return fc + low;
     };
     double c[2] = { cen[0], cen[1] }, cl[2];
-    if (bestFace == f && local(bestUV, cl))
-      c[0] = bestUV[0], c[1] = bestUV[1];
+    if (ownD2 < HUGE_VAL && local(ownUV, cl))
+      c[0] = ownUV[0], c[1] = ownUV[1];
     double fc = 0.0;
     if (secondOrder(c, fc) >= threshold())
       continue;
-    if (fc < best2 || !(bestFace == f && c[0] == bestUV[0] && c[1] == bestUV[1]))
+    // a nearer point may lie here (or, at the root, the face was never solved): solve from
+    // c, then bound again from the face's solution when it lies in this sub-triangle
+    double fcen = fc;
+    if (c[0] != cen[0] || c[1] != cen[1])
     {
-      // a nearer point may lie here: solve from c, then bound again from the result
-      double fcen = fc;
-      if (c[0] != cen[0] || c[1] != cen[1])
+      double x[3];
+      this->FacePoint(f, cen, x);
+      fcen = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
+        (x[2] - v[2]) * (x[2] - v[2]);
+    }
+    if (s.Depth == 0 || fcen < best2 || fc < best2)
+    {
+      double uv[2] = { c[0], c[1] };
+      tryStart(uv);
+      if (local(ownUV, cl))
       {
-        double x[3];
-        this->FacePoint(f, cen, x);
-        fcen = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
-          (x[2] - v[2]) * (x[2] - v[2]);
-      }
-      if (fcen < best2 || fc < best2)
-      {
-        double uv[2] = { c[0], c[1] };
-        tryStart(uv);
-        if (bestFace == f && local(bestUV, cl))
-        {
-          c[0] = bestUV[0], c[1] = bestUV[1];
-          if (secondOrder(c, fc) >= threshold())
-            continue;
-        }
+        c[0] = ownUV[0], c[1] = ownUV[1];
+        if (secondOrder(c, fc) >= threshold())
+          continue;
       }
     }
     if (s.Depth >= 24 || top + 4 > 256)
