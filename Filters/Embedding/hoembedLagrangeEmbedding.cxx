@@ -250,6 +250,7 @@ std::string LagrangeEmbeddingMesh::Build(
   ComputeLagrangeBoundaryNormals(
     b, this->Corners, this->Points.data(), this->Connectivity.data(), this->NodalNormals.data());
   std::vector<double> faceBoxes(6 * nfaces);
+  this->FaceNets.assign(static_cast<std::size_t>(3 * nt) * nfaces, 0.0);
   ParallelLoop(Id(0), nfaces, [&](Id fb, Id fe) {
     double x[3 * MaxLagrangeTetNodes], ctrl[3 * MaxLagrangeTetNodes];
     for (Id f = fb; f < fe; ++f)
@@ -264,14 +265,24 @@ std::string LagrangeEmbeddingMesh::Build(
         box[d] = HUGE_VAL;
         box[d + 3] = -HUGE_VAL;
       }
-      // the face's control points are the cell's with no weight on the opposite corner
-      for (int k = 0; k < nodesPerCell; ++k)
-        if (b.Lattice[4 * k + opposite] == 0)
-          for (int d = 0; d < 3; ++d)
-          {
-            box[d] = std::min(box[d], ctrl[3 * k + d]);
-            box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
-          }
+      // the face's control points are the cell's with no weight on the opposite corner;
+      // kept in the face's own lattice order (weights on its corners a, b, c)
+      const int* fc = TetFaceNodes[this->Corners.BoundaryFaceLocal[f]];
+      double* net = &this->FaceNets[static_cast<std::size_t>(3 * nt) * f];
+      for (int i = 0; i < nt; ++i)
+      {
+        int alpha[4] = { 0, 0, 0, 0 };
+        for (int m = 0; m < 3; ++m)
+          alpha[fc[m]] = this->TriLattice[3 * i + m];
+        const int k = b.NodeIndex(alpha[1], alpha[2], alpha[3]);
+        for (int d = 0; d < 3; ++d)
+        {
+          net[3 * i + d] = ctrl[3 * k + d];
+          box[d] = std::min(box[d], ctrl[3 * k + d]);
+          box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
+        }
+      }
+      (void)opposite;
     }
   });
   this->FaceTree.Build(faceBoxes);
@@ -288,33 +299,81 @@ void LagrangeEmbeddingMesh::CellPoint(Id c, const double pc[3], double x[3]) con
 void LagrangeEmbeddingMesh::FacePoint(
   Id f, const double uv[2], double x[3], double xu[3], double xv[3], double (*H)[3]) const
 {
-  const Id c = this->Corners.BoundaryFaceCell[f];
-  const int lf = this->Corners.BoundaryFaceLocal[f];
-  double nodes[3 * MaxLagrangeTetNodes], J[3][3], HH[3][3][3], pc[3], du[3], dv[3];
-  GatherCell(this->Points.data(), this->Connectivity.data(), this->NodesPerCell, c, nodes);
-  TetFaceToTetParametric(lf, uv, pc);
-  EvaluateLagrangeTet(*this->Basis, nodes, pc, x, J, H ? HH : nullptr);
-  FaceFrame(lf, du, dv);
-  for (int d = 0; d < 3; ++d)
+  // the face's Bernstein form (FaceNets): a triangle of degree p, a fraction of the cost
+  // of the cell's shape functions; derivatives from the differences of the net
+  const int p = this->Basis->Order;
+  const int nt = static_cast<int>(this->TriLattice.size() / 3);
+  const double* net = &this->FaceNets[static_cast<std::size_t>(3 * nt) * f];
+  const double l[3] = { 1.0 - uv[0] - uv[1], uv[0], uv[1] };
+  double pw[3][5];
+  for (int m = 0; m < 3; ++m)
   {
-    if (xu)
-      xu[d] = J[0][d] * du[0] + J[1][d] * du[1] + J[2][d] * du[2];
-    if (xv)
-      xv[d] = J[0][d] * dv[0] + J[1][d] * dv[1] + J[2][d] * dv[2];
-    if (H) // H[0] = x_uu, H[1] = x_uv, H[2] = x_vv
+    pw[m][0] = 1.0;
+    for (int k = 0; k < p; ++k)
+      pw[m][k + 1] = pw[m][k] * l[m];
+  }
+  static const double fact[5] = { 1, 1, 2, 6, 24 };
+  auto B = [&](int n, int i1, int i2) {
+    const int i0 = n - i1 - i2;
+    return fact[n] / (fact[i0] * fact[i1] * fact[i2]) * pw[0][i0] * pw[1][i1] * pw[2][i2];
+  };
+  // position of (p - i1 - i2, i1, i2) in the net (i1 outer, i2 inner)
+  auto P = [&](int i1, int i2) { return 3 * (i1 * (2 * p + 3 - i1) / 2 + i2); };
+  x[0] = x[1] = x[2] = 0.0;
+  for (int i1 = 0; i1 <= p; ++i1)
+    for (int i2 = 0; i1 + i2 <= p; ++i2)
     {
-      double a = 0, m = 0, z = 0;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-        {
-          a += HH[i][j][d] * du[i] * du[j];
-          m += HH[i][j][d] * du[i] * dv[j];
-          z += HH[i][j][d] * dv[i] * dv[j];
-        }
-      H[0][d] = a;
-      H[1][d] = m;
-      H[2][d] = z;
+      const double w = B(p, i1, i2);
+      const double* c = net + P(i1, i2);
+      x[0] += w * c[0];
+      x[1] += w * c[1];
+      x[2] += w * c[2];
     }
+  if (xu || xv)
+  {
+    double a[3] = { 0, 0, 0 }, bv[3] = { 0, 0, 0 };
+    for (int i1 = 0; i1 < p; ++i1)
+      for (int i2 = 0; i1 + i2 < p; ++i2)
+      {
+        const double w = p * B(p - 1, i1, i2);
+        const double* c0 = net + P(i1, i2);
+        const double* c1 = net + P(i1 + 1, i2);
+        const double* c2 = net + P(i1, i2 + 1);
+        for (int d = 0; d < 3; ++d)
+        {
+          a[d] += w * (c1[d] - c0[d]);
+          bv[d] += w * (c2[d] - c0[d]);
+        }
+      }
+    for (int d = 0; d < 3; ++d)
+    {
+      if (xu)
+        xu[d] = a[d];
+      if (xv)
+        xv[d] = bv[d];
+    }
+  }
+  if (H) // H[0] = x_uu, H[1] = x_uv, H[2] = x_vv
+  {
+    for (int k = 0; k < 3; ++k)
+      H[k][0] = H[k][1] = H[k][2] = 0.0;
+    for (int i1 = 0; i1 + 2 <= p; ++i1)
+      for (int i2 = 0; i1 + i2 + 2 <= p; ++i2)
+      {
+        const double w = p * (p - 1) * B(p - 2, i1, i2);
+        const double* c00 = net + P(i1, i2);
+        const double* c10 = net + P(i1 + 1, i2);
+        const double* c01 = net + P(i1, i2 + 1);
+        const double* c20 = net + P(i1 + 2, i2);
+        const double* c11 = net + P(i1 + 1, i2 + 1);
+        const double* c02 = net + P(i1, i2 + 2);
+        for (int d = 0; d < 3; ++d)
+        {
+          H[0][d] += w * (c20[d] - 2 * c10[d] + c00[d]);
+          H[1][d] += w * (c11[d] - c10[d] - c01[d] + c00[d]);
+          H[2][d] += w * (c02[d] - 2 * c01[d] + c00[d]);
+        }
+      }
   }
 }
 

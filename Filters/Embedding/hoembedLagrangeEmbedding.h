@@ -65,7 +65,9 @@ public:
   /// x(pc) of cell c.
   void CellPoint(Id c, const double pc[3], double x[3]) const;
 
-  /// Point and tangents of boundary face f at (u, v).
+  /// Point, tangents and (H: x_uu, x_uv, x_vv) second derivatives of boundary face f at
+  /// (u, v) (face corners a, b, c of TetFaceNodes at (0, 0), (1, 0), (0, 1)), from the
+  /// face's Bernstein net.
   void FacePoint(Id f, const double uv[2], double x[3], double xu[3] = nullptr,
     double xv[3] = nullptr, double (*H)[3] = nullptr) const;
 
@@ -88,6 +90,7 @@ private:
   AabbTree FaceTree, CellTree;
   std::vector<double> TriToBernstein; // (p+1)(p+2)/2 squared
   std::vector<int> TriLattice;        // 3 per control point
+  std::vector<double> FaceNets;       // per boundary face: its Bernstein net (3 per point)
 };
 } // namespace hoembed
 

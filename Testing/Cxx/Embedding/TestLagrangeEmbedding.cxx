@@ -110,8 +110,58 @@ void TestAgainstVTKCell()
   }
 }
 
+// A boundary face's point through its cell's shape functions (not the face's Bernstein
+// form that the search evaluates).
+void CellFacePoint(
+  const hoembed::LagrangeEmbeddingMesh& m, std::int64_t f, const double uv[2], double x[3])
+{
+  double pc[3];
+  hoembed::TetFaceToTetParametric(m.Corners.BoundaryFaceLocal[f], uv, pc);
+  m.CellPoint(m.Corners.BoundaryFaceCell[f], pc, x);
+}
+
+// The search's face evaluation (Bernstein net, derivatives from its differences) against
+// the cell's shape functions and central differences of them.
+void CheckFacePoints(const hoembed::LagrangeEmbeddingMesh& m, int p)
+{
+  double worst = 0.0;
+  const double h = 1e-5;
+  for (std::int64_t f = 0; f < m.Corners.GetNumberOfBoundaryFaces(); f += 7)
+    for (const auto& uv : { std::array<double, 2>{ 0.2, 0.3 }, { 0.6, 0.1 }, { 0.05, 0.9 } })
+    {
+      double x[3], xu[3], xv[3], H[3][3], y[3];
+      m.FacePoint(f, uv.data(), x, xu, xv, H);
+      CellFacePoint(m, f, uv.data(), y);
+      double fd[3][3], fdd[3][3];
+      const double du[2][2] = { { h, 0 }, { 0, h } };
+      for (int k = 0; k < 2; ++k)
+      {
+        double a[2] = { uv[0] + du[k][0], uv[1] + du[k][1] };
+        double c[2] = { uv[0] - du[k][0], uv[1] - du[k][1] };
+        double xa[3], xc[3];
+        CellFacePoint(m, f, a, xa);
+        CellFacePoint(m, f, c, xc);
+        for (int d = 0; d < 3; ++d)
+        {
+          fd[k][d] = (xa[d] - xc[d]) / (2 * h);
+          fdd[2 * k][d] = (xa[d] - 2 * y[d] + xc[d]) / (h * h);
+        }
+      }
+      for (int d = 0; d < 3; ++d)
+      {
+        worst = std::max(worst, std::abs(x[d] - y[d]) * 1e4); // exact to round-off
+        worst = std::max(worst, std::abs(xu[d] - fd[0][d]));
+        worst = std::max(worst, std::abs(xv[d] - fd[1][d]));
+        worst = std::max(worst, std::abs(H[0][d] - fdd[0][d]) * 1e-2);
+        worst = std::max(worst, std::abs(H[2][d] - fdd[2][d]) * 1e-2);
+      }
+    }
+  HOEMBED_CHECK(worst < 1e-6, "order %d: face evaluation off by %g (scaled)", p, worst);
+}
+
 // Brute force: each boundary face sampled on a lattice, the best few refined by zooming
-// lattices around them (no derivatives, no bounds: independent of the search).
+// lattices around them (no derivatives, no bounds, the cells' shape functions: independent
+// of the search).
 double BruteDistance(const hoembed::LagrangeEmbeddingMesh& m, const double v[3])
 {
   const std::int64_t nf = m.Corners.GetNumberOfBoundaryFaces();
@@ -125,7 +175,7 @@ double BruteDistance(const hoembed::LagrangeEmbeddingMesh& m, const double v[3])
       {
         const double uv[2] = { double(i) / L, double(j) / L };
         double x[3];
-        m.FacePoint(f, uv, x);
+        CellFacePoint(m, f, uv, x);
         const double d2 = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
           (x[2] - v[2]) * (x[2] - v[2]);
         if (d2 < best)
@@ -157,7 +207,7 @@ double BruteDistance(const hoembed::LagrangeEmbeddingMesh& m, const double v[3])
               uv[0] /= s, uv[1] /= s;
           }
           double x[3];
-          m.FacePoint(f, uv, x);
+          CellFacePoint(m, f, uv, x);
           const double d2 = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
             (x[2] - v[2]) * (x[2] - v[2]);
           if (d2 < d2best)
@@ -192,6 +242,7 @@ void TestClosestPerOrder(bool strong)
     const std::string err = m.Build(mesh.Points, mesh.Connectivity, mesh.NodesPerCell, &bad);
     HOEMBED_CHECK(err.empty(), "order %d: %s", p, err.c_str());
     HOEMBED_CHECK(bad == mesh.NumberOfCells(), "order %d: cell %lld refused", p, (long long)bad);
+    CheckFacePoints(m, p);
     const double diag = m.Diagonal;
     double worstExcess = 0, worstBelow = 0, worstResidual = 0, worstRigid = 0;
     int inside = 0, outside = 0, fallbacks = 0, uncertified = 0;
