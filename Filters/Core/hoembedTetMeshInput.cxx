@@ -39,7 +39,9 @@ std::string ReadCells(const T* offsets, const T* ids, const unsigned char* types
     {
       msg << "the FE mesh mixes cell types: cell " << c << " has type " << int(types[c])
           << ", cell 0 has type " << type0
-          << "; use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells";
+          << (type0 == TetMeshInput::LagrangeTetra
+                 ? "; use only VTK_LAGRANGE_TETRAHEDRON cells (of one order)"
+                 : "; use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells");
       return msg.str();
     }
     if (size != npc)
