@@ -517,7 +517,7 @@ void LagrangeEmbeddingMesh::SearchFace(
   int top = 0;
   stack[top++] = { { { 0, 0 }, { 1, 0 }, { 0, 1 } }, 0 };
   int budget = 4000;
-  std::vector<double> vals(3 * nt), net(3 * nt);
+  double vals[3 * 15], net[3 * 15]; // nt <= 15 (order 4)
   while (top > 0)
   {
     const SubTriangle s = stack[--top];
