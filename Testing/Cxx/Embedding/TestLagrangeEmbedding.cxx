@@ -274,6 +274,15 @@ void TestClosestPerOrder(bool strong)
       else
       {
         ++outside;
+        // truly outside: v lies on the outer side of the boundary at its closest point
+        // (a missed inside point would have its closest point facing away from it)
+        double x[3], xu[3], xv[3];
+        m.FacePoint(r.BoundaryFace, r.UV, x, xu, xv);
+        const double n[3] = { xu[1] * xv[2] - xu[2] * xv[1], xu[2] * xv[0] - xu[0] * xv[2],
+          xu[0] * xv[1] - xu[1] * xv[0] };
+        const double side = (v[0] - x[0]) * n[0] + (v[1] - x[1]) * n[1] + (v[2] - x[2]) * n[2];
+        HOEMBED_CHECK(side > 0 || r.ClosestDistance < 1e-12 * diag,
+          "order %d: an outside point behind its closest face", p);
         const double brute = BruteDistance(m, v);
         worstExcess = std::max(worstExcess, (r.ClosestDistance - brute) / diag);
         worstBelow = std::max(worstBelow, (brute - r.ClosestDistance) / diag);
@@ -298,6 +307,36 @@ void TestClosestPerOrder(bool strong)
         worstRigid = std::max(worstRigid, std::abs(got - want) / diag);
       }
     }
+    // points just inside and just outside the curved boundary (1e-3 along the face's
+    // normal): located on the right side, at the right distance
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int wrongSide = 0;
+    double worstNear = 0.0;
+    for (int s = 0; s < 40; ++s)
+    {
+      const std::int64_t f =
+        static_cast<std::int64_t>(unit(rng) * m.Corners.GetNumberOfBoundaryFaces()) %
+        m.Corners.GetNumberOfBoundaryFaces();
+      double uv[2] = { unit(rng), unit(rng) };
+      if (uv[0] + uv[1] > 1)
+        uv[0] = 1 - uv[0], uv[1] = 1 - uv[1];
+      double x[3], xu[3], xv[3];
+      m.FacePoint(f, uv, x, xu, xv);
+      double n[3] = { xu[1] * xv[2] - xu[2] * xv[1], xu[2] * xv[0] - xu[0] * xv[2],
+        xu[0] * xv[1] - xu[1] * xv[0] };
+      const double nl = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      const double delta = (s % 2 ? 1e-3 : -1e-3) * diag;
+      const double v[3] = { x[0] + delta * n[0] / nl, x[1] + delta * n[1] / nl,
+        x[2] + delta * n[2] / nl };
+      hoembed::VertexEmbedding r;
+      m.Embed(v, hoembed::EMBED_NORMAL_OFFSET, r);
+      wrongSide += (delta < 0) != r.Inside;
+      if (delta > 0) // the foot of a short normal is the closest point
+        worstNear = std::max(worstNear, std::abs(r.ClosestDistance - delta) / diag);
+    }
+    HOEMBED_CHECK(
+      wrongSide == 0, "order %d: %d near-boundary points on the wrong side", p, wrongSide);
+    HOEMBED_CHECK(worstNear <= 1e-8, "order %d: near-boundary distance off by %g", p, worstNear);
     std::printf("%s order %d: %d inside, %d outside, excess %.2e, below %.2e, residual %.2e, "
                 "rigid %.2e, fallbacks %d, uncertified %d\n",
       strong ? "strongly curved" : "curved", p, inside, outside, worstExcess, worstBelow,
