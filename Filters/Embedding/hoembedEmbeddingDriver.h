@@ -10,7 +10,10 @@
  *  2. PrepareAndOrder: the FE mesh (hoembed::TetMeshInput, then EmbeddingMesh::Prepare
  *     with the validity check) unless the binding keeps the prepared one, and the
  *     surface's order for the flood, as two parallel tasks.
- *  3. Embed: the flood (hoembed::FloodSurface, paper Algorithm 2).
+ *  3. Embed: the flood (hoembed::FloodSurface, paper Algorithm 2); on Lagrange tets of
+ *     order 3-4 (VTK_LAGRANGE_TETRAHEDRON of 20 or 35 nodes) one certified search per
+ *     vertex instead (hoembed::LagrangeEmbeddingMesh; EmbeddingElementsVisited then
+ *     counts the boundary faces searched). Orders 1-2 are tet4 / tet10 node for node.
  *  4. WriteArrays / WriteFallbackOffsets: the per-vertex results in surface point order
  *     into the binding's arrays, with the counts the binding reports.
  * Errors come back as one sentence (empty: success); the binding adds its name.

@@ -690,13 +690,18 @@ void LagrangeEmbeddingMesh::SearchFace(
 }
 
 double LagrangeEmbeddingMesh::ClosestBoundaryPoint(
-  const double v[3], Id& face, double uv[2], bool& certified) const
+  const double v[3], Id& face, double uv[2], bool& certified, int* facesSearched) const
 {
   double best2 = HUGE_VAL;
   face = -1;
   certified = true;
-  this->FaceTree.VisitNearer(
-    v, best2, [&](Id f) { this->SearchFace(f, v, best2, face, uv, certified); });
+  int searched = 0;
+  this->FaceTree.VisitNearer(v, best2, [&](Id f) {
+    ++searched;
+    this->SearchFace(f, v, best2, face, uv, certified);
+  });
+  if (facesSearched)
+    *facesSearched = searched;
   return best2;
 }
 
@@ -964,7 +969,7 @@ void LagrangeEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding
   Id f = -1;
   double uv[2] = { 1.0 / 3, 1.0 / 3 };
   bool certified = true;
-  const double d2 = this->ClosestBoundaryPoint(v, f, uv, certified);
+  const double d2 = this->ClosestBoundaryPoint(v, f, uv, certified, &r.Visited);
   r.Uncertified = !certified;
   r.ClosestDistance = std::sqrt(d2);
   r.BoundaryFace = f;
