@@ -57,8 +57,8 @@ public:
 
   /// Closest point of v on the boundary (sqrt of the returned value is the distance):
   /// boundary face, its (u, v), and whether the bound proved it global.
-  double ClosestBoundaryPoint(const double v[3], Id& face, double uv[2], bool& certified,
-    int* facesSearched = nullptr) const;
+  double ClosestBoundaryPoint(
+    const double v[3], Id& face, double uv[2], bool& certified, int* facesSearched = nullptr) const;
 
   /// q with J(pc) q = v - x(pc) in cell c (the fallback offset); false when J is singular.
   bool Offset(Id c, const double pc[3], const double v[3], double q[3]) const;
