@@ -6,7 +6,9 @@ Mesh: the curved Kuhn box of Testing/Python/test_lagrange.py (n^3 unit cubes, 6 
 cells); surface: a sphere through the box (inside and outside points). Embedding: the
 best of 3 calls of hoembed.embed (mesh preparation included); vtkProbeFilter: the best of
 3 Updates (a vtkStaticCellLocator built in each; inside points only get values);
-transfer: the best of 3 calls of hoembed.transfer on a rigidly moved mesh. Prints JSON.
+transfer: the best of 3 calls of hoembed.transfer on a rigidly moved mesh. Then order 3
+on boxes of 2-5 cubes a side (48-750 cells), the surface scaled with the box: the
+embedding's speed against the mesh size. Prints JSON.
 """
 
 import json
@@ -69,7 +71,29 @@ def main(n=3, resolution=60):
         }
         print(order, json.dumps(out["orders"][order]), flush=True)
     print(json.dumps(out, indent=1))
+    return out
+
+
+def mesh_size(order=3, sizes=(2, 3, 4, 5), resolution=60):
+    """Embedding time of the same surface (scaled with the box) against the number of
+    cells: the per-vertex search should barely depend on it."""
+    rows = []
+    for n in sizes:
+        mesh = lagrange_box(order, n=n)
+        surface = pv.Sphere(
+            radius=0.68 * n,
+            center=(n / 2,) * 3,
+            theta_resolution=resolution,
+            phi_resolution=resolution,
+        )
+        t = best(lambda: hoembed.embed(surface, mesh))
+        rows.append(
+            {"cubes_per_side": n, "cells": mesh.n_cells, "vertices_per_s": surface.n_points / t}
+        )
+        print(json.dumps(rows[-1]), flush=True)
+    return rows
 
 
 if __name__ == "__main__":
     main()
+    mesh_size()
