@@ -1022,10 +1022,32 @@ void LagrangeEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding
   }
   const double e[3] = { v[0] - x[0], v[1] - x[1], v[2] - x[2] };
   double d = (Dot(e, s) >= 0 ? 1.0 : -1.0) * r.ClosestDistance;
+  // As on tet10 (hoembedEmbeddingSearch.cxx): only a foot within 8 x the closest distance
+  // counts (beyond the normal field's focal distance a walk can reach a far foot, and the
+  // transfer would swing v on a long lever); retried from the faces around the closest
+  // face's corners, then the fallback.
+  const double reach = 8.0 * r.ClosestDistance + 1e-6 * this->Diagonal;
+  const double d0 = d;
   Id nf = f;
   double nuv[2] = { uv[0], uv[1] };
   int its = 0;
-  const int status = this->NormalOffset(v, nf, nuv, d, its);
+  int status = this->NormalOffset(v, nf, nuv, d, its);
+  if (status == 0 && std::abs(d) > reach)
+    status = -1;
+  for (int a = 0; a < 3 && status != 0; ++a)
+  {
+    const Id node = this->Corners.BoundaryFaceNodes[3 * f + a];
+    for (Id i = this->Corners.NodeFaceOffsets[node];
+         i < this->Corners.NodeFaceOffsets[node + 1] && status != 0; ++i)
+    {
+      nf = this->Corners.NodeFaces[i];
+      nuv[0] = nuv[1] = 1.0 / 3.0;
+      d = d0;
+      status = this->NormalOffset(v, nf, nuv, d, its);
+      if (status == 0 && std::abs(d) > reach)
+        status = -1;
+    }
+  }
   r.Iterations = its;
   if (status == 0)
   {
