@@ -162,3 +162,22 @@ def test_mixed_mesh_refused(case):
         hoembed.HOEmbedError, match="vtkEmbeddingCoordinatesFilter.*mixes cell types"
     ):
         filter_embed(surface, mixed)
+
+
+def test_order_two_is_tet10():
+    """VTK_LAGRANGE_TETRAHEDRON of order 2 is VTK_QUADRATIC_TETRA node for node: the same
+    embedding, array for array (only the mesh fingerprint names the cell type)."""
+    lagrange = lagrange_box(2)
+    tet10 = pv.UnstructuredGrid(
+        lagrange.cells, np.full(lagrange.n_cells, 24, np.uint8), lagrange.points
+    )
+    surface = pv.Sphere(radius=1.35, center=(1.0, 1.0, 1.0), theta_resolution=10, phi_resolution=8)
+    a, b = hoembed.embed(surface, lagrange), hoembed.embed(surface, tet10)
+    for name in (
+        "EmbeddingCellId",
+        "EmbeddingParametricCoords",
+        "EmbeddingDistance",
+        "EmbeddingClosestDistance",
+        "EmbeddingResidual",
+    ):
+        assert np.array_equal(a[name], b[name]), name

@@ -287,6 +287,19 @@ void TestClosestPerOrder(bool strong)
         worstExcess = std::max(worstExcess, (r.ClosestDistance - brute) / diag);
         worstBelow = std::max(worstBelow, (brute - r.ClosestDistance) / diag);
       }
+      // the barycentric baseline: the same cell and coordinates inside; outside, the
+      // closest cell's map extrapolated (near the mesh it reaches v)
+      {
+        hoembed::VertexEmbedding rb;
+        m.Embed(v, hoembed::EMBED_BARYCENTRIC, rb);
+        if (r.Inside)
+          HOEMBED_CHECK(rb.Inside && rb.Cell == r.Cell && rb.PC[0] == r.PC[0] &&
+              rb.PC[1] == r.PC[1] && rb.PC[2] == r.PC[2],
+            "order %d: barycentric differs inside", p);
+        else if (r.ClosestDistance < 0.05 * diag)
+          HOEMBED_CHECK(rb.Residual <= 1e-10 * diag && rb.Distance == 0.0,
+            "order %d: barycentric residual %g near the mesh", p, rb.Residual / diag);
+      }
       // the transfer's formula on the moved mesh: x'(pc) + d n'(pc) / |n'| (or J' q)
       const hoembed::LagrangeTetBasis& b = *mm.Basis;
       double xn[3 * hoembed::MaxLagrangeTetNodes], nn[3 * hoembed::MaxLagrangeTetNodes];
