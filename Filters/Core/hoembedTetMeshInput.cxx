@@ -39,7 +39,9 @@ std::string ReadCells(const T* offsets, const T* ids, const unsigned char* types
     {
       msg << "the FE mesh mixes cell types: cell " << c << " has type " << int(types[c])
           << ", cell 0 has type " << type0
-          << "; use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells";
+          << (type0 == TetMeshInput::LagrangeTetra
+                 ? "; use only VTK_LAGRANGE_TETRAHEDRON cells (of one order)"
+                 : "; use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells");
       return msg.str();
     }
     if (size != npc)
@@ -87,11 +89,14 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
     return "the FE mesh is empty: it needs points and VTK_QUADRATIC_TETRA or VTK_TETRA cells";
   }
   const int type0 = in.CellTypes[0];
-  if (type0 != QuadraticTetra && type0 != LinearTetra)
+  const bool lagrange = (keep & KeepLagrange) && type0 == LagrangeTetra;
+  if (type0 != QuadraticTetra && type0 != LinearTetra && !lagrange)
   {
     msg << "Unsupported cell type " << type0
         << " (cell 0): the FE mesh must have only VTK_QUADRATIC_TETRA (24) or only VTK_TETRA "
-           "(10) cells";
+           "(10) cells"
+        << ((keep & KeepLagrange) ? ", or only VTK_LAGRANGE_TETRAHEDRON (71) cells of order 1-4"
+                                  : "");
     return msg.str();
   }
   if (in.CellGhosts)
@@ -117,6 +122,19 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
   }
   this->CellType = type0;
   this->NodesPerCell = type0 == QuadraticTetra ? 10 : 4;
+  if (lagrange)
+  {
+    // the order is the first cell's; ReadCells then holds every cell to its size
+    const std::int64_t size0 =
+      has64 ? in.Offsets64[1] - in.Offsets64[0] : in.Offsets32[1] - in.Offsets32[0];
+    if (size0 != 4 && size0 != 10 && size0 != 20 && size0 != 35)
+    {
+      msg << "cell 0 of the FE mesh is a VTK_LAGRANGE_TETRAHEDRON of " << size0
+          << " points: only complete orders 1-4 (4, 10, 20 or 35 points) are supported";
+      return msg.str();
+    }
+    this->NodesPerCell = static_cast<int>(size0);
+  }
   const std::string cells = has64 ? ReadCells(in.Offsets64, in.Connectivity64, in.CellTypes,
                                       in.NumberOfCells, in.NumberOfPoints, *this)
                                   : ReadCells(in.Offsets32, in.Connectivity32, in.CellTypes,

@@ -62,8 +62,11 @@ public:
   enum Keep
   {
     KeepTopology = 0,
-    KeepPoints = 1,     ///< the points as doubles (Points)
-    KeepFingerprint = 2 ///< the fingerprint (Fingerprint)
+    KeepPoints = 1,      ///< the points as doubles (Points)
+    KeepFingerprint = 2, ///< the fingerprint (Fingerprint)
+    /// also accept VTK_LAGRANGE_TETRAHEDRON (71) of order 1-4 (4, 10, 20 or 35 nodes in
+    /// VTK's order, one order per mesh): the embedding and the transfer, which handle them
+    KeepLagrange = 4
   };
 
   /// Read and check; the empty string on success, else one sentence naming the problem
@@ -71,8 +74,8 @@ public:
   /// Keep values. On failure the members are unspecified.
   std::string Read(const TetMeshArrays& in, int keep);
 
-  int CellType = 0;     ///< 24 (VTK_QUADRATIC_TETRA) or 10 (VTK_TETRA)
-  int NodesPerCell = 0; ///< 10 or 4
+  int CellType = 0;     ///< 24 (VTK_QUADRATIC_TETRA), 10 (VTK_TETRA) or 71 (KeepLagrange)
+  int NodesPerCell = 0; ///< 10 or 4 (Lagrange: 4, 10, 20 or 35)
   std::int64_t NumberOfPoints = 0;
   std::int64_t NumberOfCells = 0;
   std::vector<std::int64_t> Connectivity; ///< NodesPerCell ids per cell
@@ -81,6 +84,7 @@ public:
 
   static constexpr int QuadraticTetra = 24; // VTK_QUADRATIC_TETRA
   static constexpr int LinearTetra = 10;    // VTK_TETRA
+  static constexpr int LagrangeTetra = 71;  // VTK_LAGRANGE_TETRAHEDRON
 };
 
 /// The first point (index) with a non-finite coordinate, or -1; `xyz` holds 3 per point.

@@ -42,11 +42,33 @@ std::string EmbeddingDriver::PrepareMesh(const TetMeshArrays& arrays, bool valid
   EmbeddingMesh& em = this->Mesh;
   // types, connectivity, node ranges, finite points and the fingerprint: the one reader
   TetMeshInput input;
-  const std::string readError =
-    input.Read(arrays, TetMeshInput::KeepPoints | TetMeshInput::KeepFingerprint);
+  const std::string readError = input.Read(
+    arrays, TetMeshInput::KeepPoints | TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange);
   if (!readError.empty())
   {
     return readError + ".";
+  }
+  this->Lagrange = input.NodesPerCell > 10;
+  if (this->Lagrange)
+  {
+    Id firstBad = input.NumberOfCells;
+    const std::string err = this->LagrangeMesh.Build(std::move(input.Points),
+      std::move(input.Connectivity), input.NodesPerCell, validateElements ? &firstBad : nullptr);
+    if (!err.empty())
+    {
+      msg << "The FE mesh topology is not usable: " << err << ".";
+      return msg.str();
+    }
+    if (firstBad < input.NumberOfCells)
+    {
+      msg << "The FE mesh has an inverted or degenerate element: cell " << firstBad
+          << " (VTK_LAGRANGE_TETRAHEDRON of order " << LagrangeTetOrder(input.NodesPerCell)
+          << ") has a Jacobian determinant not proven positive throughout (its Bernstein "
+             "coefficients).";
+      return msg.str();
+    }
+    this->Fingerprint = input.Fingerprint;
+    return std::string();
   }
   em.Points.swap(input.Points);
   em.Connectivity.swap(input.Connectivity);
@@ -106,6 +128,20 @@ std::string EmbeddingDriver::PrepareAndOrder(
 void EmbeddingDriver::Embed(int method, const std::function<void(double)>& progress)
 {
   this->Method = method;
+  if (this->Lagrange)
+  {
+    // one certified search per vertex (results in the flood's order, as WriteArrays reads)
+    const Id n = this->NumberOfPoints;
+    this->Results.resize(n);
+    ParallelLoop(Id(0), n, [&](Id b, Id e) {
+      for (Id k = b; k < e; ++k)
+        this->LagrangeMesh.Embed(
+          &this->SurfacePoints[3 * this->Order[k]], method, this->Results[k]);
+    });
+    if (progress)
+      progress(1.0);
+    return;
+  }
   FloodSurface(this->Mesh, method, this->Results, progress, nullptr, this->Flood);
 }
 
@@ -120,7 +156,7 @@ std::string EmbeddingDriver::WriteArrays(
   std::atomic<Id> uncertified(0), firstUncertified(ns);
   std::atomic<Id> fallbacks(0), firstFallback(ns);
   std::atomic<Id> inexact(0), firstInexact(ns);
-  const double residualBound = ResidualTolerance * this->Mesh.Diagonal;
+  const double residualBound = ResidualTolerance * this->MeshDiagonal();
   std::mutex worstLock;
   double worst = 0.0;
   auto lowest = [](std::atomic<Id>& first, Id i) {
@@ -190,7 +226,7 @@ std::string EmbeddingDriver::WriteArrays(
   summary.FirstFallback = summary.Fallbacks > 0 ? firstFallback.load() : -1;
   summary.Inexact = inexact.load();
   summary.FirstInexact = summary.Inexact > 0 ? firstInexact.load() : -1;
-  summary.MaxResidual = this->Mesh.Diagonal > 0.0 ? worst / this->Mesh.Diagonal : worst;
+  summary.MaxResidual = this->MeshDiagonal() > 0.0 ? worst / this->MeshDiagonal() : worst;
   summary.Method = this->Method;
   return std::string();
 }
@@ -203,7 +239,9 @@ void EmbeddingDriver::WriteFallbackOffsets(double* out) const
     for (Id k = b; k < e; ++k)
     {
       double q[3] = { 0, 0, 0 };
-      if (res[k].Fallback) // the q of its residual (EmbedVertex), computed again
+      if (res[k].Fallback && this->Lagrange)
+        this->LagrangeMesh.Offset(res[k].Cell, res[k].PC, &this->SurfacePoints[3 * order[k]], q);
+      else if (res[k].Fallback) // the q of its residual (EmbedVertex), computed again
         TetMapOffset(
           this->Mesh.CellMaps[res[k].Cell], res[k].PC, &this->SurfacePoints[3 * order[k]], q);
       for (int d = 0; d < 3; ++d)

@@ -10,7 +10,10 @@
  *  2. PrepareAndOrder: the FE mesh (hoembed::TetMeshInput, then EmbeddingMesh::Prepare
  *     with the validity check) unless the binding keeps the prepared one, and the
  *     surface's order for the flood, as two parallel tasks.
- *  3. Embed: the flood (hoembed::FloodSurface, paper Algorithm 2).
+ *  3. Embed: the flood (hoembed::FloodSurface, paper Algorithm 2); on Lagrange tets of
+ *     order 3-4 (VTK_LAGRANGE_TETRAHEDRON of 20 or 35 nodes) one certified search per
+ *     vertex instead (hoembed::LagrangeEmbeddingMesh; EmbeddingElementsVisited then
+ *     counts the boundary faces searched). Orders 1-2 are tet4 / tet10 node for node.
  *  4. WriteArrays / WriteFallbackOffsets: the per-vertex results in surface point order
  *     into the binding's arrays, with the counts the binding reports.
  * Errors come back as one sentence (empty: success); the binding adds its name.
@@ -23,6 +26,7 @@
 
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedFiltersEmbeddingModule.h"
+#include "hoembedLagrangeEmbedding.h"
 #include "hoembedPropertyRange.h"
 #include "hoembedSurfaceTriangles.h"
 #include "hoembedTetMeshInput.h"
@@ -130,8 +134,17 @@ public:
 private:
   std::string PrepareMesh(const TetMeshArrays& mesh, bool validateElements);
 
+  double MeshDiagonal() const
+  {
+    return this->Lagrange ? this->LagrangeMesh.Diagonal : this->Mesh.Diagonal;
+  }
+
   // mesh-sized: kept
   EmbeddingMesh Mesh;
+  /// Lagrange tets of order 3 and 4 (orders 1 and 2 are tet4 and tet10 node for node and
+  /// take the EmbeddingMesh path): per-vertex certified search, no flood
+  LagrangeEmbeddingMesh LagrangeMesh;
+  bool Lagrange = false;
   std::string Fingerprint; // of the prepared mesh; empty: none prepared
   // surface-sized
   EmbedWorkspace Flood;

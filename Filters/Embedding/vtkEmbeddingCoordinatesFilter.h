@@ -7,8 +7,10 @@
  * Inputs: port 0, the fine surface (vtkPolyData; its triangles drive the flood of the
  * paper's Algorithm 2; polygons are fanned, strips split, vertices in no triangle and
  * several connected components are fine). Port 1, the rest FE mesh
- * (vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells, or VTK_TETRA for the baseline; not
- * mixed).
+ * (vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells, or VTK_TETRA for the baseline, or
+ * VTK_LAGRANGE_TETRAHEDRON of order 1-4 in VTK's node order; one cell type per mesh).
+ * Lagrange orders 1-2 take the tet4 / tet10 path; orders 3-4 a per-vertex certified
+ * search (hoembedLagrangeEmbedding.h: no flood, slower, the same arrays).
  *
  * Output: a shallow copy of the surface with point data
  * - `EmbeddingCellId` (vtkIdTypeArray): the cell holding the point p;

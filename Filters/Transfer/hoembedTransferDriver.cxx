@@ -1,5 +1,7 @@
 #include "hoembedTransferDriver.h"
 
+#include "hoembedLagrangeTransfer.h"
+
 #include "hoembedBoundaryNormals.h"
 #include "hoembedTransferNormals.h"
 
@@ -83,7 +85,8 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
 {
   rebuilt = false;
   TetMeshInput input;
-  const std::string readError = input.Read(cells, TetMeshInput::KeepFingerprint);
+  const std::string readError =
+    input.Read(cells, TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange);
   if (!readError.empty())
   {
     return readError;
@@ -94,8 +97,21 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
   {
     return std::string();
   }
-  const std::string problem =
-    this->Topology.Build(input.Connectivity.data(), input.NumberOfCells, npc, input.NumberOfPoints);
+  // Lagrange cells of order 3-4: the topology of their corner tets (orders 1-2 are tet4
+  // and tet10 node for node)
+  this->Lagrange = npc > 10 ? GetLagrangeTetBasis(LagrangeTetOrder(npc)) : nullptr;
+  std::vector<std::int64_t> corners;
+  if (this->Lagrange)
+  {
+    corners.resize(4 * static_cast<std::size_t>(input.NumberOfCells));
+    for (std::int64_t c = 0; c < input.NumberOfCells; ++c)
+      for (int k = 0; k < 4; ++k)
+        corners[4 * c + k] = input.Connectivity[npc * c + k];
+  }
+  const std::string problem = this->Lagrange
+    ? this->Topology.Build(corners.data(), input.NumberOfCells, 4, input.NumberOfPoints)
+    : this->Topology.Build(
+        input.Connectivity.data(), input.NumberOfCells, npc, input.NumberOfPoints);
   if (!problem.empty())
   {
     this->ForgetMesh();
@@ -106,9 +122,13 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
   this->NodesPerCell = npc;
   this->NumberOfCells = input.NumberOfCells;
   ++this->TopologyVersion;
-  this->CellCoeffs.assign(static_cast<size_t>(CellCoefficientSize(npc)) * input.NumberOfCells, 0.0);
-  this->FaceCoeffs.assign(
-    static_cast<size_t>(FaceCoefficientSize(npc)) * this->Topology.GetNumberOfBoundaryFaces(), 0.0);
+  const int tableNodes = this->Lagrange ? 4 : npc; // the tet tables are not used then
+  this->CellCoeffs.assign(static_cast<size_t>(CellCoefficientSize(tableNodes)) *
+      (this->Lagrange ? 0 : input.NumberOfCells),
+    0.0);
+  this->FaceCoeffs.assign(static_cast<size_t>(FaceCoefficientSize(tableNodes)) *
+      (this->Lagrange ? 0 : this->Topology.GetNumberOfBoundaryFaces()),
+    0.0);
   this->NodalNormals.assign(3 * static_cast<size_t>(input.NumberOfPoints), 0.0);
   this->RestValid = false;
   this->RestFrame = -1;
@@ -358,6 +378,10 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
   {
     return "the deformed FE mesh has non-finite (NaN or infinite) point coordinates";
   }
+  if (this->Lagrange)
+  {
+    return this->EvaluateLagrangeFrame(frame, outDouble, outFloat, warnings);
+  }
 
   // Inverted elements: a warning, still mapped. The transformed point normals need them
   // cell by cell (recomputed from the polygons in those cells).
@@ -516,6 +540,74 @@ std::string TransferDriver::EvaluatePoints(
           po, pc, static_cast<const T*>(out), io, this->IncPolys.data(), i, normals);
       }
     }
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string TransferDriver::EvaluateLagrangeFrame(const TransferFrame& frame, double* outDouble,
+  float* outFloat, std::vector<std::string>& warnings)
+{
+  const LagrangeTetBasis& b = *this->Lagrange;
+  const double* pts = frame.Points;
+  const std::int64_t* conn = this->Conn.data();
+  if (frame.CountInverted)
+  {
+    std::atomic<std::int64_t> inverted(0);
+    this->For(this->NumberOfCells, 256, [&](std::int64_t cb, std::int64_t ce) {
+      inverted += CountInvertedLagrangeCells(b, conn, pts, cb, ce);
+    });
+    this->InvertedCells = inverted.load();
+    if (this->InvertedCells > 0)
+    {
+      std::ostringstream msg;
+      msg << this->InvertedCells << " of " << this->NumberOfCells
+          << " deformed FE elements are inverted or degenerate (det J <= 0 at a corner or the "
+             "centroid); the surface is still mapped through them";
+      warnings.push_back(msg.str());
+    }
+  }
+  const bool offsets = this->PlanHasOffsets && this->PlanMethod == EmbeddingMethod::NormalOffset;
+  if (offsets)
+  {
+    if (frame.Normals != TransferNormals::Recompute)
+      warnings.push_back("NormalMode ROTATE and DEFORM are not implemented for "
+                         "VTK_LAGRANGE_TETRAHEDRON cells of order 3-4: the normals of the "
+                         "deformed boundary are recomputed (RECOMPUTE)");
+    this->NodalNormals.assign(3 * static_cast<std::size_t>(this->Topology.NumberOfPoints), 0.0);
+    ComputeLagrangeBoundaryNormals(b, this->Topology, pts, conn, this->NodalNormals.data());
+  }
+  const double* nn = this->NodalNormals.data();
+  const TransferEntry* plan = this->Plan.data();
+  const std::int64_t nv = this->GetNumberOfVertices();
+  const std::int64_t nfb = static_cast<std::int64_t>(this->FallbackVertices.size());
+  if (outDouble)
+  {
+    this->For(nv, 4096, [&](std::int64_t vb, std::int64_t ve) {
+      EvaluateLagrangeTransfer(b, conn, pts, nn, plan, vb, ve, outDouble);
+    });
+    EvaluateLagrangeFallback(b, conn, pts, plan, this->FallbackVertices.data(),
+      this->FallbackOffsets.data(), 0, nfb, outDouble);
+  }
+  else
+  {
+    this->For(nv, 4096, [&](std::int64_t vb, std::int64_t ve) {
+      EvaluateLagrangeTransfer(b, conn, pts, nn, plan, vb, ve, outFloat);
+    });
+    EvaluateLagrangeFallback(b, conn, pts, plan, this->FallbackVertices.data(),
+      this->FallbackOffsets.data(), 0, nfb, outFloat);
+  }
+  this->FoldedNormals = 0;
+  if (frame.PointNormals)
+  {
+    if (frame.PointNormalsMode == TransferPointNormals::Transform)
+      warnings.push_back("PointNormalsMode TRANSFORM is not implemented for "
+                         "VTK_LAGRANGE_TETRAHEDRON cells of order 3-4: recomputing the point "
+                         "normals from the deformed polygons");
+    if (outDouble)
+      this->VertexNormals(static_cast<const double*>(outDouble), frame.PointNormals);
+    else
+      this->VertexNormals(static_cast<const float*>(outFloat), frame.PointNormals);
   }
   return std::string();
 }

@@ -31,6 +31,7 @@
 
 #include "hoembedArrayNames.h"
 #include "hoembedFiltersTransferModule.h"
+#include "hoembedLagrangeTet.h"
 #include "hoembedPropertyRange.h"
 #include "hoembedTetMeshInput.h"
 #include "hoembedTetMeshTopology.h"
@@ -267,7 +268,11 @@ private:
   int NodesPerCell = 0;
   std::int64_t NumberOfCells = 0;
   std::vector<std::int64_t> Conn;
-  TetMeshTopology Topology;
+  TetMeshTopology Topology; // of the corner tets for Lagrange cells of order 3-4
+  /// Lagrange tets of order 3-4 (hoembedLagrangeTransfer.h); null for tet4 / tet10
+  const LagrangeTetBasis* Lagrange = nullptr;
+  std::string EvaluateLagrangeFrame(const TransferFrame& frame, double* outDouble, float* outFloat,
+    std::vector<std::string>& warnings);
   int TopologyVersion = 0;
   // step 2
   std::vector<TransferEntry> Plan;

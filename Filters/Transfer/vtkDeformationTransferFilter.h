@@ -19,11 +19,12 @@
  *     vtkEmbeddingCoordinatesFilter).
  *   Field data: `EmbeddingMethod` ("normal-offset" or "barycentric") and
  *   `EmbeddingMeshFingerprint` (hoembed::MeshFingerprint of the rest mesh).
- * - port 1: the deformed FE mesh (vtkUnstructuredGrid): all VTK_QUADRATIC_TETRA or all
- *   VTK_TETRA, the same points and cells as the rest mesh of the embedding (its
- *   fingerprint must match; coordinates may differ). Optional point data for
- *   NormalMode ROTATE_NORMALS: `NodalRotation` (9 components, row-major) and
- *   `Displacement` (3 components); for DEFORM_NORMALS: `Displacement`.
+ * - port 1: the deformed FE mesh (vtkUnstructuredGrid): all VTK_QUADRATIC_TETRA, all
+ *   VTK_TETRA or all VTK_LAGRANGE_TETRAHEDRON of order 1-4 (orders 3-4: RECOMPUTE normals
+ *   only, the other modes fall back to it with a warning), the same points and cells as the rest
+ * mesh of the embedding (its fingerprint must match; coordinates may differ). Optional point data
+ * for NormalMode ROTATE_NORMALS: `NodalRotation` (9 components, row-major) and `Displacement` (3
+ * components); for DEFORM_NORMALS: `Displacement`.
  *
  * Output: vtkPolyData with the surface's topology (shared, not copied) and point, cell and
  * field data passed through, except the point arrays named `Embedding*` (the embedding

@@ -45,7 +45,8 @@ def embed(
         The fine surface; its triangles drive the flood (vertices in no triangle and
         several components are fine).
     fe_mesh : pyvista.UnstructuredGrid or vtkUnstructuredGrid
-        The rest mesh: VTK_QUADRATIC_TETRA cells, or VTK_TETRA (not mixed).
+        The rest mesh: VTK_QUADRATIC_TETRA cells, or VTK_TETRA, or VTK_LAGRANGE_TETRAHEDRON
+        of order 1-4 (one cell type; orders 3-4 by a slower per-vertex search).
     method : str
         ``"normal-offset"`` (default; the paper's v = p + d n) or ``"barycentric"``.
     n_partitions : int
