@@ -213,7 +213,8 @@ vtkSmartPointer<vtkPolyData> MakeSurface()
 /// driver accepts; the others are checked on the reference alone).
 bool FilterTakes(const CellKind& kind)
 {
-  return kind.Type == VTK_TETRA || kind.Type == VTK_QUADRATIC_TETRA;
+  return kind.Type == VTK_TETRA || kind.Type == VTK_QUADRATIC_TETRA ||
+    kind.Type == VTK_LAGRANGE_TETRAHEDRON;
 }
 } // namespace
 
