@@ -360,8 +360,8 @@ double HyperelasticLaw::Tangent(const double F[9], double P[9], double A[81], bo
         }
       }
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(B);
-      const Eigen::Matrix3d Bp = es.eigenvectors() *
-        es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+      const Eigen::Matrix3d Bp = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
+        es.eigenvectors().transpose();
       for (int a = 0; a < 3; ++a)
       {
         for (int b = 0; b < 3; ++b)

@@ -56,9 +56,9 @@ struct CorotationalSolver::Impl::NewtonState
 {
   NewtonFactorization LLT;
   bool Analyzed = false;
-  ColMat H;  // the free-DOF system (non-free rows and columns: identity)
-  std::vector<double> ElementHessians; // HyperGradient's work buffer
-  std::vector<char> Inverted;          // per cell, at the Newton iterate (line search)
+  ColMat H;                             // the free-DOF system (non-free rows and columns: identity)
+  std::vector<double> ElementHessians;  // HyperGradient's work buffer
+  std::vector<char> Inverted;           // per cell, at the Newton iterate (line search)
   std::vector<Eigen::VectorXd> History; // the last directions of RotatedFactorCG, newest first
   void Remember(const Eigen::VectorXd& d)
   {
@@ -184,7 +184,8 @@ bool CorotationalSolver::Impl::HyperInverted(vtkIdType e, const double* y) const
 }
 
 // Flags the inverted cells of y (HyperInverted) into `flags`; returns their number
-long long CorotationalSolver::Impl::HyperInvertedCells(const double* y, std::vector<char>& flags) const
+long long CorotationalSolver::Impl::HyperInvertedCells(
+  const double* y, std::vector<char>& flags) const
 {
   flags.assign(NC, 0);
   ParallelFor(NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
@@ -703,7 +704,7 @@ static bool RotatedFactorCG(CorotationalSolver::Impl& I, double cMass, bool damp
     bool ok = false;
     for (int k = 0; k < RotatedCG; ++k)
     {
-        product(p, q);
+      product(p, q);
       const double pq = p.dot(q);
       if (!(pq > 0.0))
       {
@@ -969,7 +970,6 @@ bool CorotationalSolver::Impl::HyperStep()
         x[j] = xn[j] + frac * (full[j] - xn[j]);
       }
     }
-
   }
   Potential phi{ *this };
   phi.CM = 1.0 / (dt * dt);

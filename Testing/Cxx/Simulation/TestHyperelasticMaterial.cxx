@@ -116,8 +116,10 @@ int main(int, char*[])
       const double diff = (clamp - Apm).cwiseAbs().maxCoeff();
       HOEMBED_CHECK(es.eigenvalues().minCoeff() < 0.0 || t == 1,
         "%s: point %d was meant to be indefinite", names[m], t);
-      HOEMBED_CHECK(diff <= 1e-9 * E, "%s: projected tangent at point %d differs from the 9 x 9 "
-        "clamp by %g", names[m], t, diff);
+      HOEMBED_CHECK(diff <= 1e-9 * E,
+        "%s: projected tangent at point %d differs from the 9 x 9 "
+        "clamp by %g",
+        names[m], t, diff);
     }
     const double Fc[9] = { 0.3, 0.05, 0.0, 0.02, 1.1, 0.1, 0.0, -0.1, 1.2 }; // compressed
     law.Tangent(Fc, P, Ap, true);
