@@ -56,8 +56,9 @@ struct CorotationalSolver::Impl::NewtonState
 {
   NewtonFactorization LLT;
   bool Analyzed = false;
-  ColMat H;                             // the free-DOF system (non-free rows and columns: identity)
-  std::vector<double> ElementHessians;  // HyperGradient's work buffer
+  ColMat H;                            // the free-DOF system (non-free rows and columns: identity)
+  std::vector<double> ElementHessians; // HyperGradient's work buffer
+  std::vector<long long> IncidenceOffsets, Incidences; // per node: e * N + a, cell order
   std::vector<char> Inverted;           // per cell, at the Newton iterate (line search)
   std::vector<Eigen::VectorXd> History; // the last directions of RotatedFactorCG, newest first
   void Remember(const Eigen::VectorXd& d)
@@ -112,6 +113,23 @@ void CorotationalSolver::Impl::InitializeHyper()
   if (!Newton)
   {
     Newton = std::make_shared<NewtonState>();
+  }
+  auto& off = Newton->IncidenceOffsets;
+  auto& inc = Newton->Incidences;
+  off.assign(NP + 1, 0);
+  for (long long k = 0; k < NC * N; ++k)
+  {
+    off[Conn[k] + 1]++;
+  }
+  for (long long p = 0; p < NP; ++p)
+  {
+    off[p + 1] += off[p];
+  }
+  inc.assign(NC * N, 0);
+  std::vector<long long> fill(off.begin(), off.end() - 1);
+  for (long long k = 0; k < NC * N; ++k)
+  {
+    inc[fill[Conn[k]]++] = k;
   }
   Newton->Analyzed = false;
   Newton->HaveFactor = false;
@@ -335,38 +353,52 @@ void CorotationalSolver::Impl::HyperGradient(
       }
     }
   });
-  // scatter in cell order (deterministic)
-  std::fill(grad, grad + 3 * NP, 0.0);
-  if (blocks)
-  {
-    std::fill(blocks, blocks + 9 * MN.nonZeros(), 0.0);
-  }
-  for (long long e = 0; e < NC; ++e)
-  {
-    for (int a = 0; a < N; ++a)
+  // scatter by node rows on the threads: a row's blocks and gradient entries take the
+  // contributions of its cells in cell order (the node's incidence list is in cell
+  // order), so the sums are the same bits as a serial scatter in cell order
+  const std::vector<long long>& off = Newton->IncidenceOffsets;
+  const std::vector<long long>& inc = Newton->Incidences;
+  ParallelFor(NP, ParallelNodes, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType p = begin; p < end; ++p)
     {
-      const int pa = Conn[e * N + a];
-      for (int i = 0; i < 3; ++i)
+      double* gp = grad + 3 * p;
+      gp[0] = gp[1] = gp[2] = 0.0;
+      if (blocks)
       {
-        grad[3 * pa + i] += fe[e * D + 3 * a + i];
+        for (int k = MN.outerIndexPtr()[p]; k < MN.outerIndexPtr()[p + 1]; ++k)
+        {
+          std::fill(blocks + 9 * static_cast<long long>(k),
+            blocks + 9 * static_cast<long long>(k) + 9, 0.0);
+        }
       }
-      if (!blocks)
+      for (long long c = off[p]; c < off[p + 1]; ++c)
       {
-        continue;
-      }
-      for (int b = 0; b < N; ++b)
-      {
-        double* blk = blocks + 9 * static_cast<long long>(BlockOf[(e * N + a) * N + b]);
+        const long long ea = inc[c]; // e * N + a
+        const long long e = ea / N;
+        const int a = static_cast<int>(ea % N);
         for (int i = 0; i < 3; ++i)
         {
-          for (int k = 0; k < 3; ++k)
+          gp[i] += fe[e * D + 3 * a + i];
+        }
+        if (!blocks)
+        {
+          continue;
+        }
+        for (int b = 0; b < N; ++b)
+        {
+          double* blk = blocks + 9 * static_cast<long long>(BlockOf[ea * N + b]);
+          const double* src = &he[(e * D + 3 * a) * D + 3 * b];
+          for (int i = 0; i < 3; ++i)
           {
-            blk[3 * i + k] += he[(e * D + 3 * a + i) * D + 3 * b + k];
+            for (int k = 0; k < 3; ++k)
+            {
+              blk[3 * i + k] += src[i * D + k];
+            }
           }
         }
       }
     }
-  }
+  });
 }
 
 namespace
