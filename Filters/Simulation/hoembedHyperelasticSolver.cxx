@@ -827,8 +827,9 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
       FillSystem(I, cMass, phi.Damp); // (the rotated path fills it when it factorises)
     }
     I.T.Assembly += Seconds(ta, Clock::now());
-    // The last factor as the preconditioner of CG on the new system (a Hessian changes
-    // little between iterations and frames): a fresh factorisation costs tens of CG
+    // Time steps: RotatedFactorCG (exact Hessian, then projected), else the direct path.
+    // Static: the last factor as the preconditioner of CG on the new system (a Hessian
+    // changes little between iterations and frames): a fresh factorisation costs tens of CG
     // iterations on 3000 tet10. Refactorised when the CG needs more than RefactorCG
     // iterations, meets negative curvature (exact Hessian not positive definite), or the
     // free set changed. Deterministic (iteration counts, not times).
