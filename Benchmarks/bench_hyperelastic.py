@@ -10,7 +10,9 @@
    rho = 1000) under gravity g = s * 0.5 for s = 1, 2, 4, ..., 64, static: co-rotated
    (its static iteration may refuse large loads: then null) and each hyperelastic law,
    with the linear prediction; where they part.
-Writes Benchmarks/results/bench_hyperelastic.json.
+Writes Benchmarks/results/bench_hyperelastic.json and bench_hyperelastic.png (the
+deflections against g, and the frame times as ratios to the co-rotated frame of the same
+run; `--plot` redraws it from the JSON).
 """
 
 import json
@@ -99,7 +101,53 @@ def deflections():
     return rows
 
 
+def plot(out, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4.2))
+    rows = out["deflection"]
+    g = [r["g"] for r in rows]
+    for key, style in (
+        ("linear", "k:"),
+        ("corotated", "o-"),
+        ("neo-hookean", "s-"),
+        ("stvk", "^--"),
+        ("mooney-rivlin", "v--"),
+    ):
+        pts = [(r["g"], r[key]) for r in rows if r.get(key) is not None]
+        a.plot([p[0] for p in pts], [p[1] for p in pts], style, label=key)
+    a.set_xscale("log", base=2)
+    a.set_xlabel("gravity g (static)")
+    a.set_ylabel("tip deflection (beam length 4)")
+    a.set_title("4 x 1 x 1 cantilever, 192 tet10, E = 1e6, nu = 0.3")
+    a.set_xticks(g)
+    a.set_xticklabels([f"{x:g}" for x in g])
+    a.grid(True, alpha=0.3)
+    a.legend()
+    frames = out["frames"]
+    base = 0.5 * (
+        frames["corotated"]["ms_per_frame_median"]
+        + frames["corotated (again)"]["ms_per_frame_median"]
+    )
+    labels = ["corotated", "neo-hookean, 1 Newton iteration", "neo-hookean, converged"]
+    ratios = [frames[k]["ms_per_frame_median"] / base for k in labels]
+    b.bar(["co-rotated", "Neo-Hookean\n1 iteration", "Neo-Hookean\nconverged"], ratios)
+    for i, r in enumerate(ratios):
+        b.text(i, r, f"{r:.1f}x", ha="center", va="bottom")
+    b.set_ylabel("frame time / co-rotated frame (same run)")
+    b.set_title(f"LiveMode frame, {out['cells']} tet10 ({out['dof']} DOF)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
 def main():
+    path = HERE / "results" / "bench_hyperelastic.json"
+    if "--plot" in sys.argv:
+        plot(json.loads(path.read_text()), path.with_suffix(".png"))
+        return
     mesh = box_tet_mesh((20, 5, 5), (4.0, 1.0, 1.0), 2)
     out = dict(cells=mesh.n_cells, dof=3 * mesh.n_points, frames={})
     for label, material, it in (
@@ -111,9 +159,9 @@ def main():
         out["frames"][label] = frame_times(mesh, material, it)
         print(label, out["frames"][label], flush=True)
     out["deflection"] = deflections()
-    path = HERE / "results" / "bench_hyperelastic.json"
     path.parent.mkdir(exist_ok=True)
     path.write_text(json.dumps(out, indent=1))
+    plot(out, path.with_suffix(".png"))
 
 
 if __name__ == "__main__":

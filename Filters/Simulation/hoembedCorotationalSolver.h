@@ -109,14 +109,20 @@
  * targets) stay put. Newton: the exact Hessian (quadratic convergence), or, where that is
  * not positive definite, the Hessian of the per-quadrature-point tangents with their
  * negative eigenvalues clamped (positive semi-definite element Hessians, so the direction
- * is a descent direction); a backtracking Armijo line search on Phi (an inverted element
- * of Mooney-Rivlin has infinite energy: the search backs off); the system solved by a
- * sparse Cholesky factor (CHOLMOD supernodal when the build has it, else Eigen's
- * simplicial LLT), or, when it serves, CG preconditioned by the last factor (to 1e-6
- * relative; a new factor after 25 iterations, at negative curvature or when the free set
- * changed). Psi is integrated with TetQuadrature(3) (27 points) on tet10, 1 point on
- * tet4. The
- * CG controls (SetSolverControls) and the preconditioner above are not used.
+ * is a descent direction); a backtracking Armijo line search on Phi that also refuses
+ * any state inverting a cell that was not inverted (det F <= 0 at a quadrature point, or
+ * the straight tet of a tet10's corners turned over: the stable Neo-Hookean has no
+ * barrier), and held DOFs whose move would invert a cell move only part of the way (by
+ * halves; they catch up in the next steps). Linear systems: time steps, CG to the
+ * solver's relative tolerance (SetSolverControls) preconditioned by the co-rotated
+ * step's node-block factor (the preconditioner above) of an earlier Newton system, rotated by the
+ * nodal rotations since, from the Galerkin projection onto the last 4 directions (a new factor when
+ * the free DOFs or dt change, or after 40 iterations or at negative curvature); static solves, a
+ * sparse Cholesky factor (CHOLMOD supernodal when the build has it, else Eigen's simplicial LLT),
+ * or CG preconditioned by the last one (to 1e-6 relative; a new factor after 25 iterations, at
+ * negative curvature or when the free set changed). Psi is integrated with the symmetric 4-point
+ * rule of degree 2 on tet10 (exact for the small-strain stiffness of a straight tet10), the
+ * centroid on tet4.
  *
  * Threading (vtkSMPTools; and one std::thread for the background factorisation, which
  * touches nothing but its own factor object until it is joined): rotations, the

@@ -383,6 +383,9 @@ struct CorotationalSolver::Impl
   bool HyperStep();
   bool HyperStatic(int maxIterations, double tolerance, std::string& error);
   void HyperVonMises(double* stress) const;
+  bool HyperInverted(vtkIdType e, const double* y) const;
+  long long HyperInvertedCells(const double* y, std::vector<char>& flags) const;
+  bool HyperInvertsMore(const double* y, const std::vector<char>& was) const;
   void Mask(Eigen::VectorXd& r) const
   {
     for (long long k = 0; k < 3 * NP; ++k)

@@ -23,10 +23,13 @@
  *   modulus is 2 (C10 + C01). From E, nu: C10 = C01 = mu / 4 (unless both are given);
  *   kappa from E, nu always. Undefined for J <= 0: the energy is +infinity there (a
  *   line search then backs away from inversion; it cannot recover an inverted element).
- * The tangent is exact (forward-mode differentiation of the hand-written P, so that it
- * is the derivative of exactly the P in use); the projected tangent clamps the negative
- * eigenvalues of the symmetric 9 x 9 tangent to zero, which makes an element Hessian
- * (a positive combination of B^T A B over its quadrature points) positive semi-definite.
+ * The tangent is exact: in closed form for Neo-Hookean (the law of live frames), else
+ * forward-mode differentiation of the hand-written P (the derivative of exactly the P in
+ * use); the projected tangent clamps the negative eigenvalues of the symmetric 9 x 9
+ * tangent to zero (computed in the principal frame of F, where the tangent of an
+ * isotropic law splits into a 3 x 3 and three 2 x 2 blocks), which makes an element
+ * Hessian (a positive combination of B^T A B over its quadrature points) positive
+ * semi-definite.
  */
 #ifndef hoembedHyperelasticMaterial_h
 #define hoembedHyperelasticMaterial_h

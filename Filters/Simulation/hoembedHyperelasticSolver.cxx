@@ -22,12 +22,33 @@ using NewtonFactorization = Eigen::CholmodSupernodalLLT<ColMat, Eigen::Lower>;
 #else
 using NewtonFactorization = Eigen::SimplicialLLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 #endif
-// quadrature (hoembedTetElementMatrices.h, TetQuadrature): 3^3 points on tet10 (degree
-// 3; the integrands are not polynomial, the P2 references use the same rule), 1 on tet4
-// (F is constant on a straight tet4)
-int HyperRule(int N)
+// Quadrature of the hyperelastic energy. Tet10: the symmetric 4-point rule of degree 2
+// (barycentric (a, b, b, b) and permutations, weights 1/24), C3D10's "full" integration:
+// exact for the small-strain stiffness of a straight tet10 (its integrand B^T C B is of
+// degree 2, so at small load the laws are exactly linear elasticity), positive weights
+// (a positive combination of projected point tangents stays positive semi-definite),
+// and 27 / 4 times cheaper per Newton iteration than the 27-point conical rule used
+// before (the energy, its gradient and Hessian, and the line search all scale with the
+// points). Tet4: 1 point (F is constant on a straight tet4).
+int HyperQuadrature(int N, double* pc, double* w)
 {
-  return N == 10 ? 3 : 1;
+  if (N != 10)
+  {
+    pc[0] = pc[1] = pc[2] = 0.25;
+    w[0] = 1.0 / 6.0;
+    return 1;
+  }
+  const double a = 0.58541019662496845446, b = 0.13819660112501051518;
+  const double pts[12] = { b, b, b, a, b, b, b, a, b, b, b, a };
+  for (int q = 0; q < 4; ++q)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      pc[3 * q + i] = pts[3 * q + i];
+    }
+    w[q] = 1.0 / 24.0;
+  }
+  return 4;
 }
 } // namespace
 
@@ -35,7 +56,21 @@ struct CorotationalSolver::Impl::NewtonState
 {
   NewtonFactorization LLT;
   bool Analyzed = false;
-  ColMat H; // the free-DOF system (non-free rows and columns: identity)
+  ColMat H;                            // the free-DOF system (non-free rows and columns: identity)
+  std::vector<double> ElementHessians; // HyperGradient's work buffer
+  std::vector<long long> IncidenceOffsets, Incidences; // per node: e * N + a, cell order
+  std::vector<char> Inverted;           // per cell, at the Newton iterate (line search)
+  std::vector<Eigen::VectorXd> History; // the last directions of RotatedFactorCG, newest first
+  void Remember(const Eigen::VectorXd& d)
+  {
+    History.insert(History.begin(), d);
+    if (History.size() > 4)
+    {
+      History.pop_back();
+    }
+  }
+  std::vector<double> DampBlocks, SysBlocks; // beta / dt K_n; Blocks + DampBlocks
+  RowMat HR; // its values on A's (symmetric) pattern, row-major: the block factor's source
   std::vector<double> Blocks, DampValues; // Hessian blocks; beta / dt K_n on A's values
   bool HaveFactor = false;                // LLT holds a factor of an earlier system with FactorFree
   bool BlocksReady = false; // Blocks hold the (projected) Hessian at the solve's start
@@ -47,14 +82,14 @@ void CorotationalSolver::Impl::RestartNewton()
   if (Newton)
   {
     Newton->HaveFactor = false; // a restart from a state: the same trajectory every time
+    Newton->History.clear();
   }
 }
 
 void CorotationalSolver::Impl::InitializeHyper()
 {
-  const int m = HyperRule(N);
-  std::vector<double> pc(3 * 216), w(216);
-  HQ = TetQuadrature(m, pc.data(), w.data());
+  std::vector<double> pc(3 * 4), w(4);
+  HQ = HyperQuadrature(N, pc.data(), w.data());
   HG.assign(NC * HQ * N * 3, 0.0);
   HW.assign(NC * HQ, 0.0);
   ParallelFor(NC, 64, [&](vtkIdType begin, vtkIdType end) {
@@ -78,6 +113,23 @@ void CorotationalSolver::Impl::InitializeHyper()
   if (!Newton)
   {
     Newton = std::make_shared<NewtonState>();
+  }
+  auto& off = Newton->IncidenceOffsets;
+  auto& inc = Newton->Incidences;
+  off.assign(NP + 1, 0);
+  for (long long k = 0; k < NC * N; ++k)
+  {
+    off[Conn[k] + 1]++;
+  }
+  for (long long p = 0; p < NP; ++p)
+  {
+    off[p + 1] += off[p];
+  }
+  inc.assign(NC * N, 0);
+  std::vector<long long> fill(off.begin(), off.end() - 1);
+  for (long long k = 0; k < NC * N; ++k)
+  {
+    inc[fill[Conn[k]]++] = k;
   }
   Newton->Analyzed = false;
   Newton->HaveFactor = false;
@@ -107,6 +159,88 @@ inline void DeformationGradient(int N, const int* conn, const double* y, const d
 }
 } // namespace
 
+namespace
+{
+inline double Det3(const double* F)
+{
+  return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+    F[2] * (F[3] * F[7] - F[4] * F[6]);
+}
+} // namespace
+
+// Cell e of positions y is inverted (or flat): det F <= 0 at a quadrature point (where
+// the energy sees the cell), or (tet10) the straight tet of its corners has turned over
+// (what a viewer draws of it). Not the Jacobian of the curved cell everywhere: at its
+// corners it can turn negative without the 4-point energy seeing it, and refusing that
+// jammed a one-iteration-per-frame drag at a cell the energy kept pushing there.
+bool CorotationalSolver::Impl::HyperInverted(vtkIdType e, const double* y) const
+{
+  double F[9];
+  for (int q = 0; q < HQ; ++q)
+  {
+    DeformationGradient(N, &Conn[e * N], y, &HG[(e * HQ + q) * N * 3], F);
+    if (!(Det3(F) > 0.0))
+    {
+      return true;
+    }
+  }
+  if (N != 10)
+  {
+    return false;
+  }
+  double now[9], rest[9];
+  const int* c = &Conn[e * N];
+  for (int k = 0; k < 3; ++k)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      now[3 * k + i] = y[3 * c[k + 1] + i] - y[3 * c[0] + i];
+      rest[3 * k + i] = X[3 * c[k + 1] + i] - X[3 * c[0] + i];
+    }
+  }
+  return !(Det3(now) * Det3(rest) > 0.0);
+}
+
+// Flags the inverted cells of y (HyperInverted) into `flags`; returns their number
+long long CorotationalSolver::Impl::HyperInvertedCells(
+  const double* y, std::vector<char>& flags) const
+{
+  flags.assign(NC, 0);
+  ParallelFor(NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType e = begin; e < end; ++e)
+    {
+      flags[e] = HyperInverted(e, y) ? 1 : 0;
+    }
+  });
+  long long n = 0;
+  for (char f : flags)
+  {
+    n += f;
+  }
+  return n;
+}
+
+// True when y inverts a cell not flagged in `was` (the line search's and the held
+// move's refusal)
+bool CorotationalSolver::Impl::HyperInvertsMore(const double* y, const std::vector<char>& was) const
+{
+  std::vector<char> now(NC, 0);
+  ParallelFor(NC, ParallelCells, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType e = begin; e < end; ++e)
+    {
+      now[e] = (!was[e] && HyperInverted(e, y)) ? 1 : 0;
+    }
+  });
+  for (char f : now)
+  {
+    if (f)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 double CorotationalSolver::Impl::HyperEnergy(const double* y) const
 {
   std::vector<double> per(NC, 0.0);
@@ -134,13 +268,25 @@ double CorotationalSolver::Impl::HyperEnergy(const double* y) const
 void CorotationalSolver::Impl::HyperGradient(
   const double* y, double* grad, double* blocks, bool project) const
 {
-  std::vector<double> fe(NC * D, 0.0), he(blocks ? NC * D * D : 0, 0.0);
+  // the element Hessians (NC D^2 doubles: 22 MB at 3000 tet10) in a buffer kept between
+  // calls (a fresh one cost its page faults every call); only the blocks b >= a are
+  // computed, the others are their transposes
+  std::vector<double> fe(NC * D, 0.0);
+  std::vector<double>& he = Newton->ElementHessians;
+  if (blocks)
+  {
+    he.resize(NC * D * D); // zeroed per element below, on the threads
+  }
   ParallelFor(NC, 64, [&](vtkIdType begin, vtkIdType end) {
     double F[9], P[9], A[81], T[27];
     for (vtkIdType e = begin; e < end; ++e)
     {
       double* f = &fe[e * D];
       double* h = blocks ? &he[e * D * D] : nullptr;
+      if (h)
+      {
+        std::fill(h, h + D * D, 0.0);
+      }
       for (int q = 0; q < HQ; ++q)
       {
         const double* g = &HG[(e * HQ + q) * N * 3];
@@ -175,7 +321,7 @@ void CorotationalSolver::Impl::HyperGradient(
                   A[(3 * i + 2) * 9 + kl] * ga[2]);
             }
           }
-          for (int b = 0; b < N; ++b)
+          for (int b = a; b < N; ++b)
           {
             const double* gb = g + 3 * b;
             for (int i = 0; i < 3; ++i)
@@ -189,40 +335,70 @@ void CorotationalSolver::Impl::HyperGradient(
           }
         }
       }
-    }
-  });
-  // scatter in cell order (deterministic)
-  std::fill(grad, grad + 3 * NP, 0.0);
-  if (blocks)
-  {
-    std::fill(blocks, blocks + 9 * MN.nonZeros(), 0.0);
-  }
-  for (long long e = 0; e < NC; ++e)
-  {
-    for (int a = 0; a < N; ++a)
-    {
-      const int pa = Conn[e * N + a];
-      for (int i = 0; i < 3; ++i)
+      if (h)
       {
-        grad[3 * pa + i] += fe[e * D + 3 * a + i];
-      }
-      if (!blocks)
-      {
-        continue;
-      }
-      for (int b = 0; b < N; ++b)
-      {
-        double* blk = blocks + 9 * static_cast<long long>(BlockOf[(e * N + a) * N + b]);
-        for (int i = 0; i < 3; ++i)
+        for (int a = 0; a < N; ++a)
         {
-          for (int k = 0; k < 3; ++k)
+          for (int b = 0; b < a; ++b)
           {
-            blk[3 * i + k] += he[(e * D + 3 * a + i) * D + 3 * b + k];
+            for (int i = 0; i < 3; ++i)
+            {
+              for (int k = 0; k < 3; ++k)
+              {
+                h[(3 * a + i) * D + 3 * b + k] = h[(3 * b + k) * D + 3 * a + i];
+              }
+            }
           }
         }
       }
     }
-  }
+  });
+  // scatter by node rows on the threads: a row's blocks and gradient entries take the
+  // contributions of its cells in cell order (the node's incidence list is in cell
+  // order), so the sums are the same bits as a serial scatter in cell order
+  const std::vector<long long>& off = Newton->IncidenceOffsets;
+  const std::vector<long long>& inc = Newton->Incidences;
+  ParallelFor(NP, ParallelNodes, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType p = begin; p < end; ++p)
+    {
+      double* gp = grad + 3 * p;
+      gp[0] = gp[1] = gp[2] = 0.0;
+      if (blocks)
+      {
+        for (int k = MN.outerIndexPtr()[p]; k < MN.outerIndexPtr()[p + 1]; ++k)
+        {
+          std::fill(blocks + 9 * static_cast<long long>(k),
+            blocks + 9 * static_cast<long long>(k) + 9, 0.0);
+        }
+      }
+      for (long long c = off[p]; c < off[p + 1]; ++c)
+      {
+        const long long ea = inc[c]; // e * N + a
+        const long long e = ea / N;
+        const int a = static_cast<int>(ea % N);
+        for (int i = 0; i < 3; ++i)
+        {
+          gp[i] += fe[e * D + 3 * a + i];
+        }
+        if (!blocks)
+        {
+          continue;
+        }
+        for (int b = 0; b < N; ++b)
+        {
+          double* blk = blocks + 9 * static_cast<long long>(BlockOf[ea * N + b]);
+          const double* src = &he[(e * D + 3 * a) * D + 3 * b];
+          for (int i = 0; i < 3; ++i)
+          {
+            for (int k = 0; k < 3; ++k)
+            {
+              blk[3 * i + k] += src[i * D + k];
+            }
+          }
+        }
+      }
+    }
+  });
 }
 
 namespace
@@ -400,6 +576,201 @@ static bool PreconditionedCG(
   return false;
 }
 
+// Dynamic steps: d = -H^-1 g by CG to the solver's relative tolerance (SetSolverControls;
+// the stepper's SolverTolerance, 1e-4: an inexact Newton direction, the stop rule on the
+// step decides convergence) on ns.H preconditioned by the co-rotated stepper's
+// node-block factor (hoembedCorotationalSolverLinear.cxx: a factor of an earlier Newton
+// system, made with the nodal rotations of its state, applied rotated by the nodal
+// rotations since; half-precision storage, AVX2 triangular solves on two threads). A
+// Newton system is mass plus a stiffness that, at moderate strain, mostly rotates with
+// the elements, so the rotated factor stays a close preconditioner over many frames,
+// and its solves cost a fraction of CHOLMOD's supernodal ones (on 3000 tet10 those took
+// ~10 ms each, 7-25 per frame). A new factor (of the current system) when the free DOFs
+// or the mass coefficient changed, or after the CG exceeded RotatedCG iterations or met
+// negative curvature; false when even a fresh factor does not serve (the caller then
+// takes the direct path). Deterministic: iteration counts, never times.
+constexpr int RotatedCG = 40;
+static long long MNBlocks(const CorotationalSolver::Impl& I)
+{
+  return I.MN.nonZeros();
+}
+static bool RotatedFactorCG(CorotationalSolver::Impl& I, double cMass, bool damp,
+  const Eigen::Map<const Eigen::VectorXd>& g, Eigen::VectorXd& d, bool projected)
+{
+  auto& ns = *I.Newton;
+  if (ns.HR.rows() != I.A.rows())
+  {
+    ns.HR = I.A;
+  }
+  const Eigen::Index n = g.size();
+  // the system's blocks (Hessian plus stiffness damping) for the products: a block-row
+  // sweep on two threads instead of the scalar sparse product (~9 values per column
+  // index instead of 1)
+  const long long nb = MNBlocks(I);
+  ns.SysBlocks.resize(9 * nb);
+  for (long long k = 0; k < 9 * nb; ++k)
+  {
+    ns.SysBlocks[k] = ns.Blocks[k] + (ns.DampBlocks.empty() ? 0.0 : ns.DampBlocks[k]);
+  }
+  auto product = [&](const Eigen::VectorXd& p, Eigen::VectorXd& y) {
+    const int* outer = I.MN.outerIndexPtr();
+    const int* inner = I.MN.innerIndexPtr();
+    const double* mval = I.MN.valuePtr();
+    const double* sv = ns.SysBlocks.data();
+    const double* q = p.data();
+    double* out = y.data();
+    const char* fr = I.Free.data();
+    ParallelFor(I.NP, ParallelNodes, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType r = begin; r < end; ++r)
+      {
+        double m0 = 0.0, m1 = 0.0, m2 = 0.0, s0 = 0.0, s1 = 0.0, s2 = 0.0;
+        for (int k = outer[r]; k < outer[r + 1]; ++k)
+        {
+          const double* pj = q + 3 * inner[k];
+          const double* b = sv + 9 * static_cast<long long>(k);
+          const double m = mval[k];
+          m0 += m * pj[0];
+          m1 += m * pj[1];
+          m2 += m * pj[2];
+          s0 += b[0] * pj[0] + b[1] * pj[1] + b[2] * pj[2];
+          s1 += b[3] * pj[0] + b[4] * pj[1] + b[5] * pj[2];
+          s2 += b[6] * pj[0] + b[7] * pj[1] + b[8] * pj[2];
+        }
+        // p is 0 on the held DOFs (the preconditioner masks): their rows give 0 too
+        out[3 * r] = fr[3 * r] ? cMass * m0 + s0 : 0.0;
+        out[3 * r + 1] = fr[3 * r + 1] ? cMass * m1 + s1 : 0.0;
+        out[3 * r + 2] = fr[3 * r + 2] ? cMass * m2 + s2 : 0.0;
+      }
+    });
+  };
+  for (int attempt = 0; attempt < 2; ++attempt)
+  {
+    I.ComputeRotations();
+    I.RotationsValid = false; // Rot, NodeRot serve here only: the co-rotated step redoes them
+    bool fresh = false;
+    if (attempt == 1 || !I.HaveFactor || !I.Cur || !I.Cur->OK || I.Cur->Free != I.Free ||
+      I.Cur->CM != cMass)
+    {
+      FillSystem(I, cMass, damp);
+      std::copy(ns.H.valuePtr(), ns.H.valuePtr() + ns.H.nonZeros(), ns.HR.valuePtr());
+      I.FactorMatrix(ns.HR, false, cMass, 0.0);
+      fresh = true;
+      if (!I.FactorOK())
+      {
+        return false;
+      }
+    }
+    I.UpdateRelativeRotations();
+    d = Eigen::VectorXd::Zero(n);
+    Eigen::VectorXd r = -g, z(n), p, q(n);
+    const double b = r.norm();
+    if (b == 0.0)
+    {
+      return true;
+    }
+    // first guess: the Galerkin projection onto the span of the last directions (the
+    // system-norm best combination; consecutive frames' directions are alike), as the
+    // co-rotated step does: ~half the iterations for a product per vector
+    if (!ns.History.empty())
+    {
+      std::vector<Eigen::VectorXd> V, W;
+      for (const Eigen::VectorXd& h0 : ns.History)
+      {
+        Eigen::VectorXd v = h0;
+        for (Eigen::Index k = 0; k < n; ++k)
+        {
+          v[k] = I.Free[k] ? v[k] : 0.0;
+        }
+        const double n0 = v.norm();
+        for (int pass = 0; pass < 2; ++pass)
+        {
+          for (const Eigen::VectorXd& u : V)
+          {
+            v -= u.dot(v) * u;
+          }
+        }
+        const double n1 = v.norm();
+        if (n1 > 1e-8 * n0 && n1 > 0.0)
+        {
+          V.push_back(v / n1);
+        }
+      }
+      const int m = static_cast<int>(V.size());
+      if (m > 0)
+      {
+        W.resize(m, Eigen::VectorXd(n));
+        Eigen::MatrixXd Gm(m, m);
+        Eigen::VectorXd rhs(m);
+        for (int i = 0; i < m; ++i)
+        {
+          product(V[i], W[i]);
+          rhs[i] = V[i].dot(r);
+        }
+        for (int i = 0; i < m; ++i)
+        {
+          for (int j = 0; j < m; ++j)
+          {
+            Gm(i, j) = 0.5 * (V[i].dot(W[j]) + V[j].dot(W[i]));
+          }
+        }
+        Eigen::LDLT<Eigen::MatrixXd> small(Gm);
+        const Eigen::VectorXd c = small.solve(rhs);
+        if (small.info() == Eigen::Success && c.allFinite())
+        {
+          for (int i = 0; i < m; ++i)
+          {
+            d += c[i] * V[i];
+            r -= c[i] * W[i];
+          }
+        }
+      }
+    }
+    if (r.norm() <= I.Tol * b)
+    {
+      ns.Remember(d);
+      return true;
+    }
+    I.ApplyPrec(r, z);
+    p = z;
+    double rz = r.dot(z);
+    bool ok = false;
+    for (int k = 0; k < RotatedCG; ++k)
+    {
+      product(p, q);
+      const double pq = p.dot(q);
+      if (!(pq > 0.0))
+      {
+        break;
+      }
+      const double alpha = rz / pq;
+      d += alpha * p;
+      r -= alpha * q;
+      if (r.norm() <= I.Tol * b)
+      {
+        ok = true;
+        ns.Remember(d);
+        break;
+      }
+      I.ApplyPrec(r, z);
+      const double rz1 = r.dot(z);
+      p = z + (rz1 / rz) * p;
+      rz = rz1;
+    }
+    if (ok)
+    {
+      return true;
+    }
+    if (fresh || !projected)
+    {
+      // the exact Hessian failed (negative curvature, or too many iterations): the caller
+      // projects it before a new factor is made (a factorisation costs ~100 iterations
+      // at 15k DOF; converged steps refactorised at every such failure)
+      return false;
+    }
+  }
+  return false;
+}
+
 // One Newton solve from I.x (held DOFs already where they stay): exact Hessian first
 // (quadratic convergence), the per-point projected one where the exact one is not
 // positive definite; backtracking (Armijo) line search on Phi. Returns the iterations
@@ -445,30 +816,56 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
     Eigen::VectorXd d;
     bool solved = false;
     auto ta = Clock::now();
+    bool projectedBlocks = ns.BlocksReady;
     if (!ns.BlocksReady) // (the step's damping pass left the blocks at this x)
     {
       I.HyperGradient(I.x.data(), trial.data(), ns.Blocks.data(), false);
     }
     ns.BlocksReady = false;
-    FillSystem(I, cMass, phi.Damp);
+    if (cMass <= 0.0)
+    {
+      FillSystem(I, cMass, phi.Damp); // (the rotated path fills it when it factorises)
+    }
     I.T.Assembly += Seconds(ta, Clock::now());
-    // The last factor as the preconditioner of CG on the new system (a Hessian changes
-    // little between iterations and frames): a fresh factorisation costs tens of CG
+    // Time steps: RotatedFactorCG (exact Hessian, then projected), else the direct path.
+    // Static: the last factor as the preconditioner of CG on the new system (a Hessian
+    // changes little between iterations and frames): a fresh factorisation costs tens of CG
     // iterations on 3000 tet10. Refactorised when the CG needs more than RefactorCG
     // iterations, meets negative curvature (exact Hessian not positive definite), or the
     // free set changed. Deterministic (iteration counts, not times).
-    if (ns.HaveFactor && ns.FactorFree == I.Free)
+    if (cMass > 0.0)
+    {
+      solved = RotatedFactorCG(I, cMass, phi.Damp, gm, d, projectedBlocks);
+      if (!solved && !projectedBlocks)
+      {
+        ta = Clock::now();
+        I.HyperGradient(I.x.data(), trial.data(), ns.Blocks.data(), true);
+        I.T.Assembly += Seconds(ta, Clock::now());
+        projectedBlocks = true;
+        solved = RotatedFactorCG(I, cMass, phi.Damp, gm, d, true);
+      }
+      if (!solved)
+      {
+        FillSystem(I, cMass, phi.Damp); // for the direct path below
+      }
+    }
+    else if (ns.HaveFactor && ns.FactorFree == I.Free)
     {
       solved = PreconditionedCG(I, gm, d);
     }
     for (int pass = 0; pass < 2 && !solved; ++pass)
     {
-      if (pass == 1)
+      if (pass == 1 || projectedBlocks)
       {
-        ta = Clock::now();
-        I.HyperGradient(I.x.data(), trial.data(), ns.Blocks.data(), true);
-        FillSystem(I, cMass, phi.Damp);
-        I.T.Assembly += Seconds(ta, Clock::now());
+        if (!projectedBlocks)
+        {
+          ta = Clock::now();
+          I.HyperGradient(I.x.data(), trial.data(), ns.Blocks.data(), true);
+          FillSystem(I, cMass, phi.Damp);
+          I.T.Assembly += Seconds(ta, Clock::now());
+        }
+        projectedBlocks = true;
+        pass = 1;
       }
       if (!ns.Analyzed)
       {
@@ -500,6 +897,7 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
       d[k] = I.Free[k] ? d[k] : 0.0;
     }
     const double slope = gm.dot(d);
+    I.HyperInvertedCells(I.x.data(), ns.Inverted);
     double t = 1.0, next = value;
     bool accepted = false;
     for (int ls = 0; ls < 40; ++ls, t *= 0.5)
@@ -507,6 +905,12 @@ static int NewtonSolve(CorotationalSolver::Impl& I, Potential& phi, double cMass
       for (long long k = 0; k < n3; ++k)
       {
         trial[k] = I.x[k] + t * d[k];
+      }
+      // no cell that is not inverted now may become so (a state with det F <= 0 is
+      // refused, however low its energy: the stable Neo-Hookean has no barrier)
+      if (I.HyperInvertsMore(trial.data(), ns.Inverted))
+      {
+        continue;
       }
       next = phi.Value(trial, nullptr);
       // Armijo, with a round-off allowance: near the minimum Phi cannot resolve the
@@ -585,6 +989,24 @@ bool CorotationalSolver::Impl::HyperStep()
       x[3 * p + i] = capped ? x[3 * p + i] + d[i] * (limit / n) : X[3 * p + i] + Target[3 * p + i];
     }
   }
+  // the held move may not invert a cell either (it is not part of the line search):
+  // a move that would is shortened by halves (to none), and the prescribed nodes catch
+  // up in the next steps, like a speed-limited drag
+  if (NumberPrescribed > 0)
+  {
+    std::vector<char> was;
+    HyperInvertedCells(xn.data(), was);
+    const std::vector<double> full = x;
+    double frac = 1.0;
+    for (int k = 0; k < 12 && HyperInvertsMore(x.data(), was); ++k)
+    {
+      frac = k < 11 ? 0.5 * frac : 0.0;
+      for (long long j = 0; j < n3; ++j)
+      {
+        x[j] = xn[j] + frac * (full[j] - xn[j]);
+      }
+    }
+  }
   Potential phi{ *this };
   phi.CM = 1.0 / (dt * dt);
   phi.CA = Alpha / dt;
@@ -592,11 +1014,17 @@ bool CorotationalSolver::Impl::HyperStep()
   phi.XN = &xn;
   auto& ns = *Newton;
   ns.Blocks.assign(9 * MN.nonZeros(), 0.0);
+  ns.DampBlocks.clear();
   if (Beta > 0.0)
   {
     // stiffness damping: beta/dt times the (projected) Hessian at the step's start
     std::vector<double> g(n3);
     HyperGradient(x.data(), g.data(), ns.Blocks.data(), true);
+    ns.DampBlocks.resize(ns.Blocks.size());
+    for (size_t k = 0; k < ns.Blocks.size(); ++k)
+    {
+      ns.DampBlocks[k] = Beta / dt * ns.Blocks[k];
+    }
     ns.DampValues.assign(A.nonZeros(), 0.0);
     for (long long k = 0; k < A.nonZeros(); ++k)
     {

@@ -278,7 +278,8 @@ public:
   /// defined through inversion), 3 "mooney-rivlin". The hyperelastic ones take their
   /// constants from YoungModulus and PoissonRatio (small-strain limit = linear
   /// elasticity with them) and step by Newton's method on the backward-Euler potential
-  /// (hoembedCorotationalSolver.h). SetMaterial(name) takes the name; an unknown name
+  /// (hoembedCorotationalSolver.h; a time step's Newton systems are solved by CG to
+  /// SolverTolerance, relative). SetMaterial(name) takes the name; an unknown name
   /// (or number) is refused at the next update with the driver's message.
   vtkSetMacro(Material, int);
   vtkGetMacro(Material, int);

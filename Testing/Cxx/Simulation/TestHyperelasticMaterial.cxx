@@ -97,6 +97,30 @@ int main(int, char*[])
           .cwiseAbs()
           .maxCoeff() <= 1e-9 * E,
       "%s: the projection changed a positive definite tangent", names[m]);
+    // the projection (through the principal frame) is the eigenvalue clamp of the 9 x 9
+    // tangent, computed here by brute force: a compressed, a sheared and (Neo-Hookean,
+    // StVK) an inverted point
+    const double Fs[3][9] = { { 0.3, 0.05, 0.0, 0.02, 1.1, 0.1, 0.0, -0.1, 1.2 },
+      { 0.9, 0.35, -0.2, -0.3, 0.8, 0.25, 0.15, -0.1, 0.85 },
+      { -0.4, 0.2, 0.1, 0.1, 0.9, -0.3, 0.05, 0.2, 1.1 } };
+    for (int t = 0; t < (kinds[m] == Material::MooneyRivlin ? 2 : 3); ++t)
+    {
+      double Ae[81];
+      law.Tangent(Fs[t], P, Ae, false);
+      law.Tangent(Fs[t], P, Ap, true);
+      Eigen::Map<Eigen::Matrix<double, 9, 9, Eigen::RowMajor>> Aem(Ae), Apm(Ap);
+      const Eigen::Matrix<double, 9, 9> sym = 0.5 * (Aem + Aem.transpose());
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> es(sym);
+      const Eigen::Matrix<double, 9, 9> clamp = es.eigenvectors() *
+        es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+      const double diff = (clamp - Apm).cwiseAbs().maxCoeff();
+      HOEMBED_CHECK(es.eigenvalues().minCoeff() < 0.0 || t == 1,
+        "%s: point %d was meant to be indefinite", names[m], t);
+      HOEMBED_CHECK(diff <= 1e-9 * E,
+        "%s: projected tangent at point %d differs from the 9 x 9 "
+        "clamp by %g",
+        names[m], t, diff);
+    }
     const double Fc[9] = { 0.3, 0.05, 0.0, 0.02, 1.1, 0.1, 0.0, -0.1, 1.2 }; // compressed
     law.Tangent(Fc, P, Ap, true);
     Eigen::Map<Eigen::Matrix<double, 9, 9, Eigen::RowMajor>> Am(Ap);
