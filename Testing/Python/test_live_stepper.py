@@ -507,3 +507,38 @@ def test_live_session_solver_tolerance_reaches_the_stepper():
     assert its[1e-10] > its[1e-2] > 0, its
     with pytest.raises((HOEmbedError, ValueError), match="SolverTolerance"):
         LiveSession(fe, emb, fixed=clamp, solver_tolerance=-1.0)
+
+
+def test_live_session_material_reaches_the_stepper():
+    # LiveSession(material=...) steps with that law (one Newton iteration per frame by
+    # default): the same grab, drag and release as a co-rotated session move the FE mesh
+    # differently, every frame finite, and (Neo-Hookean's step refuses inversion) no corner
+    # tet turned over, where the co-rotated one turns some over; a wrong name is refused
+    # with the stepper driver's sentence
+    from hoembed.live import LiveSession, prepare
+
+    surface = hoembed.thorny_tail(rings=60, sectors=24)
+    _, fe, emb, clamp = prepare(surface, n_elements=200, progress=False)
+    size = np.ptp(np.asarray(fe.points), axis=0).max()
+    shown, inverted = {}, {}
+    for material in ("corotated", "neo-hookean"):
+        s = LiveSession(fe, emb, fixed=clamp, background_factorization=False, material=material)
+        inverted[material] = 0
+        assert s.material == material
+        tip = s.positions()[np.argmax(s.positions()[:, 0])].copy()
+        s.grab(tip)
+        for k in range(1, 13):
+            if k < 9:
+                s.drag(tip + np.array([0.0, 0.15 * k, 0.08 * k]) * size)
+            if k == 9:
+                s.release()
+            s.step()
+            assert np.all(np.isfinite(s.positions())) and np.all(np.isfinite(s.surface.points))
+            inverted[material] += int(corner_volumes(s.fe).min() <= 0)
+        shown[material] = np.array(s.positions())
+    moved = np.abs(shown["corotated"] - np.asarray(fe.points)).max()
+    assert moved > 0.1 * size
+    assert np.abs(shown["neo-hookean"] - shown["corotated"]).max() > 1e-3 * moved
+    assert inverted["neo-hookean"] == 0 and inverted["corotated"] > 0, inverted
+    with pytest.raises(hoembed.HOEmbedError, match="Material"):
+        LiveSession(fe, emb, fixed=clamp, material="rubber")

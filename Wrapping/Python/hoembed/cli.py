@@ -82,6 +82,12 @@ def _parser():
     )
     live.add_argument("--young", type=float, default=2e5, help="Young's modulus E (Pa)")
     live.add_argument(
+        "--material",
+        default=None,
+        help="corotated, stvk, neo-hookean or mooney-rivlin (default: the stepper's, "
+        "corotated); the hyperelastic laws take one Newton iteration per frame",
+    )
+    live.add_argument(
         "--gravity",
         type=float,
         nargs=3,

@@ -29,7 +29,7 @@ from vtkmodules.vtkRenderingCore import vtkCellPicker
 from ._arrays import N
 from ._checks import NORMAL_MODES, POINT_NORMALS_MODES, point_normals_argument, simulate_arguments
 from ._errors import HOEmbedArgumentError, HOEmbedError
-from ._hoembed import DEFAULTS
+from ._hoembed import DEFAULTS, MATERIALS
 from .simulation import build_stepper
 from .transfer import TransferPlan
 
@@ -116,6 +116,13 @@ class LiveSession:
     solver_tolerance : float, optional
         The stepper's SolverTolerance (default: the stepper's own); a looser one takes
         fewer CG iterations per frame (Benchmarks/RESULTS.md, live loop).
+    material : str, optional
+        The stepper's Material (default: the stepper's own, ``"corotated"``):
+        ``"stvk"``, ``"neo-hookean"`` or ``"mooney-rivlin"`` step by Newton's method.
+    newton_iterations : int
+        Newton iterations per frame for those laws (MaxNewtonIterations), default 1: a
+        frame then costs about twice a co-rotated one at 3000 tet10, a converged one about
+        8x (Benchmarks/RESULTS.md, Stepper); a cell is never inverted either way.
     background_factorization : bool
         The stepper's BackgroundFactorization (default on): a grab or a release is
         stepped at once while the new factorisation runs on a thread, instead of a frame
@@ -141,6 +148,8 @@ class LiveSession:
         background_factorization=True,
         overlap=False,
         solver_tolerance=None,
+        material=None,
+        newton_iterations=1,
     ):
         self.fe_rest = pyvista.wrap(fe_mesh).copy()
         n = self.fe_rest.n_points
@@ -174,6 +183,14 @@ class LiveSession:
             _STEPPER["SolverTolerance"] if solver_tolerance is None else solver_tolerance,
             None,
         )
+        if material is not None:  # the law and Newton's controls: checked by the driver
+            a.update(
+                material=str(material),
+                mooney_rivlin=(_STEPPER["MooneyRivlinC10"], _STEPPER["MooneyRivlinC01"]),
+                newton_tolerance=_STEPPER["NewtonTolerance"],
+                max_newton_iterations=newton_iterations,
+            )
+        self.material = MATERIALS[_STEPPER["Material"]] if material is None else str(material)
         speed = 0.5 * self.h / self.dt if speed_limit is None else float(speed_limit)
         try:
             st = build_stepper(
@@ -675,7 +692,14 @@ def run_cli(args):
         if not np.all(np.isfinite(args.gravity)):
             raise cli.UsageError("--gravity must be finite")
         surface = None if args.surface is None else cli._read_surface(args.surface)
-        live(surface, n_elements=args.elements, young=args.young, gravity=tuple(args.gravity))
+        options = {} if args.material is None else {"material": args.material}
+        live(
+            surface,
+            n_elements=args.elements,
+            young=args.young,
+            gravity=tuple(args.gravity),
+            **options,
+        )
     except (cli.UsageError, HOEmbedError, OSError) as err:
         print(f"hoembed live: error: {err}", file=sys.stderr)
         return 2
