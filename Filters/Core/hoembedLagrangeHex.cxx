@@ -218,6 +218,18 @@ const LagrangeHexBasis* GetLagrangeHexBasis(int cellType, int nodesPerCell)
   return bases[slot].get();
 }
 
+std::string HexahedronTypeName(int cellType, int nodesPerCell)
+{
+  if (cellType == QuadraticHexahedronCellType)
+    return "VTK_QUADRATIC_HEXAHEDRON";
+  if (cellType == TriQuadraticHexahedronCellType)
+    return "VTK_TRIQUADRATIC_HEXAHEDRON";
+  if (cellType == HexahedronCellType)
+    return "VTK_HEXAHEDRON";
+  const int p = nodesPerCell == 8 ? 1 : (nodesPerCell == 27 ? 2 : (nodesPerCell == 64 ? 3 : -1));
+  return "VTK_LAGRANGE_HEXAHEDRON of order " + std::to_string(p);
+}
+
 void LagrangeHexNodeParametric(const LagrangeHexBasis& b, int k, double pc[3])
 {
   for (int d = 0; d < 3; ++d)

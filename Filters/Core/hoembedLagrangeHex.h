@@ -32,6 +32,7 @@
 #include "hoembedCoreModule.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace hoembed
@@ -65,6 +66,9 @@ struct HOEMBEDCORE_EXPORT LagrangeHexBasis
 /// The basis of a cell type and node count (12: 8; 25: 20; 29: 27; 72: 8, 27, 64);
 /// null when not supported.
 HOEMBEDCORE_EXPORT const LagrangeHexBasis* GetLagrangeHexBasis(int cellType, int nodesPerCell);
+
+/// "VTK_LAGRANGE_HEXAHEDRON of order 2", "VTK_QUADRATIC_HEXAHEDRON", ... for messages.
+HOEMBEDCORE_EXPORT std::string HexahedronTypeName(int cellType, int nodesPerCell);
 
 /// Parametric coordinates (r, s, t) in [0, 1]^3 of node k.
 HOEMBEDCORE_EXPORT void LagrangeHexNodeParametric(const LagrangeHexBasis& b, int k, double pc[3]);

@@ -66,7 +66,11 @@ public:
     KeepFingerprint = 2, ///< the fingerprint (Fingerprint)
     /// also accept VTK_LAGRANGE_TETRAHEDRON (71) of order 1-4 (4, 10, 20 or 35 nodes in
     /// VTK's order, one order per mesh): the embedding and the transfer, which handle them
-    KeepLagrange = 4
+    KeepLagrange = 4,
+    /// also accept hexahedra (one type per mesh): VTK_LAGRANGE_HEXAHEDRON (72) of uniform
+    /// order 1-3 (8, 27 or 64 nodes: the order is read from the node count),
+    /// VTK_TRIQUADRATIC_HEXAHEDRON (29, 27 nodes), VTK_QUADRATIC_HEXAHEDRON (25, 20 nodes)
+    KeepHexahedra = 8
   };
 
   /// Read and check; the empty string on success, else one sentence naming the problem
@@ -74,8 +78,9 @@ public:
   /// Keep values. On failure the members are unspecified.
   std::string Read(const TetMeshArrays& in, int keep);
 
-  int CellType = 0;     ///< 24 (VTK_QUADRATIC_TETRA), 10 (VTK_TETRA) or 71 (KeepLagrange)
-  int NodesPerCell = 0; ///< 10 or 4 (Lagrange: 4, 10, 20 or 35)
+  /// 24 (VTK_QUADRATIC_TETRA), 10 (VTK_TETRA), 71 (KeepLagrange), 72, 29, 25 (KeepHexahedra)
+  int CellType = 0;
+  int NodesPerCell = 0; ///< 10 or 4 (Lagrange: 4, 10, 20 or 35; hexahedra: 8, 27, 64, 20)
   std::int64_t NumberOfPoints = 0;
   std::int64_t NumberOfCells = 0;
   std::vector<std::int64_t> Connectivity; ///< NodesPerCell ids per cell
@@ -85,6 +90,15 @@ public:
   static constexpr int QuadraticTetra = 24; // VTK_QUADRATIC_TETRA
   static constexpr int LinearTetra = 10;    // VTK_TETRA
   static constexpr int LagrangeTetra = 71;  // VTK_LAGRANGE_TETRAHEDRON
+  static constexpr int LagrangeHexahedron = 72;     // VTK_LAGRANGE_HEXAHEDRON
+  static constexpr int TriQuadraticHexahedron = 29; // VTK_TRIQUADRATIC_HEXAHEDRON
+  static constexpr int QuadraticHexahedron = 25;    // VTK_QUADRATIC_HEXAHEDRON
+  /// one of the three hexahedron types
+  static bool IsHexahedron(int type)
+  {
+    return type == LagrangeHexahedron || type == TriQuadraticHexahedron ||
+      type == QuadraticHexahedron;
+  }
 };
 
 /// The first point (index) with a non-finite coordinate, or -1; `xyz` holds 3 per point.

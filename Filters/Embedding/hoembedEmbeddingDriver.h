@@ -27,6 +27,7 @@
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedFiltersEmbeddingModule.h"
 #include "hoembedLagrangeEmbedding.h"
+#include "hoembedLagrangeHexEmbedding.h"
 #include "hoembedPropertyRange.h"
 #include "hoembedSurfaceTriangles.h"
 #include "hoembedTetMeshInput.h"
@@ -136,7 +137,8 @@ private:
 
   double MeshDiagonal() const
   {
-    return this->Lagrange ? this->LagrangeMesh.Diagonal : this->Mesh.Diagonal;
+    return this->Hexahedra ? this->HexMesh.Diagonal
+                           : (this->Lagrange ? this->LagrangeMesh.Diagonal : this->Mesh.Diagonal);
   }
 
   // mesh-sized: kept
@@ -145,6 +147,9 @@ private:
   /// take the EmbeddingMesh path): per-vertex certified search, no flood
   LagrangeEmbeddingMesh LagrangeMesh;
   bool Lagrange = false;
+  /// hexahedra (VTK_LAGRANGE_HEXAHEDRON 1-3, hex27, hex20): the same per-vertex search
+  LagrangeHexEmbeddingMesh HexMesh;
+  bool Hexahedra = false;
   std::string Fingerprint; // of the prepared mesh; empty: none prepared
   // surface-sized
   EmbedWorkspace Flood;
