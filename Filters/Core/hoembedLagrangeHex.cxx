@@ -5,6 +5,8 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -401,5 +403,123 @@ bool LagrangeHexIsValid(const LagrangeHexBasis& b, const double* tensor)
   if (!(hi > 0.0))
     return false;
   return SubBoxValid(b, tensor, lo, 1.0, hi, 3) == 1;
+}
+const int HexFaceCorners[6][4] = { { 0, 4, 7, 3 }, { 1, 2, 6, 5 }, { 0, 1, 5, 4 }, { 3, 7, 6, 2 },
+  { 0, 3, 2, 1 }, { 4, 5, 6, 7 } };
+const int HexFaceU[6] = { 2, 1, 0, 2, 1, 0 };
+const int HexFaceV[6] = { 1, 2, 2, 0, 0, 1 };
+
+void HexFaceToParametric(int lf, const double uv[2], double pc[3])
+{
+  // the face's (0, 0) corner: its fixed parameter at 0 or 1, the others at 0
+  const int fixed = 3 - HexFaceU[lf] - HexFaceV[lf];
+  pc[0] = pc[1] = pc[2] = 0.0;
+  pc[fixed] = lf & 1 ? 1.0 : 0.0;
+  pc[HexFaceU[lf]] = uv[0];
+  pc[HexFaceV[lf]] = uv[1];
+}
+
+std::string FindHexBoundaryFaces(const std::int64_t* conn, std::int64_t ncells, int npc,
+  std::vector<std::int64_t>& faceCell, std::vector<int>& faceLocal,
+  std::vector<std::int64_t>& cellFace)
+{
+  // faces by their sorted corners -> (cell, local); cell -1 once shared
+  std::map<std::array<std::int64_t, 4>, std::pair<std::int64_t, int>> faces;
+  for (std::int64_t c = 0; c < ncells; ++c)
+    for (int lf = 0; lf < 6; ++lf)
+    {
+      std::array<std::int64_t, 4> key;
+      for (int k = 0; k < 4; ++k)
+        key[k] = conn[npc * c + HexFaceCorners[lf][k]];
+      std::sort(key.begin(), key.end());
+      if (key[0] == key[1] || key[1] == key[2] || key[2] == key[3])
+        return "cell " + std::to_string(c) + " has a face with a repeated corner";
+      auto it = faces.find(key);
+      if (it == faces.end())
+        faces.emplace(key, std::make_pair(c, lf));
+      else if (it->second.first < 0)
+        return "a face of cell " + std::to_string(c) + " is shared by more than two cells";
+      else
+        it->second.first = -1;
+    }
+  std::vector<std::pair<std::int64_t, int>> boundary;
+  for (const auto& kv : faces)
+    if (kv.second.first >= 0)
+      boundary.push_back(kv.second);
+  std::sort(boundary.begin(), boundary.end());
+  faceCell.clear();
+  faceLocal.clear();
+  cellFace.assign(6 * ncells, -1);
+  for (const auto& fl : boundary)
+  {
+    cellFace[6 * fl.first + fl.second] = static_cast<std::int64_t>(faceCell.size());
+    faceCell.push_back(fl.first);
+    faceLocal.push_back(fl.second);
+  }
+  return std::string();
+}
+
+void ComputeHexBoundaryNormals(const LagrangeHexBasis& b, const std::vector<std::int64_t>& faceCell,
+  const std::vector<int>& faceLocal, const double* points, std::int64_t npts,
+  const std::int64_t* conn, double* normals)
+{
+  const int npc = b.NumberOfNodes, p = b.Order;
+  std::fill(normals, normals + 3 * npts, 0.0);
+  std::vector<double> weight(npts, 0.0);
+  const double pi = 3.14159265358979323846;
+  double x[3 * MaxLagrangeHexNodes], t[3 * MaxLagrangeHexNodes];
+  auto dot = [](const double* a, const double* c) { return a[0] * c[0] + a[1] * c[1] + a[2] * c[2]; };
+  for (std::size_t f = 0; f < faceCell.size(); ++f)
+  {
+    const std::int64_t c = faceCell[f];
+    const int lf = faceLocal[f];
+    const int iu = HexFaceU[lf], iv = HexFaceV[lf], fixed = 3 - iu - iv;
+    const int fixedValue = lf & 1 ? p : 0;
+    for (int k = 0; k < npc; ++k)
+      for (int d = 0; d < 3; ++d)
+        x[3 * k + d] = points[3 * conn[npc * c + k] + d];
+    LagrangeHexToTensor(b, x, t);
+    for (int k = 0; k < npc; ++k)
+    {
+      const int* a = &b.Lattice[3 * k];
+      if (a[fixed] != fixedValue)
+        continue; // not on this face
+      double pc[3], pos[3], J[3][3];
+      LagrangeHexNodeParametric(b, k, pc);
+      EvaluateTensorHex(p, t, pc, pos, J);
+      const double* tu = J[iu];
+      const double* tv = J[iv];
+      const double nrm[3] = { tu[1] * tv[2] - tu[2] * tv[1], tu[2] * tv[0] - tu[0] * tv[2],
+        tu[0] * tv[1] - tu[1] * tv[0] };
+      const double len = std::sqrt(dot(nrm, nrm));
+      if (!(len > 0.0))
+        continue;
+      double w = pi;
+      if ((a[iu] == 0 || a[iu] == p) && (a[iv] == 0 || a[iv] == p))
+      {
+        // a corner: the angle between the two edges leaving it
+        const double su = a[iu] == 0 ? 1.0 : -1.0, sv = a[iv] == 0 ? 1.0 : -1.0;
+        const double e1[3] = { su * tu[0], su * tu[1], su * tu[2] };
+        const double e2[3] = { sv * tv[0], sv * tv[1], sv * tv[2] };
+        const double cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+          e1[0] * e2[1] - e1[1] * e2[0] };
+        w = std::atan2(std::sqrt(dot(cr, cr)), dot(e1, e2));
+      }
+      const std::int64_t node = conn[npc * c + k];
+      for (int d = 0; d < 3; ++d)
+        normals[3 * node + d] += w * nrm[d] / len;
+      weight[node] += w;
+    }
+  }
+  for (std::int64_t i = 0; i < npts; ++i)
+  {
+    double* n = normals + 3 * i;
+    const double len = std::sqrt(dot(n, n));
+    // contributions that cancel (a fold) give a direction of round-off: none
+    if (weight[i] > 0.0 && len > 1e-8 * weight[i])
+      n[0] /= len, n[1] /= len, n[2] /= len;
+    else
+      n[0] = n[1] = n[2] = 0.0;
+  }
 }
 } // namespace hoembed

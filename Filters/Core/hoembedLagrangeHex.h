@@ -91,6 +91,36 @@ HOEMBEDCORE_EXPORT void TensorHexToBernstein(const LagrangeHexBasis& b, const do
 
 /// det J > 0 proven over the whole cell; `tensor`: the cell's tensor form.
 HOEMBEDCORE_EXPORT bool LagrangeHexIsValid(const LagrangeHexBasis& b, const double* tensor);
+
+/// The hex corners of local face lf (0-5: r = 0, r = 1, s = 0, s = 1, t = 0, t = 1) at
+/// its (u, v) = (0,0), (1,0), (1,1), (0,1); the face's u and v run along parameters
+/// HexFaceU[lf] and HexFaceV[lf], and du x dv points out of the cell.
+HOEMBEDCORE_EXPORT extern const int HexFaceCorners[6][4];
+HOEMBEDCORE_EXPORT extern const int HexFaceU[6];
+HOEMBEDCORE_EXPORT extern const int HexFaceV[6];
+
+/// Local face lf at (u, v) to the cell's (r, s, t).
+HOEMBEDCORE_EXPORT void HexFaceToParametric(int lf, const double uv[2], double pc[3]);
+
+/**
+ * The boundary faces (faces of one cell only, by their 4 corners) of a hexahedral mesh,
+ * in (cell, local face) order: `faceCell`, `faceLocal`, and `cellFace` (6 per cell: the
+ * boundary face index, -1 for an interior face). "" or the problem.
+ */
+HOEMBEDCORE_EXPORT std::string FindHexBoundaryFaces(const std::int64_t* conn, std::int64_t ncells,
+  int nodesPerCell, std::vector<std::int64_t>& faceCell, std::vector<int>& faceLocal,
+  std::vector<std::int64_t>& cellFace);
+
+/**
+ * Angle-weighted smooth normals at the nodes of the boundary faces (paper eq. 6-7 at any
+ * order): at each node of each boundary face, the exact unit normal of the curved face
+ * there, weighted by the face's angle at the node (between its two edges at a corner, pi
+ * elsewhere); unit, or (0, 0, 0) at interior nodes and where the contributions cancel.
+ * `normals`: 3 per mesh node (npts nodes).
+ */
+HOEMBEDCORE_EXPORT void ComputeHexBoundaryNormals(const LagrangeHexBasis& b,
+  const std::vector<std::int64_t>& faceCell, const std::vector<int>& faceLocal,
+  const double* points, std::int64_t npts, const std::int64_t* conn, double* normals);
 } // namespace hoembed
 
 #endif

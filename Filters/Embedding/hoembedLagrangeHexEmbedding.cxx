@@ -18,13 +18,8 @@ namespace
 {
 using Id = LagrangeHexEmbeddingMesh::Id;
 
-// Per local face: origin, u and v directions in (r, s, t); du x dv is outward.
-const double FaceOrigin[6][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 0, 0 }, { 0, 1, 0 }, { 0, 0, 0 },
-  { 0, 0, 1 } };
-const int FaceU[6] = { 2, 1, 0, 2, 1, 0 }, FaceV[6] = { 1, 2, 2, 0, 0, 1 };
-// the hex corners at the face's (0,0), (1,0), (1,1), (0,1)
-const int FaceCornerIds[6][4] = { { 0, 4, 7, 3 }, { 1, 2, 6, 5 }, { 0, 1, 5, 4 }, { 3, 7, 6, 2 },
-  { 0, 3, 2, 1 }, { 4, 5, 6, 7 } };
+const int (&FaceU)[6] = HexFaceU;
+const int (&FaceV)[6] = HexFaceV;
 
 bool Solve3(const double A[3][3], const double b[3], double x[3])
 {
@@ -205,14 +200,6 @@ double LocalQuadSolve(const Eval& eval, const double v[3], double uv[2])
 }
 } // namespace
 
-void HexFaceToParametric(int lf, const double uv[2], double pc[3])
-{
-  for (int d = 0; d < 3; ++d)
-    pc[d] = FaceOrigin[lf][d];
-  pc[FaceU[lf]] += uv[0];
-  pc[FaceV[lf]] += uv[1];
-}
-
 std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vector<Id> conn,
   int cellType, int nodesPerCell, Id* firstInvalidCell)
 {
@@ -231,38 +218,16 @@ std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vec
   for (Id id : this->Connectivity)
     if (id < 0 || id >= npts)
       return "a cell refers to a point that does not exist";
-  // boundary quads: the faces (by their sorted corners) of one cell only
-  std::map<std::array<Id, 4>, std::pair<Id, int>> faces; // -> (cell, local), cell -1: shared
-  for (Id c = 0; c < ncells; ++c)
-    for (int lf = 0; lf < 6; ++lf)
-    {
-      std::array<Id, 4> key;
-      for (int k = 0; k < 4; ++k)
-        key[k] = this->Connectivity[nodesPerCell * c + FaceCornerIds[lf][k]];
-      std::sort(key.begin(), key.end());
-      auto it = faces.find(key);
-      if (it == faces.end())
-        faces.emplace(key, std::make_pair(c, lf));
-      else if (it->second.first < 0)
-        return "a face is shared by more than two cells";
-      else
-        it->second.first = -1;
-    }
-  this->FaceCell.clear();
-  this->FaceLocal.clear();
+  // boundary quads: the faces (by their corners) of one cell only
+  const std::string problem = FindHexBoundaryFaces(this->Connectivity.data(), ncells, nodesPerCell,
+    this->FaceCell, this->FaceLocal, this->CellFace);
+  if (!problem.empty())
+    return problem;
   this->FaceCorners.clear();
-  std::vector<std::pair<Id, int>> boundary;
-  for (const auto& kv : faces)
-    if (kv.second.first >= 0)
-      boundary.push_back(kv.second);
-  std::sort(boundary.begin(), boundary.end());
-  for (const auto& fl : boundary)
-  {
-    this->FaceCell.push_back(fl.first);
-    this->FaceLocal.push_back(fl.second);
+  for (std::size_t f = 0; f < this->FaceCell.size(); ++f)
     for (int k = 0; k < 4; ++k)
-      this->FaceCorners.push_back(this->Connectivity[nodesPerCell * fl.first + FaceCornerIds[fl.second][k]]);
-  }
+      this->FaceCorners.push_back(
+        this->Connectivity[nodesPerCell * this->FaceCell[f] + HexFaceCorners[this->FaceLocal[f]][k]]);
   const Id nfaces = static_cast<Id>(this->FaceCell.size());
   if (nfaces == 0)
     return "the mesh has no boundary faces";
@@ -344,60 +309,10 @@ std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vec
       }
   }
   this->CellTree.Build(cellBoxes);
-  // angle-weighted normals at the nodes of the boundary faces (paper eq. 6-7): the exact
-  // normal of the curved face at the node, weighted by the face's angle there (between
-  // its edge tangents at a corner, pi elsewhere)
+  // the smooth normal field: angle-weighted nodal normals (paper eq. 6-7)
   this->NodalNormals.assign(3 * npts, 0.0);
-  std::vector<double> weight(npts, 0.0);
-  const double pi = 3.14159265358979323846;
-  for (Id f = 0; f < nfaces; ++f)
-  {
-    const Id c = this->FaceCell[f];
-    const int lf = this->FaceLocal[f];
-    const int fixed = 3 - FaceU[lf] - FaceV[lf];
-    const int fixedValue = int(FaceOrigin[lf][fixed]) * p;
-    for (int k = 0; k < nodesPerCell; ++k)
-    {
-      const int* a = &b.Lattice[3 * k];
-      if (a[fixed] != fixedValue)
-        continue;
-      double pc[3], x[3], J[3][3];
-      LagrangeHexNodeParametric(b, k, pc);
-      this->CellPoint(c, pc, x, J);
-      const double* tu = J[FaceU[lf]];
-      const double* tv = J[FaceV[lf]];
-      double nrm[3] = { tu[1] * tv[2] - tu[2] * tv[1], tu[2] * tv[0] - tu[0] * tv[2],
-        tu[0] * tv[1] - tu[1] * tv[0] };
-      const double len = std::sqrt(Dot(nrm, nrm));
-      if (!(len > 0.0))
-        continue;
-      const bool ue = a[FaceU[lf]] == 0 || a[FaceU[lf]] == p;
-      const bool ve = a[FaceV[lf]] == 0 || a[FaceV[lf]] == p;
-      double w = pi;
-      if (ue && ve) // a corner: the angle between the two edges leaving it
-      {
-        const double su = a[FaceU[lf]] == 0 ? 1.0 : -1.0, sv = a[FaceV[lf]] == 0 ? 1.0 : -1.0;
-        const double e1[3] = { su * tu[0], su * tu[1], su * tu[2] };
-        const double e2[3] = { sv * tv[0], sv * tv[1], sv * tv[2] };
-        const double cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-          e1[0] * e2[1] - e1[1] * e2[0] };
-        w = std::atan2(std::sqrt(Dot(cr, cr)), Dot(e1, e2));
-      }
-      const Id node = this->Connectivity[nodesPerCell * c + k];
-      for (int d = 0; d < 3; ++d)
-        this->NodalNormals[3 * node + d] += w * nrm[d] / len;
-      weight[node] += w;
-    }
-  }
-  for (Id i = 0; i < npts; ++i)
-  {
-    double* n = &this->NodalNormals[3 * i];
-    const double len = std::sqrt(Dot(n, n));
-    if (weight[i] > 0.0 && len > 1e-8 * weight[i])
-      n[0] /= len, n[1] /= len, n[2] /= len;
-    else
-      n[0] = n[1] = n[2] = 0.0;
-  }
+  ComputeHexBoundaryNormals(b, this->FaceCell, this->FaceLocal, this->Points.data(), npts,
+    this->Connectivity.data(), this->NodalNormals.data());
   this->NormalTensors.assign(this->Tensors.size(), 0.0);
   ParallelLoop(Id(0), ncells, [&](Id cb, Id ce) {
     double x[3 * MaxLagrangeHexNodes];
@@ -427,8 +342,9 @@ std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vec
         for (int a = 0; a < q; ++a)
         {
           int ijk[3];
-          for (int d = 0; d < 3; ++d)
-            ijk[d] = int(FaceOrigin[lf][d]) * p;
+          const int fixed = 3 - FaceU[lf] - FaceV[lf];
+          ijk[0] = ijk[1] = ijk[2] = 0;
+          ijk[fixed] = lf & 1 ? p : 0;
           ijk[FaceU[lf]] += a;
           ijk[FaceV[lf]] += bb;
           const int k = (ijk[2] * q + ijk[1]) * q + ijk[0];

@@ -15,7 +15,7 @@
  *  - normal offset: Newton on x(u, v) + d s / |s| = v across the quads' edges, from the
  *    closest point; the fallback v = p + J(pc) q otherwise.
  * Every cell is held as its tensor form (exact for every type), so one code serves all.
- * Face f's (u, v) map to the cell's parameters as HexFaceToParametric says.
+ * Face f's (u, v) map to the cell's parameters as hoembed::HexFaceToParametric says.
  */
 #ifndef hoembedLagrangeHexEmbedding_h
 #define hoembedLagrangeHexEmbedding_h
@@ -30,10 +30,6 @@
 
 namespace hoembed
 {
-/// Local face lf (0-5: r = 0, r = 1, s = 0, s = 1, t = 0, t = 1) at (u, v) to the cell's
-/// (r, s, t); du x dv points out of the cell.
-HOEMBEDFILTERSEMBEDDING_EXPORT void HexFaceToParametric(int lf, const double uv[2], double pc[3]);
-
 class HOEMBEDFILTERSEMBEDDING_EXPORT LagrangeHexEmbeddingMesh
 {
 public:
@@ -62,6 +58,7 @@ public:
   std::vector<double> NodalNormals; ///< 3 per node: angle-weighted, unit, 0 inside
   std::vector<Id> FaceCell;         ///< per boundary face
   std::vector<int> FaceLocal;       ///< per boundary face: 0-5
+  std::vector<Id> CellFace;         ///< 6 per cell: boundary face or -1
   std::vector<Id> FaceNeighbor;     ///< 4 per face, across edges v=0, u=1, v=1, u=0
   std::vector<Id> FaceCorners;      ///< 4 mesh nodes per face at (0,0), (1,0), (1,1), (0,1)
   std::vector<Id> NodeFaceOffsets, NodeFaces; ///< corner node -> boundary faces
