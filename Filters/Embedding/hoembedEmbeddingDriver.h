@@ -11,7 +11,8 @@
  *     with the validity check) unless the binding keeps the prepared one, and the
  *     surface's order for the flood, as two parallel tasks.
  *  3. Embed: the flood (hoembed::FloodSurface, paper Algorithm 2); on Lagrange tets of
- *     order 3-4 (VTK_LAGRANGE_TETRAHEDRON of 20 or 35 nodes) one certified search per
+ *     order 3-4 (VTK_LAGRANGE_TETRAHEDRON of 20 or 35 nodes) and on hexahedra
+ *     (hoembed::LagrangeHexEmbeddingMesh) one certified search per
  *     vertex instead (hoembed::LagrangeEmbeddingMesh; EmbeddingElementsVisited then
  *     counts the boundary faces searched). Orders 1-2 are tet4 / tet10 node for node.
  *  4. WriteArrays / WriteFallbackOffsets: the per-vertex results in surface point order
