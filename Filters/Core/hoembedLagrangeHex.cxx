@@ -215,8 +215,7 @@ const LagrangeHexBasis* GetLagrangeHexBasis(int cellType, int nodesPerCell)
     slot = 4, p = 2;
   if (slot < 0)
     return nullptr;
-  std::call_once(
-    once[slot], [&] { bases[slot] = MakeBasis(type, p, nodesPerCell); });
+  std::call_once(once[slot], [&] { bases[slot] = MakeBasis(type, p, nodesPerCell); });
   return bases[slot].get();
 }
 
@@ -369,8 +368,8 @@ double SubBoxDetMin(const LagrangeHexBasis& b, const double* t, const double lo[
 }
 
 // 1: proven, 0: counterexample, -1: not settled within `depth` splits.
-int SubBoxValid(const LagrangeHexBasis& b, const double* t, const double lo[3], double h,
-  double scale, int depth)
+int SubBoxValid(
+  const LagrangeHexBasis& b, const double* t, const double lo[3], double h, double scale, int depth)
 {
   double hi = 0.0, sampleMin = 0.0;
   const double low = SubBoxDetMin(b, t, lo, h, hi, sampleMin);
@@ -468,7 +467,9 @@ void ComputeHexBoundaryNormals(const LagrangeHexBasis& b, const std::vector<std:
   std::vector<double> weight(npts, 0.0);
   const double pi = 3.14159265358979323846;
   double x[3 * MaxLagrangeHexNodes], t[3 * MaxLagrangeHexNodes];
-  auto dot = [](const double* a, const double* c) { return a[0] * c[0] + a[1] * c[1] + a[2] * c[2]; };
+  auto dot = [](const double* a, const double* c) {
+    return a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+  };
   for (std::size_t f = 0; f < faceCell.size(); ++f)
   {
     const std::int64_t c = faceCell[f];

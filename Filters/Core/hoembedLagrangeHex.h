@@ -87,7 +87,8 @@ HOEMBEDCORE_EXPORT void EvaluateTensorHex(int p, const double* t, const double p
   double J[3][3], double (*H)[3][3] = nullptr);
 
 /// Bernstein control points (3 each, the tensor order) of a tensor form t of degree p.
-HOEMBEDCORE_EXPORT void TensorHexToBernstein(const LagrangeHexBasis& b, const double* t, double* control);
+HOEMBEDCORE_EXPORT void TensorHexToBernstein(
+  const LagrangeHexBasis& b, const double* t, double* control);
 
 /// det J > 0 proven over the whole cell; `tensor`: the cell's tensor form.
 HOEMBEDCORE_EXPORT bool LagrangeHexIsValid(const LagrangeHexBasis& b, const double* tensor);

@@ -151,13 +151,14 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
     if (!ok)
     {
       msg << "cell 0 of the FE mesh is a "
-          << (type0 == LagrangeHexahedron ? "VTK_LAGRANGE_HEXAHEDRON"
-                : type0 == QuadraticHexahedron ? "VTK_QUADRATIC_HEXAHEDRON"
-                                               : "VTK_TRIQUADRATIC_HEXAHEDRON")
+          << (type0 == LagrangeHexahedron       ? "VTK_LAGRANGE_HEXAHEDRON"
+                 : type0 == QuadraticHexahedron ? "VTK_QUADRATIC_HEXAHEDRON"
+                                                : "VTK_TRIQUADRATIC_HEXAHEDRON")
           << " of " << size0 << " points: "
           << (type0 == LagrangeHexahedron
                  ? "only uniform orders 1-3 (8, 27 or 64 points) are supported"
-                 : type0 == QuadraticHexahedron ? "it needs 20" : "it needs 27");
+                 : type0 == QuadraticHexahedron ? "it needs 20"
+                                                : "it needs 27");
       return msg.str();
     }
     this->NodesPerCell = static_cast<int>(size0);

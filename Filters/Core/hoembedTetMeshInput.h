@@ -87,9 +87,9 @@ public:
   std::vector<double> Points;             ///< 3 per point (KeepPoints)
   std::string Fingerprint;                ///< 16 hex digits (KeepFingerprint)
 
-  static constexpr int QuadraticTetra = 24; // VTK_QUADRATIC_TETRA
-  static constexpr int LinearTetra = 10;    // VTK_TETRA
-  static constexpr int LagrangeTetra = 71;  // VTK_LAGRANGE_TETRAHEDRON
+  static constexpr int QuadraticTetra = 24;         // VTK_QUADRATIC_TETRA
+  static constexpr int LinearTetra = 10;            // VTK_TETRA
+  static constexpr int LagrangeTetra = 71;          // VTK_LAGRANGE_TETRAHEDRON
   static constexpr int LagrangeHexahedron = 72;     // VTK_LAGRANGE_HEXAHEDRON
   static constexpr int TriQuadraticHexahedron = 29; // VTK_TRIQUADRATIC_HEXAHEDRON
   static constexpr int QuadraticHexahedron = 25;    // VTK_QUADRATIC_HEXAHEDRON

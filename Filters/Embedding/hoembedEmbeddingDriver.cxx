@@ -42,8 +42,8 @@ std::string EmbeddingDriver::PrepareMesh(const TetMeshArrays& arrays, bool valid
   EmbeddingMesh& em = this->Mesh;
   // types, connectivity, node ranges, finite points and the fingerprint: the one reader
   TetMeshInput input;
-  const std::string readError = input.Read(
-    arrays, TetMeshInput::KeepPoints | TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange |
+  const std::string readError = input.Read(arrays,
+    TetMeshInput::KeepPoints | TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange |
       TetMeshInput::KeepHexahedra);
   if (!readError.empty())
   {
@@ -54,9 +54,9 @@ std::string EmbeddingDriver::PrepareMesh(const TetMeshArrays& arrays, bool valid
   if (this->Hexahedra)
   {
     Id firstBad = input.NumberOfCells;
-    const std::string err = this->HexMesh.Build(std::move(input.Points),
-      std::move(input.Connectivity), input.CellType, input.NodesPerCell,
-      validateElements ? &firstBad : nullptr);
+    const std::string err =
+      this->HexMesh.Build(std::move(input.Points), std::move(input.Connectivity), input.CellType,
+        input.NodesPerCell, validateElements ? &firstBad : nullptr);
     if (!err.empty())
     {
       msg << "The FE mesh topology is not usable: " << err << ".";

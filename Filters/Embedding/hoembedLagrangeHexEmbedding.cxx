@@ -227,7 +227,8 @@ std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vec
   for (std::size_t f = 0; f < this->FaceCell.size(); ++f)
     for (int k = 0; k < 4; ++k)
       this->FaceCorners.push_back(
-        this->Connectivity[nodesPerCell * this->FaceCell[f] + HexFaceCorners[this->FaceLocal[f]][k]]);
+        this
+          ->Connectivity[nodesPerCell * this->FaceCell[f] + HexFaceCorners[this->FaceLocal[f]][k]]);
   const Id nfaces = static_cast<Id>(this->FaceCell.size());
   if (nfaces == 0)
     return "the mesh has no boundary faces";
@@ -333,7 +334,8 @@ std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vec
     for (Id f = fb; f < fe; ++f)
     {
       const int lf = this->FaceLocal[f];
-      TensorHexToBernstein(b, &this->Tensors[static_cast<std::size_t>(3 * nt) * this->FaceCell[f]], ctrl);
+      TensorHexToBernstein(
+        b, &this->Tensors[static_cast<std::size_t>(3 * nt) * this->FaceCell[f]], ctrl);
       double* box = &faceBoxes[6 * f];
       for (int d = 0; d < 3; ++d)
         box[d] = HUGE_VAL, box[d + 3] = -HUGE_VAL;
@@ -361,14 +363,16 @@ std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vec
   return std::string();
 }
 
-void LagrangeHexEmbeddingMesh::CellPoint(Id c, const double pc[3], double x[3], double J[3][3]) const
+void LagrangeHexEmbeddingMesh::CellPoint(
+  Id c, const double pc[3], double x[3], double J[3][3]) const
 {
   double Jl[3][3];
   const std::size_t n = static_cast<std::size_t>(3 * this->Basis->TensorNodes);
   EvaluateTensorHex(this->Basis->Order, &this->Tensors[n * c], pc, x, J ? J : Jl);
 }
 
-void LagrangeHexEmbeddingMesh::CellNormal(Id c, const double pc[3], double s[3], double J[3][3]) const
+void LagrangeHexEmbeddingMesh::CellNormal(
+  Id c, const double pc[3], double s[3], double J[3][3]) const
 {
   const std::size_t n = static_cast<std::size_t>(3 * this->Basis->TensorNodes);
   EvaluateTensorHex(this->Basis->Order, &this->NormalTensors[n * c], pc, s, J);
@@ -526,7 +530,8 @@ void LagrangeHexEmbeddingMesh::SearchFace(
           for (int a = 0; a < p; ++a)
           {
             add(xst[d],
-              p * p * (P(a + 1, bb + 1, d) - P(a + 1, bb, d) - P(a, bb + 1, d) + P(a, bb, d)), first);
+              p * p * (P(a + 1, bb + 1, d) - P(a + 1, bb, d) - P(a, bb + 1, d) + P(a, bb, d)),
+              first);
             first = false;
           }
       }
@@ -703,7 +708,8 @@ bool LagrangeHexEmbeddingMesh::Locate(const double v[3], Id& cell, double pc[3])
   return found;
 }
 
-bool LagrangeHexEmbeddingMesh::Offset(Id c, const double pc[3], const double v[3], double q[3]) const
+bool LagrangeHexEmbeddingMesh::Offset(
+  Id c, const double pc[3], const double v[3], double q[3]) const
 {
   double x[3], J[3][3], A[3][3], r[3];
   this->CellPoint(c, pc, x, J);
@@ -806,8 +812,10 @@ int LagrangeHexEmbeddingMesh::NormalOffset(
     const Id g = this->FaceNeighbor[4 * f + exitEdge];
     if (g < 0 || (exitEdge == lastEdge && hop > 8))
       return -1;
-    const Id A0 = this->FaceCorners[4 * f + exitEdge], B0 = this->FaceCorners[4 * f + (exitEdge + 1) % 4];
-    const double t = exitEdge == 0 ? uv[0] : (exitEdge == 1 ? uv[1] : (exitEdge == 2 ? 1 - uv[0] : 1 - uv[1]));
+    const Id A0 = this->FaceCorners[4 * f + exitEdge],
+             B0 = this->FaceCorners[4 * f + (exitEdge + 1) % 4];
+    const double t =
+      exitEdge == 0 ? uv[0] : (exitEdge == 1 ? uv[1] : (exitEdge == 2 ? 1 - uv[0] : 1 - uv[1]));
     int ge = -1;
     double gt = 0;
     for (int e = 0; e < 4; ++e)
@@ -910,7 +918,8 @@ void LagrangeHexEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedd
   for (int a = 0; a < 4 && status != 0; ++a)
   {
     const Id node = this->FaceCorners[4 * f + a];
-    for (Id i = this->NodeFaceOffsets[node]; i < this->NodeFaceOffsets[node + 1] && status != 0; ++i)
+    for (Id i = this->NodeFaceOffsets[node]; i < this->NodeFaceOffsets[node + 1] && status != 0;
+         ++i)
     {
       nf = this->NodeFaces[i];
       nuv[0] = nuv[1] = 0.5;

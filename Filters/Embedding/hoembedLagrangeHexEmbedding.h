@@ -42,8 +42,8 @@ public:
     int nodesPerCell, Id* firstInvalidCell = nullptr);
 
   void Embed(const double v[3], int method, VertexEmbedding& out) const;
-  double ClosestBoundaryPoint(const double v[3], Id& face, double uv[2], bool& certified,
-    int* facesSearched = nullptr) const;
+  double ClosestBoundaryPoint(
+    const double v[3], Id& face, double uv[2], bool& certified, int* facesSearched = nullptr) const;
   bool Offset(Id c, const double pc[3], const double v[3], double q[3]) const;
   void CellPoint(Id c, const double pc[3], double x[3], double J[3][3] = nullptr) const;
   /// The smooth normal field (not normalised) and its derivatives in cell c at pc.

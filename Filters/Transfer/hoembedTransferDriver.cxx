@@ -85,9 +85,8 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
 {
   rebuilt = false;
   TetMeshInput input;
-  const std::string readError =
-    input.Read(cells, TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange |
-      TetMeshInput::KeepHexahedra);
+  const std::string readError = input.Read(cells,
+    TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange | TetMeshInput::KeepHexahedra);
   if (!readError.empty())
   {
     return readError;
@@ -98,14 +97,13 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
   {
     return std::string();
   }
-  this->Hex = TetMeshInput::IsHexahedron(input.CellType)
-    ? GetLagrangeHexBasis(input.CellType, npc)
-    : nullptr;
+  this->Hex =
+    TetMeshInput::IsHexahedron(input.CellType) ? GetLagrangeHexBasis(input.CellType, npc) : nullptr;
   if (this->Hex)
   {
     // hexahedra: their boundary quads; the tet tables and topology stay empty
-    const std::string problem = FindHexBoundaryFaces(input.Connectivity.data(),
-      input.NumberOfCells, npc, this->HexFaceCell, this->HexFaceLocal, this->HexCellFace);
+    const std::string problem = FindHexBoundaryFaces(input.Connectivity.data(), input.NumberOfCells,
+      npc, this->HexFaceCell, this->HexFaceLocal, this->HexCellFace);
     if (!problem.empty())
     {
       this->ForgetMesh();

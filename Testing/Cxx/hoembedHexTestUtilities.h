@@ -53,7 +53,8 @@ inline HexMesh MakeMesh(int type, int npc, double a)
           auto it = ids.find(key);
           if (it == ids.end())
           {
-            const double x[3] = { Box[0] * I / (g - 1), Box[1] * J / (g - 1), Box[2] * K / (g - 1) };
+            const double x[3] = { Box[0] * I / (g - 1), Box[1] * J / (g - 1),
+              Box[2] * K / (g - 1) };
             double y[3];
             Curve(a, x, y);
             it = ids.emplace(key, static_cast<Id>(m.Points.size() / 3)).first;
@@ -64,7 +65,8 @@ inline HexMesh MakeMesh(int type, int npc, double a)
   return m;
 }
 
-inline void CellMap(const HexMesh& m, const hoembed::LagrangeHexBasis& b, Id c, const double pc[3], double x[3])
+inline void CellMap(
+  const HexMesh& m, const hoembed::LagrangeHexBasis& b, Id c, const double pc[3], double x[3])
 {
   double N[64];
   hoembed::LagrangeHexShape(b, pc, N);
@@ -73,7 +75,6 @@ inline void CellMap(const HexMesh& m, const hoembed::LagrangeHexBasis& b, Id c, 
     for (int d = 0; d < 3; ++d)
       x[d] += N[k] * m.Points[3 * m.Conn[m.NodesPerCell * c + k] + d];
 }
-
 
 /// The mesh as the drivers' plain arrays (every cell of the mesh's type).
 inline PlainTetMesh AsPlainMesh(const HexMesh& m)

@@ -62,8 +62,8 @@ void Check(vtkNonLinearCell* cell, int type, int n, bool interleaved)
     cell->InterpolateFunctions(pc, w.data());
     cell->InterpolateDerivs(pc, dw.data());
     for (int k = 0; k < n; ++k)
-      HOEMBED_CHECK(std::abs(w[k] - N[k]) < 1e-12, "type %d n %d: N_%d %g vs VTK %g", type, n, k,
-        N[k], w[k]);
+      HOEMBED_CHECK(
+        std::abs(w[k] - N[k]) < 1e-12, "type %d n %d: N_%d %g vs VTK %g", type, n, k, N[k], w[k]);
     double vx[3], hx[3], J[3][3], H[3][3][3];
     int sub = 0;
     cell->EvaluateLocation(sub, pc, vx, w.data());
@@ -98,16 +98,16 @@ void Check(vtkNonLinearCell* cell, int type, int n, bool interleaved)
             (Jp[bb][d] - Jm[bb][d]) / (2 * h));
     }
   }
-  HOEMBED_CHECK(hoembed::LagrangeHexIsValid(*b, t.data()), "type %d n %d: valid cell refused",
-    type, n);
+  HOEMBED_CHECK(
+    hoembed::LagrangeHexIsValid(*b, t.data()), "type %d n %d: valid cell refused", type, n);
   // a node pushed through the opposite face: folded
   std::vector<double> folded = x;
   const int k = n > 8 ? 8 : 0; // an edge node (a corner for the trilinear cell)
   folded[3 * k + 1] += 3.0;
   folded[3 * k + 2] += 3.0;
   hoembed::LagrangeHexToTensor(*b, folded.data(), t.data());
-  HOEMBED_CHECK(!hoembed::LagrangeHexIsValid(*b, t.data()), "type %d n %d: folded cell accepted",
-    type, n);
+  HOEMBED_CHECK(
+    !hoembed::LagrangeHexIsValid(*b, t.data()), "type %d n %d: folded cell accepted", type, n);
 }
 } // namespace
 

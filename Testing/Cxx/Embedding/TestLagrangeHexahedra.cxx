@@ -63,7 +63,8 @@ double BruteDistance(const HexMesh& m, const hoembed::LagrangeHexBasis& b, const
               }
           }
       }
-  std::sort(all.begin(), all.end(), [](const Candidate& x, const Candidate& y) { return x.D2 < y.D2; });
+  std::sort(
+    all.begin(), all.end(), [](const Candidate& x, const Candidate& y) { return x.D2 < y.D2; });
   double best = HUGE_VAL;
   for (std::size_t k = 0; k < std::min<std::size_t>(6, all.size()); ++k)
   {
@@ -112,7 +113,8 @@ void TestType(int type, int npc, double a)
   const double diag = mesh.Diagonal;
   // the moved mesh (a rotation and a translation)
   const double ang = 0.7, ca = std::cos(ang), sa = std::sin(ang);
-  const double R[3][3] = { { ca, -sa, 0 }, { sa * 0.6, ca * 0.6, 0.8 }, { -sa * 0.8, -ca * 0.8, 0.6 } };
+  const double R[3][3] = { { ca, -sa, 0 }, { sa * 0.6, ca * 0.6, 0.8 },
+    { -sa * 0.8, -ca * 0.8, 0.6 } };
   const double T[3] = { 0.3, -1.2, 2.0 };
   auto move = [&](const double x[3], double y[3]) {
     for (int r = 0; r < 3; ++r)
@@ -166,7 +168,8 @@ void TestType(int type, int npc, double a)
     move(v, want);
     worstRigid = std::max(worstRigid,
       std::sqrt((x[0] - want[0]) * (x[0] - want[0]) + (x[1] - want[1]) * (x[1] - want[1]) +
-        (x[2] - want[2]) * (x[2] - want[2])) / diag);
+        (x[2] - want[2]) * (x[2] - want[2])) /
+        diag);
   }
   // inside: images of random parameters
   for (int s = 0; s < 20; ++s)
@@ -182,7 +185,8 @@ void TestType(int type, int npc, double a)
     CellMap(m, b, r.Cell, r.PC, x);
     const double back = std::sqrt((x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
       (x[2] - v[2]) * (x[2] - v[2]));
-    HOEMBED_CHECK(back <= 1e-10 * diag, "type %d n %d: inside maps back to %g", type, npc, back / diag);
+    HOEMBED_CHECK(
+      back <= 1e-10 * diag, "type %d n %d: inside maps back to %g", type, npc, back / diag);
   }
   std::printf("type %d, %d nodes, curvature %.2f: %d outside (%d fallback), max excess %.2e, "
               "residual %.2e, rigid %.2e (of the diagonal)\n",
@@ -199,8 +203,8 @@ void TestType(int type, int npc, double a)
   hoembed::LagrangeHexEmbeddingMesh bad;
   Id firstBad = -1;
   bad.Build(folded, m.Conn, type, npc, &firstBad);
-  HOEMBED_CHECK(firstBad == 0, "type %d n %d: folded cell: first invalid %lld", type, npc,
-    (long long)firstBad);
+  HOEMBED_CHECK(
+    firstBad == 0, "type %d n %d: folded cell: first invalid %lld", type, npc, (long long)firstBad);
 }
 
 // The triquadratic cell and the order 2 Lagrange cell: the same nodes, the same map.

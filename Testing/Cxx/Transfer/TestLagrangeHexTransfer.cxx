@@ -183,7 +183,8 @@ void TestType(int type, int npc)
               "(%d inside points)\n",
     type, npc, rest, worstRigid, offsets, worstVTK, inside);
   HOEMBED_CHECK(rest <= 1e-10, "type %d: rest frame off by %g", type, rest);
-  HOEMBED_CHECK(worstRigid <= 1e-9 && offsets > 20, "type %d: rigid motion off by %g", type, worstRigid);
+  HOEMBED_CHECK(
+    worstRigid <= 1e-9 && offsets > 20, "type %d: rigid motion off by %g", type, worstRigid);
   HOEMBED_CHECK(inside > 5 && worstVTK <= 1e-12, "type %d: vs VTK %g", type, worstVTK);
 }
 
@@ -215,8 +216,8 @@ void TestErrors()
   odd.Types.resize(1);
   odd.Offsets = { 0, 12 };
   e = PrepareOnly(odd);
-  HOEMBED_CHECK(e.find("VTK_LAGRANGE_HEXAHEDRON of 12 points") != std::string::npos, "12: %s",
-    e.c_str());
+  HOEMBED_CHECK(
+    e.find("VTK_LAGRANGE_HEXAHEDRON of 12 points") != std::string::npos, "12: %s", e.c_str());
   // a serendipity cell of 27 points
   PlainTetMesh wrong = AsPlainMesh(hm);
   for (auto& ty : wrong.Types)
