@@ -128,9 +128,6 @@ def hexahedra(n=3, resolution=60):
             "transfer_vertices_per_s": nv / t_transfer,
             "max_residual_over_diagonal": float(embedded["EmbeddingResidual"].max() / mesh.length),
             "fallbacks": int(embedded["EmbeddingFallback"].sum()),
-            "uncertified": int(embedded["EmbeddingUncertified"].sum())
-            if "EmbeddingUncertified" in embedded.point_data
-            else None,
         }
         print(kind, json.dumps(rows[kind]), flush=True)
     return rows
