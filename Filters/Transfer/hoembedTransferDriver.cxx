@@ -587,7 +587,7 @@ std::string TransferDriver::EvaluateLagrangeFrame(const TransferFrame& frame, do
   // Lagrange tets of order 3-4 and the hexahedra: the kernels of hoembedLagrangeTransfer.h
   const LagrangeTetBasis* tet = this->Lagrange;
   const LagrangeHexBasis* hex = this->Hex;
-  const char* family = hex ? "hexahedral" : "VTK_LAGRANGE_TETRAHEDRON cells of order 3-4";
+  const char* family = hex ? "hexahedra" : "VTK_LAGRANGE_TETRAHEDRON cells of order 3-4";
   const double* pts = frame.Points;
   const std::int64_t* conn = this->Conn.data();
   if (frame.CountInverted)

@@ -186,6 +186,15 @@ void TestType(int type, int npc)
   HOEMBED_CHECK(
     worstRigid <= 1e-9 && offsets > 20, "type %d: rigid motion off by %g", type, worstRigid);
   HOEMBED_CHECK(inside > 5 && worstVTK <= 1e-12, "type %d: vs VTK %g", type, worstVTK);
+  // a rotation mode falls back to recomputed normals with a warning naming the cells
+  hoembed::TransferFrame f;
+  f.Points = moved.data();
+  f.Normals = hoembed::TransferNormals::Deform;
+  warnings.clear();
+  e = t.EvaluateFrame(f, out.data(), nullptr, warnings);
+  HOEMBED_CHECK(e.empty() && warnings.size() == 1 &&
+      warnings[0].find("not implemented for hexahedra:") != std::string::npos,
+    "type %d: deform mode", type);
 }
 
 std::string PrepareOnly(const PlainTetMesh& mesh)
