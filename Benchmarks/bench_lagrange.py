@@ -75,12 +75,13 @@ def main(n=3, resolution=60):
     return out
 
 
-def mesh_size(order=3, sizes=(2, 3, 4, 5), resolution=60):
+def mesh_size(order=3, sizes=(2, 3, 4, 5), resolution=60, hexahedron=None):
     """Embedding time of the same surface (scaled with the box) against the number of
-    cells: the per-vertex search should barely depend on it."""
+    cells: the per-vertex search should barely depend on it. `hexahedron`: a kind of
+    test_lagrange_hex.KINDS instead of the Lagrange tets of `order`."""
     rows = []
     for n in sizes:
-        mesh = lagrange_box(order, n=n)
+        mesh = hex_box(hexahedron, n=n) if hexahedron else lagrange_box(order, n=n)
         surface = pv.Sphere(
             radius=0.68 * n,
             center=(n / 2,) * 3,
@@ -136,6 +137,7 @@ def hexahedra(n=3, resolution=60):
 if __name__ == "__main__":
     if sys.argv[1:] == ["hexahedra"]:
         hexahedra()
+        mesh_size(sizes=(2, 4, 6, 8), hexahedron="lagrange-2")
         sys.exit(0)
     main()
     mesh_size()
