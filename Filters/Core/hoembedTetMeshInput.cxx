@@ -163,6 +163,23 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
     }
     this->NodesPerCell = static_cast<int>(size0);
   }
+  if (hexahedra && type0 == LagrangeHexahedron && in.HigherOrderDegrees)
+  {
+    // the order is read from the node count: a non-uniform cell of as many nodes (orders
+    // 1, 3, 7 have 64) would be read wrongly
+    const double p = this->NodesPerCell == 8 ? 1 : (this->NodesPerCell == 27 ? 2 : 3);
+    for (std::int64_t c = 0; c < in.NumberOfCells; ++c)
+    {
+      const double* g = in.HigherOrderDegrees + 3 * c;
+      if (g[0] != p || g[1] != p || g[2] != p)
+      {
+        msg << "cell " << c << " of the FE mesh is a VTK_LAGRANGE_HEXAHEDRON of orders (" << g[0]
+            << ", " << g[1] << ", " << g[2]
+            << ") (its HigherOrderDegrees): only uniform orders 1-3 are supported, one per mesh";
+        return msg.str();
+      }
+    }
+  }
   const std::string cells = has64 ? ReadCells(in.Offsets64, in.Connectivity64, in.CellTypes,
                                       in.NumberOfCells, in.NumberOfPoints, *this)
                                   : ReadCells(in.Offsets32, in.Connectivity32, in.CellTypes,

@@ -50,6 +50,9 @@ struct TetMeshArrays
   /// Optional, one per cell: VTK's ghost flags (vtkGhostType); a cell with the
   /// GhostDuplicateCell bit is another process's cell.
   const unsigned char* CellGhosts = nullptr;
+  /// Optional, 3 per cell: VTK's HigherOrderDegrees cell data; a VTK_LAGRANGE_HEXAHEDRON
+  /// whose degrees are not (p, p, p) for the order its node count gives is refused.
+  const double* HigherOrderDegrees = nullptr;
 };
 
 /// VTK's vtkDataSetAttributes::DUPLICATECELL (checked where VTK is at hand).

@@ -159,3 +159,22 @@ def test_mixed_mesh_refused(case):
         hoembed.HOEmbedError, match="vtkEmbeddingCoordinatesFilter.*mixes cell types"
     ):
         filter_embed(surface, mixed)
+
+
+def test_non_uniform_degrees_refused():
+    """HigherOrderDegrees (1, 3, 7) on a 64-node cell: as many nodes as order 3, refused by
+    every route rather than read as order 3."""
+    mesh = hex_box("lagrange-3")
+    surface = pv.Sphere(radius=1.35, center=(1.0, 1.0, 1.0), theta_resolution=6, phi_resolution=5)
+    degrees = np.full((mesh.n_cells, 3), 3.0)
+    degrees[2] = (1, 3, 7)
+    mesh.cell_data["HigherOrderDegrees"] = degrees
+    mesh.GetCellData().SetHigherOrderDegrees(mesh.GetCellData().GetArray("HigherOrderDegrees"))
+    with pytest.raises(hoembed.HOEmbedError, match=r"embed.*cell 2.*orders \(1, 3, 7\)"):
+        hoembed.embed(surface, mesh)
+    with pytest.raises(hoembed.HOEmbedError, match=r"vtkEmbeddingCoordinatesFilter.*cell 2"):
+        filter_embed(surface, mesh)
+    degrees[2] = 3
+    mesh.cell_data["HigherOrderDegrees"] = degrees
+    mesh.GetCellData().SetHigherOrderDegrees(mesh.GetCellData().GetArray("HigherOrderDegrees"))
+    assert hoembed.embed(surface, mesh).n_points == surface.n_points

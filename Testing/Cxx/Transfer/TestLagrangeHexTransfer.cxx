@@ -197,12 +197,13 @@ void TestType(int type, int npc)
     "type %d: deform mode", type);
 }
 
-std::string PrepareOnly(const PlainTetMesh& mesh)
+std::string PrepareOnly(const PlainTetMesh& mesh, const double* degrees = nullptr)
 {
   hoembed::EmbeddingDriver d;
   const double v[3] = { 0, 0, 0 };
   std::string e = d.SetSurface(v, nullptr, 1, {}, {});
-  const hoembed::TetMeshArrays view = mesh.View();
+  hoembed::TetMeshArrays view = mesh.View();
+  view.HigherOrderDegrees = degrees;
   return e.empty() ? d.PrepareAndOrder(&view, true, 0) : e;
 }
 
@@ -234,6 +235,24 @@ void TestErrors()
   e = PrepareOnly(wrong);
   HOEMBED_CHECK(e.find("VTK_QUADRATIC_HEXAHEDRON of 27 points: it needs 20") != std::string::npos,
     "hex20 of 27: %s", e.c_str());
+  // HigherOrderDegrees: (2, 2, 2) is the order the node count gives; (1, 3, 7) has 64 nodes
+  // too, so a cubic mesh whose cell 5 says (1, 3, 7) is refused, not read as order 3
+  const PlainTetMesh quadratic = AsPlainMesh(hm);
+  std::vector<double> degrees(3 * quadratic.Types.size(), 2.0);
+  e = PrepareOnly(quadratic, degrees.data());
+  HOEMBED_CHECK(e.empty(), "uniform degrees: %s", e.c_str());
+  const PlainTetMesh cubic = AsPlainMesh(MakeMesh(hoembed::LagrangeHexahedronCellType, 64, 0.1));
+  degrees.assign(3 * cubic.Types.size(), 3.0);
+  degrees[15] = 1, degrees[16] = 3, degrees[17] = 7;
+  e = PrepareOnly(cubic, degrees.data());
+  HOEMBED_CHECK(e.find("cell 5 of the FE mesh is a VTK_LAGRANGE_HEXAHEDRON of orders (1, 3, 7)") !=
+      std::string::npos,
+    "degrees: %s", e.c_str());
+  hoembed::TetMeshArrays cubicView = cubic.View();
+  cubicView.HigherOrderDegrees = degrees.data();
+  e = t.SetMeshTopology(cubicView, rebuilt);
+  HOEMBED_CHECK(
+    e.find("HigherOrderDegrees") != std::string::npos, "transfer degrees: %s", e.c_str());
   // a folded cell
   PlainTetMesh folded = AsPlainMesh(hm);
   folded.Points[3 * folded.Connectivity[8] + 1] += 3.0;

@@ -107,6 +107,7 @@ def embed(
             conn,
             _D["ValidateElements"],
             n_partitions,
+            _arrays.higher_order_degrees(fe_mesh),
         )
         if progress is not None:
             progress(0.1)

@@ -143,7 +143,9 @@ class TransferPlan:
             TransferDriver.check_mesh_size(self.nmp, ncells, mesh.GetCells() is not None)
             offsets, conn = _arrays.cells(mesh.GetCells())
             types = _arrays.cell_types(mesh)
-            driver.set_mesh_topology(self.nmp, types, offsets, conn)
+            driver.set_mesh_topology(
+                self.nmp, types, offsets, conn, _arrays.higher_order_degrees(mesh)
+            )
         except RuntimeError as e:
             _fail(e)
         # reading only: the driver judges the field data and the arrays (check_surface)
