@@ -9,6 +9,8 @@
 //    the diagonal on every point, no uncertified point; residuals <= 1e-10;
 //  - inside points: images of random parameters located, mapped back to 1e-10;
 //  - rigid motion: x'(pc) + d n'(pc) / |n'| of the moved mesh rebuilds R v + t to 1e-9;
+//  - the barycentric baseline: VTK-order shape functions at its (cell, parameters) rebuild
+//    the point to 1e-10;
 //  - the triquadratic cell and the order 2 Lagrange cell on one geometry: the same
 //    distances; validity: a folded cell is refused.
 #include "hoembedEmbeddingFlood.h" // EMBED_NORMAL_OFFSET
@@ -127,16 +129,26 @@ void TestType(int type, int npc, double a)
   movedMesh.Build(moved, m.Conn, type, npc);
   std::mt19937 rng(3 + npc);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  double worstExcess = 0, worstRes = 0, worstRigid = 0;
+  double worstExcess = 0, worstRes = 0, worstRigid = 0, worstBary = 0;
   int outside = 0, fallback = 0;
   for (int s = 0; s < 60; ++s)
   {
     double v[3];
     for (int d = 0; d < 3; ++d)
       v[d] = -0.4 * Box[d] + 1.8 * Box[d] * unit(rng);
-    hoembed::VertexEmbedding r;
+    hoembed::VertexEmbedding r, bary;
     mesh.Embed(v, hoembed::EMBED_NORMAL_OFFSET, r);
     worstRes = std::max(worstRes, r.Residual / diag);
+    // the barycentric baseline: the closest cell's map extrapolated, rebuilt by VTK's
+    // shape functions of that cell at its parameters
+    mesh.Embed(v, hoembed::EMBED_BARYCENTRIC, bary);
+    {
+      double y[3];
+      CellMap(m, b, bary.Cell, bary.PC, y);
+      const double back = std::sqrt((y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+        (y[2] - v[2]) * (y[2] - v[2]));
+      worstBary = std::max(worstBary, back / diag);
+    }
     HOEMBED_CHECK(!r.Uncertified, "type %d n %d: uncertified", type, npc);
     if (!r.Inside)
     {
@@ -193,6 +205,8 @@ void TestType(int type, int npc, double a)
     type, npc, a, outside, fallback, worstExcess, worstRes, worstRigid);
   HOEMBED_CHECK(worstExcess <= 1e-8, "type %d n %d: excess %g", type, npc, worstExcess);
   HOEMBED_CHECK(worstRes <= 1e-10, "type %d n %d: residual %g", type, npc, worstRes);
+  HOEMBED_CHECK(
+    worstBary <= 1e-10, "type %d n %d: barycentric rebuilt to %g", type, npc, worstBary);
   HOEMBED_CHECK(worstRigid <= 1e-9, "type %d n %d: rigid %g", type, npc, worstRigid);
   HOEMBED_CHECK(outside > 20, "type %d n %d: only %d outside points", type, npc, outside);
   // a folded cell: an edge node (a corner for 8 nodes) of cell 0 far through the cell
