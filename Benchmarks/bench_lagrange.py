@@ -23,6 +23,7 @@ import vtkmodules.vtkFiltersCore as fc
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "Testing" / "Python"))
 import hoembed  # noqa: E402
 from test_lagrange import lagrange_box  # noqa: E402
+from test_lagrange_hex import KINDS, hex_box  # noqa: E402
 
 
 def best(f, repeat=3):
@@ -74,12 +75,13 @@ def main(n=3, resolution=60):
     return out
 
 
-def mesh_size(order=3, sizes=(2, 3, 4, 5), resolution=60):
+def mesh_size(order=3, sizes=(2, 3, 4, 5), resolution=60, hexahedron=None):
     """Embedding time of the same surface (scaled with the box) against the number of
-    cells: the per-vertex search should barely depend on it."""
+    cells: the per-vertex search should barely depend on it. `hexahedron`: a kind of
+    test_lagrange_hex.KINDS instead of the Lagrange tets of `order`."""
     rows = []
     for n in sizes:
-        mesh = lagrange_box(order, n=n)
+        mesh = hex_box(hexahedron, n=n) if hexahedron else lagrange_box(order, n=n)
         surface = pv.Sphere(
             radius=0.68 * n,
             center=(n / 2,) * 3,
@@ -94,6 +96,49 @@ def mesh_size(order=3, sizes=(2, 3, 4, 5), resolution=60):
     return rows
 
 
+def hexahedra(n=3, resolution=60):
+    """The hexahedra (Lagrange order 1-3, hex27, hex20) on the same box and sphere, with
+    Lagrange tets of order 3 as the peer measured in the same run."""
+    surface = pv.Sphere(
+        radius=0.68 * n, center=(n / 2,) * 3, theta_resolution=resolution, phi_resolution=resolution
+    )
+    rows = {}
+    meshes = {kind: hex_box(kind, n=n) for kind in KINDS}
+    meshes["lagrange-tet-3"] = lagrange_box(3, n=n)
+    for kind, mesh in meshes.items():
+        t_embed = best(lambda: hoembed.embed(surface, mesh))
+        embedded = hoembed.embed(surface, mesh)
+        moved = mesh.copy()
+        moved.points = mesh.points[:, [1, 0, 2]] * [1, -1, 1]
+
+        def probe():
+            p = fc.vtkProbeFilter()
+            p.SetInputData(surface)
+            p.SetSourceData(mesh)
+            p.Update()
+            return p
+
+        t_probe = best(probe)
+        t_transfer = best(lambda: hoembed.transfer(embedded, moved))
+        nv = surface.n_points
+        rows[kind] = {
+            "cells": mesh.n_cells,
+            "embed_vertices_per_s": nv / t_embed,
+            "probe_vertices_per_s": nv / t_probe,
+            "embed_over_probe_time": t_embed / t_probe,
+            "transfer_vertices_per_s": nv / t_transfer,
+            "max_residual_over_diagonal": float(embedded["EmbeddingResidual"].max() / mesh.length),
+            "fallbacks": int(embedded["EmbeddingFallback"].sum()),
+        }
+        print(kind, json.dumps(rows[kind]), flush=True)
+    return rows
+
+
 if __name__ == "__main__":
+    if sys.argv[1:] == ["hexahedra"]:
+        hexahedra()
+        mesh_size(sizes=(2, 4, 6, 8), hexahedron="lagrange-2")
+        sys.exit(0)
     main()
     mesh_size()
+    hexahedra()

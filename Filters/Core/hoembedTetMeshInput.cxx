@@ -41,6 +41,8 @@ std::string ReadCells(const T* offsets, const T* ids, const unsigned char* types
           << ", cell 0 has type " << type0
           << (type0 == TetMeshInput::LagrangeTetra
                  ? "; use only VTK_LAGRANGE_TETRAHEDRON cells (of one order)"
+                 : TetMeshInput::IsHexahedron(type0)
+                 ? "; use one hexahedron type (and one order) for the whole mesh"
                  : "; use only VTK_QUADRATIC_TETRA or only VTK_TETRA cells");
       return msg.str();
     }
@@ -90,13 +92,18 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
   }
   const int type0 = in.CellTypes[0];
   const bool lagrange = (keep & KeepLagrange) && type0 == LagrangeTetra;
-  if (type0 != QuadraticTetra && type0 != LinearTetra && !lagrange)
+  const bool hexahedra = (keep & KeepHexahedra) && IsHexahedron(type0);
+  if (type0 != QuadraticTetra && type0 != LinearTetra && !lagrange && !hexahedra)
   {
     msg << "Unsupported cell type " << type0
         << " (cell 0): the FE mesh must have only VTK_QUADRATIC_TETRA (24) or only VTK_TETRA "
            "(10) cells"
         << ((keep & KeepLagrange) ? ", or only VTK_LAGRANGE_TETRAHEDRON (71) cells of order 1-4"
-                                  : "");
+                                  : "")
+        << ((keep & KeepHexahedra)
+               ? ", or only VTK_LAGRANGE_HEXAHEDRON (72) cells of order 1-3, or only "
+                 "VTK_TRIQUADRATIC_HEXAHEDRON (29), or only VTK_QUADRATIC_HEXAHEDRON (25) cells"
+               : "");
     return msg.str();
   }
   if (in.CellGhosts)
@@ -134,6 +141,44 @@ std::string TetMeshInput::Read(const TetMeshArrays& in, int keep)
       return msg.str();
     }
     this->NodesPerCell = static_cast<int>(size0);
+  }
+  if (hexahedra)
+  {
+    const std::int64_t size0 =
+      has64 ? in.Offsets64[1] - in.Offsets64[0] : in.Offsets32[1] - in.Offsets32[0];
+    const bool ok = type0 == LagrangeHexahedron ? (size0 == 8 || size0 == 27 || size0 == 64)
+                                                : size0 == (type0 == QuadraticHexahedron ? 20 : 27);
+    if (!ok)
+    {
+      msg << "cell 0 of the FE mesh is a "
+          << (type0 == LagrangeHexahedron       ? "VTK_LAGRANGE_HEXAHEDRON"
+                 : type0 == QuadraticHexahedron ? "VTK_QUADRATIC_HEXAHEDRON"
+                                                : "VTK_TRIQUADRATIC_HEXAHEDRON")
+          << " of " << size0 << " points: "
+          << (type0 == LagrangeHexahedron
+                 ? "only uniform orders 1-3 (8, 27 or 64 points) are supported"
+                 : type0 == QuadraticHexahedron ? "it needs 20"
+                                                : "it needs 27");
+      return msg.str();
+    }
+    this->NodesPerCell = static_cast<int>(size0);
+  }
+  if (hexahedra && type0 == LagrangeHexahedron && in.HigherOrderDegrees)
+  {
+    // the order is read from the node count: a non-uniform cell of as many nodes (orders
+    // 1, 3, 7 have 64) would be read wrongly
+    const double p = this->NodesPerCell == 8 ? 1 : (this->NodesPerCell == 27 ? 2 : 3);
+    for (std::int64_t c = 0; c < in.NumberOfCells; ++c)
+    {
+      const double* g = in.HigherOrderDegrees + 3 * c;
+      if (g[0] != p || g[1] != p || g[2] != p)
+      {
+        msg << "cell " << c << " of the FE mesh is a VTK_LAGRANGE_HEXAHEDRON of orders (" << g[0]
+            << ", " << g[1] << ", " << g[2]
+            << ") (its HigherOrderDegrees): only uniform orders 1-3 are supported, one per mesh";
+        return msg.str();
+      }
+    }
   }
   const std::string cells = has64 ? ReadCells(in.Offsets64, in.Connectivity64, in.CellTypes,
                                       in.NumberOfCells, in.NumberOfPoints, *this)

@@ -50,6 +50,9 @@ struct TetMeshArrays
   /// Optional, one per cell: VTK's ghost flags (vtkGhostType); a cell with the
   /// GhostDuplicateCell bit is another process's cell.
   const unsigned char* CellGhosts = nullptr;
+  /// Optional, 3 per cell: VTK's HigherOrderDegrees cell data; a VTK_LAGRANGE_HEXAHEDRON
+  /// whose degrees are not (p, p, p) for the order its node count gives is refused.
+  const double* HigherOrderDegrees = nullptr;
 };
 
 /// VTK's vtkDataSetAttributes::DUPLICATECELL (checked where VTK is at hand).
@@ -66,7 +69,11 @@ public:
     KeepFingerprint = 2, ///< the fingerprint (Fingerprint)
     /// also accept VTK_LAGRANGE_TETRAHEDRON (71) of order 1-4 (4, 10, 20 or 35 nodes in
     /// VTK's order, one order per mesh): the embedding and the transfer, which handle them
-    KeepLagrange = 4
+    KeepLagrange = 4,
+    /// also accept hexahedra (one type per mesh): VTK_LAGRANGE_HEXAHEDRON (72) of uniform
+    /// order 1-3 (8, 27 or 64 nodes: the order is read from the node count),
+    /// VTK_TRIQUADRATIC_HEXAHEDRON (29, 27 nodes), VTK_QUADRATIC_HEXAHEDRON (25, 20 nodes)
+    KeepHexahedra = 8
   };
 
   /// Read and check; the empty string on success, else one sentence naming the problem
@@ -74,17 +81,27 @@ public:
   /// Keep values. On failure the members are unspecified.
   std::string Read(const TetMeshArrays& in, int keep);
 
-  int CellType = 0;     ///< 24 (VTK_QUADRATIC_TETRA), 10 (VTK_TETRA) or 71 (KeepLagrange)
-  int NodesPerCell = 0; ///< 10 or 4 (Lagrange: 4, 10, 20 or 35)
+  /// 24 (VTK_QUADRATIC_TETRA), 10 (VTK_TETRA), 71 (KeepLagrange), 72, 29, 25 (KeepHexahedra)
+  int CellType = 0;
+  int NodesPerCell = 0; ///< 10 or 4 (Lagrange: 4, 10, 20 or 35; hexahedra: 8, 27, 64, 20)
   std::int64_t NumberOfPoints = 0;
   std::int64_t NumberOfCells = 0;
   std::vector<std::int64_t> Connectivity; ///< NodesPerCell ids per cell
   std::vector<double> Points;             ///< 3 per point (KeepPoints)
   std::string Fingerprint;                ///< 16 hex digits (KeepFingerprint)
 
-  static constexpr int QuadraticTetra = 24; // VTK_QUADRATIC_TETRA
-  static constexpr int LinearTetra = 10;    // VTK_TETRA
-  static constexpr int LagrangeTetra = 71;  // VTK_LAGRANGE_TETRAHEDRON
+  static constexpr int QuadraticTetra = 24;         // VTK_QUADRATIC_TETRA
+  static constexpr int LinearTetra = 10;            // VTK_TETRA
+  static constexpr int LagrangeTetra = 71;          // VTK_LAGRANGE_TETRAHEDRON
+  static constexpr int LagrangeHexahedron = 72;     // VTK_LAGRANGE_HEXAHEDRON
+  static constexpr int TriQuadraticHexahedron = 29; // VTK_TRIQUADRATIC_HEXAHEDRON
+  static constexpr int QuadraticHexahedron = 25;    // VTK_QUADRATIC_HEXAHEDRON
+  /// one of the three hexahedron types
+  static bool IsHexahedron(int type)
+  {
+    return type == LagrangeHexahedron || type == TriQuadraticHexahedron ||
+      type == QuadraticHexahedron;
+  }
 };
 
 /// The first point (index) with a non-finite coordinate, or -1; `xyz` holds 3 per point.

@@ -11,6 +11,7 @@
 #include "hoembedTetMeshInput.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -55,9 +56,10 @@ inline void ViewPoints(
 }
 
 /// Fill `a` with views of `mesh` (cells always; points when `withPoints`). Points of a
-/// type other than float or double are copied into `scratch`.
-inline TetMeshArrays ViewTetMesh(
-  vtkUnstructuredGrid* mesh, bool withPoints, std::vector<double>& scratch)
+/// type other than float or double are copied into `scratch`; the HigherOrderDegrees
+/// cell data (3 components, one tuple per cell), when there, into `degrees`.
+inline TetMeshArrays ViewTetMesh(vtkUnstructuredGrid* mesh, bool withPoints,
+  std::vector<double>& scratch, std::vector<double>* degrees = nullptr)
 {
   TetMeshArrays a;
   if (!mesh)
@@ -78,6 +80,15 @@ inline TetMeshArrays ViewTetMesh(
   if (ghosts && ghosts->GetNumberOfTuples() == a.NumberOfCells && a.NumberOfCells > 0)
   {
     a.CellGhosts = ghosts->GetPointer(0);
+  }
+  vtkDataArray* orders = mesh->GetCellData()->GetHigherOrderDegrees();
+  if (degrees && orders && orders->GetNumberOfComponents() == 3 &&
+    orders->GetNumberOfTuples() == a.NumberOfCells && a.NumberOfCells > 0)
+  {
+    degrees->resize(3 * static_cast<std::size_t>(a.NumberOfCells));
+    for (vtkIdType c = 0; c < a.NumberOfCells; ++c)
+      orders->GetTuple(c, &(*degrees)[3 * c]);
+    a.HigherOrderDegrees = degrees->data();
   }
   if (a.NumberOfCells > 0)
   {

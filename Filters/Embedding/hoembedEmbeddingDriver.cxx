@@ -42,13 +42,37 @@ std::string EmbeddingDriver::PrepareMesh(const TetMeshArrays& arrays, bool valid
   EmbeddingMesh& em = this->Mesh;
   // types, connectivity, node ranges, finite points and the fingerprint: the one reader
   TetMeshInput input;
-  const std::string readError = input.Read(
-    arrays, TetMeshInput::KeepPoints | TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange);
+  const std::string readError = input.Read(arrays,
+    TetMeshInput::KeepPoints | TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange |
+      TetMeshInput::KeepHexahedra);
   if (!readError.empty())
   {
     return readError + ".";
   }
-  this->Lagrange = input.NodesPerCell > 10;
+  this->Hexahedra = TetMeshInput::IsHexahedron(input.CellType);
+  this->Lagrange = !this->Hexahedra && input.NodesPerCell > 10;
+  if (this->Hexahedra)
+  {
+    Id firstBad = input.NumberOfCells;
+    const std::string err =
+      this->HexMesh.Build(std::move(input.Points), std::move(input.Connectivity), input.CellType,
+        input.NodesPerCell, validateElements ? &firstBad : nullptr);
+    if (!err.empty())
+    {
+      msg << "The FE mesh topology is not usable: " << err << ".";
+      return msg.str();
+    }
+    if (firstBad < input.NumberOfCells)
+    {
+      msg << "The FE mesh has an inverted or degenerate element: cell " << firstBad << " ("
+          << HexahedronTypeName(input.CellType, input.NodesPerCell)
+          << ") has a Jacobian determinant not proven positive throughout (its Bernstein "
+             "coefficients).";
+      return msg.str();
+    }
+    this->Fingerprint = input.Fingerprint;
+    return std::string();
+  }
   if (this->Lagrange)
   {
     Id firstBad = input.NumberOfCells;
@@ -128,6 +152,18 @@ std::string EmbeddingDriver::PrepareAndOrder(
 void EmbeddingDriver::Embed(int method, const std::function<void(double)>& progress)
 {
   this->Method = method;
+  if (this->Hexahedra)
+  {
+    const Id n = this->NumberOfPoints;
+    this->Results.resize(n);
+    ParallelLoop(Id(0), n, [&](Id b, Id e) {
+      for (Id k = b; k < e; ++k)
+        this->HexMesh.Embed(&this->SurfacePoints[3 * this->Order[k]], method, this->Results[k]);
+    });
+    if (progress)
+      progress(1.0);
+    return;
+  }
   if (this->Lagrange)
   {
     // one certified search per vertex (results in the flood's order, as WriteArrays reads)
@@ -239,7 +275,9 @@ void EmbeddingDriver::WriteFallbackOffsets(double* out) const
     for (Id k = b; k < e; ++k)
     {
       double q[3] = { 0, 0, 0 };
-      if (res[k].Fallback && this->Lagrange)
+      if (res[k].Fallback && this->Hexahedra)
+        this->HexMesh.Offset(res[k].Cell, res[k].PC, &this->SurfacePoints[3 * order[k]], q);
+      else if (res[k].Fallback && this->Lagrange)
         this->LagrangeMesh.Offset(res[k].Cell, res[k].PC, &this->SurfacePoints[3 * order[k]], q);
       else if (res[k].Fallback) // the q of its residual (EmbedVertex), computed again
         TetMapOffset(

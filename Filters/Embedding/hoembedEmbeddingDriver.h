@@ -11,7 +11,8 @@
  *     with the validity check) unless the binding keeps the prepared one, and the
  *     surface's order for the flood, as two parallel tasks.
  *  3. Embed: the flood (hoembed::FloodSurface, paper Algorithm 2); on Lagrange tets of
- *     order 3-4 (VTK_LAGRANGE_TETRAHEDRON of 20 or 35 nodes) one certified search per
+ *     order 3-4 (VTK_LAGRANGE_TETRAHEDRON of 20 or 35 nodes) and on hexahedra
+ *     (hoembed::LagrangeHexEmbeddingMesh) one certified search per
  *     vertex instead (hoembed::LagrangeEmbeddingMesh; EmbeddingElementsVisited then
  *     counts the boundary faces searched). Orders 1-2 are tet4 / tet10 node for node.
  *  4. WriteArrays / WriteFallbackOffsets: the per-vertex results in surface point order
@@ -27,6 +28,7 @@
 #include "hoembedEmbeddingFlood.h"
 #include "hoembedFiltersEmbeddingModule.h"
 #include "hoembedLagrangeEmbedding.h"
+#include "hoembedLagrangeHexEmbedding.h"
 #include "hoembedPropertyRange.h"
 #include "hoembedSurfaceTriangles.h"
 #include "hoembedTetMeshInput.h"
@@ -136,7 +138,8 @@ private:
 
   double MeshDiagonal() const
   {
-    return this->Lagrange ? this->LagrangeMesh.Diagonal : this->Mesh.Diagonal;
+    return this->Hexahedra ? this->HexMesh.Diagonal
+                           : (this->Lagrange ? this->LagrangeMesh.Diagonal : this->Mesh.Diagonal);
   }
 
   // mesh-sized: kept
@@ -145,6 +148,9 @@ private:
   /// take the EmbeddingMesh path): per-vertex certified search, no flood
   LagrangeEmbeddingMesh LagrangeMesh;
   bool Lagrange = false;
+  /// hexahedra (VTK_LAGRANGE_HEXAHEDRON 1-3, hex27, hex20): the same per-vertex search
+  LagrangeHexEmbeddingMesh HexMesh;
+  bool Hexahedra = false;
   std::string Fingerprint; // of the prepared mesh; empty: none prepared
   // surface-sized
   EmbedWorkspace Flood;

@@ -223,12 +223,12 @@ bool vtkEmbeddingCoordinatesFilter::PrepareMeshAndOrder(vtkUnstructuredGrid* mes
   const MeshState meshState = MeshState::Of(mesh);
   const bool prepare = !(this->ReuseMeshPreparation && internals.PreparedState == meshState &&
     (internals.PreparedValidated || !this->ValidateElements));
-  std::vector<double> scratch;
+  std::vector<double> scratch, degrees;
   hoembed::TetMeshArrays arrays;
   if (prepare)
   {
     internals.PreparedState = MeshState();
-    arrays = hoembed::ViewTetMesh(mesh, true, scratch);
+    arrays = hoembed::ViewTetMesh(mesh, true, scratch, &degrees);
   }
   const std::string error = internals.Driver.PrepareAndOrder(
     prepare ? &arrays : nullptr, this->ValidateElements != 0, this->NumberOfPartitions);

@@ -8,9 +8,13 @@
  * paper's Algorithm 2; polygons are fanned, strips split, vertices in no triangle and
  * several connected components are fine). Port 1, the rest FE mesh
  * (vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells, or VTK_TETRA for the baseline, or
- * VTK_LAGRANGE_TETRAHEDRON of order 1-4 in VTK's node order; one cell type per mesh).
+ * VTK_LAGRANGE_TETRAHEDRON of order 1-4, or the hexahedra VTK_LAGRANGE_HEXAHEDRON of
+ * uniform order 1-3 (the order from the node count: 8, 27, 64), VTK_TRIQUADRATIC_HEXAHEDRON
+ * and VTK_QUADRATIC_HEXAHEDRON, in VTK's node order; one cell type per mesh).
  * Lagrange orders 1-2 take the tet4 / tet10 path; orders 3-4 a per-vertex certified
- * search (hoembedLagrangeEmbedding.h: no flood, slower, the same arrays).
+ * search (hoembedLagrangeEmbedding.h: no flood, slower, the same arrays), the hexahedra
+ * its tensor-product twin (hoembedLagrangeHexEmbedding.h; EmbeddingFace: 0-5, the
+ * faces r = 0, r = 1, s = 0, s = 1, t = 0, t = 1).
  *
  * Output: a shallow copy of the surface with point data
  * - `EmbeddingCellId` (vtkIdTypeArray): the cell holding the point p;

@@ -14,6 +14,7 @@
 #define hoembedLagrangeTransfer_h
 
 #include "hoembedFiltersTransferModule.h"
+#include "hoembedLagrangeHex.h"
 #include "hoembedLagrangeTet.h"
 #include "hoembedTransferKernel.h" // TransferEntry
 
@@ -42,6 +43,23 @@ HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateLagrangeFallback(const LagrangeTetBas
 /// Cells [begin, end) whose det J is <= 0 at a corner or the centroid (counted as the tet
 /// kernels count theirs).
 HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t CountInvertedLagrangeCells(const LagrangeTetBasis& b,
+  const std::int64_t* conn, const double* points, std::int64_t begin, std::int64_t end);
+
+/// The same three on hexahedra (hoembedLagrangeHex.h: every cell through its exact tensor
+/// form); CountInvertedHexCells looks at the 8 corners and the centre.
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateHexTransfer(const LagrangeHexBasis& b,
+  const std::int64_t* conn, const double* points, const double* nodalNormals,
+  const TransferEntry* plan, std::int64_t begin, std::int64_t end, double* out);
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateHexTransfer(const LagrangeHexBasis& b,
+  const std::int64_t* conn, const double* points, const double* nodalNormals,
+  const TransferEntry* plan, std::int64_t begin, std::int64_t end, float* out);
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateHexFallback(const LagrangeHexBasis& b,
+  const std::int64_t* conn, const double* points, const TransferEntry* plan,
+  const std::int64_t* vertices, const double* q, std::int64_t begin, std::int64_t end, double* out);
+HOEMBEDFILTERSTRANSFER_EXPORT void EvaluateHexFallback(const LagrangeHexBasis& b,
+  const std::int64_t* conn, const double* points, const TransferEntry* plan,
+  const std::int64_t* vertices, const double* q, std::int64_t begin, std::int64_t end, float* out);
+HOEMBEDFILTERSTRANSFER_EXPORT std::int64_t CountInvertedHexCells(const LagrangeHexBasis& b,
   const std::int64_t* conn, const double* points, std::int64_t begin, std::int64_t end);
 } // namespace hoembed
 

@@ -85,16 +85,45 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
 {
   rebuilt = false;
   TetMeshInput input;
-  const std::string readError =
-    input.Read(cells, TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange);
+  const std::string readError = input.Read(cells,
+    TetMeshInput::KeepFingerprint | TetMeshInput::KeepLagrange | TetMeshInput::KeepHexahedra);
   if (!readError.empty())
   {
     return readError;
   }
   const int npc = input.NodesPerCell;
   if (input.Fingerprint == this->Fingerprint && npc == this->NodesPerCell &&
-    this->Topology.NumberOfPoints == input.NumberOfPoints)
+    this->NumberOfMeshPoints == input.NumberOfPoints)
   {
+    return std::string();
+  }
+  this->Hex =
+    TetMeshInput::IsHexahedron(input.CellType) ? GetLagrangeHexBasis(input.CellType, npc) : nullptr;
+  if (this->Hex)
+  {
+    // hexahedra: their boundary quads; the tet tables and topology stay empty
+    const std::string problem = FindHexBoundaryFaces(input.Connectivity.data(), input.NumberOfCells,
+      npc, this->HexFaceCell, this->HexFaceLocal, this->HexCellFace);
+    if (!problem.empty())
+    {
+      this->ForgetMesh();
+      return "invalid FE mesh topology: " + problem;
+    }
+    this->Lagrange = nullptr;
+    this->Topology = TetMeshTopology();
+    this->Conn.swap(input.Connectivity);
+    this->Fingerprint = input.Fingerprint;
+    this->NodesPerCell = npc;
+    this->NumberOfCells = input.NumberOfCells;
+    this->NumberOfMeshPoints = input.NumberOfPoints;
+    ++this->TopologyVersion;
+    this->CellCoeffs.clear();
+    this->FaceCoeffs.clear();
+    this->NodalNormals.assign(3 * static_cast<size_t>(input.NumberOfPoints), 0.0);
+    this->RestValid = false;
+    this->RestFrame = -1;
+    this->RestPoints.clear();
+    rebuilt = true;
     return std::string();
   }
   // Lagrange cells of order 3-4: the topology of their corner tets (orders 1-2 are tet4
@@ -121,6 +150,7 @@ std::string TransferDriver::SetMeshTopology(const TetMeshArrays& cells, bool& re
   this->Fingerprint = input.Fingerprint;
   this->NodesPerCell = npc;
   this->NumberOfCells = input.NumberOfCells;
+  this->NumberOfMeshPoints = input.NumberOfPoints;
   ++this->TopologyVersion;
   const int tableNodes = this->Lagrange ? 4 : npc; // the tet tables are not used then
   this->CellCoeffs.assign(static_cast<size_t>(CellCoefficientSize(tableNodes)) *
@@ -176,7 +206,7 @@ std::string TransferDriver::CheckSurface(
     std::ostringstream msg;
     msg << "the FE mesh (port 1) is not the mesh the surface was embedded in: mesh "
            "fingerprint "
-        << this->Fingerprint << " (" << this->Topology.NumberOfPoints << " points, "
+        << this->Fingerprint << " (" << this->NumberOfMeshPoints << " points, "
         << this->NumberOfCells << " cells), embedding fingerprint " << s.Fingerprint;
     return msg.str();
   }
@@ -323,7 +353,13 @@ std::string TransferDriver::BuildPlan(
     {
       local = static_cast<int>(em.Faces[i]);
     }
-    if (local >= 0 && local < 4 && topo.CellBoundaryFace[4 * e.Cell + local] >= 0)
+    if (this->Hex)
+    {
+      // hexahedra: the face is the local face (0-5); the evaluation needs only the cell
+      if (local >= 0 && local < 6 && this->HexCellFace[6 * e.Cell + local] >= 0)
+        e.Face = local;
+    }
+    else if (local >= 0 && local < 4 && topo.CellBoundaryFace[4 * e.Cell + local] >= 0)
     {
       e.Face = static_cast<std::int32_t>(4 * topo.CellBoundaryFace[4 * e.Cell + local] + local);
     }
@@ -370,7 +406,7 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
   {
     return "no transfer plan for this mesh (BuildPlan first)";
   }
-  const std::int64_t numMeshPoints = this->Topology.NumberOfPoints;
+  const std::int64_t numMeshPoints = this->NumberOfMeshPoints;
   const std::int64_t numCells = this->NumberOfCells;
   const int npc = this->NodesPerCell;
   const double* pts = frame.Points;
@@ -378,7 +414,7 @@ std::string TransferDriver::EvaluateFrame(const TransferFrame& frame, double* ou
   {
     return "the deformed FE mesh has non-finite (NaN or infinite) point coordinates";
   }
-  if (this->Lagrange)
+  if (this->Lagrange || this->Hex)
   {
     return this->EvaluateLagrangeFrame(frame, outDouble, outFloat, warnings);
   }
@@ -548,14 +584,18 @@ std::string TransferDriver::EvaluatePoints(
 std::string TransferDriver::EvaluateLagrangeFrame(const TransferFrame& frame, double* outDouble,
   float* outFloat, std::vector<std::string>& warnings)
 {
-  const LagrangeTetBasis& b = *this->Lagrange;
+  // Lagrange tets of order 3-4 and the hexahedra: the kernels of hoembedLagrangeTransfer.h
+  const LagrangeTetBasis* tet = this->Lagrange;
+  const LagrangeHexBasis* hex = this->Hex;
+  const char* family = hex ? "hexahedra" : "VTK_LAGRANGE_TETRAHEDRON cells of order 3-4";
   const double* pts = frame.Points;
   const std::int64_t* conn = this->Conn.data();
   if (frame.CountInverted)
   {
     std::atomic<std::int64_t> inverted(0);
     this->For(this->NumberOfCells, 256, [&](std::int64_t cb, std::int64_t ce) {
-      inverted += CountInvertedLagrangeCells(b, conn, pts, cb, ce);
+      inverted += hex ? CountInvertedHexCells(*hex, conn, pts, cb, ce)
+                      : CountInvertedLagrangeCells(*tet, conn, pts, cb, ce);
     });
     this->InvertedCells = inverted.load();
     if (this->InvertedCells > 0)
@@ -571,39 +611,43 @@ std::string TransferDriver::EvaluateLagrangeFrame(const TransferFrame& frame, do
   if (offsets)
   {
     if (frame.Normals != TransferNormals::Recompute)
-      warnings.push_back("NormalMode ROTATE and DEFORM are not implemented for "
-                         "VTK_LAGRANGE_TETRAHEDRON cells of order 3-4: the normals of the "
-                         "deformed boundary are recomputed (RECOMPUTE)");
-    this->NodalNormals.assign(3 * static_cast<std::size_t>(this->Topology.NumberOfPoints), 0.0);
-    ComputeLagrangeBoundaryNormals(b, this->Topology, pts, conn, this->NodalNormals.data());
+      warnings.push_back(std::string("NormalMode ROTATE and DEFORM are not implemented for ") +
+        family + ": the normals of the deformed boundary are recomputed (RECOMPUTE)");
+    this->NodalNormals.assign(3 * static_cast<std::size_t>(this->NumberOfMeshPoints), 0.0);
+    if (hex)
+      ComputeHexBoundaryNormals(*hex, this->HexFaceCell, this->HexFaceLocal, pts,
+        this->NumberOfMeshPoints, conn, this->NodalNormals.data());
+    else
+      ComputeLagrangeBoundaryNormals(*tet, this->Topology, pts, conn, this->NodalNormals.data());
   }
   const double* nn = this->NodalNormals.data();
   const TransferEntry* plan = this->Plan.data();
   const std::int64_t nv = this->GetNumberOfVertices();
   const std::int64_t nfb = static_cast<std::int64_t>(this->FallbackVertices.size());
+  auto run = [&](auto* out) {
+    this->For(nv, 4096, [&](std::int64_t vb, std::int64_t ve) {
+      if (hex)
+        EvaluateHexTransfer(*hex, conn, pts, nn, plan, vb, ve, out);
+      else
+        EvaluateLagrangeTransfer(*tet, conn, pts, nn, plan, vb, ve, out);
+    });
+    if (hex)
+      EvaluateHexFallback(*hex, conn, pts, plan, this->FallbackVertices.data(),
+        this->FallbackOffsets.data(), 0, nfb, out);
+    else
+      EvaluateLagrangeFallback(*tet, conn, pts, plan, this->FallbackVertices.data(),
+        this->FallbackOffsets.data(), 0, nfb, out);
+  };
   if (outDouble)
-  {
-    this->For(nv, 4096, [&](std::int64_t vb, std::int64_t ve) {
-      EvaluateLagrangeTransfer(b, conn, pts, nn, plan, vb, ve, outDouble);
-    });
-    EvaluateLagrangeFallback(b, conn, pts, plan, this->FallbackVertices.data(),
-      this->FallbackOffsets.data(), 0, nfb, outDouble);
-  }
+    run(outDouble);
   else
-  {
-    this->For(nv, 4096, [&](std::int64_t vb, std::int64_t ve) {
-      EvaluateLagrangeTransfer(b, conn, pts, nn, plan, vb, ve, outFloat);
-    });
-    EvaluateLagrangeFallback(b, conn, pts, plan, this->FallbackVertices.data(),
-      this->FallbackOffsets.data(), 0, nfb, outFloat);
-  }
+    run(outFloat);
   this->FoldedNormals = 0;
   if (frame.PointNormals)
   {
     if (frame.PointNormalsMode == TransferPointNormals::Transform)
-      warnings.push_back("PointNormalsMode TRANSFORM is not implemented for "
-                         "VTK_LAGRANGE_TETRAHEDRON cells of order 3-4: recomputing the point "
-                         "normals from the deformed polygons");
+      warnings.push_back(std::string("PointNormalsMode TRANSFORM is not implemented for ") +
+        family + ": recomputing the point normals from the deformed polygons");
     if (outDouble)
       this->VertexNormals(static_cast<const double*>(outDouble), frame.PointNormals);
     else
@@ -620,7 +664,7 @@ std::string TransferDriver::UpdateRestPoints(const TransferFrame& frame)
   {
     return std::string();
   }
-  const std::int64_t numMeshPoints = this->Topology.NumberOfPoints;
+  const std::int64_t numMeshPoints = this->NumberOfMeshPoints;
   const double* pts = frame.Points;
   const double* disp = frame.Displacements;
   const bool had = this->RestPoints.size() == 3 * static_cast<size_t>(numMeshPoints);
@@ -666,7 +710,7 @@ std::string TransferDriver::UpdateRestPoints(const TransferFrame& frame)
 std::string TransferDriver::ComputeNodalNormals(
   const TransferFrame& frame, std::vector<std::string>& warnings)
 {
-  const std::int64_t numMeshPoints = this->Topology.NumberOfPoints;
+  const std::int64_t numMeshPoints = this->NumberOfMeshPoints;
   const double* pts = frame.Points;
   // ROTATE and DEFORM start from the rest normals (rest points x - u).
   const bool rotate = frame.Normals == TransferNormals::Rotate;

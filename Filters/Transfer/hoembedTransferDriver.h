@@ -31,6 +31,7 @@
 
 #include "hoembedArrayNames.h"
 #include "hoembedFiltersTransferModule.h"
+#include "hoembedLagrangeHex.h"
 #include "hoembedLagrangeTet.h"
 #include "hoembedPropertyRange.h"
 #include "hoembedTetMeshInput.h"
@@ -177,7 +178,7 @@ public:
   }
   std::int64_t GetNumberOfPoints() const
   {
-    return this->Topology.NumberOfPoints;
+    return this->NumberOfMeshPoints;
   }
 
   /// Before step 2 (after step 1), every frame: the surface's field data (an embedding
@@ -273,6 +274,12 @@ private:
   const LagrangeTetBasis* Lagrange = nullptr;
   std::string EvaluateLagrangeFrame(const TransferFrame& frame, double* outDouble, float* outFloat,
     std::vector<std::string>& warnings);
+  /// hexahedra (hoembedLagrangeHex.h); null otherwise. Topology is then empty: the
+  /// boundary faces are HexFaceCell / HexFaceLocal, CellFace 6 per cell.
+  const LagrangeHexBasis* Hex = nullptr;
+  std::vector<std::int64_t> HexFaceCell, HexCellFace;
+  std::vector<int> HexFaceLocal;
+  std::int64_t NumberOfMeshPoints = 0;
   int TopologyVersion = 0;
   // step 2
   std::vector<TransferEntry> Plan;

@@ -292,10 +292,10 @@ bool vtkDeformationTransferFilter::PrepareMesh(vtkUnstructuredGrid* mesh)
   {
     return true;
   }
-  std::vector<double> unused;
+  std::vector<double> unused, degrees;
   bool rebuilt = false;
   const std::string error =
-    I.Driver.SetMeshTopology(hoembed::ViewTetMesh(mesh, false, unused), rebuilt);
+    I.Driver.SetMeshTopology(hoembed::ViewTetMesh(mesh, false, unused, &degrees), rebuilt);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);

@@ -20,8 +20,10 @@
  *   Field data: `EmbeddingMethod` ("normal-offset" or "barycentric") and
  *   `EmbeddingMeshFingerprint` (hoembed::MeshFingerprint of the rest mesh).
  * - port 1: the deformed FE mesh (vtkUnstructuredGrid): all VTK_QUADRATIC_TETRA, all
- *   VTK_TETRA or all VTK_LAGRANGE_TETRAHEDRON of order 1-4 (orders 3-4: RECOMPUTE normals
- *   only, the other modes fall back to it with a warning), the same points and cells as the rest
+ *   VTK_TETRA or all VTK_LAGRANGE_TETRAHEDRON of order 1-4, or all of one hexahedron type
+ *   (VTK_LAGRANGE_HEXAHEDRON of order 1-3, VTK_TRIQUADRATIC_HEXAHEDRON,
+ *   VTK_QUADRATIC_HEXAHEDRON) (Lagrange tets of order 3-4 and the hexahedra: RECOMPUTE
+ *   normals only, the other modes fall back to it with a warning), the same points and cells as the rest
  * mesh of the embedding (its fingerprint must match; coordinates may differ). Optional point data
  * for NormalMode ROTATE_NORMALS: `NodalRotation` (9 components, row-major) and `Displacement` (3
  * components); for DEFORM_NORMALS: `Displacement`.

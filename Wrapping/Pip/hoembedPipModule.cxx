@@ -287,8 +287,12 @@ NB_MODULE(_hoembed, m)
     .def(
       "prepare_and_order",
       [](hoembed::EmbeddingDriver& d, std::int64_t numberOfPoints, const In& points,
-        const In& types, const In& offsets, const In& conn, bool validate, int partitions) {
-        const hoembed::TetMeshArrays mesh = Mesh(numberOfPoints, &points, types, offsets, conn);
+        const In& types, const In& offsets, const In& conn, bool validate, int partitions,
+        const nb::object& degrees) {
+        hoembed::TetMeshArrays mesh = Mesh(numberOfPoints, &points, types, offsets, conn);
+        In keepDegrees;
+        mesh.HigherOrderDegrees = Optional(degrees, keepDegrees, "higher_order_degrees",
+          3 * static_cast<std::size_t>(mesh.NumberOfCells));
         std::string error;
         {
           nb::gil_scoped_release release;
@@ -298,7 +302,7 @@ NB_MODULE(_hoembed, m)
       },
       nb::arg("number_of_points"), nb::arg("points"), nb::arg("cell_types"),
       nb::arg("cell_offsets"), nb::arg("cell_connectivity"), nb::arg("validate"),
-      nb::arg("partitions"))
+      nb::arg("partitions"), nb::arg("higher_order_degrees") = nb::none())
     .def(
       "embed",
       [](hoembed::EmbeddingDriver& d, int method, nb::object progress) {
@@ -342,13 +346,19 @@ NB_MODULE(_hoembed, m)
 
   nb::class_<Transfer>(m, "TransferDriver")
     .def(nb::init<>())
-    .def("set_mesh_topology",
+    .def(
+      "set_mesh_topology",
       [](Transfer& t, std::int64_t numberOfPoints, const In& types, const In& offsets,
-        const In& conn) {
+        const In& conn, const nb::object& degrees) {
         bool rebuilt = false;
-        Check(
-          t.Driver.SetMeshTopology(Mesh(numberOfPoints, nullptr, types, offsets, conn), rebuilt));
-      })
+        hoembed::TetMeshArrays mesh = Mesh(numberOfPoints, nullptr, types, offsets, conn);
+        In keepDegrees;
+        mesh.HigherOrderDegrees = Optional(degrees, keepDegrees, "higher_order_degrees",
+          3 * static_cast<std::size_t>(mesh.NumberOfCells));
+        Check(t.Driver.SetMeshTopology(mesh, rebuilt));
+      },
+      nb::arg("number_of_points"), nb::arg("cell_types"), nb::arg("cell_offsets"),
+      nb::arg("cell_connectivity"), nb::arg("higher_order_degrees") = nb::none())
     .def_prop_ro("fingerprint", [](const Transfer& t) { return t.Driver.GetFingerprint(); })
     .def_static(
       "check_mesh_size",

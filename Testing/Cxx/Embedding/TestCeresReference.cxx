@@ -214,7 +214,8 @@ vtkSmartPointer<vtkPolyData> MakeSurface()
 bool FilterTakes(const CellKind& kind)
 {
   return kind.Type == VTK_TETRA || kind.Type == VTK_QUADRATIC_TETRA ||
-    kind.Type == VTK_LAGRANGE_TETRAHEDRON;
+    kind.Type == VTK_LAGRANGE_TETRAHEDRON || kind.Type == VTK_LAGRANGE_HEXAHEDRON ||
+    kind.Type == VTK_TRIQUADRATIC_HEXAHEDRON || kind.Type == VTK_QUADRATIC_HEXAHEDRON;
 }
 } // namespace
 

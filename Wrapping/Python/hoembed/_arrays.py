@@ -43,6 +43,19 @@ def cell_types(grid):
     return np.ascontiguousarray(vtk_to_numpy(a), dtype=np.uint8)
 
 
+def higher_order_degrees(grid):
+    """VTK's HigherOrderDegrees cell data of an unstructured grid as contiguous float64
+    (3 per cell), or None when it has none (the drivers judge it)."""
+    a = grid.GetCellData().GetHigherOrderDegrees()
+    if (
+        a is None
+        or a.GetNumberOfComponents() != 3
+        or a.GetNumberOfTuples() != grid.GetNumberOfCells()
+    ):
+        return None
+    return np.ascontiguousarray(vtk_to_numpy(a), dtype=np.float64)
+
+
 def doubles(vtk_array):
     """The values of a VTK data array (or a numpy array) as contiguous float64 (the VTK
     filters' copy)."""

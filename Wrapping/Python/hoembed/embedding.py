@@ -46,7 +46,9 @@ def embed(
         several components are fine).
     fe_mesh : pyvista.UnstructuredGrid or vtkUnstructuredGrid
         The rest mesh: VTK_QUADRATIC_TETRA cells, or VTK_TETRA, or VTK_LAGRANGE_TETRAHEDRON
-        of order 1-4 (one cell type; orders 3-4 by a slower per-vertex search).
+        of order 1-4, or VTK_LAGRANGE_HEXAHEDRON of order 1-3, VTK_TRIQUADRATIC_HEXAHEDRON
+        or VTK_QUADRATIC_HEXAHEDRON (one cell type; Lagrange tets of order 3-4 and the
+        hexahedra by a slower per-vertex search).
     method : str
         ``"normal-offset"`` (default; the paper's v = p + d n) or ``"barycentric"``.
     n_partitions : int
@@ -105,6 +107,7 @@ def embed(
             conn,
             _D["ValidateElements"],
             n_partitions,
+            _arrays.higher_order_degrees(fe_mesh),
         )
         if progress is not None:
             progress(0.1)

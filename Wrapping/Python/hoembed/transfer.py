@@ -63,9 +63,10 @@ def transfer(
         and field data ``EmbeddingMethod`` / ``EmbeddingMeshFingerprint``, as written by
         ``hoembed.embed`` / vtkEmbeddingCoordinatesFilter.
     deformed_mesh : pyvista.UnstructuredGrid or vtkUnstructuredGrid
-        The FE mesh the surface was embedded in (same points and cells, tet10, tet4 or
-        Lagrange tets of order 1-4; orders 3-4 recompute the normals whatever ``normals``
-        says, with a warning), with deformed coordinates.
+        The FE mesh the surface was embedded in (same points and cells, tet10, tet4,
+        Lagrange tets of order 1-4, or hexahedra: Lagrange of order 1-3, triquadratic,
+        quadratic serendipity; Lagrange tets of order 3-4 and hexahedra recompute the
+        normals whatever ``normals`` says, with a warning), with deformed coordinates.
     normals : {"recompute", "rotate", "deform"}
         ``"recompute"`` (default): smooth nodal normals of the deformed curved boundary.
         ``"rotate"``: rest nodal normals rotated by the mesh's ``NodalRotation`` point data
@@ -142,7 +143,9 @@ class TransferPlan:
             TransferDriver.check_mesh_size(self.nmp, ncells, mesh.GetCells() is not None)
             offsets, conn = _arrays.cells(mesh.GetCells())
             types = _arrays.cell_types(mesh)
-            driver.set_mesh_topology(self.nmp, types, offsets, conn)
+            driver.set_mesh_topology(
+                self.nmp, types, offsets, conn, _arrays.higher_order_degrees(mesh)
+            )
         except RuntimeError as e:
             _fail(e)
         # reading only: the driver judges the field data and the arrays (check_surface)

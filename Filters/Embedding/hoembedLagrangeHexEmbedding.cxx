@@ -1,0 +1,966 @@
+#include "hoembedLagrangeHexEmbedding.h"
+
+#include "hoembedEmbeddingFlood.h" // EMBED_* values
+#include "hoembedLagrangeEmbeddingInternal.h"
+#include "hoembedParallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <map>
+#include <string>
+#include <utility>
+
+namespace hoembed
+{
+using lagrange_detail::Dot;
+namespace
+{
+using Id = LagrangeHexEmbeddingMesh::Id;
+
+const int (&FaceU)[6] = HexFaceU;
+const int (&FaceV)[6] = HexFaceV;
+
+bool Solve3(const double A[3][3], const double b[3], double x[3])
+{
+  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+    A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+    A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  double scale = 0.0;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      scale = std::max(scale, std::abs(A[r][c]));
+  if (!(std::abs(det) > 1e-300) || !(std::abs(det) > 1e-14 * scale * scale * scale))
+    return false;
+  for (int k = 0; k < 3; ++k)
+  {
+    double M[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        M[r][c] = c == k ? b[r] : A[r][c];
+    x[k] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+             M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+      det;
+  }
+  return true;
+}
+
+// Bernstein polynomials of degree p (<= 3) at u: values, first and second derivatives.
+void Bernstein1D(int p, double u, double* B, double* dB, double* ddB)
+{
+  auto basis = [&](int n, double* out) {
+    // out[0..n]
+    for (int a = 0; a <= n; ++a)
+    {
+      double c = 1.0;
+      for (int i = 1; i <= a; ++i)
+        c = c * (n - a + i) / i;
+      out[a] = c * std::pow(u, a) * std::pow(1.0 - u, n - a);
+    }
+  };
+  basis(p, B);
+  double b1[4] = { 0, 0, 0, 0 }, b2[4] = { 0, 0, 0, 0 };
+  if (p >= 1)
+    basis(p - 1, b1);
+  if (p >= 2)
+    basis(p - 2, b2);
+  for (int a = 0; a <= p; ++a)
+  {
+    const double lo1 = a >= 1 ? b1[a - 1] : 0.0, hi1 = a <= p - 1 ? b1[a] : 0.0;
+    dB[a] = p * (lo1 - hi1);
+    double s = 0.0;
+    if (p >= 2)
+    {
+      if (a >= 2)
+        s += b2[a - 2];
+      if (a >= 1 && a - 1 <= p - 2)
+        s -= 2 * b2[a - 1];
+      if (a <= p - 2)
+        s += b2[a];
+    }
+    ddB[a] = p * (p - 1) * s;
+  }
+}
+
+struct Interval
+{
+  double Lo = HUGE_VAL, Hi = -HUGE_VAL;
+  void Add(double x)
+  {
+    Lo = std::min(Lo, x);
+    Hi = std::max(Hi, x);
+  }
+};
+Interval Mul(const Interval& a, const Interval& b)
+{
+  Interval r;
+  r.Add(a.Lo * b.Lo);
+  r.Add(a.Lo * b.Hi);
+  r.Add(a.Hi * b.Lo);
+  r.Add(a.Hi * b.Hi);
+  return r;
+}
+Interval Square(const Interval& a)
+{
+  Interval r;
+  r.Lo = a.Lo > 0 ? a.Lo * a.Lo : (a.Hi < 0 ? a.Hi * a.Hi : 0.0);
+  r.Hi = std::max(a.Lo * a.Lo, a.Hi * a.Hi);
+  return r;
+}
+Interval Sum(const Interval& a, const Interval& b)
+{
+  Interval r;
+  r.Lo = a.Lo + b.Lo;
+  r.Hi = a.Hi + b.Hi;
+  return r;
+}
+void Clamp(double uv[2])
+{
+  uv[0] = std::min(1.0, std::max(0.0, uv[0]));
+  uv[1] = std::min(1.0, std::max(0.0, uv[1]));
+}
+
+// Local closest point on one quad: projected Newton over [0, 1]^2 (active bounds),
+// monotone in |x - v|^2. Returns that squared distance.
+template <typename Eval>
+double LocalQuadSolve(const Eval& eval, const double v[3], double uv[2])
+{
+  Clamp(uv);
+  double x[3], xu[3], xv[3], H[3][3];
+  eval(uv, x, xu, xv, H);
+  double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
+  double f = Dot(e, e);
+  for (int it = 0; it < 60; ++it)
+  {
+    const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
+    double A[2][2] = { { 2 * (Dot(xu, xu) + Dot(e, H[0])), 2 * (Dot(xu, xv) + Dot(e, H[1])) },
+      { 0, 2 * (Dot(xv, xv) + Dot(e, H[2])) } };
+    A[1][0] = A[0][1];
+    const double eps = 1e-15;
+    bool bound[2];
+    for (int k = 0; k < 2; ++k)
+      bound[k] = (uv[k] <= eps && g[k] > 0) || (uv[k] >= 1 - eps && g[k] < 0);
+    double step[2] = { 0, 0 };
+    if (bound[0] && bound[1])
+      break;
+    if (bound[0] || bound[1])
+    {
+      const int k = bound[0] ? 1 : 0;
+      step[k] = A[k][k] > 0 ? -g[k] / A[k][k] : -g[k];
+    }
+    else
+    {
+      const double tr = A[0][0] + A[1][1];
+      double mu = 0.0;
+      const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+      if (!(A[0][0] > 0 && det > 1e-14 * tr * tr))
+      {
+        const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+        mu = -(0.5 * tr - disc) + 1e-3 * std::abs(tr) + 1e-300;
+      }
+      const double a00 = A[0][0] + mu, a11 = A[1][1] + mu;
+      const double dd = a00 * a11 - A[0][1] * A[1][0];
+      if (!(dd > 0))
+        step[0] = -g[0], step[1] = -g[1];
+      else
+      {
+        step[0] = -(a11 * g[0] - A[0][1] * g[1]) / dd;
+        step[1] = -(a00 * g[1] - A[1][0] * g[0]) / dd;
+      }
+    }
+    double alpha = 1.0;
+    bool moved = false;
+    for (int ls = 0; ls < 40; ++ls, alpha *= 0.5)
+    {
+      double t[2] = { uv[0] + alpha * step[0], uv[1] + alpha * step[1] };
+      Clamp(t);
+      double y[3], yu[3], yv[3], yH[3][3];
+      eval(t, y, yu, yv, yH);
+      const double en[3] = { y[0] - v[0], y[1] - v[1], y[2] - v[2] };
+      const double fn = Dot(en, en);
+      if (fn <= f)
+      {
+        moved = std::abs(t[0] - uv[0]) + std::abs(t[1] - uv[1]) > 1e-16;
+        uv[0] = t[0], uv[1] = t[1];
+        std::copy(y, y + 3, x);
+        std::copy(yu, yu + 3, xu);
+        std::copy(yv, yv + 3, xv);
+        for (int k = 0; k < 3; ++k)
+          std::copy(yH[k], yH[k] + 3, H[k]);
+        std::copy(en, en + 3, e);
+        f = fn;
+        break;
+      }
+    }
+    if (!moved)
+      break;
+  }
+  return f;
+}
+} // namespace
+
+std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vector<Id> conn,
+  int cellType, int nodesPerCell, Id* firstInvalidCell)
+{
+  this->Basis = GetLagrangeHexBasis(cellType, nodesPerCell);
+  if (!this->Basis)
+    return "unsupported hexahedron (cell type " + std::to_string(cellType) + ", " +
+      std::to_string(nodesPerCell) + " nodes)";
+  const LagrangeHexBasis& b = *this->Basis;
+  this->NodesPerCell = nodesPerCell;
+  this->Points = std::move(points);
+  this->Connectivity = std::move(conn);
+  const Id npts = static_cast<Id>(this->Points.size() / 3);
+  const Id ncells = static_cast<Id>(this->Connectivity.size() / nodesPerCell);
+  if (ncells == 0)
+    return "the mesh has no cells";
+  for (Id id : this->Connectivity)
+    if (id < 0 || id >= npts)
+      return "a cell refers to a point that does not exist";
+  // boundary quads: the faces (by their corners) of one cell only
+  const std::string problem = FindHexBoundaryFaces(this->Connectivity.data(), ncells, nodesPerCell,
+    this->FaceCell, this->FaceLocal, this->CellFace);
+  if (!problem.empty())
+    return problem;
+  this->FaceCorners.clear();
+  for (std::size_t f = 0; f < this->FaceCell.size(); ++f)
+    for (int k = 0; k < 4; ++k)
+      this->FaceCorners.push_back(
+        this
+          ->Connectivity[nodesPerCell * this->FaceCell[f] + HexFaceCorners[this->FaceLocal[f]][k]]);
+  const Id nfaces = static_cast<Id>(this->FaceCell.size());
+  if (nfaces == 0)
+    return "the mesh has no boundary faces";
+  // neighbours across the edges, corner node -> faces
+  std::map<std::pair<Id, Id>, std::vector<Id>> edges;
+  for (Id f = 0; f < nfaces; ++f)
+    for (int e = 0; e < 4; ++e)
+    {
+      const Id a = this->FaceCorners[4 * f + e], c = this->FaceCorners[4 * f + (e + 1) % 4];
+      edges[{ std::min(a, c), std::max(a, c) }].push_back(f);
+    }
+  this->FaceNeighbor.assign(4 * nfaces, -1);
+  for (Id f = 0; f < nfaces; ++f)
+    for (int e = 0; e < 4; ++e)
+    {
+      const Id a = this->FaceCorners[4 * f + e], c = this->FaceCorners[4 * f + (e + 1) % 4];
+      const auto& list = edges[{ std::min(a, c), std::max(a, c) }];
+      if (list.size() == 2)
+        this->FaceNeighbor[4 * f + e] = list[0] == f ? list[1] : list[0];
+    }
+  this->NodeFaceOffsets.assign(npts + 1, 0);
+  for (Id f = 0; f < nfaces; ++f)
+    for (int k = 0; k < 4; ++k)
+      ++this->NodeFaceOffsets[this->FaceCorners[4 * f + k] + 1];
+  for (Id i = 0; i < npts; ++i)
+    this->NodeFaceOffsets[i + 1] += this->NodeFaceOffsets[i];
+  this->NodeFaces.assign(this->NodeFaceOffsets[npts], 0);
+  {
+    std::vector<Id> fill(this->NodeFaceOffsets.begin(), this->NodeFaceOffsets.end() - 1);
+    for (Id f = 0; f < nfaces; ++f)
+      for (int k = 0; k < 4; ++k)
+        this->NodeFaces[fill[this->FaceCorners[4 * f + k]]++] = f;
+  }
+  double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
+  for (Id i = 0; i < npts; ++i)
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::min(lo[d], this->Points[3 * i + d]);
+      hi[d] = std::max(hi[d], this->Points[3 * i + d]);
+    }
+  this->Diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  // tensor forms, control-point boxes, validity
+  const int nt = b.TensorNodes, p = b.Order, q = p + 1;
+  this->Tensors.assign(static_cast<std::size_t>(3 * nt) * ncells, 0.0);
+  std::vector<double> cellBoxes(6 * ncells);
+  std::vector<unsigned char> invalid(ncells, 0);
+  ParallelLoop(Id(0), ncells, [&](Id cb, Id ce) {
+    double x[3 * MaxLagrangeHexNodes], ctrl[3 * MaxLagrangeHexNodes];
+    for (Id c = cb; c < ce; ++c)
+    {
+      for (int k = 0; k < nodesPerCell; ++k)
+        for (int d = 0; d < 3; ++d)
+          x[3 * k + d] = this->Points[3 * this->Connectivity[nodesPerCell * c + k] + d];
+      double* t = &this->Tensors[static_cast<std::size_t>(3 * nt) * c];
+      LagrangeHexToTensor(b, x, t);
+      TensorHexToBernstein(b, t, ctrl);
+      double* box = &cellBoxes[6 * c];
+      for (int d = 0; d < 3; ++d)
+        box[d] = HUGE_VAL, box[d + 3] = -HUGE_VAL;
+      for (int k = 0; k < nt; ++k)
+        for (int d = 0; d < 3; ++d)
+        {
+          box[d] = std::min(box[d], ctrl[3 * k + d]);
+          box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
+        }
+      if (firstInvalidCell)
+        invalid[c] = LagrangeHexIsValid(b, t) ? 0 : 1;
+    }
+  });
+  if (firstInvalidCell)
+  {
+    *firstInvalidCell = ncells;
+    for (Id c = 0; c < ncells; ++c)
+      if (invalid[c])
+      {
+        *firstInvalidCell = c;
+        break;
+      }
+  }
+  this->CellTree.Build(cellBoxes);
+  // the smooth normal field: angle-weighted nodal normals (paper eq. 6-7)
+  this->NodalNormals.assign(3 * npts, 0.0);
+  ComputeHexBoundaryNormals(b, this->FaceCell, this->FaceLocal, this->Points.data(), npts,
+    this->Connectivity.data(), this->NodalNormals.data());
+  this->NormalTensors.assign(this->Tensors.size(), 0.0);
+  ParallelLoop(Id(0), ncells, [&](Id cb, Id ce) {
+    double x[3 * MaxLagrangeHexNodes];
+    for (Id c = cb; c < ce; ++c)
+    {
+      for (int k = 0; k < nodesPerCell; ++k)
+        for (int d = 0; d < 3; ++d)
+          x[3 * k + d] = this->NodalNormals[3 * this->Connectivity[nodesPerCell * c + k] + d];
+      LagrangeHexToTensor(b, x, &this->NormalTensors[static_cast<std::size_t>(3 * nt) * c]);
+    }
+  });
+  // face nets: the cell's control points on the face, (a, b) = (u, v) indices, a fastest
+  const int nq = q * q;
+  std::vector<double> faceBoxes(6 * nfaces);
+  this->FaceNets.assign(static_cast<std::size_t>(3 * nq) * nfaces, 0.0);
+  ParallelLoop(Id(0), nfaces, [&](Id fb, Id fe) {
+    double ctrl[3 * MaxLagrangeHexNodes];
+    for (Id f = fb; f < fe; ++f)
+    {
+      const int lf = this->FaceLocal[f];
+      TensorHexToBernstein(
+        b, &this->Tensors[static_cast<std::size_t>(3 * nt) * this->FaceCell[f]], ctrl);
+      double* box = &faceBoxes[6 * f];
+      for (int d = 0; d < 3; ++d)
+        box[d] = HUGE_VAL, box[d + 3] = -HUGE_VAL;
+      double* net = &this->FaceNets[static_cast<std::size_t>(3 * nq) * f];
+      for (int bb = 0; bb < q; ++bb)
+        for (int a = 0; a < q; ++a)
+        {
+          int ijk[3];
+          const int fixed = 3 - FaceU[lf] - FaceV[lf];
+          ijk[0] = ijk[1] = ijk[2] = 0;
+          ijk[fixed] = lf & 1 ? p : 0;
+          ijk[FaceU[lf]] += a;
+          ijk[FaceV[lf]] += bb;
+          const int k = (ijk[2] * q + ijk[1]) * q + ijk[0];
+          for (int d = 0; d < 3; ++d)
+          {
+            net[3 * (bb * q + a) + d] = ctrl[3 * k + d];
+            box[d] = std::min(box[d], ctrl[3 * k + d]);
+            box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
+          }
+        }
+    }
+  });
+  this->FaceTree.Build(faceBoxes);
+  return std::string();
+}
+
+void LagrangeHexEmbeddingMesh::CellPoint(
+  Id c, const double pc[3], double x[3], double J[3][3]) const
+{
+  double Jl[3][3];
+  const std::size_t n = static_cast<std::size_t>(3 * this->Basis->TensorNodes);
+  EvaluateTensorHex(this->Basis->Order, &this->Tensors[n * c], pc, x, J ? J : Jl);
+}
+
+void LagrangeHexEmbeddingMesh::CellNormal(
+  Id c, const double pc[3], double s[3], double J[3][3]) const
+{
+  const std::size_t n = static_cast<std::size_t>(3 * this->Basis->TensorNodes);
+  EvaluateTensorHex(this->Basis->Order, &this->NormalTensors[n * c], pc, s, J);
+}
+
+void LagrangeHexEmbeddingMesh::FacePoint(
+  Id f, const double uv[2], double x[3], double xu[3], double xv[3], double (*H)[3]) const
+{
+  const int p = this->Basis->Order, q = p + 1;
+  const double* net = &this->FaceNets[static_cast<std::size_t>(3 * q * q) * f];
+  double Bu[4], dBu[4], ddBu[4], Bv[4], dBv[4], ddBv[4];
+  Bernstein1D(p, uv[0], Bu, dBu, ddBu);
+  Bernstein1D(p, uv[1], Bv, dBv, ddBv);
+  for (int d = 0; d < 3; ++d)
+  {
+    x[d] = 0;
+    if (xu)
+      xu[d] = 0;
+    if (xv)
+      xv[d] = 0;
+    if (H)
+      H[0][d] = H[1][d] = H[2][d] = 0;
+  }
+  for (int bb = 0; bb < q; ++bb)
+    for (int a = 0; a < q; ++a)
+    {
+      const double* P = net + 3 * (bb * q + a);
+      for (int d = 0; d < 3; ++d)
+      {
+        x[d] += Bu[a] * Bv[bb] * P[d];
+        if (xu)
+          xu[d] += dBu[a] * Bv[bb] * P[d];
+        if (xv)
+          xv[d] += Bu[a] * dBv[bb] * P[d];
+        if (H)
+        {
+          H[0][d] += ddBu[a] * Bv[bb] * P[d];
+          H[1][d] += dBu[a] * dBv[bb] * P[d];
+          H[2][d] += Bu[a] * ddBv[bb] * P[d];
+        }
+      }
+    }
+}
+
+void LagrangeHexEmbeddingMesh::SearchFace(
+  Id f, const double v[3], double& best2, Id& bestFace, double bestUV[2], bool& certified) const
+{
+  const LagrangeHexBasis& b = *this->Basis;
+  const int p = b.Order, q = p + 1, nq = q * q;
+  auto eval = [&](const double uv[2], double x[3], double xu[3], double xv[3], double H[3][3]) {
+    this->FacePoint(f, uv, x, xu, xv, H);
+  };
+  const double tol = this->SearchTolerance * this->Diagonal;
+  auto threshold = [&]() {
+    const double r = std::max(0.0, std::sqrt(best2) - tol);
+    return r * r;
+  };
+  double ownUV[2] = { 0, 0 }, ownD2 = HUGE_VAL;
+  auto tryStart = [&](double uv[2]) {
+    const double d2 = LocalQuadSolve(eval, v, uv);
+    if (d2 < ownD2)
+      ownD2 = d2, ownUV[0] = uv[0], ownUV[1] = uv[1];
+    if (d2 < best2)
+    {
+      best2 = d2;
+      bestFace = f;
+      bestUV[0] = uv[0];
+      bestUV[1] = uv[1];
+    }
+  };
+  struct SubSquare
+  {
+    double U0, V0, H;
+    int Depth;
+  };
+  SubSquare stack[256];
+  int top = 0;
+  stack[top++] = { 0.0, 0.0, 1.0, 0 };
+  int budget = 6000;
+  double vals[3 * 16], net[3 * 16];
+  const std::vector<double>& M = b.ToBernstein1D; // q x q
+  while (top > 0)
+  {
+    const SubSquare s = stack[--top];
+    if (--budget < 0)
+    {
+      certified = false;
+      return;
+    }
+    // the sub-patch's Bernstein net: values at its lattice, collocated in u then v
+    for (int bb = 0; bb < q; ++bb)
+      for (int a = 0; a < q; ++a)
+      {
+        const double uv[2] = { s.U0 + s.H * a / p, s.V0 + s.H * bb / p };
+        this->FacePoint(f, uv, &vals[3 * (bb * q + a)]);
+      }
+    for (int bb = 0; bb < q; ++bb)
+      for (int a = 0; a < q; ++a)
+        for (int d = 0; d < 3; ++d)
+        {
+          double acc = 0.0;
+          for (int k = 0; k < q; ++k)
+            for (int l = 0; l < q; ++l)
+              acc += M[a * q + k] * M[bb * q + l] * vals[3 * (l * q + k) + d];
+          net[3 * (bb * q + a) + d] = acc;
+        }
+    Interval box[3];
+    for (int i = 0; i < nq; ++i)
+      for (int d = 0; d < 3; ++d)
+        box[d].Add(net[3 * i + d]);
+    double lb = 0.0;
+    for (int d = 0; d < 3; ++d)
+    {
+      const double gap = std::max(0.0, std::max(box[d].Lo - v[d], v[d] - box[d].Hi));
+      lb += gap * gap;
+    }
+    if (lb >= threshold())
+      continue;
+    // interval Hessian of |x - v|^2 / 2 in the sub-square's own coordinates (s, t)
+    double lambda = 0.0;
+    {
+      auto P = [&](int a, int bb, int d) { return net[3 * (bb * q + a) + d]; };
+      Interval xs[3], xt[3], xss[3], xst[3], xtt[3];
+      for (int d = 0; d < 3; ++d)
+      {
+        xss[d].Lo = xss[d].Hi = xtt[d].Lo = xtt[d].Hi = xst[d].Lo = xst[d].Hi = 0.0;
+        for (int bb = 0; bb < q; ++bb)
+          for (int a = 0; a < p; ++a)
+          {
+            xs[d].Add(p * (P(a + 1, bb, d) - P(a, bb, d)));
+            xt[d].Add(p * (P(bb, a + 1, d) - P(bb, a, d)));
+          }
+        bool first = true;
+        auto add = [&](Interval& iv, double val, bool& fst) {
+          if (fst)
+            iv.Lo = iv.Hi = val;
+          else
+            iv.Add(val);
+        };
+        for (int bb = 0; bb < q; ++bb)
+          for (int a = 0; a + 2 <= p; ++a)
+          {
+            add(xss[d], p * (p - 1) * (P(a + 2, bb, d) - 2 * P(a + 1, bb, d) + P(a, bb, d)), first);
+            first = false;
+          }
+        first = true;
+        for (int bb = 0; bb < q; ++bb)
+          for (int a = 0; a + 2 <= p; ++a)
+          {
+            add(xtt[d], p * (p - 1) * (P(bb, a + 2, d) - 2 * P(bb, a + 1, d) + P(bb, a, d)), first);
+            first = false;
+          }
+        first = true;
+        for (int bb = 0; bb < p; ++bb)
+          for (int a = 0; a < p; ++a)
+          {
+            add(xst[d],
+              p * p * (P(a + 1, bb + 1, d) - P(a + 1, bb, d) - P(a, bb + 1, d) + P(a, bb, d)),
+              first);
+            first = false;
+          }
+      }
+      Interval hss, htt, hst;
+      hss.Lo = hss.Hi = htt.Lo = htt.Hi = hst.Lo = hst.Hi = 0.0;
+      for (int d = 0; d < 3; ++d)
+      {
+        Interval e;
+        e.Lo = box[d].Lo - v[d];
+        e.Hi = box[d].Hi - v[d];
+        hss = Sum(hss, Sum(Square(xs[d]), Mul(e, xss[d])));
+        htt = Sum(htt, Sum(Square(xt[d]), Mul(e, xtt[d])));
+        hst = Sum(hst, Sum(Mul(xs[d], xt[d]), Mul(e, xst[d])));
+      }
+      const double off = std::max(std::abs(hst.Lo), std::abs(hst.Hi));
+      const double mean = 0.5 * (hss.Lo + htt.Lo), half = 0.5 * (hss.Lo - htt.Lo);
+      lambda = 2.0 * (mean - std::sqrt(half * half + off * off));
+    }
+    // f(u) >= f(c) + grad f(c) . (u - c) + min(0, lambda) / 2 |(u - c) / H|^2: concave
+    // (or linear) in u, so its minimum over the square is at a corner
+    auto inside = [&](const double u[2]) {
+      const double m = 1e-12 * s.H;
+      return u[0] >= s.U0 - m && u[0] <= s.U0 + s.H + m && u[1] >= s.V0 - m &&
+        u[1] <= s.V0 + s.H + m;
+    };
+    auto secondOrder = [&](const double c[2], double& fc) {
+      double x[3], xu[3], xv[3];
+      this->FacePoint(f, c, x, xu, xv);
+      const double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
+      fc = Dot(e, e);
+      const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
+      double low = HUGE_VAL;
+      for (int k = 0; k < 4; ++k)
+      {
+        const double corner[2] = { s.U0 + s.H * (k & 1), s.V0 + s.H * (k >> 1) };
+        const double du = corner[0] - c[0], dv = corner[1] - c[1];
+        const double dl2 = (du * du + dv * dv) / (s.H * s.H);
+        low = std::min(low, g[0] * du + g[1] * dv + 0.5 * std::min(0.0, lambda) * dl2);
+      }
+      return fc + low;
+    };
+    const double cen[2] = { s.U0 + 0.5 * s.H, s.V0 + 0.5 * s.H };
+    double c[2] = { cen[0], cen[1] };
+    if (ownD2 < HUGE_VAL && inside(ownUV))
+      c[0] = ownUV[0], c[1] = ownUV[1];
+    double fc = 0.0;
+    if (secondOrder(c, fc) >= threshold())
+      continue;
+    double fcen = fc;
+    if (c[0] != cen[0] || c[1] != cen[1])
+    {
+      double x[3];
+      this->FacePoint(f, cen, x);
+      fcen = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
+        (x[2] - v[2]) * (x[2] - v[2]);
+    }
+    if (s.Depth == 0 || fcen < best2 || fc < best2)
+    {
+      double uv[2] = { c[0], c[1] };
+      tryStart(uv);
+      if (inside(ownUV))
+      {
+        c[0] = ownUV[0], c[1] = ownUV[1];
+        if (secondOrder(c, fc) >= threshold())
+          continue;
+      }
+    }
+    if (s.Depth >= 30 || top + 4 > 256)
+    {
+      certified = false;
+      continue;
+    }
+    const double h = 0.5 * s.H;
+    for (int k = 0; k < 4; ++k)
+      stack[top++] = { s.U0 + h * (k & 1), s.V0 + h * (k >> 1), h, s.Depth + 1 };
+  }
+}
+
+double LagrangeHexEmbeddingMesh::ClosestBoundaryPoint(
+  const double v[3], Id& face, double uv[2], bool& certified, int* facesSearched) const
+{
+  double best2 = HUGE_VAL;
+  face = -1;
+  certified = true;
+  int searched = 0;
+  this->FaceTree.VisitNearer(v, best2, [&](Id f) {
+    ++searched;
+    this->SearchFace(f, v, best2, face, uv, certified);
+  });
+  if (facesSearched)
+    *facesSearched = searched;
+  return best2;
+}
+
+bool LagrangeHexEmbeddingMesh::Locate(const double v[3], Id& cell, double pc[3]) const
+{
+  const double tiny = 1e-300;
+  double reach2 = std::max(tiny, 1e-24 * this->Diagonal * this->Diagonal);
+  bool found = false;
+  this->CellTree.VisitNearer(v, reach2, [&](Id c) {
+    if (found)
+      return;
+    // starts: the parallelepiped of corner 0 and its three edges, the centre
+    double starts[2][3] = { { 0.5, 0.5, 0.5 }, { 0.5, 0.5, 0.5 } };
+    {
+      const std::int64_t* ids = &this->Connectivity[this->NodesPerCell * c];
+      const double* x0 = &this->Points[3 * ids[0]];
+      const int other[3] = { 1, 3, 4 };
+      double A[3][3], r[3], s[3];
+      for (int i = 0; i < 3; ++i)
+      {
+        for (int d = 0; d < 3; ++d)
+          A[d][i] = this->Points[3 * ids[other[i]] + d] - x0[d];
+        r[i] = v[i] - x0[i];
+      }
+      if (Solve3(A, r, s))
+        std::copy(s, s + 3, starts[0]);
+    }
+    for (int k = 0; k < 2 && !found; ++k)
+    {
+      double qp[3] = { starts[k][0], starts[k][1], starts[k][2] };
+      double y[3], J[3][3];
+      this->CellPoint(c, qp, y, J);
+      double r = std::sqrt((y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
+        (y[2] - v[2]) * (y[2] - v[2]));
+      for (int it = 0; it < 60 && r > 1e-15 * this->Diagonal; ++it)
+      {
+        double A[3][3], rhs[3], step[3];
+        for (int d = 0; d < 3; ++d)
+        {
+          for (int i = 0; i < 3; ++i)
+            A[d][i] = J[i][d];
+          rhs[d] = v[d] - y[d];
+        }
+        if (!Solve3(A, rhs, step))
+          break;
+        double alpha = 1.0;
+        bool better = false;
+        for (int ls = 0; ls < 30; ++ls, alpha *= 0.5)
+        {
+          const double t[3] = { qp[0] + alpha * step[0], qp[1] + alpha * step[1],
+            qp[2] + alpha * step[2] };
+          double yn[3], Jn[3][3];
+          this->CellPoint(c, t, yn, Jn);
+          const double rn = std::sqrt((yn[0] - v[0]) * (yn[0] - v[0]) +
+            (yn[1] - v[1]) * (yn[1] - v[1]) + (yn[2] - v[2]) * (yn[2] - v[2]));
+          if (rn < r)
+          {
+            std::copy(t, t + 3, qp);
+            std::copy(yn, yn + 3, y);
+            for (int i = 0; i < 3; ++i)
+              std::copy(Jn[i], Jn[i] + 3, J[i]);
+            r = rn;
+            better = true;
+            break;
+          }
+        }
+        if (!better)
+          break;
+        if (qp[0] < -1 || qp[1] < -1 || qp[2] < -1 || qp[0] > 2 || qp[1] > 2 || qp[2] > 2)
+          break; // far outside: not this cell
+      }
+      const double m = 1e-10;
+      if (r <= 1e-12 * this->Diagonal && qp[0] >= -m && qp[1] >= -m && qp[2] >= -m &&
+        qp[0] <= 1 + m && qp[1] <= 1 + m && qp[2] <= 1 + m)
+      {
+        found = true;
+        cell = c;
+        std::copy(qp, qp + 3, pc);
+        reach2 = 0.0;
+      }
+    }
+  });
+  return found;
+}
+
+bool LagrangeHexEmbeddingMesh::Offset(
+  Id c, const double pc[3], const double v[3], double q[3]) const
+{
+  double x[3], J[3][3], A[3][3], r[3];
+  this->CellPoint(c, pc, x, J);
+  for (int d = 0; d < 3; ++d)
+  {
+    for (int i = 0; i < 3; ++i)
+      A[d][i] = J[i][d];
+    r[d] = v[d] - x[d];
+  }
+  if (Solve3(A, r, q))
+    return true;
+  q[0] = q[1] = q[2] = 0.0;
+  return false;
+}
+
+int LagrangeHexEmbeddingMesh::NormalOffset(
+  const double p[3], Id& f, double uv[2], double& d, int& iterations) const
+{
+  const double tolF = 1e-13 * this->Diagonal;
+  int lastEdge = -1;
+  for (int hop = 0; hop < 16; ++hop)
+  {
+    const Id c = this->FaceCell[f];
+    const int lf = this->FaceLocal[f];
+    const int iu = FaceU[lf], iv = FaceV[lf];
+    auto residual = [&](const double t[2], double dd, double F[3], double A[3][3]) {
+      double pc[3], x[3], J[3][3], s[3], Js[3][3];
+      HexFaceToParametric(lf, t, pc);
+      this->CellPoint(c, pc, x, J);
+      this->CellNormal(c, pc, s, Js);
+      const double sl = std::sqrt(Dot(s, s));
+      if (!(sl > 1e-12))
+        return false;
+      double sh[3];
+      for (int k = 0; k < 3; ++k)
+        sh[k] = s[k] / sl;
+      const double shu = Dot(sh, Js[iu]), shv = Dot(sh, Js[iv]);
+      for (int k = 0; k < 3; ++k)
+      {
+        F[k] = x[k] + dd * sh[k] - p[k];
+        A[k][0] = J[iu][k] + dd * (Js[iu][k] - sh[k] * shu) / sl;
+        A[k][1] = J[iv][k] + dd * (Js[iv][k] - sh[k] * shv) / sl;
+        A[k][2] = sh[k];
+      }
+      return true;
+    };
+    int exitEdge = -1;
+    double lastNorm = HUGE_VAL;
+    for (int it = 0; it < 40; ++it)
+    {
+      ++iterations;
+      double F[3], A[3][3], step[3];
+      if (!residual(uv, d, F, A))
+        return -1;
+      const double nF = std::sqrt(Dot(F, F));
+      const double e = 1e-12;
+      const bool inside = uv[0] >= -e && uv[1] >= -e && uv[0] <= 1 + e && uv[1] <= 1 + e;
+      if (inside && nF <= tolF)
+        return 0;
+      const double rhs[3] = { -F[0], -F[1], -F[2] };
+      if (!Solve3(A, rhs, step))
+        return -1;
+      if (inside && nF <= 100 * tolF && std::abs(step[0]) + std::abs(step[1]) < 1e-13)
+        return 0;
+      if (it > 0 && !(nF < lastNorm) && nF > 100 * tolF)
+        return -1;
+      lastNorm = nF;
+      // leaving the square: stop at the side crossed first (0: v = 0, 1: u = 1, 2: v = 1,
+      // 3: u = 0), then go across it
+      double a = 1.0;
+      int side = -1;
+      auto cross = [&](double from, double st, double bound, int sd) {
+        if (st == 0.0)
+          return;
+        const double to = from + st;
+        if ((bound == 0.0 && to < 0.0) || (bound == 1.0 && to > 1.0))
+        {
+          const double sv = (bound - from) / st;
+          if (sv < a)
+            a = sv, side = sd;
+        }
+      };
+      cross(uv[1], step[1], 0.0, 0);
+      cross(uv[0], step[0], 1.0, 1);
+      cross(uv[1], step[1], 1.0, 2);
+      cross(uv[0], step[0], 0.0, 3);
+      a = std::max(0.0, a);
+      uv[0] += a * step[0];
+      uv[1] += a * step[1];
+      d += a * step[2];
+      if (side >= 0)
+      {
+        Clamp(uv);
+        exitEdge = side;
+        break;
+      }
+    }
+    if (exitEdge < 0)
+      return -1;
+    const Id g = this->FaceNeighbor[4 * f + exitEdge];
+    if (g < 0 || (exitEdge == lastEdge && hop > 8))
+      return -1;
+    const Id A0 = this->FaceCorners[4 * f + exitEdge],
+             B0 = this->FaceCorners[4 * f + (exitEdge + 1) % 4];
+    const double t =
+      exitEdge == 0 ? uv[0] : (exitEdge == 1 ? uv[1] : (exitEdge == 2 ? 1 - uv[0] : 1 - uv[1]));
+    int ge = -1;
+    double gt = 0;
+    for (int e = 0; e < 4; ++e)
+    {
+      const Id a0 = this->FaceCorners[4 * g + e], b0 = this->FaceCorners[4 * g + (e + 1) % 4];
+      if (a0 == A0 && b0 == B0)
+        ge = e, gt = t;
+      else if (a0 == B0 && b0 == A0)
+        ge = e, gt = 1 - t;
+    }
+    if (ge < 0)
+      return -1;
+    f = g;
+    lastEdge = ge;
+    const double at[4][2] = { { gt, 0 }, { 1, gt }, { 1 - gt, 1 }, { 0, 1 - gt } };
+    uv[0] = at[ge][0];
+    uv[1] = at[ge][1];
+  }
+  return -1;
+}
+
+void LagrangeHexEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding& r) const
+{
+  r = VertexEmbedding();
+  Id cell = -1;
+  double pc[3];
+  auto dist = [&](const double a[3]) {
+    return std::sqrt((a[0] - v[0]) * (a[0] - v[0]) + (a[1] - v[1]) * (a[1] - v[1]) +
+      (a[2] - v[2]) * (a[2] - v[2]));
+  };
+  if (this->Locate(v, cell, pc))
+  {
+    for (double& x : pc)
+      x = std::min(1.0, std::max(0.0, x));
+    double x[3];
+    this->CellPoint(cell, pc, x);
+    r.Cell = cell;
+    std::copy(pc, pc + 3, r.PC);
+    r.Inside = true;
+    r.Residual = dist(x);
+    return;
+  }
+  Id f = -1;
+  double uv[2] = { 0.5, 0.5 };
+  bool certified = true;
+  const double d2 = this->ClosestBoundaryPoint(v, f, uv, certified, &r.Visited);
+  r.Uncertified = !certified;
+  r.ClosestDistance = std::sqrt(d2);
+  r.BoundaryFace = f;
+  r.UV[0] = uv[0];
+  r.UV[1] = uv[1];
+  double x[3];
+  this->FacePoint(f, uv, x);
+  const Id closestCell = this->FaceCell[f];
+  double closestPC[3];
+  HexFaceToParametric(this->FaceLocal[f], uv, closestPC);
+  if (method == EMBED_BARYCENTRIC)
+  {
+    // the closest cell's map extrapolated: its inverse from the closest point
+    double qp[3] = { closestPC[0], closestPC[1], closestPC[2] }, y[3], J[3][3];
+    for (int it = 0; it < 40; ++it)
+    {
+      ++r.Iterations;
+      this->CellPoint(closestCell, qp, y, J);
+      double A[3][3], rhs[3], step[3];
+      for (int d = 0; d < 3; ++d)
+      {
+        for (int i = 0; i < 3; ++i)
+          A[d][i] = J[i][d];
+        rhs[d] = v[d] - y[d];
+      }
+      if (!Solve3(A, rhs, step) || Dot(rhs, rhs) <= 1e-30 * this->Diagonal * this->Diagonal)
+        break;
+      for (int i = 0; i < 3; ++i)
+        qp[i] += step[i];
+    }
+    this->CellPoint(closestCell, qp, y, J);
+    r.Cell = closestCell;
+    std::copy(qp, qp + 3, r.PC);
+    r.Residual = dist(y);
+    return;
+  }
+  double s[3];
+  {
+    double J[3][3];
+    this->CellNormal(closestCell, closestPC, s, J);
+  }
+  const double e[3] = { v[0] - x[0], v[1] - x[1], v[2] - x[2] };
+  double d = (Dot(e, s) >= 0 ? 1.0 : -1.0) * r.ClosestDistance;
+  // as on tets: a foot within 8 x the closest distance only; retried from the faces
+  // around the closest face's corners, then the fallback
+  const double reach = 8.0 * r.ClosestDistance + 1e-6 * this->Diagonal;
+  const double d0 = d;
+  Id nf = f;
+  double nuv[2] = { uv[0], uv[1] };
+  int its = 0;
+  int status = this->NormalOffset(v, nf, nuv, d, its);
+  if (status == 0 && std::abs(d) > reach)
+    status = -1;
+  for (int a = 0; a < 4 && status != 0; ++a)
+  {
+    const Id node = this->FaceCorners[4 * f + a];
+    for (Id i = this->NodeFaceOffsets[node]; i < this->NodeFaceOffsets[node + 1] && status != 0;
+         ++i)
+    {
+      nf = this->NodeFaces[i];
+      nuv[0] = nuv[1] = 0.5;
+      d = d0;
+      status = this->NormalOffset(v, nf, nuv, d, its);
+      if (status == 0 && std::abs(d) > reach)
+        status = -1;
+    }
+  }
+  r.Iterations = its;
+  if (status == 0)
+  {
+    const Id c = this->FaceCell[nf];
+    const int lf = this->FaceLocal[nf];
+    Clamp(nuv);
+    HexFaceToParametric(lf, nuv, r.PC);
+    r.Cell = c;
+    r.Face = static_cast<signed char>(lf);
+    r.Distance = d;
+    r.BoundaryFace = nf;
+    double y[3], n[3], J[3][3];
+    this->CellPoint(c, r.PC, y, J);
+    this->CellNormal(c, r.PC, n, J);
+    const double nl = std::sqrt(Dot(n, n));
+    double rebuilt[3];
+    for (int k = 0; k < 3; ++k)
+      rebuilt[k] = y[k] + d * n[k] / nl;
+    r.Residual = dist(rebuilt);
+    return;
+  }
+  r.Fallback = true;
+  r.Cell = closestCell;
+  std::copy(closestPC, closestPC + 3, r.PC);
+  r.Face = -1;
+  r.Distance = 0.0;
+  double q[3], y[3], J[3][3];
+  this->Offset(closestCell, closestPC, v, q);
+  this->CellPoint(closestCell, closestPC, y, J);
+  double rebuilt[3];
+  for (int k = 0; k < 3; ++k)
+    rebuilt[k] = y[k] + J[0][k] * q[0] + J[1][k] * q[1] + J[2][k] * q[2];
+  r.Residual = dist(rebuilt);
+}
+} // namespace hoembed
