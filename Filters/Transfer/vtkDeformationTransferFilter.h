@@ -23,10 +23,10 @@
  *   VTK_TETRA or all VTK_LAGRANGE_TETRAHEDRON of order 1-4, or all of one hexahedron type
  *   (VTK_LAGRANGE_HEXAHEDRON of order 1-3, VTK_TRIQUADRATIC_HEXAHEDRON,
  *   VTK_QUADRATIC_HEXAHEDRON) (Lagrange tets of order 3-4 and the hexahedra: RECOMPUTE
- *   normals only, the other modes fall back to it with a warning), the same points and cells as the rest
- * mesh of the embedding (its fingerprint must match; coordinates may differ). Optional point data
- * for NormalMode ROTATE_NORMALS: `NodalRotation` (9 components, row-major) and `Displacement` (3
- * components); for DEFORM_NORMALS: `Displacement`.
+ *   normals only, the other modes fall back to it with a warning), the same points and cells as the
+ * rest mesh of the embedding (its fingerprint must match; coordinates may differ). Optional point
+ * data for NormalMode ROTATE_NORMALS: `NodalRotation` (9 components, row-major) and `Displacement`
+ * (3 components); for DEFORM_NORMALS: `Displacement`.
  *
  * Output: vtkPolyData with the surface's topology (shared, not copied) and point, cell and
  * field data passed through, except the point arrays named `Embedding*` (the embedding
