@@ -5,6 +5,7 @@
 #include "hoembedCurvedBoundary.h"
 #include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
+#include "hoembedQuadraticMap.h"
 #include "hoembedShapeFunctions.h"
 #include "hoembedTetGenBridge.h"
 #include "hoembedTetMeshTopology.h"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <unordered_map>
 
@@ -1080,6 +1082,142 @@ void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
   out.CrossingPairsLeft = static_cast<Id>(pairs.size());
 }
 
+// Interior mid-edge nodes carry no surface: once the boundary is final they may go
+// wherever their cells are best. Curving bends the cells along the boundary and the
+// harmonic extension and the blending (ApplyQualityTarget) only keep them above a floor;
+// here each interior mid-edge node of a cell that curving left below its straight shape
+// moves to raise the cells around it towards their straight quality without lowering the
+// worst of them (a pattern search: axis steps from a tenth of its edge, halved on
+// failure).
+// Boundary faces do not change, so no crossing comes back; each moved node is confirmed
+// with the acceptance test (with the extra check) of every cell around it, else it goes
+// back. Gauss-Seidel sweeps in node order (deterministic), work bounded by evaluations
+// per cell. Returns the number of nodes moved.
+Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
+  const CurvedMeshOptions& options, Id evaluationsPerCell = 400)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  const MidNodeCells around(out);
+  std::vector<double> straight(nTets), q(nTets);
+  auto cellNodes = [&](Id c, double* x) {
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+  };
+  for (Id c = 0; c < nTets; ++c)
+  {
+    double x[30];
+    cellNodes(c, x);
+    straight[c] = Tet4ScaledJacobian(x);
+    q[c] = Tet10MinScaledJacobian(x);
+  }
+  std::int64_t evaluations = 0;
+  const std::int64_t budget = evaluationsPerCell * nTets;
+  // The worst minimum scaled Jacobian around node m and the sum over those cells of
+  // min(quality, straight quality): the move must not lower the first and raises the
+  // second, so that every bent cell gains, not only the worst one (raising the worst
+  // alone left the median where it was).
+  auto around2 = [&](Id m, double& sum) {
+    double w = 1e300;
+    sum = 0.0;
+    for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+    {
+      const Id c = around.Cells[k];
+      double x[30];
+      cellNodes(c, x);
+      ++evaluations;
+      const double qc = Tet10MinScaledJacobian(x);
+      w = std::min(w, qc);
+      sum += std::min(qc, straight[c]);
+    }
+    return w;
+  };
+  // Worth a try: a cell around the node that curving took below its straight shape.
+  auto bent = [&](Id m) {
+    for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+    {
+      const Id c = around.Cells[k];
+      if (q[around.Cells[k]] < 0.99 * straight[c])
+        return true;
+    }
+    return false;
+  };
+  Id moved = 0;
+  for (int sweep = 0; sweep < 3 && evaluations < budget; ++sweep)
+  {
+    Id movedNow = 0;
+    for (Id m = quad.NumberOfCorners; m < nPts && evaluations < budget; ++m)
+    {
+      if (out.BoundaryNode[m] || around.Offsets[m] == around.Offsets[m + 1] || !bent(m))
+        continue;
+      const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+      double L = 0.0;
+      for (int d = 0; d < 3; ++d)
+        L += (out.Points[3 * u + d] - out.Points[3 * v + d]) *
+          (out.Points[3 * u + d] - out.Points[3 * v + d]);
+      L = std::sqrt(L);
+      const double start[3] = { out.Points[3 * m], out.Points[3 * m + 1], out.Points[3 * m + 2] };
+      double sumBefore = 0.0;
+      const double before = around2(m, sumBefore);
+      double best = sumBefore;
+      double step = 0.1 * L;
+      for (int it = 0; it < 24 && step > 0.004 * L && evaluations < budget; ++it)
+      {
+        bool better = false;
+        for (int dir = 0; dir < 6 && !better; ++dir)
+        {
+          const int d = dir / 2;
+          const double s = dir % 2 ? -step : step;
+          out.Points[3 * m + d] += s;
+          double sum = 0.0;
+          const double w = around2(m, sum);
+          if (w >= before && sum > best + 1e-9)
+          {
+            best = sum;
+            better = true;
+          }
+          else
+            out.Points[3 * m + d] -= s;
+        }
+        if (!better)
+          step *= 0.5;
+      }
+      if (!(best > sumBefore + 1e-6))
+      {
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = start[d];
+        continue;
+      }
+      bool ok = true;
+      for (Id k = around.Offsets[m]; ok && k < around.Offsets[m + 1]; ++k)
+      {
+        double x[30];
+        cellNodes(around.Cells[k], x);
+        ok = TetIsValid(x, 10) &&
+          Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality, options.ExtraCheck);
+      }
+      if (!ok)
+      {
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = start[d];
+        continue;
+      }
+      for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+      {
+        double x[30];
+        cellNodes(around.Cells[k], x);
+        q[around.Cells[k]] = Tet10MinScaledJacobian(x);
+      }
+      ++movedNow;
+    }
+    moved += movedNow;
+    if (movedNow == 0)
+      break;
+  }
+  return moved;
+}
+
 // Counts of the boundary mid-edge nodes on the surface and pulled back; the pulled-back
 // edges with their targets.
 void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo,
@@ -1181,6 +1319,8 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     out.CrossingPairsLeft =
       static_cast<Id>(FindCurvedFaceCrossings(out.Points, BoundaryFaceNodes(out, topo)).size());
   }
+  if (!std::getenv("HOEMBED_NO_OPT"))
+    OptimiseInteriorMidNodes(out, quad, options);
   CountCurvedNodes(out, topo, targets, envelope, curving);
   report(1.0);
   return out;
