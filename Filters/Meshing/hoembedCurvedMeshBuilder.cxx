@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <unordered_map>
 
@@ -1094,7 +1093,7 @@ void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
 // back. Gauss-Seidel sweeps in node order (deterministic), work bounded by evaluations
 // per cell. Returns the number of nodes moved.
 Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
-  const CurvedMeshOptions& options, Id evaluationsPerCell = 400)
+  const CurvedMeshOptions& options, Id evaluationsPerCell = 100)
 {
   const Id nPts = static_cast<Id>(out.Points.size() / 3);
   const Id nTets = static_cast<Id>(out.Conn.size() / 10);
@@ -1127,7 +1126,7 @@ Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
       double x[30];
       cellNodes(c, x);
       ++evaluations;
-      const double qc = Tet10MinScaledJacobian(x);
+      const double qc = Tet10SampledScaledJacobian(x);
       w = std::min(w, qc);
       sum += std::min(qc, straight[c]);
     }
@@ -1138,13 +1137,13 @@ Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
     for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
     {
       const Id c = around.Cells[k];
-      if (q[around.Cells[k]] < 0.99 * straight[c])
+      if (q[c] < 0.9 * straight[c])
         return true;
     }
     return false;
   };
   Id moved = 0;
-  for (int sweep = 0; sweep < 3 && evaluations < budget; ++sweep)
+  for (int sweep = 0; sweep < 2 && evaluations < budget; ++sweep)
   {
     Id movedNow = 0;
     for (Id m = quad.NumberOfCorners; m < nPts && evaluations < budget; ++m)
@@ -1162,7 +1161,7 @@ Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
       const double before = around2(m, sumBefore);
       double best = sumBefore;
       double step = 0.1 * L;
-      for (int it = 0; it < 24 && step > 0.004 * L && evaluations < budget; ++it)
+      for (int it = 0; it < 12 && step > 0.01 * L && evaluations < budget; ++it)
       {
         bool better = false;
         for (int dir = 0; dir < 6 && !better; ++dir)
@@ -1189,12 +1188,17 @@ Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
           out.Points[3 * m + d] = start[d];
         continue;
       }
+      // the search used the sampled quality: the proven one (and the acceptance test)
+      // decides, against the worst around before the move
+      double worstBefore = 1e300;
+      for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+        worstBefore = std::min(worstBefore, q[around.Cells[k]]);
       bool ok = true;
       for (Id k = around.Offsets[m]; ok && k < around.Offsets[m + 1]; ++k)
       {
         double x[30];
         cellNodes(around.Cells[k], x);
-        ok = TetIsValid(x, 10) &&
+        ok = Tet10MinScaledJacobian(x) >= worstBefore && TetIsValid(x, 10) &&
           Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality, options.ExtraCheck);
       }
       if (!ok)
@@ -1319,8 +1323,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     out.CrossingPairsLeft =
       static_cast<Id>(FindCurvedFaceCrossings(out.Points, BoundaryFaceNodes(out, topo)).size());
   }
-  if (!std::getenv("HOEMBED_NO_OPT"))
-    OptimiseInteriorMidNodes(out, quad, options);
+  OptimiseInteriorMidNodes(out, quad, options);
   CountCurvedNodes(out, topo, targets, envelope, curving);
   report(1.0);
   return out;
