@@ -835,9 +835,11 @@ void StraightenInvalidCells(
 Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   const CurvedMeshOptions& options, CurvingResult& curving)
 {
-  return StraightenCellsUntil(out, quad, nbe, curving, [&](const double* x) {
-    return Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality);
-  });
+  // the quality target's promise too (min(target, straight)): the repair can break it
+  // as it can the floor (bumpy blob at 1000, target 0.3: 2-3 cells below)
+  const double floor = std::max(options.MinimumQuality, options.QualityTarget);
+  return StraightenCellsUntil(out, quad, nbe, curving,
+    [&](const double* x) { return Tet10Acceptable(x, options.QualityRatio, floor); });
 }
 
 // Moves mid-edge node m to keep * its displacement from the straight position.
@@ -1117,9 +1119,17 @@ Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
   // min(quality, straight quality): the move must not lower the first and raises the
   // second, so that every bent cell gains, not only the worst one (raising the worst
   // alone left the median where it was).
+  // Besides, no cell may fall below the level the quality target promises it,
+  // min(max(floor, target), its straight quality), unless it was below already (then not
+  // below where it was).
+  const double target = std::max(options.MinimumQuality, options.QualityTarget);
+  auto keeps = [&](Id c, double qc) {
+    return qc >= std::min(q[c], std::min(target, 0.999 * straight[c]));
+  };
   auto around2 = [&](Id m, double& sum) {
     double w = 1e300;
     sum = 0.0;
+    bool kept = true;
     for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
     {
       const Id c = around.Cells[k];
@@ -1129,8 +1139,9 @@ Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
       const double qc = Tet10SampledScaledJacobian(x);
       w = std::min(w, qc);
       sum += std::min(qc, straight[c]);
+      kept = kept && keeps(c, qc);
     }
-    return w;
+    return kept ? w : -1e300;
   };
   // Worth a try: a cell around the node that curving took below its straight shape.
   auto bent = [&](Id m) {
@@ -1198,7 +1209,8 @@ Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
       {
         double x[30];
         cellNodes(around.Cells[k], x);
-        ok = Tet10MinScaledJacobian(x) >= worstBefore && TetIsValid(x, 10) &&
+        const double qc = Tet10MinScaledJacobian(x);
+        ok = qc >= worstBefore && keeps(around.Cells[k], qc) && TetIsValid(x, 10) &&
           Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality, options.ExtraCheck);
       }
       if (!ok)
