@@ -835,12 +835,11 @@ void StraightenInvalidCells(
 Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   const CurvedMeshOptions& options, CurvingResult& curving)
 {
-  // the quality target's promise too (min(target, straight)): the repair can break it
-  // as it can the floor (bumpy blob at 1000, target 0.3: 2-3 cells below)
-  const double floor = std::max(options.MinimumQuality, options.QualityTarget);
-  return StraightenCellsUntil(out, quad, nbe, curving,
-    [&](const double* x) { return Tet10Acceptable(x, options.QualityRatio, floor); });
+  return StraightenCellsUntil(out, quad, nbe, curving, [&](const double* x) {
+    return Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality);
+  });
 }
+
 
 // Moves mid-edge node m to keep * its displacement from the straight position.
 void PullNode(CurvedMesh& out, const QuadraticNodes& quad, Id m, double keep)
@@ -1081,6 +1080,94 @@ void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
   if (!pairs.empty())
     RestoreCrossingCorners(out, quad, nbe, faces, straight, pairs, curving, edgeOf);
   out.CrossingPairsLeft = static_cast<Id>(pairs.size());
+}
+
+// The quality target's promise (min(target, straight quality)), which the crossing repair
+// can break as it can the floor (bumpy blob at 1000, target 0.3: 2-3 cells below): such a
+// cell gets its mid-edge nodes straight, unless that takes a cell around them below the
+// floor (a sliver that only its curved nodes kept above it): then the cell stays as it
+// is. Each node once; returns the number of nodes straightened.
+Id StraightenBelowTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  const CurvedMeshOptions& options, CurvingResult& curving)
+{
+  if (!(options.QualityTarget > options.MinimumQuality))
+    return 0;
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  const MidNodeCells around(out);
+  std::vector<Id> edgeOf(out.Points.size() / 3, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  auto cellQuality = [&](Id c, double& straight) {
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    straight = Tet4ScaledJacobian(x);
+    return Tet10MinScaledJacobian(x);
+  };
+  std::vector<char> straightened(out.Points.size() / 3, 0);
+  Id count = 0;
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (Id c = 0; c < nTets; ++c)
+    {
+      double straight = 0.0;
+      const double qc = cellQuality(c, straight);
+      if (qc >= std::min(options.QualityTarget, 0.999 * straight))
+        continue;
+      Id nodes[6];
+      double saved[18];
+      std::vector<Id> touched;
+      for (int a = 4; a < 10; ++a)
+      {
+        const Id m = out.Conn[10 * c + a];
+        nodes[a - 4] = m;
+        std::copy(&out.Points[3 * m], &out.Points[3 * m] + 3, &saved[3 * (a - 4)]);
+        touched.insert(touched.end(), around.Cells.begin() + around.Offsets[m],
+          around.Cells.begin() + around.Offsets[m + 1]);
+      }
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      std::vector<double> qBefore(touched.size());
+      for (size_t k = 0; k < touched.size(); ++k)
+      {
+        double st = 0.0;
+        qBefore[k] = cellQuality(touched[k], st);
+      }
+      bool any = false;
+      for (Id m : nodes)
+        if (!straightened[m])
+        {
+          PullNode(out, quad, m, 0.0);
+          any = true;
+        }
+      bool ok = any;
+      for (size_t k = 0; ok && k < touched.size(); ++k)
+      {
+        double st = 0.0;
+        const double qk = cellQuality(touched[k], st);
+        ok = qk > 0.0 &&
+          !(qBefore[k] >= options.MinimumQuality && qk < options.MinimumQuality);
+      }
+      if (!ok)
+      {
+        for (int k = 0; k < 6; ++k)
+          std::copy(&saved[3 * k], &saved[3 * k] + 3, &out.Points[3 * nodes[k]]);
+        continue;
+      }
+      for (Id m : nodes)
+        if (!straightened[m])
+        {
+          straightened[m] = 1;
+          ++count;
+          changed = true;
+          if (edgeOf[m] >= 0)
+            curving.Alpha[edgeOf[m]] = 0.0;
+        }
+    }
+  }
+  return count;
 }
 
 // Interior mid-edge nodes carry no surface: once the boundary is final they may go
@@ -1328,7 +1415,8 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);
   RepairBoundaryCrossings(out, topo, quad, nbe, tetgenCorners, curving);
-  if (StraightenPoorCells(out, quad, nbe, options, curving) > 0)
+  const Id poorStraightened = StraightenPoorCells(out, quad, nbe, options, curving);
+  if (poorStraightened + StraightenBelowTarget(out, quad, nbe, options, curving) > 0)
   {
     // straightened boundary nodes change the curved faces: count the crossing pairs again
     // (the driver changes the mesh when any is left)
