@@ -1135,20 +1135,29 @@ Id StraightenBelowTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
         double st = 0.0;
         qBefore[k] = cellQuality(touched[k], st);
       }
-      bool any = false;
-      for (Id m : nodes)
-        if (!straightened[m])
-        {
-          PullNode(out, quad, m, 0.0);
-          any = true;
-        }
-      bool ok = any;
-      for (size_t k = 0; ok && k < touched.size(); ++k)
+      // blended back half, three quarters, then all the way: the least that lifts it
+      bool ok = false;
+      double used = 0.0;
+      for (double keep : { 0.5, 0.25, 0.0 })
       {
+        used = keep;
+        bool any = false;
+        for (int k = 0; k < 6; ++k)
+          if (!straightened[nodes[k]])
+          {
+            std::copy(&saved[3 * k], &saved[3 * k] + 3, &out.Points[3 * nodes[k]]);
+            PullNode(out, quad, nodes[k], keep);
+            any = true;
+          }
         double st = 0.0;
-        const double qk = cellQuality(touched[k], st);
-        ok = qk > 0.0 &&
-          !(qBefore[k] >= options.MinimumQuality && qk < options.MinimumQuality);
+        ok = any && cellQuality(c, st) >= std::min(options.QualityTarget, 0.999 * st);
+        for (size_t k = 0; ok && k < touched.size(); ++k)
+        {
+          const double qk = cellQuality(touched[k], st);
+          ok = qk > 0.0 && !(qBefore[k] >= options.MinimumQuality && qk < options.MinimumQuality);
+        }
+        if (ok)
+          break;
       }
       if (!ok)
       {
@@ -1163,7 +1172,7 @@ Id StraightenBelowTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
           ++count;
           changed = true;
           if (edgeOf[m] >= 0)
-            curving.Alpha[edgeOf[m]] = 0.0;
+            curving.Alpha[edgeOf[m]] *= used;
         }
     }
   }
