@@ -299,7 +299,7 @@ bool Tet10IsValid(const double* x, int depth)
   return SubTetLowerBound(x, corners, depth) > 0.0;
 }
 
-double Tet10MinScaledJacobian(const double* x)
+double Tet10SampledScaledJacobian(const double* x)
 {
   const CubicLattice& lat = Lattice();
   static const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
@@ -311,6 +311,12 @@ double Tet10MinScaledJacobian(const double* x)
     Tet10Jacobian(x, pc, J);
     best = std::min(best, ScaledJacobianOf(J));
   }
+  return std::min(best, 1.0);
+}
+
+double Tet10MinScaledJacobian(const double* x)
+{
+  double best = Tet10SampledScaledJacobian(x);
   if (best > 0.0 && !Tet10IsValid(x))
   {
     best = 0.0; // positive at the samples but not provably positive everywhere

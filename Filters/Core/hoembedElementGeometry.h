@@ -80,6 +80,9 @@ HOEMBEDCORE_EXPORT bool Tet10IsValid(const double* x, int depth = 3);
  * For a straight tet10 this equals vtkMeshQuality's tet scaled Jacobian.
  */
 HOEMBEDCORE_EXPORT double Tet10MinScaledJacobian(const double* x);
+/// Tet10MinScaledJacobian without the validity proof: the minimum over the 20 lattice
+/// nodes alone (at most 1). Cheaper; a search may use it, an acceptance test may not.
+HOEMBEDCORE_EXPORT double Tet10SampledScaledJacobian(const double* x);
 /// Scaled Jacobian of a straight tet4, as vtkMeshQuality / Verdict computes it (min over
 /// the 4 corners, sqrt(2) normalised: 1 for a regular tet; -1 for a zero-length edge).
 HOEMBEDCORE_EXPORT double Tet4ScaledJacobian(const double* x);

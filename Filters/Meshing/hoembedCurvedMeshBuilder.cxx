@@ -5,6 +5,7 @@
 #include "hoembedCurvedBoundary.h"
 #include "hoembedFreeNodeFit.h"
 #include "hoembedElementGeometry.h"
+#include "hoembedQuadraticMap.h"
 #include "hoembedShapeFunctions.h"
 #include "hoembedTetGenBridge.h"
 #include "hoembedTetMeshTopology.h"
@@ -839,6 +840,7 @@ Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   });
 }
 
+
 // Moves mid-edge node m to keep * its displacement from the straight position.
 void PullNode(CurvedMesh& out, const QuadraticNodes& quad, Id m, double keep)
 {
@@ -1080,6 +1082,254 @@ void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
   out.CrossingPairsLeft = static_cast<Id>(pairs.size());
 }
 
+// The quality target's promise (min(target, straight quality)), which the crossing repair
+// can break as it can the floor (bumpy blob at 1000, target 0.3: 2-3 cells below): such a
+// cell gets its mid-edge nodes straight, unless that takes a cell around them below the
+// floor (a sliver that only its curved nodes kept above it): then the cell stays as it
+// is. Each node once; returns the number of nodes straightened.
+Id StraightenBelowTarget(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
+  const CurvedMeshOptions& options, CurvingResult& curving)
+{
+  if (!(options.QualityTarget > options.MinimumQuality))
+    return 0;
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  const MidNodeCells around(out);
+  std::vector<Id> edgeOf(out.Points.size() / 3, -1);
+  for (Id e = 0; e < nbe; ++e)
+    edgeOf[quad.EdgeMid[e]] = e;
+  auto cellQuality = [&](Id c, double& straight) {
+    double x[30];
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+    straight = Tet4ScaledJacobian(x);
+    return Tet10MinScaledJacobian(x);
+  };
+  std::vector<char> straightened(out.Points.size() / 3, 0);
+  Id count = 0;
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (Id c = 0; c < nTets; ++c)
+    {
+      double straight = 0.0;
+      const double qc = cellQuality(c, straight);
+      if (qc >= std::min(options.QualityTarget, 0.999 * straight))
+        continue;
+      Id nodes[6];
+      double saved[18];
+      std::vector<Id> touched;
+      for (int a = 4; a < 10; ++a)
+      {
+        const Id m = out.Conn[10 * c + a];
+        nodes[a - 4] = m;
+        std::copy(&out.Points[3 * m], &out.Points[3 * m] + 3, &saved[3 * (a - 4)]);
+        touched.insert(touched.end(), around.Cells.begin() + around.Offsets[m],
+          around.Cells.begin() + around.Offsets[m + 1]);
+      }
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      std::vector<double> qBefore(touched.size());
+      for (size_t k = 0; k < touched.size(); ++k)
+      {
+        double st = 0.0;
+        qBefore[k] = cellQuality(touched[k], st);
+      }
+      // blended back half, three quarters, then all the way: the least that lifts it
+      bool ok = false;
+      double used = 0.0;
+      for (double keep : { 0.5, 0.25, 0.0 })
+      {
+        used = keep;
+        bool any = false;
+        for (int k = 0; k < 6; ++k)
+          if (!straightened[nodes[k]])
+          {
+            std::copy(&saved[3 * k], &saved[3 * k] + 3, &out.Points[3 * nodes[k]]);
+            PullNode(out, quad, nodes[k], keep);
+            any = true;
+          }
+        double st = 0.0;
+        ok = any && cellQuality(c, st) >= std::min(options.QualityTarget, 0.999 * st);
+        for (size_t k = 0; ok && k < touched.size(); ++k)
+        {
+          const double qk = cellQuality(touched[k], st);
+          ok = qk > 0.0 && !(qBefore[k] >= options.MinimumQuality && qk < options.MinimumQuality);
+        }
+        if (ok)
+          break;
+      }
+      if (!ok)
+      {
+        for (int k = 0; k < 6; ++k)
+          std::copy(&saved[3 * k], &saved[3 * k] + 3, &out.Points[3 * nodes[k]]);
+        continue;
+      }
+      for (Id m : nodes)
+        if (!straightened[m])
+        {
+          straightened[m] = 1;
+          ++count;
+          changed = true;
+          if (edgeOf[m] >= 0)
+            curving.Alpha[edgeOf[m]] *= used;
+        }
+    }
+  }
+  return count;
+}
+
+// Interior mid-edge nodes carry no surface: once the boundary is final they may go
+// wherever their cells are best. Curving bends the cells along the boundary and the
+// harmonic extension and the blending (ApplyQualityTarget) only keep them above a floor;
+// here each interior mid-edge node of a cell that curving left below its straight shape
+// moves to raise the cells around it towards their straight quality without lowering the
+// worst of them (a pattern search: axis steps from a tenth of its edge, halved on
+// failure).
+// Boundary faces do not change, so no crossing comes back; each moved node is confirmed
+// with the acceptance test (with the extra check) of every cell around it, else it goes
+// back. Gauss-Seidel sweeps in node order (deterministic), work bounded by evaluations
+// per cell. Returns the number of nodes moved.
+Id OptimiseInteriorMidNodes(CurvedMesh& out, const QuadraticNodes& quad,
+  const CurvedMeshOptions& options, Id evaluationsPerCell = 100)
+{
+  const Id nPts = static_cast<Id>(out.Points.size() / 3);
+  const Id nTets = static_cast<Id>(out.Conn.size() / 10);
+  const MidNodeCells around(out);
+  std::vector<double> straight(nTets), q(nTets);
+  auto cellNodes = [&](Id c, double* x) {
+    for (int a = 0; a < 10; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
+  };
+  for (Id c = 0; c < nTets; ++c)
+  {
+    double x[30];
+    cellNodes(c, x);
+    straight[c] = Tet4ScaledJacobian(x);
+    q[c] = Tet10MinScaledJacobian(x);
+  }
+  std::int64_t evaluations = 0;
+  const std::int64_t budget = evaluationsPerCell * nTets;
+  // The worst minimum scaled Jacobian around node m and the sum over those cells of
+  // min(quality, straight quality): the move must not lower the first and raises the
+  // second, so that every bent cell gains, not only the worst one (raising the worst
+  // alone left the median where it was).
+  // Besides, no cell may fall below the level the quality target promises it,
+  // min(max(floor, target), its straight quality), unless it was below already (then not
+  // below where it was).
+  const double target = std::max(options.MinimumQuality, options.QualityTarget);
+  auto keeps = [&](Id c, double qc) {
+    return qc >= std::min(q[c], std::min(target, 0.999 * straight[c]));
+  };
+  auto around2 = [&](Id m, double& sum) {
+    double w = 1e300;
+    sum = 0.0;
+    bool kept = true;
+    for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+    {
+      const Id c = around.Cells[k];
+      double x[30];
+      cellNodes(c, x);
+      ++evaluations;
+      const double qc = Tet10SampledScaledJacobian(x);
+      w = std::min(w, qc);
+      sum += std::min(qc, straight[c]);
+      kept = kept && keeps(c, qc);
+    }
+    return kept ? w : -1e300;
+  };
+  // Worth a try: a cell around the node that curving took below its straight shape.
+  auto bent = [&](Id m) {
+    for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+    {
+      const Id c = around.Cells[k];
+      if (q[c] < 0.9 * straight[c])
+        return true;
+    }
+    return false;
+  };
+  Id moved = 0;
+  for (int sweep = 0; sweep < 2 && evaluations < budget; ++sweep)
+  {
+    Id movedNow = 0;
+    for (Id m = quad.NumberOfCorners; m < nPts && evaluations < budget; ++m)
+    {
+      if (out.BoundaryNode[m] || around.Offsets[m] == around.Offsets[m + 1] || !bent(m))
+        continue;
+      const Id u = quad.MidCorners[2 * m], v = quad.MidCorners[2 * m + 1];
+      double L = 0.0;
+      for (int d = 0; d < 3; ++d)
+        L += (out.Points[3 * u + d] - out.Points[3 * v + d]) *
+          (out.Points[3 * u + d] - out.Points[3 * v + d]);
+      L = std::sqrt(L);
+      const double start[3] = { out.Points[3 * m], out.Points[3 * m + 1], out.Points[3 * m + 2] };
+      double sumBefore = 0.0;
+      const double before = around2(m, sumBefore);
+      double best = sumBefore;
+      double step = 0.1 * L;
+      for (int it = 0; it < 12 && step > 0.01 * L && evaluations < budget; ++it)
+      {
+        bool better = false;
+        for (int dir = 0; dir < 6 && !better; ++dir)
+        {
+          const int d = dir / 2;
+          const double s = dir % 2 ? -step : step;
+          out.Points[3 * m + d] += s;
+          double sum = 0.0;
+          const double w = around2(m, sum);
+          if (w >= before && sum > best + 1e-9)
+          {
+            best = sum;
+            better = true;
+          }
+          else
+            out.Points[3 * m + d] -= s;
+        }
+        if (!better)
+          step *= 0.5;
+      }
+      if (!(best > sumBefore + 1e-6))
+      {
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = start[d];
+        continue;
+      }
+      // the search used the sampled quality: the proven one (and the acceptance test)
+      // decides, against the worst around before the move
+      double worstBefore = 1e300;
+      for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+        worstBefore = std::min(worstBefore, q[around.Cells[k]]);
+      bool ok = true;
+      for (Id k = around.Offsets[m]; ok && k < around.Offsets[m + 1]; ++k)
+      {
+        double x[30];
+        cellNodes(around.Cells[k], x);
+        const double qc = Tet10MinScaledJacobian(x);
+        ok = qc >= worstBefore && keeps(around.Cells[k], qc) && TetIsValid(x, 10) &&
+          Tet10Acceptable(x, options.QualityRatio, options.MinimumQuality, options.ExtraCheck);
+      }
+      if (!ok)
+      {
+        for (int d = 0; d < 3; ++d)
+          out.Points[3 * m + d] = start[d];
+        continue;
+      }
+      for (Id k = around.Offsets[m]; k < around.Offsets[m + 1]; ++k)
+      {
+        double x[30];
+        cellNodes(around.Cells[k], x);
+        q[around.Cells[k]] = Tet10MinScaledJacobian(x);
+      }
+      ++movedNow;
+    }
+    moved += movedNow;
+    if (movedNow == 0)
+      break;
+  }
+  return moved;
+}
+
 // Counts of the boundary mid-edge nodes on the surface and pulled back; the pulled-back
 // edges with their targets.
 void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo,
@@ -1174,13 +1424,15 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);
   RepairBoundaryCrossings(out, topo, quad, nbe, tetgenCorners, curving);
-  if (StraightenPoorCells(out, quad, nbe, options, curving) > 0)
+  const Id poorStraightened = StraightenPoorCells(out, quad, nbe, options, curving);
+  if (poorStraightened + StraightenBelowTarget(out, quad, nbe, options, curving) > 0)
   {
     // straightened boundary nodes change the curved faces: count the crossing pairs again
     // (the driver changes the mesh when any is left)
     out.CrossingPairsLeft =
       static_cast<Id>(FindCurvedFaceCrossings(out.Points, BoundaryFaceNodes(out, topo)).size());
   }
+  OptimiseInteriorMidNodes(out, quad, options);
   CountCurvedNodes(out, topo, targets, envelope, curving);
   report(1.0);
   return out;

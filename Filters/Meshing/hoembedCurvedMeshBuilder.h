@@ -16,7 +16,10 @@
  * 5. the mid-edge nodes of elements below CurvedMeshOptions::QualityTarget (of their
  *    straight quality) are blended back towards their straight positions, just enough;
  * 6. pairs of curved boundary faces that cross (hoembed::FindCurvedFaceCrossings) get
- *    their mid-edge nodes pulled back until none is left.
+ *    their mid-edge nodes pulled back until none is left;
+ * 7. interior mid-edge nodes of cells that curving bent move to raise those cells towards
+ *    their straight quality, never lowering the worst cell around them (the boundary
+ *    does not change).
  * The boundary edges whose mid-edge nodes stay pulled back are returned with their
  * surface targets (for diagnostics).
  */

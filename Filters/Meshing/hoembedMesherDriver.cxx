@@ -622,7 +622,8 @@ void ReportQuality(const MesherOptions& options, MesherResult& out)
   out.QualityQuantiles[2] = q[(n - 1) / 2];
   out.PoorElementCount =
     static_cast<Id>(std::lower_bound(q.begin(), q.end(), options.MinimumQuality) - q.begin());
-  if (out.PoorElementCount > 0 && options.ElementOrder == 2 && options.CurveBoundary)
+  // Every order and setting: a tet4 or straight mesh's poor cells are TetGen's too.
+  if (out.PoorElementCount > 0)
   {
     double edge = 0.0, size = 0.0;
     bool capped = false;
@@ -636,7 +637,21 @@ void ReportQuality(const MesherOptions& options, MesherResult& out)
            "the surface come closer than the element size: thin parts); "
         << (capped ? "more than " : "about ") << suggested
         << " elements (TargetNumberOfElements; TargetEdgeLength " << (capped ? "below " : "")
-        << size << ", now " << edge << ") would lift them to it";
+        << size << ", now " << edge << ") would lift them to it. Output cells (id: quality)";
+    // the poorest by name (output cell ids), worst first, ties by id: a user finds them
+    std::vector<Id> ids;
+    for (Id c = 0; c < static_cast<Id>(n); ++c)
+      if (out.MinScaledJacobian[c] < options.MinimumQuality)
+        ids.push_back(c);
+    std::sort(ids.begin(), ids.end(), [&](Id a, Id b) {
+      return out.MinScaledJacobian[a] < out.MinScaledJacobian[b] ||
+        (out.MinScaledJacobian[a] == out.MinScaledJacobian[b] && a < b);
+    });
+    const size_t shown = std::min<size_t>(ids.size(), 100);
+    for (size_t k = 0; k < shown; ++k)
+      msg << (k ? ", " : " ") << ids[k] << ": " << out.MinScaledJacobian[ids[k]];
+    if (ids.size() > shown)
+      msg << " and " << ids.size() - shown << " more";
     out.Warnings.push_back(msg.str());
   }
 }

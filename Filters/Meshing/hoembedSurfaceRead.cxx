@@ -52,6 +52,72 @@ void Bounds(const SurfaceInput& s, double b[6])
       b[2 * d + 1] = std::max(b[2 * d + 1], v);
     }
 }
+// Lexicographic order of two points by their coordinates (x, then y, then z).
+bool CoordinatesLess(const double* a, const double* b)
+{
+  return std::lexicographical_compare(a, a + 3, b, b + 3);
+}
+
+// The triangles in an order that depends on the surface alone, not on how it was stored:
+// each triangle starts at its lexicographically smallest corner (a rotation, which keeps
+// its orientation), and the triangles are sorted by their corners' coordinates. The merge
+// service (vtkCleanPolyData) numbers the merged points in the order of first use and keeps
+// the first point's coordinates of each cluster it merges, and decimation, locators and
+// TetGen all depend on the order of what they are given: with this order, the same surface
+// gives the same mesh bit for bit whatever its triangle and point order (issue 27; a
+// permuted surface gave 465 against 515 nodes before). Comparisons of coordinates are kept
+// by any positive scaling, so the order, too, is scale-invariant.
+void CanonicalTriangleOrder(const SurfaceInput& s, std::vector<Id>& tris)
+{
+  const size_t nt = tris.size() / 3;
+  auto corner = [&](size_t t, int k) { return Point(s, tris[3 * t + k]); };
+  // the rotation whose corner sequence is lexicographically smallest
+  auto rotationLess = [&](size_t t, int r, int q) {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double* a = corner(t, (r + k) % 3);
+      const double* b = corner(t, (q + k) % 3);
+      if (CoordinatesLess(a, b))
+        return true;
+      if (CoordinatesLess(b, a))
+        return false;
+    }
+    return false;
+  };
+  for (size_t t = 0; t < nt; ++t)
+  {
+    int best = 0;
+    for (int r = 1; r < 3; ++r)
+      if (rotationLess(t, r, best))
+        best = r;
+    if (best != 0)
+    {
+      const Id rotated[3] = { tris[3 * t + best], tris[3 * t + (best + 1) % 3],
+        tris[3 * t + (best + 2) % 3] };
+      std::copy(rotated, rotated + 3, &tris[3 * t]);
+    }
+  }
+  std::vector<Id> order(nt);
+  for (size_t t = 0; t < nt; ++t)
+    order[t] = static_cast<Id>(t);
+  // stable: triangles with the same corner coordinates (duplicates) are the same geometry
+  std::stable_sort(order.begin(), order.end(), [&](Id a, Id b) {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double* pa = corner(static_cast<size_t>(a), k);
+      const double* pb = corner(static_cast<size_t>(b), k);
+      if (CoordinatesLess(pa, pb))
+        return true;
+      if (CoordinatesLess(pb, pa))
+        return false;
+    }
+    return false;
+  });
+  std::vector<Id> sorted(tris.size());
+  for (size_t i = 0; i < nt; ++i)
+    std::copy(&tris[3 * order[i]], &tris[3 * order[i]] + 3, &sorted[3 * i]);
+  tris.swap(sorted);
+}
 } // namespace
 
 std::string CheckSurfacePointIds(const SurfaceInput& s)
@@ -224,6 +290,7 @@ std::string ReadSurface(const SurfaceInput& s, const SurfaceReadServices& servic
       fineTris.insert(fineTris.end(), t, t + 3);
     }
   }
+  CanonicalTriangleOrder(s, fineTris);
   points.clear();
   tris.clear();
   if (!services.Merge || !services.Merge(fineTris, points, tris) || tris.empty())

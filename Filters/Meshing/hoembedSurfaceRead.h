@@ -71,7 +71,10 @@ HOEMBEDFILTERSMESHING_EXPORT std::string CheckEstimatedSize(const SurfaceInput& 
 /**
  * The read step: checks (empty, non-finite points, no polygons), triangulation (a quad
  * along its shorter diagonal, a larger polygon by the ear cut service else as a fan,
- * strips decomposed as VTK does), the merge service, and a check that triangles are
+ * strips decomposed as VTK does), the triangles put in an order of the geometry alone
+ * (each from its smallest corner by coordinates, then sorted by corners: the same surface
+ * stored in any triangle or point order is merged and meshed the same, bit for bit), the
+ * merge service, and a check that triangles are
  * left. Returns an error sentence, empty on success (then `points`, `tris` hold the
  * fine surface the mesher takes).
  */

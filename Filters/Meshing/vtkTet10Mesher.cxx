@@ -40,6 +40,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -356,14 +357,18 @@ std::string ReadInput(vtkPolyData* input, const InputArrays& arrays, double merg
 class VTKServices
 {
 public:
-  explicit VTKServices(vtkPolyData* fine) : Fine(fine), Projector(fine)
+  explicit VTKServices(vtkPolyData* fine) : Fine(fine), Diagonal(fine->GetLength())
   {
-    this->VertexLocator->SetDataSet(fine);
+    // The queries run on the surface scaled by a power of two to a unit diagonal (see
+    // Unit()): the locators' bins and tolerances then do not depend on the surface's size,
+    // so a closest point on an edge shared by two triangles is computed from the same
+    // triangle at every scale (at 2^10 a corner came out one ulp apart).
+    this->Projector.reset(new SurfaceProjector(this->Unit()));
+    this->VertexLocator->SetDataSet(this->Unit());
     this->VertexLocator->BuildLocator();
     this->CheckCell->GetPoints()->SetNumberOfPoints(10);
     for (vtkIdType i = 0; i < 10; ++i)
       this->CheckCell->GetPointIds()->SetId(i, i);
-    this->Diagonal = fine->GetLength();
   }
 
   hoembed::MesherServices Make()
@@ -386,16 +391,32 @@ public:
       tris.swap(coarse.Tris);
       return true;
     };
-    s.Fine.Closest = [this](const double x[3], double cp[3]) { this->Projector.Project(x, cp); };
+    s.Fine.Closest = [this](const double x[3], double cp[3]) {
+      double u[3];
+      this->ToUnit(x, u);
+      this->Projector->Project(u, cp);
+      this->FromUnit(cp);
+    };
     s.Fine.VerticesWithin = [this](const double x[3], double r, std::vector<double>& out) {
-      this->VertexLocator->FindPointsWithinRadius(r, x, this->NearIds);
+      double u[3];
+      this->ToUnit(x, u);
+      this->VertexLocator->FindPointsWithinRadius(std::ldexp(r, -this->Exponent), u, this->NearIds);
       out.resize(3 * this->NearIds->GetNumberOfIds());
       for (vtkIdType k = 0; k < this->NearIds->GetNumberOfIds(); ++k)
         this->Fine->GetPoint(this->NearIds->GetId(k), &out[3 * k]);
     };
-    s.NormalAt = [this](const double x[3], double n[3]) { this->Projector.Normal(x, n); };
+    s.NormalAt = [this](const double x[3], double n[3]) {
+      double u[3];
+      this->ToUnit(x, u);
+      this->Projector->Normal(u, n);
+    };
     s.Fine.Ray = [this](const double a[3], const double b[3], double hit[3]) {
-      return this->Projector.Ray(a, b, hit);
+      double ua[3], ub[3];
+      this->ToUnit(a, ua);
+      this->ToUnit(b, ub);
+      const bool found = this->Projector->Ray(ua, ub, hit);
+      this->FromUnit(hit);
+      return found;
     };
     s.MaxDistanceToTriangles =
       [](const std::vector<double>& points, const std::vector<hoembed::SurfaceCheck::Id>& tris,
@@ -437,6 +458,17 @@ public:
   }
 
 private:
+  void ToUnit(const double x[3], double u[3]) const
+  {
+    for (int d = 0; d < 3; ++d)
+      u[d] = std::ldexp(x[d], -this->Exponent);
+  }
+  void FromUnit(double x[3]) const
+  {
+    for (int d = 0; d < 3; ++d)
+      x[d] = std::ldexp(x[d], this->Exponent);
+  }
+
   // The fine surface scaled by a power of two to a diagonal in [0.5, 1), made once:
   // vtkQuadricDecimation has absolute thresholds (the same bunny decimated differently at
   // 2^-10 of its size), and a power of two scales exactly, so a surface scaled by 2^k
@@ -489,7 +521,7 @@ private:
   vtkSmartPointer<vtkPolyData> UnitSurface;
   int Exponent = 0; ///< Unit() = Fine x 2^-Exponent
   vtkSmartPointer<vtkPolyData> SmoothedSurface;
-  SurfaceProjector Projector;
+  std::unique_ptr<SurfaceProjector> Projector;
   vtkNew<vtkStaticPointLocator> VertexLocator;
   vtkNew<vtkIdList> NearIds;
   vtkNew<vtkQuadraticTetra> CheckCell;

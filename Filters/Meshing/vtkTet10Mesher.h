@@ -56,7 +56,11 @@
  *    at least CurvedQualityRatio times the straight shape's and at least MinimumQuality
  *    (unless the straight shape is worse: it is then kept). Last, the mid-edge nodes of
  *    elements below min(CurvedQualityTarget, their straight shape's) are blended back
- *    towards straight (interior ones first), just enough.
+ *    towards straight (interior ones first), just enough. Finally the interior mid-edge
+ *    nodes of elements that curving bent move (a pattern search) to lift them towards
+ *    their straight shape's quality without lowering the worst element around them.
+ *    The read step first puts the triangles in an order of their coordinates alone, so
+ *    the same surface gives the same mesh bit for bit whatever its storage order.
  * 6. Memory order (hoembed::SpatialOrder): cells sorted along a Morton curve through
  *    their corner centroids, nodes numbered in the order those cells first use them, so
  *    elements near each other in space are near each other in the arrays (the embedding's

@@ -336,12 +336,12 @@ def test_cavity_stays_empty(n):
 
 def test_poor_elements_warning_names_a_count(data_dir):
     """Slivers TetGen leaves below the floor are named in a warning with the figures and
-    the count that would lift them (issue 27); meshing at that count does (bunny_lowres at
-    300: one sliver, about 1000 suggested)."""
+    the count that would lift them (issue 27), each by its output cell id; meshing at that
+    count does (dragon at 300: one sliver, 0.049, about 340 suggested)."""
     import re
     import warnings
 
-    path = data_dir / "bunny_lowres.obj"
+    path = data_dir / "dragon.obj"
     if not path.exists():
         pytest.skip(f"{path} not available")
     surface = pv.read(path)
@@ -358,6 +358,15 @@ def test_poor_elements_warning_names_a_count(data_dir):
         text[0],
     )
     assert m, text[0]
+    # every poor cell named by its output id with its quality, worst first
+    named = re.search(r"Output cells \(id: quality\) (.*)$", text[0])
+    assert named, text[0]
+    pairs = [p.split(": ") for p in named.group(1).split(", ")]
+    ids = [int(i) for i, _ in pairs]
+    q = np.asarray(mesh.cell_data["MinScaledJacobian"])
+    assert sorted(ids) == sorted(np.nonzero(q < 0.05)[0].tolist())
+    assert all(abs(float(v) - q[i]) <= 1e-5 * q[i] for i, (_, v) in zip(ids, pairs))
+    assert [float(v) for _, v in pairs] == sorted(float(v) for _, v in pairs)
     count, size, now = int(m.group(1)), float(m.group(2)), float(m.group(3))
     assert mesh.n_cells < count <= 100 * mesh.n_cells and size < now
     finer = hoembed.tet10_mesh(surface, n_elements=count)

@@ -190,9 +190,13 @@ class _VTKServices:
 
     def _prepare(self):
         fine = self.fine
-        self.projector = _Locator(fine)
+        self.diagonal = fine.GetLength()
+        self.unit = None
+        # the queries run on the surface scaled to a unit diagonal (vtkTet10Mesher's
+        # VTKServices: the locators' bins do not depend on the surface's size)
+        self.projector = _Locator(self._unit())
         self.vertex_locator = vtkStaticPointLocator()
-        self.vertex_locator.SetDataSet(fine)
+        self.vertex_locator.SetDataSet(self._unit())
         self.vertex_locator.BuildLocator()
         self.fine_points = (
             np.ascontiguousarray(_arrays.points(fine.GetPoints()), dtype=np.float64)
@@ -200,8 +204,6 @@ class _VTKServices:
             else np.zeros((0, 3))
         )
         self.near = vtkIdList()
-        self.diagonal = fine.GetLength()
-        self.unit = None
         self.smoothed = None
         self.check = vtkQuadraticTetra()
         self.check.GetPoints().SetNumberOfPoints(10)
@@ -268,22 +270,29 @@ class _VTKServices:
 
     def closest(self, x, y, z):
         self._count("closest")
-        return tuple(self.projector.closest((x, y, z)))
+        return tuple(math.ldexp(c, self.exponent) for c in self.projector.closest(self._u(x, y, z)))
+
+    def _u(self, x, y, z):
+        e = -self.exponent
+        return (math.ldexp(x, e), math.ldexp(y, e), math.ldexp(z, e))
 
     def ray(self, ax, ay, az, bx, by, bz):
         self._count("ray")
-        return self.projector.ray((ax, ay, az), (bx, by, bz))
+        hit = self.projector.ray(self._u(ax, ay, az), self._u(bx, by, bz))
+        return None if hit is None else tuple(math.ldexp(c, self.exponent) for c in hit)
 
     def vertices_within(self, x, y, z, r):
         self._count("vertices_within")
-        self.vertex_locator.FindPointsWithinRadius(r, (x, y, z), self.near)
+        self.vertex_locator.FindPointsWithinRadius(
+            math.ldexp(r, -self.exponent), self._u(x, y, z), self.near
+        )
         n = self.near.GetNumberOfIds()
         ids = [self.near.GetId(k) for k in range(n)]
         return np.ascontiguousarray(self.fine_points[ids], dtype=np.float64)
 
     def normal_at(self, x, y, z):
         self._count("normal_at")
-        return tuple(self.projector.normal((x, y, z)))
+        return tuple(self.projector.normal(self._u(x, y, z)))
 
     def max_distance(self, points, tris, query):
         """Largest distance from the query points to the triangles (vtkTet10Mesher's
