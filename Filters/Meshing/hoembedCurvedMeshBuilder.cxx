@@ -840,7 +840,6 @@ Id StraightenPoorCells(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   });
 }
 
-
 // Moves mid-edge node m to keep * its displacement from the straight position.
 void PullNode(CurvedMesh& out, const QuadraticNodes& quad, Id m, double keep)
 {

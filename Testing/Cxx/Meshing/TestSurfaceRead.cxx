@@ -193,7 +193,8 @@ void Triangulation()
   // then z) and the triangles are sorted by their corners' coordinates
   auto canonical = [&pts](const std::vector<Id>& t) {
     auto less = [&pts](Id a, Id b) {
-      return std::lexicographical_compare(&pts[3 * a], &pts[3 * a] + 3, &pts[3 * b], &pts[3 * b] + 3);
+      return std::lexicographical_compare(
+        &pts[3 * a], &pts[3 * a] + 3, &pts[3 * b], &pts[3 * b] + 3);
     };
     for (size_t i = 0; i + 2 < t.size(); i += 3)
       if (less(t[i + 1], t[i]) || less(t[i + 2], t[i]))
