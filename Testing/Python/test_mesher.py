@@ -277,9 +277,11 @@ def test_quality_target():
         t: hoembed.tet10_mesh(surface, n_elements=1000, quality_target=t) for t in (0.0, 0.2, 0.3)
     }
     default = hoembed.tet10_mesh(surface, n_elements=1000)
-    # 0.2 is the default: the same mesh, bit for bit (test_mesher_invariance)
+    # 0.2 is the default: the same mesh (to round-off: test_mesher_invariance)
     assert np.array_equal(default.cells, meshes[0.2].cells)
-    assert np.array_equal(default.points, meshes[0.2].points)
+    np.testing.assert_allclose(
+        default.points, meshes[0.2].points, rtol=0, atol=1e-12 * surface.length
+    )
     medians, on_surface = {}, {}
     for t, mesh in meshes.items():
         q = np.asarray(mesh.cell_data["MinScaledJacobian"])
