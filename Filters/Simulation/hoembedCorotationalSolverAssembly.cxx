@@ -248,13 +248,17 @@ void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd&
     MatVecElements(p, y);
     return;
   }
+  MassBlockProduct(S.data(), CM, CK, nullptr, p, y);
+}
+
+void CorotationalSolver::Impl::MassBlockProduct(const double* blocks, double cM, double cK,
+  const char* free, const Eigen::VectorXd& p, Eigen::VectorXd& y) const
+{
   const int* outer = MN.outerIndexPtr();
   const int* inner = MN.innerIndexPtr();
   const double* mval = MN.valuePtr();
-  const double* sv = S.data();
   const double* q = p.data();
   double* out = y.data();
-  const double cM = CM, cK = CK;
   ParallelFor(NP, ParallelNodes, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType r = begin; r < end; ++r)
     {
@@ -262,7 +266,7 @@ void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd&
       for (int k = outer[r]; k < outer[r + 1]; ++k)
       {
         const double* pj = q + 3 * inner[k];
-        const double* b = sv + 9 * static_cast<long long>(k);
+        const double* b = blocks + 9 * static_cast<long long>(k);
         const double m = mval[k];
         m0 += m * pj[0];
         m1 += m * pj[1];
@@ -271,9 +275,11 @@ void CorotationalSolver::Impl::MatVec(const Eigen::VectorXd& p, Eigen::VectorXd&
         s1 += b[3] * pj[0] + b[4] * pj[1] + b[5] * pj[2];
         s2 += b[6] * pj[0] + b[7] * pj[1] + b[8] * pj[2];
       }
-      out[3 * r] = cM * m0 + cK * s0;
-      out[3 * r + 1] = cM * m1 + cK * s1;
-      out[3 * r + 2] = cM * m2 + cK * s2;
+      const double row[3] = { cM * m0 + cK * s0, cM * m1 + cK * s1, cM * m2 + cK * s2 };
+      for (int c = 0; c < 3; ++c)
+      {
+        out[3 * r + c] = !free || free[3 * r + c] ? row[c] : 0.0;
+      }
     }
   });
 }

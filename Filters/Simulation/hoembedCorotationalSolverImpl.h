@@ -354,6 +354,11 @@ struct CorotationalSolver::Impl
   int PCG(const Eigen::VectorXd& b, Eigen::VectorXd& xs, double tol, const Eigen::VectorXd* r0);
   // y = CM M p + CK S p (S assembled at the start of the step)
   void MatVec(const Eigen::VectorXd& p, Eigen::VectorXd& y);
+  // y = cM M p + cK B p on MN's pattern, B one 3x3 block (row-major) per entry of MN in
+  // MN's order; with `free`, the rows of held DOFs are 0. MatVec's product (B = S) and the
+  // hyperelastic Newton system's (B = its Hessian and damping blocks).
+  void MassBlockProduct(const double* blocks, double cM, double cK, const char* free,
+    const Eigen::VectorXd& p, Eigen::VectorXd& y) const;
   // y += s * M p with the node-level (scalar) mass matrix
   void MassApply(const double* p, double s, double* y) const;
   // A = cM M + cK S (only needed to refresh the factorisation)

@@ -612,36 +612,9 @@ static bool RotatedFactorCG(CorotationalSolver::Impl& I, double cMass, bool damp
   {
     ns.SysBlocks[k] = ns.Blocks[k] + (ns.DampBlocks.empty() ? 0.0 : ns.DampBlocks[k]);
   }
+  // p is 0 on the held DOFs (the preconditioner masks): their rows give 0 too
   auto product = [&](const Eigen::VectorXd& p, Eigen::VectorXd& y) {
-    const int* outer = I.MN.outerIndexPtr();
-    const int* inner = I.MN.innerIndexPtr();
-    const double* mval = I.MN.valuePtr();
-    const double* sv = ns.SysBlocks.data();
-    const double* q = p.data();
-    double* out = y.data();
-    const char* fr = I.Free.data();
-    ParallelFor(I.NP, ParallelNodes, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType r = begin; r < end; ++r)
-      {
-        double m0 = 0.0, m1 = 0.0, m2 = 0.0, s0 = 0.0, s1 = 0.0, s2 = 0.0;
-        for (int k = outer[r]; k < outer[r + 1]; ++k)
-        {
-          const double* pj = q + 3 * inner[k];
-          const double* b = sv + 9 * static_cast<long long>(k);
-          const double m = mval[k];
-          m0 += m * pj[0];
-          m1 += m * pj[1];
-          m2 += m * pj[2];
-          s0 += b[0] * pj[0] + b[1] * pj[1] + b[2] * pj[2];
-          s1 += b[3] * pj[0] + b[4] * pj[1] + b[5] * pj[2];
-          s2 += b[6] * pj[0] + b[7] * pj[1] + b[8] * pj[2];
-        }
-        // p is 0 on the held DOFs (the preconditioner masks): their rows give 0 too
-        out[3 * r] = fr[3 * r] ? cMass * m0 + s0 : 0.0;
-        out[3 * r + 1] = fr[3 * r + 1] ? cMass * m1 + s1 : 0.0;
-        out[3 * r + 2] = fr[3 * r + 2] ? cMass * m2 + s2 : 0.0;
-      }
-    });
+    I.MassBlockProduct(ns.SysBlocks.data(), cMass, 1.0, I.Free.data(), p, y);
   };
   for (int attempt = 0; attempt < 2; ++attempt)
   {
