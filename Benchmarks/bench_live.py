@@ -350,8 +350,9 @@ def main():
                 ovl += run_pass(session, args.frames)[0][skip:]
                 session.overlap = False
                 seq += run_pass(session, args.frames)[0][skip:]
-            result["passes"]["2 threads, overlap"] = summarise(ovl, 0)
-            result["passes"]["2 threads, sequential beside overlap"] = summarise(seq, 0)
+            if ovl:
+                result["passes"]["2 threads, overlap"] = summarise(ovl, 0)
+                result["passes"]["2 threads, sequential beside overlap"] = summarise(seq, 0)
             # the other point normals mode, beside it
             other = next(m for m in modes if m != args.point_normals)
             session.point_normals = other
