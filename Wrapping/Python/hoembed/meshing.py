@@ -26,6 +26,7 @@ from vtkmodules.vtkCommonCore import (
     vtkIdList,
     vtkIdTypeArray,
     vtkPoints,
+    vtkSMPTools,
 )
 from vtkmodules.vtkCommonDataModel import (
     VTK_QUADRATIC_TETRA,
@@ -103,6 +104,22 @@ def _to_arrays(pd):
     return pts, np.ascontiguousarray(conn, dtype=np.int64)
 
 
+def _build_deterministically(locator):
+    """BuildLocator on VTK's sequential backend (vtkTet10Mesher's
+    BuildLocatorDeterministically: under TBB the order of the cells in a bin, and so which
+    of two equidistant triangles a closest-point query returns, changes from build to
+    build). The pip wheels' VTK is sequential already."""
+    backend = vtkSMPTools.GetBackend()
+    if backend == "Sequential":
+        locator.BuildLocator()
+        return
+    vtkSMPTools.SetBackend("Sequential")
+    try:
+        locator.BuildLocator()
+    finally:
+        vtkSMPTools.SetBackend(backend)
+
+
 class _Locator:
     """Closest points, normals and ray crossings on triangles (vtkStaticCellLocator, as
     vtkTet10Mesher's SurfaceProjector)."""
@@ -111,7 +128,7 @@ class _Locator:
         self.pd = pd
         self.locator = vtkStaticCellLocator()
         self.locator.SetDataSet(pd)
-        self.locator.BuildLocator()
+        _build_deterministically(self.locator)
         self.cell = vtkGenericCell()
         self.cell_id, self.sub_id, self.d2 = reference(0), reference(0), reference(0.0)
         self.t, self.pcoords, self.hit = reference(0.0), [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
@@ -197,7 +214,7 @@ class _VTKServices:
         self.projector = _Locator(self._unit())
         self.vertex_locator = vtkStaticPointLocator()
         self.vertex_locator.SetDataSet(self._unit())
-        self.vertex_locator.BuildLocator()
+        _build_deterministically(self.vertex_locator)
         self.fine_points = (
             np.ascontiguousarray(_arrays.points(fine.GetPoints()), dtype=np.float64)
             if fine.GetNumberOfPoints()
