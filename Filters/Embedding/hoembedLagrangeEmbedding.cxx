@@ -12,35 +12,10 @@ namespace hoembed
 {
 using lagrange_detail::Dot;
 using lagrange_detail::ProjectTriangle;
+using lagrange_detail::Solve3;
 namespace
 {
 using Id = LagrangeEmbeddingMesh::Id;
-
-// Solve A x = b (3 x 3, A[r][c]) by Cramer's rule; false when singular.
-bool Solve3(const double A[3][3], const double b[3], double x[3])
-{
-  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-    A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-    A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-  double scale = 0.0;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      scale = std::max(scale, std::abs(A[r][c]));
-  if (!(std::abs(det) > 1e-300) || !(std::abs(det) > 1e-14 * scale * scale * scale))
-    return false;
-  for (int k = 0; k < 3; ++k)
-  {
-    double M[3][3];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        M[r][c] = c == k ? b[r] : A[r][c];
-    x[k] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-             M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
-      det;
-  }
-  return true;
-}
 
 // Gauss-Jordan inverse of an n x n matrix (row-major, n <= 15), partial pivoting.
 std::vector<double> Inverse(std::vector<double> a, int n)

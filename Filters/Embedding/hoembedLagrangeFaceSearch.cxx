@@ -11,134 +11,12 @@
 namespace hoembed
 {
 using lagrange_detail::Dot;
+using lagrange_detail::Interval;
+using lagrange_detail::LocalFaceSolve;
 using lagrange_detail::ProjectTriangle;
 namespace
 {
 using Id = LagrangeEmbeddingMesh::Id;
-
-struct Interval
-{
-  double Lo = HUGE_VAL, Hi = -HUGE_VAL;
-  void Add(double x)
-  {
-    Lo = std::min(Lo, x);
-    Hi = std::max(Hi, x);
-  }
-};
-Interval Mul(const Interval& a, const Interval& b)
-{
-  Interval r;
-  r.Add(a.Lo * b.Lo);
-  r.Add(a.Lo * b.Hi);
-  r.Add(a.Hi * b.Lo);
-  r.Add(a.Hi * b.Hi);
-  return r;
-}
-Interval Square(const Interval& a)
-{
-  Interval r;
-  const double m = std::max(a.Lo * a.Lo, a.Hi * a.Hi);
-  r.Lo = a.Lo > 0 ? a.Lo * a.Lo : (a.Hi < 0 ? a.Hi * a.Hi : 0.0);
-  r.Hi = m;
-  return r;
-}
-Interval Sum(const Interval& a, const Interval& b)
-{
-  Interval r;
-  r.Lo = a.Lo + b.Lo;
-  r.Hi = a.Hi + b.Hi;
-  return r;
-}
-// Local closest point on one face: projected Newton over the reference triangle (an
-// active set of its three sides), monotone in |x - v|^2. Returns that squared distance.
-template <typename Eval>
-double LocalFaceSolve(const Eval& eval, const double v[3], double uv[2], int& iterations)
-{
-  ProjectTriangle(uv);
-  double x[3], xu[3], xv[3], H[3][3];
-  eval(uv, x, xu, xv, H);
-  double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
-  double f = Dot(e, e);
-  for (int it = 0; it < 60; ++it)
-  {
-    ++iterations;
-    const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
-    double A[2][2] = { { 2 * (Dot(xu, xu) + Dot(e, H[0])), 2 * (Dot(xu, xv) + Dot(e, H[1])) },
-      { 0, 2 * (Dot(xv, xv) + Dot(e, H[2])) } };
-    A[1][0] = A[0][1];
-    // binding sides: at the bound with the gradient pushing out
-    const double eps = 1e-15;
-    const bool b0 = uv[0] <= eps && g[0] > 0, b1 = uv[1] <= eps && g[1] > 0;
-    const bool b2 = uv[0] + uv[1] >= 1 - eps && g[0] + g[1] < 0;
-    const int nb = int(b0) + int(b1) + int(b2);
-    double step[2] = { 0, 0 };
-    if (nb >= 2)
-      break; // a corner with both sides binding: a KKT point
-    if (nb == 1)
-    {
-      const double t[2] = { b0 ? 0.0 : (b1 ? 1.0 : 1.0), b0 ? 1.0 : (b1 ? 0.0 : -1.0) };
-      const double gt = g[0] * t[0] + g[1] * t[1];
-      const double ht =
-        t[0] * (A[0][0] * t[0] + A[0][1] * t[1]) + t[1] * (A[1][0] * t[0] + A[1][1] * t[1]);
-      const double a = ht > 0 ? -gt / ht : -gt;
-      step[0] = a * t[0];
-      step[1] = a * t[1];
-    }
-    else
-    {
-      const double tr = A[0][0] + A[1][1];
-      double mu = 0.0;
-      const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-      if (!(A[0][0] > 0 && det > 1e-14 * tr * tr))
-      {
-        const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
-        const double lmin = 0.5 * tr - disc;
-        mu = -lmin + 1e-3 * std::abs(tr) + 1e-300;
-      }
-      const double a00 = A[0][0] + mu, a11 = A[1][1] + mu;
-      const double dd = a00 * a11 - A[0][1] * A[1][0];
-      if (!(dd > 0))
-      {
-        step[0] = -g[0];
-        step[1] = -g[1];
-      }
-      else
-      {
-        step[0] = -(a11 * g[0] - A[0][1] * g[1]) / dd;
-        step[1] = -(a00 * g[1] - A[1][0] * g[0]) / dd;
-      }
-    }
-    double alpha = 1.0;
-    bool moved = false;
-    for (int ls = 0; ls < 40; ++ls, alpha *= 0.5)
-    {
-      double t[2] = { uv[0] + alpha * step[0], uv[1] + alpha * step[1] };
-      ProjectTriangle(t);
-      double y[3], yu[3], yv[3], yH[3][3];
-      eval(t, y, yu, yv, yH);
-      const double en[3] = { y[0] - v[0], y[1] - v[1], y[2] - v[2] };
-      const double fn = Dot(en, en);
-      if (fn <= f)
-      {
-        const double change = std::abs(t[0] - uv[0]) + std::abs(t[1] - uv[1]);
-        uv[0] = t[0];
-        uv[1] = t[1];
-        std::copy(y, y + 3, x);
-        std::copy(yu, yu + 3, xu);
-        std::copy(yv, yv + 3, xv);
-        for (int k = 0; k < 3; ++k)
-          std::copy(yH[k], yH[k] + 3, H[k]);
-        std::copy(en, en + 3, e);
-        moved = change > 1e-16;
-        f = fn;
-        break;
-      }
-    }
-    if (!moved)
-      break;
-  }
-  return f;
-}
 
 struct SubTriangle
 {
@@ -166,7 +44,7 @@ void LagrangeEmbeddingMesh::SearchFace(
   double ownUV[2] = { 0, 0 }, ownD2 = HUGE_VAL;
   auto tryStart = [&](double uv[2]) {
     int its = 0;
-    const double d2 = LocalFaceSolve(eval, v, uv, its);
+    const double d2 = LocalFaceSolve<lagrange_detail::TriangleDomain>(eval, v, uv, its);
     if (d2 < ownD2)
     {
       ownD2 = d2;

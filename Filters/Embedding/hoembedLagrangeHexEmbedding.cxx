@@ -13,38 +13,17 @@
 
 namespace hoembed
 {
+using lagrange_detail::ClampSquare;
 using lagrange_detail::Dot;
+using lagrange_detail::Interval;
+using lagrange_detail::LocalFaceSolve;
+using lagrange_detail::Solve3;
 namespace
 {
 using Id = LagrangeHexEmbeddingMesh::Id;
 
 const int (&FaceU)[6] = HexFaceU;
 const int (&FaceV)[6] = HexFaceV;
-
-bool Solve3(const double A[3][3], const double b[3], double x[3])
-{
-  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-    A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-    A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-  double scale = 0.0;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      scale = std::max(scale, std::abs(A[r][c]));
-  if (!(std::abs(det) > 1e-300) || !(std::abs(det) > 1e-14 * scale * scale * scale))
-    return false;
-  for (int k = 0; k < 3; ++k)
-  {
-    double M[3][3];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        M[r][c] = c == k ? b[r] : A[r][c];
-    x[k] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-             M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
-      det;
-  }
-  return true;
-}
 
 // Bernstein polynomials of degree p (<= 3) at u: values, first and second derivatives.
 void Bernstein1D(int p, double u, double* B, double* dB, double* ddB)
@@ -83,121 +62,6 @@ void Bernstein1D(int p, double u, double* B, double* dB, double* ddB)
   }
 }
 
-struct Interval
-{
-  double Lo = HUGE_VAL, Hi = -HUGE_VAL;
-  void Add(double x)
-  {
-    Lo = std::min(Lo, x);
-    Hi = std::max(Hi, x);
-  }
-};
-Interval Mul(const Interval& a, const Interval& b)
-{
-  Interval r;
-  r.Add(a.Lo * b.Lo);
-  r.Add(a.Lo * b.Hi);
-  r.Add(a.Hi * b.Lo);
-  r.Add(a.Hi * b.Hi);
-  return r;
-}
-Interval Square(const Interval& a)
-{
-  Interval r;
-  r.Lo = a.Lo > 0 ? a.Lo * a.Lo : (a.Hi < 0 ? a.Hi * a.Hi : 0.0);
-  r.Hi = std::max(a.Lo * a.Lo, a.Hi * a.Hi);
-  return r;
-}
-Interval Sum(const Interval& a, const Interval& b)
-{
-  Interval r;
-  r.Lo = a.Lo + b.Lo;
-  r.Hi = a.Hi + b.Hi;
-  return r;
-}
-void Clamp(double uv[2])
-{
-  uv[0] = std::min(1.0, std::max(0.0, uv[0]));
-  uv[1] = std::min(1.0, std::max(0.0, uv[1]));
-}
-
-// Local closest point on one quad: projected Newton over [0, 1]^2 (active bounds),
-// monotone in |x - v|^2. Returns that squared distance.
-template <typename Eval>
-double LocalQuadSolve(const Eval& eval, const double v[3], double uv[2])
-{
-  Clamp(uv);
-  double x[3], xu[3], xv[3], H[3][3];
-  eval(uv, x, xu, xv, H);
-  double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
-  double f = Dot(e, e);
-  for (int it = 0; it < 60; ++it)
-  {
-    const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
-    double A[2][2] = { { 2 * (Dot(xu, xu) + Dot(e, H[0])), 2 * (Dot(xu, xv) + Dot(e, H[1])) },
-      { 0, 2 * (Dot(xv, xv) + Dot(e, H[2])) } };
-    A[1][0] = A[0][1];
-    const double eps = 1e-15;
-    bool bound[2];
-    for (int k = 0; k < 2; ++k)
-      bound[k] = (uv[k] <= eps && g[k] > 0) || (uv[k] >= 1 - eps && g[k] < 0);
-    double step[2] = { 0, 0 };
-    if (bound[0] && bound[1])
-      break;
-    if (bound[0] || bound[1])
-    {
-      const int k = bound[0] ? 1 : 0;
-      step[k] = A[k][k] > 0 ? -g[k] / A[k][k] : -g[k];
-    }
-    else
-    {
-      const double tr = A[0][0] + A[1][1];
-      double mu = 0.0;
-      const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-      if (!(A[0][0] > 0 && det > 1e-14 * tr * tr))
-      {
-        const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
-        mu = -(0.5 * tr - disc) + 1e-3 * std::abs(tr) + 1e-300;
-      }
-      const double a00 = A[0][0] + mu, a11 = A[1][1] + mu;
-      const double dd = a00 * a11 - A[0][1] * A[1][0];
-      if (!(dd > 0))
-        step[0] = -g[0], step[1] = -g[1];
-      else
-      {
-        step[0] = -(a11 * g[0] - A[0][1] * g[1]) / dd;
-        step[1] = -(a00 * g[1] - A[1][0] * g[0]) / dd;
-      }
-    }
-    double alpha = 1.0;
-    bool moved = false;
-    for (int ls = 0; ls < 40; ++ls, alpha *= 0.5)
-    {
-      double t[2] = { uv[0] + alpha * step[0], uv[1] + alpha * step[1] };
-      Clamp(t);
-      double y[3], yu[3], yv[3], yH[3][3];
-      eval(t, y, yu, yv, yH);
-      const double en[3] = { y[0] - v[0], y[1] - v[1], y[2] - v[2] };
-      const double fn = Dot(en, en);
-      if (fn <= f)
-      {
-        moved = std::abs(t[0] - uv[0]) + std::abs(t[1] - uv[1]) > 1e-16;
-        uv[0] = t[0], uv[1] = t[1];
-        std::copy(y, y + 3, x);
-        std::copy(yu, yu + 3, xu);
-        std::copy(yv, yv + 3, xv);
-        for (int k = 0; k < 3; ++k)
-          std::copy(yH[k], yH[k] + 3, H[k]);
-        std::copy(en, en + 3, e);
-        f = fn;
-        break;
-      }
-    }
-    if (!moved)
-      break;
-  }
-  return f;
-}
 } // namespace
 
 std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vector<Id> conn,
@@ -432,7 +296,8 @@ void LagrangeHexEmbeddingMesh::SearchFace(
   };
   double ownUV[2] = { 0, 0 }, ownD2 = HUGE_VAL;
   auto tryStart = [&](double uv[2]) {
-    const double d2 = LocalQuadSolve(eval, v, uv);
+    int its = 0;
+    const double d2 = LocalFaceSolve<lagrange_detail::SquareDomain>(eval, v, uv, its);
     if (d2 < ownD2)
       ownD2 = d2, ownUV[0] = uv[0], ownUV[1] = uv[1];
     if (d2 < best2)
@@ -802,7 +667,7 @@ int LagrangeHexEmbeddingMesh::NormalOffset(
       d += a * step[2];
       if (side >= 0)
       {
-        Clamp(uv);
+        ClampSquare(uv);
         exitEdge = side;
         break;
       }
@@ -934,7 +799,7 @@ void LagrangeHexEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedd
   {
     const Id c = this->FaceCell[nf];
     const int lf = this->FaceLocal[nf];
-    Clamp(nuv);
+    ClampSquare(nuv);
     HexFaceToParametric(lf, nuv, r.PC);
     r.Cell = c;
     r.Face = static_cast<signed char>(lf);
