@@ -491,341 +491,111 @@ double LagrangeHexEmbeddingMesh::ClosestBoundaryPoint(
   return best2;
 }
 
-bool LagrangeHexEmbeddingMesh::Locate(const double v[3], Id& cell, double pc[3]) const
+namespace
 {
-  const double tiny = 1e-300;
-  double reach2 = std::max(tiny, 1e-24 * this->Diagonal * this->Diagonal);
-  bool found = false;
-  this->CellTree.VisitNearer(v, reach2, [&](Id c) {
-    if (found)
-      return;
-    // starts: the parallelepiped of corner 0 and its three edges, the centre
-    double starts[2][3] = { { 0.5, 0.5, 0.5 }, { 0.5, 0.5, 0.5 } };
+// The hexahedra for the per-vertex embedding (lagrange_detail::EmbedVertex).
+struct HexCells
+{
+  using Face = lagrange_detail::SquareDomain;
+  static constexpr double CellCentre = 0.5;
+  static constexpr int StartCorners[4] = { 0, 1, 3, 4 };
+  static bool InsideCell(const double q[3], double m)
+  {
+    return q[0] >= -m && q[1] >= -m && q[2] >= -m && q[0] <= 1 + m && q[1] <= 1 + m &&
+      q[2] <= 1 + m;
+  }
+  static bool FarOutside(const double q[3])
+  {
+    return q[0] < -1 || q[1] < -1 || q[2] < -1 || q[0] > 2 || q[1] > 2 || q[2] > 2;
+  }
+  static void ClampIntoCell(double pc[3])
+  {
+    for (int i = 0; i < 3; ++i)
+      pc[i] = std::min(1.0, std::max(0.0, pc[i]));
+  }
+
+  // the cell's tensor forms (held by the mesh: nothing to gather)
+  struct Bound
+  {
+    const LagrangeHexEmbeddingMesh* M;
+    Id C;
+    void Point(const double pc[3], double x[3], double J[3][3]) const
     {
-      const std::int64_t* ids = &this->Connectivity[this->NodesPerCell * c];
-      const double* x0 = &this->Points[3 * ids[0]];
-      const int other[3] = { 1, 3, 4 };
-      double A[3][3], r[3], s[3];
-      for (int i = 0; i < 3; ++i)
-      {
-        for (int d = 0; d < 3; ++d)
-          A[d][i] = this->Points[3 * ids[other[i]] + d] - x0[d];
-        r[i] = v[i] - x0[i];
-      }
-      if (Solve3(A, r, s))
-        std::copy(s, s + 3, starts[0]);
+      M->CellPoint(C, pc, x, J);
     }
-    for (int k = 0; k < 2 && !found; ++k)
+    void Normal(const double pc[3], double s[3], double J[3][3]) const
     {
-      double qp[3] = { starts[k][0], starts[k][1], starts[k][2] };
-      double y[3], J[3][3];
-      this->CellPoint(c, qp, y, J);
-      double r = std::sqrt((y[0] - v[0]) * (y[0] - v[0]) + (y[1] - v[1]) * (y[1] - v[1]) +
-        (y[2] - v[2]) * (y[2] - v[2]));
-      for (int it = 0; it < 60 && r > 1e-15 * this->Diagonal; ++it)
-      {
-        double A[3][3], rhs[3], step[3];
-        for (int d = 0; d < 3; ++d)
-        {
-          for (int i = 0; i < 3; ++i)
-            A[d][i] = J[i][d];
-          rhs[d] = v[d] - y[d];
-        }
-        if (!Solve3(A, rhs, step))
-          break;
-        double alpha = 1.0;
-        bool better = false;
-        for (int ls = 0; ls < 30; ++ls, alpha *= 0.5)
-        {
-          const double t[3] = { qp[0] + alpha * step[0], qp[1] + alpha * step[1],
-            qp[2] + alpha * step[2] };
-          double yn[3], Jn[3][3];
-          this->CellPoint(c, t, yn, Jn);
-          const double rn = std::sqrt((yn[0] - v[0]) * (yn[0] - v[0]) +
-            (yn[1] - v[1]) * (yn[1] - v[1]) + (yn[2] - v[2]) * (yn[2] - v[2]));
-          if (rn < r)
-          {
-            std::copy(t, t + 3, qp);
-            std::copy(yn, yn + 3, y);
-            for (int i = 0; i < 3; ++i)
-              std::copy(Jn[i], Jn[i] + 3, J[i]);
-            r = rn;
-            better = true;
-            break;
-          }
-        }
-        if (!better)
-          break;
-        if (qp[0] < -1 || qp[1] < -1 || qp[2] < -1 || qp[0] > 2 || qp[1] > 2 || qp[2] > 2)
-          break; // far outside: not this cell
-      }
-      const double m = 1e-10;
-      if (r <= 1e-12 * this->Diagonal && qp[0] >= -m && qp[1] >= -m && qp[2] >= -m &&
-        qp[0] <= 1 + m && qp[1] <= 1 + m && qp[2] <= 1 + m)
-      {
-        found = true;
-        cell = c;
-        std::copy(qp, qp + 3, pc);
-        reach2 = 0.0;
-      }
+      M->CellNormal(C, pc, s, J);
     }
-  });
-  return found;
-}
+  };
+  Bound Bind(Id c, bool) const
+  {
+    return Bound{ &M, c };
+  }
+
+  Id FaceCell(Id f) const
+  {
+    return M.FaceCell[f];
+  }
+  int FaceLocal(Id f) const
+  {
+    return M.FaceLocal[f];
+  }
+  static void FaceToParametric(int lf, const double uv[2], double pc[3])
+  {
+    HexFaceToParametric(lf, uv, pc);
+  }
+  static void FaceTangents(int lf, const double J[3][3], double xu[3], double xv[3])
+  {
+    std::copy(J[FaceU[lf]], J[FaceU[lf]] + 3, xu);
+    std::copy(J[FaceV[lf]], J[FaceV[lf]] + 3, xv);
+  }
+  Id Neighbor(Id f, int e) const
+  {
+    return M.FaceNeighbor[4 * f + e];
+  }
+  Id Corner(Id f, int e) const
+  {
+    return M.FaceCorners[4 * f + e];
+  }
+  Id NodeFacesBegin(Id n) const
+  {
+    return M.NodeFaceOffsets[n];
+  }
+  Id NodeFacesEnd(Id n) const
+  {
+    return M.NodeFaceOffsets[n + 1];
+  }
+  Id NodeFace(Id i) const
+  {
+    return M.NodeFaces[i];
+  }
+  void FacePoint(Id f, const double uv[2], double x[3]) const
+  {
+    M.FacePoint(f, uv, x);
+  }
+  double Closest(const double v[3], Id& f, double uv[2], bool& certified, int* visited) const
+  {
+    return M.ClosestBoundaryPoint(v, f, uv, certified, visited);
+  }
+
+  const LagrangeHexEmbeddingMesh& M;
+  const AabbTree& CellTree;
+  const double Diagonal = M.Diagonal;
+  const double* Points = M.Points.data();
+  const Id* Connectivity = M.Connectivity.data();
+  const int NodesPerCell = M.NodesPerCell;
+};
+} // namespace
 
 bool LagrangeHexEmbeddingMesh::Offset(
   Id c, const double pc[3], const double v[3], double q[3]) const
 {
-  double x[3], J[3][3], A[3][3], r[3];
-  this->CellPoint(c, pc, x, J);
-  for (int d = 0; d < 3; ++d)
-  {
-    for (int i = 0; i < 3; ++i)
-      A[d][i] = J[i][d];
-    r[d] = v[d] - x[d];
-  }
-  if (Solve3(A, r, q))
-    return true;
-  q[0] = q[1] = q[2] = 0.0;
-  return false;
-}
-
-int LagrangeHexEmbeddingMesh::NormalOffset(
-  const double p[3], Id& f, double uv[2], double& d, int& iterations) const
-{
-  const double tolF = 1e-13 * this->Diagonal;
-  int lastEdge = -1;
-  for (int hop = 0; hop < 16; ++hop)
-  {
-    const Id c = this->FaceCell[f];
-    const int lf = this->FaceLocal[f];
-    const int iu = FaceU[lf], iv = FaceV[lf];
-    auto residual = [&](const double t[2], double dd, double F[3], double A[3][3]) {
-      double pc[3], x[3], J[3][3], s[3], Js[3][3];
-      HexFaceToParametric(lf, t, pc);
-      this->CellPoint(c, pc, x, J);
-      this->CellNormal(c, pc, s, Js);
-      const double sl = std::sqrt(Dot(s, s));
-      if (!(sl > 1e-12))
-        return false;
-      double sh[3];
-      for (int k = 0; k < 3; ++k)
-        sh[k] = s[k] / sl;
-      const double shu = Dot(sh, Js[iu]), shv = Dot(sh, Js[iv]);
-      for (int k = 0; k < 3; ++k)
-      {
-        F[k] = x[k] + dd * sh[k] - p[k];
-        A[k][0] = J[iu][k] + dd * (Js[iu][k] - sh[k] * shu) / sl;
-        A[k][1] = J[iv][k] + dd * (Js[iv][k] - sh[k] * shv) / sl;
-        A[k][2] = sh[k];
-      }
-      return true;
-    };
-    int exitEdge = -1;
-    double lastNorm = HUGE_VAL;
-    for (int it = 0; it < 40; ++it)
-    {
-      ++iterations;
-      double F[3], A[3][3], step[3];
-      if (!residual(uv, d, F, A))
-        return -1;
-      const double nF = std::sqrt(Dot(F, F));
-      const double e = 1e-12;
-      const bool inside = uv[0] >= -e && uv[1] >= -e && uv[0] <= 1 + e && uv[1] <= 1 + e;
-      if (inside && nF <= tolF)
-        return 0;
-      const double rhs[3] = { -F[0], -F[1], -F[2] };
-      if (!Solve3(A, rhs, step))
-        return -1;
-      if (inside && nF <= 100 * tolF && std::abs(step[0]) + std::abs(step[1]) < 1e-13)
-        return 0;
-      if (it > 0 && !(nF < lastNorm) && nF > 100 * tolF)
-        return -1;
-      lastNorm = nF;
-      // leaving the square: stop at the side crossed first (0: v = 0, 1: u = 1, 2: v = 1,
-      // 3: u = 0), then go across it
-      double a = 1.0;
-      int side = -1;
-      auto cross = [&](double from, double st, double bound, int sd) {
-        if (st == 0.0)
-          return;
-        const double to = from + st;
-        if ((bound == 0.0 && to < 0.0) || (bound == 1.0 && to > 1.0))
-        {
-          const double sv = (bound - from) / st;
-          if (sv < a)
-            a = sv, side = sd;
-        }
-      };
-      cross(uv[1], step[1], 0.0, 0);
-      cross(uv[0], step[0], 1.0, 1);
-      cross(uv[1], step[1], 1.0, 2);
-      cross(uv[0], step[0], 0.0, 3);
-      a = std::max(0.0, a);
-      uv[0] += a * step[0];
-      uv[1] += a * step[1];
-      d += a * step[2];
-      if (side >= 0)
-      {
-        ClampSquare(uv);
-        exitEdge = side;
-        break;
-      }
-    }
-    if (exitEdge < 0)
-      return -1;
-    const Id g = this->FaceNeighbor[4 * f + exitEdge];
-    if (g < 0 || (exitEdge == lastEdge && hop > 8))
-      return -1;
-    const Id A0 = this->FaceCorners[4 * f + exitEdge],
-             B0 = this->FaceCorners[4 * f + (exitEdge + 1) % 4];
-    const double t =
-      exitEdge == 0 ? uv[0] : (exitEdge == 1 ? uv[1] : (exitEdge == 2 ? 1 - uv[0] : 1 - uv[1]));
-    int ge = -1;
-    double gt = 0;
-    for (int e = 0; e < 4; ++e)
-    {
-      const Id a0 = this->FaceCorners[4 * g + e], b0 = this->FaceCorners[4 * g + (e + 1) % 4];
-      if (a0 == A0 && b0 == B0)
-        ge = e, gt = t;
-      else if (a0 == B0 && b0 == A0)
-        ge = e, gt = 1 - t;
-    }
-    if (ge < 0)
-      return -1;
-    f = g;
-    lastEdge = ge;
-    const double at[4][2] = { { gt, 0 }, { 1, gt }, { 1 - gt, 1 }, { 0, 1 - gt } };
-    uv[0] = at[ge][0];
-    uv[1] = at[ge][1];
-  }
-  return -1;
+  return lagrange_detail::OffsetInCell(HexCells{ *this, this->CellTree }, c, pc, v, q);
 }
 
 void LagrangeHexEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding& r) const
 {
-  r = VertexEmbedding();
-  Id cell = -1;
-  double pc[3];
-  auto dist = [&](const double a[3]) {
-    return std::sqrt((a[0] - v[0]) * (a[0] - v[0]) + (a[1] - v[1]) * (a[1] - v[1]) +
-      (a[2] - v[2]) * (a[2] - v[2]));
-  };
-  if (this->Locate(v, cell, pc))
-  {
-    for (double& x : pc)
-      x = std::min(1.0, std::max(0.0, x));
-    double x[3];
-    this->CellPoint(cell, pc, x);
-    r.Cell = cell;
-    std::copy(pc, pc + 3, r.PC);
-    r.Inside = true;
-    r.Residual = dist(x);
-    return;
-  }
-  Id f = -1;
-  double uv[2] = { 0.5, 0.5 };
-  bool certified = true;
-  const double d2 = this->ClosestBoundaryPoint(v, f, uv, certified, &r.Visited);
-  r.Uncertified = !certified;
-  r.ClosestDistance = std::sqrt(d2);
-  r.BoundaryFace = f;
-  r.UV[0] = uv[0];
-  r.UV[1] = uv[1];
-  double x[3];
-  this->FacePoint(f, uv, x);
-  const Id closestCell = this->FaceCell[f];
-  double closestPC[3];
-  HexFaceToParametric(this->FaceLocal[f], uv, closestPC);
-  if (method == EMBED_BARYCENTRIC)
-  {
-    // the closest cell's map extrapolated: its inverse from the closest point
-    double qp[3] = { closestPC[0], closestPC[1], closestPC[2] }, y[3], J[3][3];
-    for (int it = 0; it < 40; ++it)
-    {
-      ++r.Iterations;
-      this->CellPoint(closestCell, qp, y, J);
-      double A[3][3], rhs[3], step[3];
-      for (int d = 0; d < 3; ++d)
-      {
-        for (int i = 0; i < 3; ++i)
-          A[d][i] = J[i][d];
-        rhs[d] = v[d] - y[d];
-      }
-      if (!Solve3(A, rhs, step) || Dot(rhs, rhs) <= 1e-30 * this->Diagonal * this->Diagonal)
-        break;
-      for (int i = 0; i < 3; ++i)
-        qp[i] += step[i];
-    }
-    this->CellPoint(closestCell, qp, y, J);
-    r.Cell = closestCell;
-    std::copy(qp, qp + 3, r.PC);
-    r.Residual = dist(y);
-    return;
-  }
-  double s[3];
-  {
-    double J[3][3];
-    this->CellNormal(closestCell, closestPC, s, J);
-  }
-  const double e[3] = { v[0] - x[0], v[1] - x[1], v[2] - x[2] };
-  double d = (Dot(e, s) >= 0 ? 1.0 : -1.0) * r.ClosestDistance;
-  // as on tets: a foot within 8 x the closest distance only; retried from the faces
-  // around the closest face's corners, then the fallback
-  const double reach = 8.0 * r.ClosestDistance + 1e-6 * this->Diagonal;
-  const double d0 = d;
-  Id nf = f;
-  double nuv[2] = { uv[0], uv[1] };
-  int its = 0;
-  int status = this->NormalOffset(v, nf, nuv, d, its);
-  if (status == 0 && std::abs(d) > reach)
-    status = -1;
-  for (int a = 0; a < 4 && status != 0; ++a)
-  {
-    const Id node = this->FaceCorners[4 * f + a];
-    for (Id i = this->NodeFaceOffsets[node]; i < this->NodeFaceOffsets[node + 1] && status != 0;
-         ++i)
-    {
-      nf = this->NodeFaces[i];
-      nuv[0] = nuv[1] = 0.5;
-      d = d0;
-      status = this->NormalOffset(v, nf, nuv, d, its);
-      if (status == 0 && std::abs(d) > reach)
-        status = -1;
-    }
-  }
-  r.Iterations = its;
-  if (status == 0)
-  {
-    const Id c = this->FaceCell[nf];
-    const int lf = this->FaceLocal[nf];
-    ClampSquare(nuv);
-    HexFaceToParametric(lf, nuv, r.PC);
-    r.Cell = c;
-    r.Face = static_cast<signed char>(lf);
-    r.Distance = d;
-    r.BoundaryFace = nf;
-    double y[3], n[3], J[3][3];
-    this->CellPoint(c, r.PC, y, J);
-    this->CellNormal(c, r.PC, n, J);
-    const double nl = std::sqrt(Dot(n, n));
-    double rebuilt[3];
-    for (int k = 0; k < 3; ++k)
-      rebuilt[k] = y[k] + d * n[k] / nl;
-    r.Residual = dist(rebuilt);
-    return;
-  }
-  r.Fallback = true;
-  r.Cell = closestCell;
-  std::copy(closestPC, closestPC + 3, r.PC);
-  r.Face = -1;
-  r.Distance = 0.0;
-  double q[3], y[3], J[3][3];
-  this->Offset(closestCell, closestPC, v, q);
-  this->CellPoint(closestCell, closestPC, y, J);
-  double rebuilt[3];
-  for (int k = 0; k < 3; ++k)
-    rebuilt[k] = y[k] + J[0][k] * q[0] + J[1][k] * q[1] + J[2][k] * q[2];
-  r.Residual = dist(rebuilt);
+  lagrange_detail::EmbedVertex(HexCells{ *this, this->CellTree }, v, method, r);
 }
 } // namespace hoembed

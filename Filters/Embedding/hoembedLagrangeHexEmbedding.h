@@ -68,8 +68,6 @@ public:
 private:
   void SearchFace(
     Id f, const double v[3], double& best2, Id& bestFace, double bestUV[2], bool& certified) const;
-  int NormalOffset(const double p[3], Id& f, double uv[2], double& d, int& iterations) const;
-  bool Locate(const double v[3], Id& cell, double pc[3]) const;
 
   AabbTree FaceTree, CellTree;
   std::vector<double> Tensors, NormalTensors; ///< per cell: the tensor forms
