@@ -299,7 +299,7 @@ void LagrangeEmbeddingMesh::FacePoint(
 namespace
 {
 // The tetrahedra for the per-vertex embedding (lagrange_detail::EmbedVertex).
-struct TetCells
+struct TetCells : lagrange_detail::MeshCells<LagrangeEmbeddingMesh>
 {
   using Face = lagrange_detail::TriangleDomain;
   static constexpr double CellCentre = 0.25;
@@ -391,31 +391,16 @@ struct TetCells
   {
     return M.Corners.NodeFaces[i];
   }
-  void FacePoint(Id f, const double uv[2], double x[3]) const
-  {
-    M.FacePoint(f, uv, x);
-  }
-  double Closest(const double v[3], Id& f, double uv[2], bool& certified, int* visited) const
-  {
-    return M.ClosestBoundaryPoint(v, f, uv, certified, visited);
-  }
-
-  const LagrangeEmbeddingMesh& M;
-  const AabbTree& CellTree;
-  const double Diagonal = M.Diagonal;
-  const double* Points = M.Points.data();
-  const Id* Connectivity = M.Connectivity.data();
-  const int NodesPerCell = M.NodesPerCell;
 };
 } // namespace
 
 bool LagrangeEmbeddingMesh::Offset(Id c, const double pc[3], const double v[3], double q[3]) const
 {
-  return lagrange_detail::OffsetInCell(TetCells{ *this, this->CellTree }, c, pc, v, q);
+  return lagrange_detail::OffsetInCell(TetCells{ { *this, this->CellTree } }, c, pc, v, q);
 }
 
 void LagrangeEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding& r) const
 {
-  lagrange_detail::EmbedVertex(TetCells{ *this, this->CellTree }, v, method, r);
+  lagrange_detail::EmbedVertex(TetCells{ { *this, this->CellTree } }, v, method, r);
 }
 } // namespace hoembed

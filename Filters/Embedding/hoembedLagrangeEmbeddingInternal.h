@@ -330,15 +330,35 @@ double LocalFaceSolve(const Eval& eval, const double v[3], double uv[2], int& it
  *   static bool InsideCell(pc, m), FarOutside(pc); static void ClampIntoCell(pc);
  *   Bound Bind(Id c, bool normals): the cell's map, Bound::Point(pc, x, J), and with
  *     normals its normal field, Bound::Normal(pc, s, J) (J[i][k] = d x_k / d pc_i);
- *   double Diagonal; const double* Points; const Id* Connectivity; int NodesPerCell;
  *   Id FaceCell(f); int FaceLocal(f); FaceToParametric(lf, uv, pc);
  *   FaceTangents(lf, J, xu, xv) (d x / du, d x / dv from the cell's J);
  *   Id Neighbor(f, e) (across edge e, or -1); Id Corner(f, e) (mesh node at corner e);
  *   Id NodeFacesBegin(n), NodeFacesEnd(n), NodeFace(i) (boundary faces around node n);
- *   FacePoint(f, uv, x); double Closest(v, f, uv, certified, visited) (the certified search);
- *   const AabbTree& CellTree.
+ *   and, from MeshCells: Diagonal, Points, Connectivity, NodesPerCell, CellTree,
+ *   FacePoint(f, uv, x), Closest(v, f, uv, certified, visited) (the certified search).
  */
 using LagrangeId = std::int64_t;
+
+// What both adapters forward to their mesh alike (an adapter derives from this).
+template <typename Mesh>
+struct MeshCells
+{
+  const Mesh& M;
+  const AabbTree& CellTree;
+  const double Diagonal = M.Diagonal;
+  const double* Points = M.Points.data();
+  const LagrangeId* Connectivity = M.Connectivity.data();
+  const int NodesPerCell = M.NodesPerCell;
+  void FacePoint(LagrangeId f, const double uv[2], double x[3]) const
+  {
+    M.FacePoint(f, uv, x);
+  }
+  double Closest(
+    const double v[3], LagrangeId& f, double uv[2], bool& certified, int* visited) const
+  {
+    return M.ClosestBoundaryPoint(v, f, uv, certified, visited);
+  }
+};
 
 // v inside a cell: the cells whose control-point box holds v, the map inverted by damped
 // Newton from the straight cell's parameters of v and from the centre.

@@ -494,7 +494,7 @@ double LagrangeHexEmbeddingMesh::ClosestBoundaryPoint(
 namespace
 {
 // The hexahedra for the per-vertex embedding (lagrange_detail::EmbedVertex).
-struct HexCells
+struct HexCells : lagrange_detail::MeshCells<LagrangeHexEmbeddingMesh>
 {
   using Face = lagrange_detail::SquareDomain;
   static constexpr double CellCentre = 0.5;
@@ -570,32 +570,17 @@ struct HexCells
   {
     return M.NodeFaces[i];
   }
-  void FacePoint(Id f, const double uv[2], double x[3]) const
-  {
-    M.FacePoint(f, uv, x);
-  }
-  double Closest(const double v[3], Id& f, double uv[2], bool& certified, int* visited) const
-  {
-    return M.ClosestBoundaryPoint(v, f, uv, certified, visited);
-  }
-
-  const LagrangeHexEmbeddingMesh& M;
-  const AabbTree& CellTree;
-  const double Diagonal = M.Diagonal;
-  const double* Points = M.Points.data();
-  const Id* Connectivity = M.Connectivity.data();
-  const int NodesPerCell = M.NodesPerCell;
 };
 } // namespace
 
 bool LagrangeHexEmbeddingMesh::Offset(
   Id c, const double pc[3], const double v[3], double q[3]) const
 {
-  return lagrange_detail::OffsetInCell(HexCells{ *this, this->CellTree }, c, pc, v, q);
+  return lagrange_detail::OffsetInCell(HexCells{ { *this, this->CellTree } }, c, pc, v, q);
 }
 
 void LagrangeHexEmbeddingMesh::Embed(const double v[3], int method, VertexEmbedding& r) const
 {
-  lagrange_detail::EmbedVertex(HexCells{ *this, this->CellTree }, v, method, r);
+  lagrange_detail::EmbedVertex(HexCells{ { *this, this->CellTree } }, v, method, r);
 }
 } // namespace hoembed
