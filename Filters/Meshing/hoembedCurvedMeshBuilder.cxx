@@ -4,6 +4,7 @@
 #include "hoembedCsr.h"
 #include "hoembedCurvedBoundary.h"
 #include "hoembedFreeNodeFit.h"
+#include "hoembedLinearMeshSmoothing.h"
 #include "hoembedElementGeometry.h"
 #include "hoembedQuadraticMap.h"
 #include "hoembedShapeFunctions.h"
@@ -1374,6 +1375,10 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   const std::vector<double> tetgenCorners = pts;
   if (options.ProjectCorners)
     ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance, options.MinimumQuality);
+  // the boundary stays TetGen's when the corners stay (the driver's straight last resort)
+  OptimiseLinearCorners(pts, tets, topo, options.ProjectCorners ? surface : SurfaceQueries(),
+    options.MaxTargetDistance > 0.0, options.CornerSweeps, tetgenCorners,
+    options.MinimumQuality);
   ImprovePoorTets(pts, tets, options.MinimumQuality); // tet4 and tet10: the same corners
   report(0.3);
   // AbortExecute between the steps (hoembed::ScopedTetGenAbort of the calling thread)
