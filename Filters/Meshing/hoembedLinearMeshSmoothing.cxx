@@ -58,23 +58,31 @@ Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
     },
     off, around);
   const std::vector<double> start = pts;
-  // The crossing repair puts boundary corners back where `restore` has them; the tets
-  // around v with the other boundary corners there (v where it is) must stay above the
-  // floor or no worse than before the move.
-  std::vector<double> mixed = restore;
-  for (Id i = 0; i < nPts; ++i)
-    if (!topo.IsBoundaryNode(i))
-      for (int d = 0; d < 3; ++d)
-        mixed[3 * i + d] = pts[3 * i + d];
-  auto restoredWorst = [&](Id v, const Id* begin, const Id* end) {
-    double w = 0.0, unused = 0.0;
-    for (int d = 0; d < 3; ++d)
-      mixed[3 * v + d] = pts[3 * v + d];
-    const bool ok = Score(mixed, tets, begin, end, w, unused);
-    if (topo.IsBoundaryNode(v))
-      for (int d = 0; d < 3; ++d)
-        mixed[3 * v + d] = restore[3 * v + d];
-    return ok ? w : -1.0;
+  // The crossing repair puts some boundary corners back where `restore` has them: the
+  // worst tet around v over every choice of its boundary corners put back (at most 16
+  // shapes per tet; v where it is unless it is put back too).
+  auto restoredWorst = [&](const Id* begin, const Id* end) {
+    double w = 1.0;
+    for (const Id* t = begin; t != end; ++t)
+    {
+      const Id* c = &tets[4 * *t];
+      int boundaryMask = 0;
+      for (int a = 0; a < 4; ++a)
+        boundaryMask |= topo.IsBoundaryNode(c[a]) ? 1 << a : 0;
+      for (int mask = 1; mask < 16; ++mask)
+      {
+        if ((mask & boundaryMask) != mask)
+          continue;
+        double x[12];
+        for (int a = 0; a < 4; ++a)
+          for (int d = 0; d < 3; ++d)
+            x[3 * a + d] = (mask >> a & 1 ? restore : pts)[3 * c[a] + d];
+        if (!(Tet4JacobianDeterminant(x) > 0.0))
+          return -1.0;
+        w = std::min(w, Tet4ScaledJacobian(x));
+      }
+    }
+    return w;
   };
   std::vector<double> reach(nPts, -1.0);
   Id moved = 0;
@@ -144,7 +152,7 @@ Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
       double worst = 0.0, sum = 0.0;
       if (!Score(pts, tets, begin, end, worst, sum))
         continue;
-      const double restoredBar = std::min(floor, restoredWorst(v, begin, end));
+      const double restoredBar = std::min(floor, restoredWorst(begin, end));
       const double x0[3] = { x[0], x[1], x[2] };
       double step = 0.25 * L;
       for (int it = 0; it < 8 && step > 0.02 * L; ++it)
@@ -177,7 +185,7 @@ Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
             x[d] = c[d];
           double w = 0.0, s = 0.0;
           if (Score(pts, tets, begin, end, w, s) && w >= worst && s > sum + 1e-12 &&
-            restoredWorst(v, begin, end) >= restoredBar)
+            restoredWorst(begin, end) >= restoredBar)
           {
             worst = w;
             sum = s;
@@ -190,9 +198,6 @@ Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
         if (!better)
           step *= 0.5;
       }
-      if (!topo.IsBoundaryNode(v))
-        for (int d = 0; d < 3; ++d)
-          mixed[3 * v + d] = x[d];
       if (x[0] != x0[0] || x[1] != x0[1] || x[2] != x0[2])
         ++movedNow;
     }
