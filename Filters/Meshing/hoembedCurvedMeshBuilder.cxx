@@ -1377,8 +1377,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
     ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance, options.MinimumQuality);
   // the boundary stays TetGen's when the corners stay (the driver's straight last resort)
   OptimiseLinearCorners(pts, tets, topo, options.ProjectCorners ? surface : SurfaceQueries(),
-    options.MaxTargetDistance > 0.0, options.CornerSweeps, tetgenCorners,
-    options.MinimumQuality);
+    options.MaxTargetDistance > 0.0, options.CornerSweeps, tetgenCorners, options.MinimumQuality);
   ImprovePoorTets(pts, tets, options.MinimumQuality); // tet4 and tet10: the same corners
   report(0.3);
   // AbortExecute between the steps (hoembed::ScopedTetGenAbort of the calling thread)

@@ -33,9 +33,8 @@ class TetMeshTopology;
 /// with the boundary corners there, no tet around a moved corner drops below `floor` (or
 /// below what it had, if less). Returns the number of corner moves kept.
 HOEMBEDFILTERSMESHING_EXPORT std::int64_t OptimiseLinearCorners(std::vector<double>& pts,
-  const std::vector<std::int64_t>& tets, const TetMeshTopology& topo,
-  const SurfaceQueries& surface, bool faceCheck, int sweeps, const std::vector<double>& restore,
-  double floor);
+  const std::vector<std::int64_t>& tets, const TetMeshTopology& topo, const SurfaceQueries& surface,
+  bool faceCheck, int sweeps, const std::vector<double>& restore, double floor);
 } // namespace hoembed
 
 #endif

@@ -729,6 +729,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     return out;
   report(0.1);
   TetGenResult tg;
+  bool envelopeMeshed = false;
   if (notClean.empty() && options.Wrap <= 0)
   {
     tg = CoarsenAndTetrahedralize(points, tris, facts, options, services, report);
@@ -749,10 +750,44 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
       tg.Error.clear();
       out.Wrapped = true;
     }
+    // A surface that folds when decimated below some triangle count (thin parts at a
+    // coarse size) keeps more boundary triangles than the count asks for; TetGen then makes
+    // about as many elements as boundary triangles (elephant at 300: 367 triangles, 1.48
+    // times the target). The envelope, whose triangles have the element size, is meshed
+    // instead when its count is closer (the bound: within 30%).
+    const double ratio = static_cast<double>(nTets) / options.TargetNumberOfElements;
+    if (tg.Error.empty() && !out.Wrapped && options.Wrap == 0 &&
+      !(options.TargetEdgeLength > 0.0) && (ratio > 1.3 || ratio < 1.0 / 1.3))
+    {
+      double offset = 0.0;
+      TetGenResult wrapped = WrapAndTetrahedralize(points, tris, facts, options, offset, report);
+      if (wrapped.Aborted || aborted("during the envelope"))
+      {
+        out = MesherResult();
+        out.Error = "meshing was aborted (AbortExecute) during the envelope";
+        return out;
+      }
+      const double wrappedRatio =
+        static_cast<double>(wrapped.Tets.size() / 4) / options.TargetNumberOfElements;
+      if (wrapped.Error.empty() && !wrapped.Tets.empty() &&
+        std::fabs(std::log(wrappedRatio)) < std::fabs(std::log(ratio)))
+      {
+        std::ostringstream msg;
+        msg << "the coarsened surface gave " << nTets << " elements for a target of "
+            << options.TargetNumberOfElements
+            << " (it folds when decimated further: parts thinner than the element size); the "
+               "surface's envelope is meshed instead (EnvelopeTolerance)";
+        out.Warnings.push_back(msg.str());
+        tg = std::move(wrapped);
+        out.Wrapped = true;
+        out.EnvelopeOffset = offset;
+        envelopeMeshed = true;
+      }
+    }
   }
   else
     out.Wrapped = true;
-  if (out.Wrapped)
+  if (out.Wrapped && !envelopeMeshed)
     tg = WrapAndTetrahedralize(points, tris, facts, options, out.EnvelopeOffset, report);
   if (!tg.Error.empty())
   {
@@ -837,6 +872,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
         tg = std::move(wrapped);
         out.Wrapped = true;
         out.EnvelopeOffset = offset;
+        envelopeMeshed = true;
       }
     }
   }
