@@ -297,7 +297,9 @@ def test_quality_target():
     """CurvedQualityTarget (tet10_mesh's quality_target): curving never takes a cell below
     min(target, its straight quality), judged by VTK's own tet scaled Jacobian of the
     corners; without it (0) the same input has cells far below; a higher target gives a
-    better median and fewer boundary nodes on the surface."""
+    better lower quartile (the cells it acts on; the median, 0.62 here, is set by cells
+    above every target and moved 0.002 either way between targets once the straight
+    corners were optimised) and fewer boundary nodes on the surface."""
     surface = SHAPES["bumpy"]()
     meshes = {
         t: hoembed.tet10_mesh(surface, n_elements=1000, quality_target=t) for t in (0.0, 0.2, 0.3)
@@ -308,21 +310,21 @@ def test_quality_target():
     np.testing.assert_allclose(
         default.points, meshes[0.2].points, rtol=0, atol=1e-12 * surface.length
     )
-    medians, on_surface = {}, {}
+    quartiles, on_surface = {}, {}
     for t, mesh in meshes.items():
         q = np.asarray(mesh.cell_data["MinScaledJacobian"])
         straight = straight_scaled_jacobian(mesh)
         floor = max(0.05, t)
         assert np.all(q >= np.minimum(floor, 0.999 * straight) - 1e-9), t
-        medians[t] = np.median(q)
+        quartiles[t] = np.percentile(q, 25)
         d = distances_to_surface(surface, mesh.points[boundary_mid_nodes(mesh)])
         on_surface[t] = np.mean(d <= 1e-6 * surface.length)
     assert np.sum(meshes[0.0].cell_data["MinScaledJacobian"] < 0.2) > np.sum(
         meshes[0.3].cell_data["MinScaledJacobian"] < 0.2
     )
-    assert medians[0.3] >= medians[0.2] >= medians[0.0]
+    assert quartiles[0.3] >= quartiles[0.2] >= quartiles[0.0]
     assert on_surface[0.0] >= on_surface[0.2] >= on_surface[0.3]
     assert on_surface[0.0] >= 0.95 and on_surface[0.2] >= 0.9
     with pytest.raises(hoembed.HOEmbedError, match="quality_target"):
         hoembed.tet10_mesh(surface, quality_target=1.5)
-    print(medians, on_surface)
+    print(quartiles, on_surface)
