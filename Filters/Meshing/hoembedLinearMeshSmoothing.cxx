@@ -43,7 +43,7 @@ bool Score(const std::vector<double>& pts, const std::vector<Id>& tets, const Id
 } // namespace
 
 Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
-  const TetMeshTopology& topo, const SurfaceQueries& surface, bool faceCheck, int sweeps,
+  const TetMeshTopology& topo, const SurfaceQueries& surface, int sweeps,
   const std::vector<double>& restore, double floor)
 {
   const Id nPts = static_cast<Id>(pts.size() / 3);
@@ -175,8 +175,6 @@ Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
             // a crease (or a jump to another part of the surface): the surface point
             // leaves the corner's tangent plane
             if (!(len > 0.0) || len > 1.5 * step || std::fabs(Dot(s, n)) > 0.3 * len)
-              continue;
-            if (faceCheck && surface.Faces && !surface.Faces(c, n))
               continue;
           }
           if (Distance2(c, &start[3 * v]) > reach[v] * reach[v])
