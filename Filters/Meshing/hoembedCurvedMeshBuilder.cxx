@@ -1378,7 +1378,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   // The boundary stays TetGen's when the corners stay (the driver's straight last resort)
   // and on an envelope (MaxTargetDistance): there the closest surface point of a slid corner
   // can lie on a part the envelope encloses (overlapping bodies: a boundary 4.4% of the
-  // diagonal inside the input, against 3.1% without the slide).
+  // diagonal inside the input, against 2.3% without the slide).
   const bool slide = options.ProjectCorners && !(options.MaxTargetDistance > 0.0);
   OptimiseLinearCorners(pts, tets, topo, slide ? surface : SurfaceQueries(), options.CornerSweeps,
     tetgenCorners, options.MinimumQuality);
