@@ -4,6 +4,7 @@
 #include "hoembedCsr.h"
 #include "hoembedCurvedBoundary.h"
 #include "hoembedFreeNodeFit.h"
+#include "hoembedLinearMeshSmoothing.h"
 #include "hoembedElementGeometry.h"
 #include "hoembedQuadraticMap.h"
 #include "hoembedShapeFunctions.h"
@@ -1374,6 +1375,13 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   const std::vector<double> tetgenCorners = pts;
   if (options.ProjectCorners)
     ProjectCorners(pts, tets, topo, surface, options.MaxTargetDistance, options.MinimumQuality);
+  // The boundary stays TetGen's when the corners stay (the driver's straight last resort)
+  // and on an envelope (MaxTargetDistance): there the closest surface point of a slid corner
+  // can lie on a part the envelope encloses (overlapping bodies: a boundary 4.4% of the
+  // diagonal inside the input, against 2.3% without the slide).
+  const bool slide = options.ProjectCorners && !(options.MaxTargetDistance > 0.0);
+  OptimiseLinearCorners(pts, tets, topo, slide ? surface : SurfaceQueries(), options.CornerSweeps,
+    tetgenCorners, options.MinimumQuality);
   ImprovePoorTets(pts, tets, options.MinimumQuality); // tet4 and tet10: the same corners
   report(0.3);
   // AbortExecute between the steps (hoembed::ScopedTetGenAbort of the calling thread)

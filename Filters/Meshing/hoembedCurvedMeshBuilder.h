@@ -6,7 +6,9 @@
  * Steps (see vtkTet10Mesher for the user-level description):
  * 1. flat boundary tets (two boundary faces, poor shape) are removed;
  * 2. boundary corner nodes move to their closest surface point where their tets stay
- *    valid and keep half their quality;
+ *    valid and keep half their quality; then every corner moves (hoembed::OptimiseLinearCorners,
+ *    boundary ones along the surface) where the straight tets around it get better, the
+ *    worst never worse;
  * 3. mid-edge nodes are added; boundary ones target the surface (where the edge's normal
  *    line meets it, else the closest point), interior ones follow by harmonic extension;
  * 4. nodes are pulled back where elements would be invalid (hoembed::CurveMidEdgeNodes),
@@ -58,6 +60,9 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMeshOptions
   double QualityRatio = 0.1;    ///< see hoembed::Tet10Acceptable
   double MinimumQuality = 0.05; ///< see hoembed::Tet10Acceptable
   double SliverQuality = 0.2;   ///< scaled Jacobian below which flat boundary tets go
+  /// sweeps of hoembed::OptimiseLinearCorners over the straight mesh after the corners'
+  /// projection (0: off)
+  int CornerSweeps = 4;
   /// Curving never takes an element below min(QualityTarget, its straight quality): after
   /// the curving, the mid-edge nodes of the elements below it are blended back towards
   /// their straight positions, just enough (hoembed::CurveMidEdgeNodes); 0: off.

@@ -142,6 +142,32 @@ def test_quality_floor(shape):
     )
 
 
+def test_small_mesh_quality():
+    """Issue 27, 300 elements: the corners of the straight mesh are optimised before
+    curving (hoembed::OptimiseLinearCorners). On this torus (a tube a third of the ring
+    radius thick: most tets at 300 have four boundary corners) the median cell was 0.51
+    (tet4) and 0.42 (tet10), the worst tet4 0.051, before that step; every boundary corner
+    still lies on the surface (distance by VTK's implicit distance, not the mesher's)."""
+    from vtkmodules.vtkFiltersCore import vtkImplicitPolyDataDistance
+
+    surface = torus()
+    distance = vtkImplicitPolyDataDistance()
+    distance.SetInput(surface)
+    for order, bound in ((1, 0.55), (2, 0.44)):
+        mesh, warnings = mesh_with_warnings(surface, 300, ElementOrder=order)
+        q = check_quality_floor(mesh, warnings)
+        assert 0.7 * 300 < mesh.n_cells < 1.3 * 300
+        assert np.median(q) >= bound, (order, np.median(q))
+        if order == 1:
+            assert q.min() >= 0.1, q.min()
+            outer = mesh.extract_surface()
+            d = np.array([abs(distance.EvaluateFunction(p)) for p in outer.points])
+            on = np.mean(d <= 1e-6 * surface.length)
+            print("boundary corners on the surface", on)
+            assert on >= 0.9, on
+        print(order, mesh.n_cells, "min/median", q.min(), np.median(q))
+
+
 def test_linear_order_same_corners():
     surface = SHAPES["sphere"]()
     quad = hoembed.tet10_mesh(surface, n_elements=500)
@@ -271,7 +297,9 @@ def test_quality_target():
     """CurvedQualityTarget (tet10_mesh's quality_target): curving never takes a cell below
     min(target, its straight quality), judged by VTK's own tet scaled Jacobian of the
     corners; without it (0) the same input has cells far below; a higher target gives a
-    better median and fewer boundary nodes on the surface."""
+    better lower quartile (the cells it acts on; the median, 0.62 here, is set by cells
+    above every target and moved 0.002 either way between targets once the straight
+    corners were optimised) and fewer boundary nodes on the surface."""
     surface = SHAPES["bumpy"]()
     meshes = {
         t: hoembed.tet10_mesh(surface, n_elements=1000, quality_target=t) for t in (0.0, 0.2, 0.3)
@@ -282,21 +310,21 @@ def test_quality_target():
     np.testing.assert_allclose(
         default.points, meshes[0.2].points, rtol=0, atol=1e-12 * surface.length
     )
-    medians, on_surface = {}, {}
+    quartiles, on_surface = {}, {}
     for t, mesh in meshes.items():
         q = np.asarray(mesh.cell_data["MinScaledJacobian"])
         straight = straight_scaled_jacobian(mesh)
         floor = max(0.05, t)
         assert np.all(q >= np.minimum(floor, 0.999 * straight) - 1e-9), t
-        medians[t] = np.median(q)
+        quartiles[t] = np.percentile(q, 25)
         d = distances_to_surface(surface, mesh.points[boundary_mid_nodes(mesh)])
         on_surface[t] = np.mean(d <= 1e-6 * surface.length)
     assert np.sum(meshes[0.0].cell_data["MinScaledJacobian"] < 0.2) > np.sum(
         meshes[0.3].cell_data["MinScaledJacobian"] < 0.2
     )
-    assert medians[0.3] >= medians[0.2] >= medians[0.0]
+    assert quartiles[0.3] >= quartiles[0.2] >= quartiles[0.0]
     assert on_surface[0.0] >= on_surface[0.2] >= on_surface[0.3]
     assert on_surface[0.0] >= 0.95 and on_surface[0.2] >= 0.9
     with pytest.raises(hoembed.HOEmbedError, match="quality_target"):
         hoembed.tet10_mesh(surface, quality_target=1.5)
-    print(medians, on_surface)
+    print(quartiles, on_surface)
