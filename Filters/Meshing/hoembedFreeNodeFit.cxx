@@ -33,8 +33,12 @@ double Margin(
   const double q = Tet10MinScaledJacobian(x);
   const double straight = Tet4ScaledJacobian(x);
   if (q > 0.0)
-    return std::min(straight - straightFloor,
-      q - std::max(floor, Tet10RequiredQuality(straight, qualityRatio, minQuality)));
+  {
+    const double m = q - std::max(floor, Tet10RequiredQuality(straight, qualityRatio, minQuality));
+    // (only a breach counts: the search's objective and stopping point stay the same
+    // wherever the straight shape keeps its bar, and so does its work)
+    return straight >= straightFloor ? m : std::min(m, straight - straightFloor);
+  }
   double lo, hi;
   Tet10JacobianBounds(x, lo, hi, 1);
   return -1.0 + std::max(-1.0, std::min(0.0, lo / det4));
