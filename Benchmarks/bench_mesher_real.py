@@ -6,7 +6,8 @@ still covers every input at the first counts.
 
 Per run, each in its own process with a time limit (a run past it is recorded as such):
 time, cells / target, the minimum / 1st percentile / median of the cell array
-MinScaledJacobian, the mesher's crossing counts (found / left), and two checks by code
+MinScaledJacobian, the mesher's crossing counts (found / left), the boundary mid-edge
+nodes on the surface and pulled back (CurvedNodeCount, RelaxedNodeCount), and two checks by code
 the mesher does not use: det J of every cell at the 35 points of the quartic lattice with
 VTK's vtkQuadraticTetra derivatives (cells with det J <= 0 anywhere), and crossing pairs
 of the curved boundary (Testing/Python/boundary_crossings.py: VTK's collision filter on
@@ -90,6 +91,8 @@ def one_run(name, count, order, threads):
         crossings_found=int(fd["BoundaryCrossingsFound"][0]),
         crossings_left=int(fd["BoundaryCrossingsLeft"][0]),
         wrapped=bool(fd["EnvelopeOffset"][0] > 0),
+        curved_nodes=int(fd["CurvedNodeCount"][0]),
+        relaxed_nodes=int(fd["RelaxedNodeCount"][0]),
     )
     print("PARTIAL " + json.dumps(rec), flush=True)
     # det J on the quartic lattice with VTK's own tet10 derivatives

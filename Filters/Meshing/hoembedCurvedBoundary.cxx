@@ -12,7 +12,12 @@ using Id = std::int64_t;
 
 double Tet10RequiredQuality(double straight, double qualityRatio, double minQuality)
 {
-  return std::max(qualityRatio * straight, std::min(minQuality, 0.999 * straight));
+  // A straight shape at the floor keeps the floor itself (less the round-off between the
+  // straight tet10's sampled value and the tet4's): 0.999 of it alone let curving take a
+  // cell whose straight shape is 0.05002 to 0.04997 (fertility at 10000 elements), below
+  // the floor where the tet4 mesh has none.
+  const double keep = straight >= minQuality ? (1.0 - 1e-12) * straight : 0.999 * straight;
+  return std::max(qualityRatio * straight, std::min(minQuality, keep));
 }
 
 bool Tet10Acceptable(

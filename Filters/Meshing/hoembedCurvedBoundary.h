@@ -65,11 +65,12 @@ HOEMBEDFILTERSMESHING_EXPORT std::vector<double> ExtendMidNodeDisplacement(
 
 /**
  * The smallest minimum scaled Jacobian accepted for a curved element whose straight shape
- * scores `straight`: max(qualityRatio * straight, min(minQuality, 0.999 * straight)).
+ * scores `straight`: max(qualityRatio * straight, min(minQuality, 0.999 * straight)), with
+ * (1 - 1e-12) for 0.999 when the straight shape is at the floor or above.
  * Curving may cost a share of the straight quality (`qualityRatio`) but never go below
  * the floor `minQuality`; a straight shape already below the floor is accepted as it is
- * (0.999: the straight tet10's sampled value equals the tet4's only up to round-off), so
- * pulling every node back is always acceptable.
+ * (0.999, 1 - 1e-12: the straight tet10's sampled value equals the tet4's only up to
+ * round-off), so pulling every node back is always acceptable.
  */
 HOEMBEDFILTERSMESHING_EXPORT double Tet10RequiredQuality(
   double straight, double qualityRatio, double minQuality);

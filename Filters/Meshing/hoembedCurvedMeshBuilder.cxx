@@ -976,8 +976,12 @@ void SeparatePair(CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCell
 
 // Straight faces that still cross have corners that moved onto the surface across each
 // other: those corners go back to TetGen's positions (whose boundary does not cross
-// itself), where every straight tet around them stays valid, with the mid-edge nodes of
-// the cells around them straight; searched again, three rounds at most.
+// itself), or half or a quarter of the way there, where every straight tet around them
+// stays valid and keeps min(floor, its straight quality) (TetGen's corner can be what
+// ImprovePoorTets moved to lift a sliver: its straight shape, which the floor's safety
+// net falls back to, would be below the floor where the tet4 mesh has none; dragon at
+// 1000 elements: one cell at 0.011), with the mid-edge nodes of the cells around them
+// straight; searched again, three rounds at most.
 // Straightening a cell's six mid-edge nodes also changes the cells that share its edges
 // away from the moved corner, and a moved corner leaves the curved edges of its own cells
 // on the old geometry: either can leave a cell invalid though its corners are not. Each
@@ -985,7 +989,7 @@ void SeparatePair(CurvedMesh& out, const QuadraticNodes& quad, const MidNodeCell
 // positive, those around a moved corner by the check here, the others untouched), and
 // the pairs are counted on that valid state: a pair the net makes cross again is left.
 void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
-  const std::vector<Id>& faces, const std::vector<double>& straight,
+  const std::vector<Id>& faces, const std::vector<double>& straight, double minQuality,
   std::vector<std::array<Id, 2>>& pairs, CurvingResult& curving, const std::vector<Id>& edgeOf)
 {
   const Id nTets = static_cast<Id>(out.Conn.size() / 10);
@@ -993,13 +997,14 @@ void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
   for (Id c = 0; c < nTets; ++c)
     for (int a = 0; a < 4; ++a)
       cellsOf[out.Conn[10 * c + a]].push_back(c);
-  auto straightPositive = [&](Id c) {
+  auto straightQuality = [&](Id c) {
     double x[12];
     for (int a = 0; a < 4; ++a)
       for (int d = 0; d < 3; ++d)
         x[3 * a + d] = out.Points[3 * out.Conn[10 * c + a] + d];
-    return Tet4JacobianDeterminant(x) > 0.0;
+    return Tet4JacobianDeterminant(x) > 0.0 ? Tet4ScaledJacobian(x) : -1.0;
   };
+  std::vector<double> bar;
   for (int round = 0; round < 3 && !pairs.empty(); ++round)
   {
     for (const auto& pr : pairs)
@@ -1008,14 +1013,25 @@ void RestoreCrossingCorners(CurvedMesh& out, const QuadraticNodes& quad, Id nbe,
         {
           const Id v = faces[6 * f + k];
           double keep[3];
-          for (int d = 0; d < 3; ++d)
-          {
-            keep[d] = out.Points[3 * v + d];
-            out.Points[3 * v + d] = straight[3 * v + d];
-          }
-          bool ok = true;
+          bar.clear();
           for (Id c : cellsOf[v])
-            ok = ok && straightPositive(c);
+            bar.push_back(std::min(minQuality, straightQuality(c)));
+          for (int d = 0; d < 3; ++d)
+            keep[d] = out.Points[3 * v + d];
+          bool ok = false;
+          for (double a : { 1.0, 0.5, 0.25 })
+          {
+            for (int d = 0; d < 3; ++d)
+              out.Points[3 * v + d] = keep[d] + a * (straight[3 * v + d] - keep[d]);
+            ok = true;
+            for (size_t i = 0; ok && i < cellsOf[v].size(); ++i)
+            {
+              const double qc = straightQuality(cellsOf[v][i]);
+              ok = qc > 0.0 && qc >= bar[i];
+            }
+            if (ok)
+              break;
+          }
           if (!ok)
           {
             for (int d = 0; d < 3; ++d)
@@ -1054,7 +1070,8 @@ std::vector<Id> BoundaryFaceNodes(const CurvedMesh& out, const TetMeshTopology& 
 // (SeparatePair); the search runs again (three rounds), and straight faces still
 // crossing get their corners back (RestoreCrossingCorners).
 void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
-  const QuadraticNodes& quad, Id nbe, const std::vector<double>& straight, CurvingResult& curving)
+  const QuadraticNodes& quad, Id nbe, const std::vector<double>& straight, double minQuality,
+  CurvingResult& curving)
 {
   const std::vector<Id> faces = BoundaryFaceNodes(out, topo);
   std::vector<std::array<Id, 2>> pairs = FindCurvedFaceCrossings(out.Points, faces);
@@ -1078,7 +1095,7 @@ void RepairBoundaryCrossings(CurvedMesh& out, const TetMeshTopology& topo,
     pairs = FindCurvedFaceCrossings(out.Points, faces);
   }
   if (!pairs.empty())
-    RestoreCrossingCorners(out, quad, nbe, faces, straight, pairs, curving, edgeOf);
+    RestoreCrossingCorners(out, quad, nbe, faces, straight, minQuality, pairs, curving, edgeOf);
   out.CrossingPairsLeft = static_cast<Id>(pairs.size());
 }
 
@@ -1430,7 +1447,7 @@ CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   if (options.ExtraCheck)
     ApplyExtraCheck(out, quad, nbe, options, curving);
   StraightenInvalidCells(out, quad, nbe, curving);
-  RepairBoundaryCrossings(out, topo, quad, nbe, tetgenCorners, curving);
+  RepairBoundaryCrossings(out, topo, quad, nbe, tetgenCorners, options.MinimumQuality, curving);
   const Id poorStraightened = StraightenPoorCells(out, quad, nbe, options, curving);
   if (poorStraightened + StraightenBelowTarget(out, quad, nbe, options, curving) > 0)
   {

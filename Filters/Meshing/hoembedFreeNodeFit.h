@@ -11,7 +11,9 @@
  * pattern search (axis steps from a fifth of its edge length, halved on failure) that
  * maximises the worst acceptability margin of the elements around that free node. When
  * every element touched is acceptable the node keeps its target (alpha_k = 1); otherwise
- * all positions are restored. Elements acceptable before stay acceptable.
+ * all positions are restored. Elements acceptable before stay acceptable, and no moved
+ * corner takes an element's straight (tet4) shape below min(minQuality, what it was):
+ * later steps measure elements against their straight shape and may straighten them.
  */
 #ifndef hoembedFreeNodeFit_h
 #define hoembedFreeNodeFit_h
@@ -32,7 +34,8 @@ namespace hoembed
  * @param isFree       per point: 1 for mid-edge nodes that may move anywhere
  * @param qualityRatio see hoembed::Tet10Acceptable
  * @param minQuality   see hoembed::Tet10Acceptable; an element's straight shape before
- *                     the fit sets its bar: moved corners do not lower it
+ *                     the fit sets its bar: moved corners do not lower it, nor take the
+ *                     straight shape itself below min(minQuality, what it was)
  * @param evaluationsPerCell work limit: element evaluations per cell of the mesh
  * @return how many nodes reached their target
  */
