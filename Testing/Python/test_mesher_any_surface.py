@@ -335,11 +335,11 @@ def test_cavity_stays_empty(n):
 
 
 def test_poor_elements_warning_names_a_count(data_dir):
-    """Slivers TetGen leaves below the floor are named in a warning with the figures and
-    the count that would lift them (issue 27), each by its output cell id; meshing at that
-    count does (fertility at 300: three cells, 0.001-0.034, whose corners the curving's
-    second chances moved; dragon at 300 was the case until the straight mesh's corners
-    were optimised, which lifted its sliver)."""
+    """Elements whose straight shape is below the floor are named in a warning with the
+    figures and the count that would lift them (issue 27), each by its output cell id;
+    meshing at that count does. At the default floor (0.05) the inputs of ../shared/data
+    leave none (curving keeps the floor where the straight mesh has it), so the floor is
+    raised to 0.3: fertility at 300 keeps one straight shape below it."""
     import re
     import warnings
 
@@ -347,17 +347,19 @@ def test_poor_elements_warning_names_a_count(data_dir):
     if not path.exists():
         pytest.skip(f"{path} not available")
     surface = pv.read(path)
+    floor = 0.3
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        mesh = hoembed.tet10_mesh(surface, n_elements=300)
+        mesh = hoembed.tet10_mesh(surface, n_elements=300, minimum_quality=floor)
     poor = int(mesh.field_data["PoorElementCount"][0])
-    if poor == 0:
-        # dragon's cell at 300 was curving's (a corner moved by the free-node fit), not
-        # TetGen's: curving now keeps it at the floor (test_mesher.py,
-        # test_tet10_keeps_the_floor_where_tet4_does). The warning needs a new case.
-        pytest.skip("dragon at 300 has no cell below the floor any more")
-    text = [str(w.message) for w in caught if "MinimumQuality" in str(w.message)]
+    assert poor > 0
+    text = [
+        str(w.message)
+        for w in caught
+        if "elements have a minimum scaled Jacobian" in str(w.message)
+    ]
     assert len(text) == 1 and f"{poor} of {mesh.n_cells} elements" in text[0], text
+    assert f"below MinimumQuality = {floor}" in text[0], text[0]
     m = re.search(
         r"about (\d+) elements \(TargetNumberOfElements; TargetEdgeLength "
         r"([0-9.e+-]+), now ([0-9.e+-]+)\)",
@@ -370,13 +372,27 @@ def test_poor_elements_warning_names_a_count(data_dir):
     pairs = [p.split(": ") for p in named.group(1).split(", ")]
     ids = [int(i) for i, _ in pairs]
     q = np.asarray(mesh.cell_data["MinScaledJacobian"])
-    assert sorted(ids) == sorted(np.nonzero(q < 0.05)[0].tolist())
+    assert sorted(ids) == sorted(np.nonzero(q < floor)[0].tolist())
     assert all(abs(float(v) - q[i]) <= 1e-5 * q[i] for i, (_, v) in zip(ids, pairs))
     assert [float(v) for _, v in pairs] == sorted(float(v) for _, v in pairs)
     count, size, now = int(m.group(1)), float(m.group(2)), float(m.group(3))
     assert mesh.n_cells < count <= 100 * mesh.n_cells and size < now
-    finer = hoembed.tet10_mesh(surface, n_elements=count)
+    finer = hoembed.tet10_mesh(surface, n_elements=count, minimum_quality=floor)
     assert int(finer.field_data["PoorElementCount"][0]) < poor
+
+
+def test_minimum_quality_default_and_range():
+    """tet10_mesh's minimum_quality is the driver's MinimumQuality: its default, and its
+    range refused with the driver's sentence."""
+    import inspect
+
+    from hoembed._errors import HOEmbedArgumentError
+    from hoembed._hoembed import DEFAULTS
+
+    default = inspect.signature(hoembed.tet10_mesh).parameters["minimum_quality"].default
+    assert default == DEFAULTS["mesher"]["MinimumQuality"] == 0.05
+    with pytest.raises(HOEmbedArgumentError, match="MinimumQuality must be in"):
+        hoembed.tet10_mesh(pv.Sphere(), minimum_quality=1.5)
 
 
 @pytest.mark.parametrize("n", [300, 1000, 4000])

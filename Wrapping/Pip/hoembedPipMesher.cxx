@@ -167,6 +167,7 @@ nb::dict MeshSurface(const In& points, const In& vertOffsets, const In& vertConn
   o.RadiusEdgeRatio = nb::cast<double>(opts["RadiusEdgeRatio"]);
   o.MinDihedralAngle = nb::cast<double>(opts["MinDihedralAngle"]);
   o.CurvedQualityTarget = nb::cast<double>(opts["CurvedQualityTarget"]);
+  o.MinimumQuality = nb::cast<double>(opts["MinimumQuality"]);
 
   // The read step, in vtkTet10Mesher's order: ids, size, then the surface itself.
   std::string error = hoembed::CheckSurfacePointIds(in);

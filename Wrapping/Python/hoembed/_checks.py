@@ -68,6 +68,10 @@ radius_edge_ratio, min_dihedral_angle : float
 quality_target : float
     Curving never takes an element below min(quality_target, its straight shape's
     minimum scaled Jacobian) (default <CurvedQualityTarget>).
+minimum_quality : float
+    The floor of every element's minimum scaled Jacobian (default <MinimumQuality>);
+    elements below it are counted (field data ``PoorElementCount``) and named in a
+    warning with the element count that would lift them.
 progress : callable, optional
     Called with a float in [0, 1] on the filter's progress events.
 
@@ -127,6 +131,7 @@ def mesh_arguments(
     min_dihedral_angle,
     progress,
     quality_target,
+    minimum_quality,
 ):
     """Check tet10_mesh()'s arguments: their types here, their ranges by the mesher driver.
     Returns the vtkTet10Mesher properties they set."""
@@ -156,6 +161,10 @@ def mesh_arguments(
             CurvedQualityTarget=(
                 "quality_target",
                 check_real(f, "quality_target", quality_target, finite=False),
+            ),
+            MinimumQuality=(
+                "minimum_quality",
+                check_real(f, "minimum_quality", minimum_quality, finite=False),
             ),
         ),
     )

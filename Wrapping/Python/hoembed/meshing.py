@@ -400,6 +400,7 @@ def tet10_mesh(
     min_dihedral_angle=_D["MinDihedralAngle"],
     progress=None,
     quality_target=_D["CurvedQualityTarget"],
+    minimum_quality=_D["MinimumQuality"],
 ):
     options = mesh_arguments(
         surface,
@@ -411,6 +412,7 @@ def tet10_mesh(
         min_dihedral_angle,
         progress,
         quality_target,
+        minimum_quality,
     )
     r = _run(surface, options, progress)[0]
     if progress is not None:
