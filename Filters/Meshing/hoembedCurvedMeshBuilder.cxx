@@ -341,21 +341,6 @@ void RetargetPulledBackNodes(std::vector<double>& pts, const std::vector<Id>& co
   }
 }
 
-// Corner -> the tets around it (in tet order): around[off[v] .. off[v + 1]).
-void TetsAroundCorners(
-  const std::vector<Id>& tets, Id nPts, std::vector<Id>& off, std::vector<Id>& around)
-{
-  const Id nTets = static_cast<Id>(tets.size() / 4);
-  BuildCsr(
-    nPts,
-    [&](auto&& emit) {
-      for (Id t = 0; t < nTets; ++t)
-        for (int a = 0; a < 4; ++a)
-          emit(tets[4 * t + a], t);
-    },
-    off, around);
-}
-
 // Boundary corners onto the surface, where their tets stay valid and keep half their
 // quality, and stay above the quality floor `minQuality` (a tet already below it keeps
 // all it has: curving cannot mend a poor straight shape, so none is made here); full

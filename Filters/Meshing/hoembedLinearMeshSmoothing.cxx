@@ -42,13 +42,10 @@ bool Score(const std::vector<double>& pts, const std::vector<Id>& tets, const Id
 }
 } // namespace
 
-Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
-  const TetMeshTopology& topo, const SurfaceQueries& surface, int sweeps,
-  const std::vector<double>& restore, double floor)
+void TetsAroundCorners(
+  const std::vector<Id>& tets, Id nPts, std::vector<Id>& off, std::vector<Id>& around)
 {
-  const Id nPts = static_cast<Id>(pts.size() / 3);
   const Id nTets = static_cast<Id>(tets.size() / 4);
-  std::vector<Id> off, around;
   BuildCsr(
     nPts,
     [&](auto&& emit) {
@@ -57,6 +54,16 @@ Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
           emit(tets[4 * t + a], t);
     },
     off, around);
+}
+
+Id OptimiseLinearCorners(std::vector<double>& pts, const std::vector<Id>& tets,
+  const TetMeshTopology& topo, const SurfaceQueries& surface, int sweeps,
+  const std::vector<double>& restore, double floor)
+{
+  const Id nPts = static_cast<Id>(pts.size() / 3);
+  const Id nTets = static_cast<Id>(tets.size() / 4);
+  std::vector<Id> off, around;
+  TetsAroundCorners(tets, nPts, off, around);
   const std::vector<double> start = pts;
   // The crossing repair puts some boundary corners back where `restore` has them: the
   // worst tet around v over every choice of its boundary corners put back (at most 16

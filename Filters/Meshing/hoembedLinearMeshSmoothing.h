@@ -17,6 +17,11 @@ namespace hoembed
 {
 class TetMeshTopology;
 
+/// Corner -> the tets around it (in tet order): around[off[v] .. off[v + 1]) for the
+/// linear mesh `tets` (4 ids each) of nPts points.
+HOEMBEDFILTERSMESHING_EXPORT void TetsAroundCorners(const std::vector<std::int64_t>& tets,
+  std::int64_t nPts, std::vector<std::int64_t>& off, std::vector<std::int64_t>& around);
+
 /// Moves the corners of the linear mesh (`tets`, 4 ids each, positively oriented) to raise
 /// the scaled Jacobian of the tets around each, one corner at a time in id order, for
 /// `sweeps` sweeps (deterministic, bounded work: a fixed number of quality evaluations and

@@ -720,6 +720,16 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   // construction.
   FineSurfaceFacts facts;
   const std::string notClean = CheckFineSurface(points, tris, facts);
+  // The envelope meshed by TetGen, as a fallback of a step; false (out holds the error)
+  // when the caller aborted meanwhile.
+  auto meshEnvelope = [&](double& offset, TetGenResult& wrapped) {
+    wrapped = WrapAndTetrahedralize(points, tris, facts, options, offset, report);
+    if (!wrapped.Aborted && !MeshingAbortRequested())
+      return true;
+    out = MesherResult();
+    out.Error = "meshing was aborted (AbortExecute) during the envelope";
+    return false;
+  };
   if (!notClean.empty() && options.Wrap < 0)
   {
     out.Error = notClean;
@@ -766,13 +776,9 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
       !(options.TargetEdgeLength > 0.0) && (ratio > 1.5 || ratio < 1.0 / 1.3))
     {
       double offset = 0.0;
-      TetGenResult wrapped = WrapAndTetrahedralize(points, tris, facts, options, offset, report);
-      if (wrapped.Aborted || aborted("during the envelope"))
-      {
-        out = MesherResult();
-        out.Error = "meshing was aborted (AbortExecute) during the envelope";
+      TetGenResult wrapped;
+      if (!meshEnvelope(offset, wrapped))
         return out;
-      }
       const double wrappedRatio =
         static_cast<double>(wrapped.Tets.size() / 4) / options.TargetNumberOfElements;
       if (wrapped.Error.empty() && !wrapped.Tets.empty() &&
@@ -860,13 +866,9 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
         << "size); the surface's envelope is meshed instead (EnvelopeTolerance)";
     out.Warnings.push_back(msg.str());
     double offset = 0.0;
-    TetGenResult wrapped = WrapAndTetrahedralize(points, tris, facts, options, offset, report);
-    if (wrapped.Aborted || aborted("during the envelope"))
-    {
-      out = MesherResult();
-      out.Error = "meshing was aborted (AbortExecute) during the envelope";
+    TetGenResult wrapped;
+    if (!meshEnvelope(offset, wrapped))
       return out;
-    }
     if (wrapped.Error.empty())
     {
       CurvedMesh again = curve(wrapped, true, offset, false);
