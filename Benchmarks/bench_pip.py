@@ -88,7 +88,7 @@ def service_profile(surface, spent):
     from hoembed._checks import mesh_arguments
 
     spent.clear()
-    options = mesh_arguments(surface, MESH_ELEMENTS, 0.0, 2, True, 1.5, 10.0, None)
+    options = mesh_arguments(surface, MESH_ELEMENTS, 0.0, 2, True, 1.5, 10.0, None, 0.2, 0.05)
     t0 = time.perf_counter()
     r, services = meshing._run(surface, options)
     total = time.perf_counter() - t0

@@ -36,6 +36,7 @@ def tet10_mesh(
     radius_edge_ratio=1.5,
     min_dihedral_angle=10.0,
     quality_target=0.2,
+    minimum_quality=0.05,
 ):
     options = mesh_arguments(
         surface,
@@ -47,6 +48,7 @@ def tet10_mesh(
         min_dihedral_angle,
         None,
         quality_target,
+        minimum_quality,
     )
     alg = hoembed.vtkTet10Mesher()
     alg.SetInputData(surface)

@@ -160,6 +160,7 @@ KEYWORDS = {
             radius_edge_ratio="RadiusEdgeRatio",
             min_dihedral_angle="MinDihedralAngle",
             quality_target="CurvedQualityTarget",
+            minimum_quality="MinimumQuality",
         ),
     ),
     "embed": ("embedding", dict(method="Method", n_partitions="NumberOfPartitions")),
