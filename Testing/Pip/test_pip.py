@@ -66,10 +66,16 @@ NATIVE = os.environ.get("HOEMBED_PIP_NATIVE") == "1"
 # round-off. Seen on 9.4.2 and 9.7.2: points 1.9e-13, Displacement 1.2e-11, VonMisesStress
 # 2.9e-11; integer arrays equal.
 ROUND_OFF = 1e-9
+# The dragged ("prescribed") runs stop each step's CG at the solver tolerance (1e-4), and
+# the two builds' round-off can end it at a neighbouring iterate: seen once the mesher's
+# corner optimisation changed the bunny's mesh (VTK 9.4.2: points 1.4e-8 of the
+# diagonal, VonMisesStress 3.3e-6 of its largest value). Bounded well below the
+# tolerance.
+CG_PATH = 1e-5
 
 
-def same_frame_values(a, b, scale):
-    """Bitwise for the test build, else equal integers and floats within ROUND_OFF of
+def same_frame_values(a, b, scale, tolerance=ROUND_OFF):
+    """Bitwise for the test build, else equal integers and floats within `tolerance` of
     scale."""
     if NATIVE:
         return bitwise(a, b)
@@ -78,7 +84,7 @@ def same_frame_values(a, b, scale):
         return False
     if not np.issubdtype(b.dtype, np.floating):
         return np.array_equal(a, b)
-    return bool(np.all(np.abs(a - b) <= ROUND_OFF * scale))
+    return bool(np.all(np.abs(a - b) <= tolerance * scale))
 
 
 def test_not_the_vtk_build():
@@ -237,13 +243,14 @@ def test_stepper_frames_bitwise(case, run):
         for attr in attrs
         for name in getattr(refs[0], attr).keys()
     }
+    tol = CG_PATH if run == "prescribed" else ROUND_OFF
     for i, (got, ref) in enumerate(zip(frames, refs)):
-        assert same_frame_values(got.points, ref.points, diag), i
+        assert same_frame_values(got.points, ref.points, diag, tol), i
         for attr in attrs:
             data, want = getattr(got, attr), getattr(ref, attr)
             assert sorted(data.keys()) == sorted(want.keys()), attr
             for name in want.keys():
-                assert same_frame_values(data[name], want[name], scale[attr, name]), (i, name)
+                assert same_frame_values(data[name], want[name], scale[attr, name], tol), (i, name)
         assert bitwise(got.cells, ref.cells)
     # not trivially equal: the mesh moved (the first dynamic frame is the initial state),
     # and a meaningful run: it bent without blowing up
