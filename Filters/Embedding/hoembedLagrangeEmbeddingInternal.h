@@ -1,8 +1,9 @@
 // What hoembed::LagrangeEmbeddingMesh (hoembedLagrangeEmbedding.cxx,
 // hoembedLagrangeFaceSearch.cxx: tetrahedra, triangular faces) and
 // hoembed::LagrangeHexEmbeddingMesh (hoembedLagrangeHexEmbedding.cxx: hexahedra,
-// quadrilateral faces) share: small numerical pieces, the local solve on a face, and the
-// embedding of one vertex (inside cells, the normal-offset walk, the fallback), written
+// quadrilateral faces) share: small numerical pieces, the local solve on a face, the
+// certified search of a face (over a policy of its sub-patches), and the embedding of one
+// vertex (inside cells, the normal-offset walk, the fallback), written
 // once over an adapter of the mesh (see LagrangeCells below). Private.
 #ifndef hoembedLagrangeEmbeddingInternal_h
 #define hoembedLagrangeEmbeddingInternal_h
@@ -19,6 +20,8 @@ namespace hoembed
 {
 namespace lagrange_detail
 {
+using LagrangeId = std::int64_t;
+
 inline double Dot(const double a[3], const double b[3])
 {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -322,6 +325,160 @@ double LocalFaceSolve(const Eval& eval, const double v[3], double uv[2], int& it
 }
 
 /*
+ * The certified closest point on one curved face: a branch and bound over sub-patches of
+ * the face's parameter domain (LagrangeEmbeddingMesh: sub-triangles,
+ * LagrangeHexEmbeddingMesh: sub-squares), lowering best2 / bestFace / bestUV where the
+ * face holds a point nearer than best2. A sub-patch is dropped when a lower bound of
+ * |x - v|^2 over it (the box of its Bernstein net, then a second-order bound from an
+ * interval Hessian) cannot beat best2 by the mesh's search tolerance; else a local solve
+ * starts in it and it is split. `certified` turns false when the budget or the depth runs
+ * out before every sub-patch was settled. Over a policy P of the sub-patches:
+ *   using Sub; static constexpr int Budget, MaxDepth; Sub Root();
+ *   void Net(s, net) (its Bernstein net, 3 per control point; count() of them);
+ *   void Derivatives(net, xs, xt, xss, xst, xtt) (interval bounds of the first and second
+ *     derivatives in the sub-patch's own coordinates);
+ *   void Centre(s, c); bool Inside(s, u);
+ *   double CornerBound(s, c, g, lambda): the least of f(c) + g . d + min(0, lambda) / 2
+ *     |d|^2 (d in the sub-patch's own coordinates) over its corners, f(c) left out;
+ *   int Split(s, stack, top): pushes its 4 children, returns the new top.
+ * and a mesh M with FacePoint(f, uv, x[, xu, xv[, H]]), SearchTolerance and Diagonal.
+ */
+template <typename Patches, typename Mesh>
+void SearchFacePatches(const Patches& P, const Mesh& M, LagrangeId f, const double v[3],
+  double& best2, LagrangeId& bestFace, double bestUV[2], bool& certified)
+{
+  using Sub = typename Patches::Sub;
+  auto eval = [&](const double uv[2], double x[3], double xu[3], double xv[3], double H[3][3]) {
+    M.FacePoint(f, uv, x, xu, xv, H);
+  };
+  const double tol = M.SearchTolerance * M.Diagonal;
+  auto threshold = [&]() {
+    const double r = std::max(0.0, std::sqrt(best2) - tol);
+    return r * r;
+  };
+  // this face's own local solution (a KKT point of the face: the tight place to bound
+  // from, also when another face holds the same point as the best one)
+  double ownUV[2] = { 0, 0 }, ownD2 = HUGE_VAL;
+  auto tryStart = [&](double uv[2]) {
+    int its = 0;
+    const double d2 = LocalFaceSolve<typename Patches::Domain>(eval, v, uv, its);
+    if (d2 < ownD2)
+    {
+      ownD2 = d2;
+      ownUV[0] = uv[0];
+      ownUV[1] = uv[1];
+    }
+    if (d2 < best2)
+    {
+      best2 = d2;
+      bestFace = f;
+      bestUV[0] = uv[0];
+      bestUV[1] = uv[1];
+    }
+  };
+  // Second-order bound at a point c of the sub-patch: for every u in it, with d the
+  // sub-patch's own coordinates of u - c, f(u) >= f(c) + grad f(c) . d + lambda / 2 |d|^2;
+  // with lambda < 0 that is concave in d, so its minimum is at a corner; with lambda >= 0
+  // the linear part alone (at a corner too) is a bound. c: the best point when it lies in
+  // the sub-patch (then grad f . d >= 0 there and the bound is tight), else the centre.
+  auto secondOrder = [&](const Sub& s, const double c[2], double lambda, double& fc) {
+    double x[3], xu[3], xv[3];
+    M.FacePoint(f, c, x, xu, xv);
+    const double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
+    fc = Dot(e, e);
+    const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
+    return fc + P.CornerBound(s, c, g, lambda);
+  };
+  // no solve up front: the root's bounds drop most faces a search visits, and where they
+  // do not, a local solve starts from the first sub-patch holding a nearer point
+  Sub stack[256];
+  int top = 0;
+  stack[top++] = P.Root();
+  int budget = Patches::Budget;
+  double net[3 * 16];
+  while (top > 0)
+  {
+    const Sub s = stack[--top];
+    if (--budget < 0)
+    {
+      certified = false;
+      return;
+    }
+    const int n = P.Net(s, net);
+    // the box lower bound (convex hull of the net)
+    Interval box[3];
+    for (int i = 0; i < n; ++i)
+      for (int d = 0; d < 3; ++d)
+        box[d].Add(net[3 * i + d]);
+    double lb = 0.0;
+    for (int d = 0; d < 3; ++d)
+    {
+      const double gap = std::max(0.0, std::max(box[d].Lo - v[d], v[d] - box[d].Hi));
+      lb += gap * gap;
+    }
+    if (lb >= threshold())
+      continue;
+    // interval Hessian of f = |x - v|^2 in the sub-patch's own coordinates (s, t)
+    double lambda = 0.0; // lower bound of the smallest eigenvalue of the Hessian of f
+    {
+      Interval xs[3], xt[3], xss[3], xst[3], xtt[3];
+      P.Derivatives(net, xs, xt, xss, xst, xtt);
+      Interval hss, htt, hst;
+      hss.Lo = hss.Hi = htt.Lo = htt.Hi = hst.Lo = hst.Hi = 0.0;
+      for (int d = 0; d < 3; ++d)
+      {
+        Interval e;
+        e.Lo = box[d].Lo - v[d];
+        e.Hi = box[d].Hi - v[d];
+        hss = Sum(hss, Sum(Square(xs[d]), Mul(e, xss[d])));
+        htt = Sum(htt, Sum(Square(xt[d]), Mul(e, xtt[d])));
+        hst = Sum(hst, Sum(Mul(xs[d], xt[d]), Mul(e, xst[d])));
+      }
+      const double off = std::max(std::abs(hst.Lo), std::abs(hst.Hi));
+      // the smallest eigenvalue of any matrix with diagonal >= (hss.Lo, htt.Lo) and
+      // off-diagonal within +-off is at least that of [[hss.Lo, off], [off, htt.Lo]]
+      const double mean = 0.5 * (hss.Lo + htt.Lo), half = 0.5 * (hss.Lo - htt.Lo);
+      lambda = 2.0 * (mean - std::sqrt(half * half + off * off)); // f's Hessian is 2 h
+    }
+    double cen[2];
+    P.Centre(s, cen);
+    double c[2] = { cen[0], cen[1] };
+    if (ownD2 < HUGE_VAL && P.Inside(s, ownUV))
+      c[0] = ownUV[0], c[1] = ownUV[1];
+    double fc = 0.0;
+    if (secondOrder(s, c, lambda, fc) >= threshold())
+      continue;
+    // a nearer point may lie here (or, at the root, the face was never solved): solve from
+    // c, then bound again from the face's solution when it lies in this sub-patch
+    double fcen = fc;
+    if (c[0] != cen[0] || c[1] != cen[1])
+    {
+      double x[3];
+      M.FacePoint(f, cen, x);
+      fcen = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
+        (x[2] - v[2]) * (x[2] - v[2]);
+    }
+    if (s.Depth == 0 || fcen < best2 || fc < best2)
+    {
+      double uv[2] = { c[0], c[1] };
+      tryStart(uv);
+      if (P.Inside(s, ownUV))
+      {
+        c[0] = ownUV[0], c[1] = ownUV[1];
+        if (secondOrder(s, c, lambda, fc) >= threshold())
+          continue;
+      }
+    }
+    if (s.Depth >= Patches::MaxDepth || top + 4 > 256)
+    {
+      certified = false;
+      continue;
+    }
+    top = P.Split(s, stack, top);
+  }
+}
+
+/*
  * The per-vertex embedding, over an adapter A of a mesh (TetCells in
  * hoembedLagrangeEmbedding.cxx, HexCells in hoembedLagrangeHexEmbedding.cxx) that has:
  *   using Face = TriangleDomain or SquareDomain;
@@ -337,8 +494,6 @@ double LocalFaceSolve(const Eval& eval, const double v[3], double uv[2], int& it
  *   and, from MeshCells: Diagonal, Points, Connectivity, NodesPerCell, CellTree,
  *   FacePoint(f, uv, x), Closest(v, f, uv, certified, visited) (the certified search).
  */
-using LagrangeId = std::int64_t;
-
 // What both adapters forward to their mesh alike (an adapter derives from this).
 template <typename Mesh>
 struct MeshCells

@@ -13,11 +13,7 @@
 
 namespace hoembed
 {
-using lagrange_detail::ClampSquare;
-using lagrange_detail::Dot;
 using lagrange_detail::Interval;
-using lagrange_detail::LocalFaceSolve;
-using lagrange_detail::Solve3;
 namespace
 {
 using Id = LagrangeHexEmbeddingMesh::Id;
@@ -281,58 +277,37 @@ void LagrangeHexEmbeddingMesh::FacePoint(
     }
 }
 
-void LagrangeHexEmbeddingMesh::SearchFace(
-  Id f, const double v[3], double& best2, Id& bestFace, double bestUV[2], bool& certified) const
+namespace
 {
-  const LagrangeHexBasis& b = *this->Basis;
-  const int p = b.Order, q = p + 1, nq = q * q;
-  auto eval = [&](const double uv[2], double x[3], double xu[3], double xv[3], double H[3][3]) {
-    this->FacePoint(f, uv, x, xu, xv, H);
-  };
-  const double tol = this->SearchTolerance * this->Diagonal;
-  auto threshold = [&]() {
-    const double r = std::max(0.0, std::sqrt(best2) - tol);
-    return r * r;
-  };
-  double ownUV[2] = { 0, 0 }, ownD2 = HUGE_VAL;
-  auto tryStart = [&](double uv[2]) {
-    int its = 0;
-    const double d2 = LocalFaceSolve<lagrange_detail::SquareDomain>(eval, v, uv, its);
-    if (d2 < ownD2)
-      ownD2 = d2, ownUV[0] = uv[0], ownUV[1] = uv[1];
-    if (d2 < best2)
-    {
-      best2 = d2;
-      bestFace = f;
-      bestUV[0] = uv[0];
-      bestUV[1] = uv[1];
-    }
-  };
-  struct SubSquare
+// The sub-squares of a quadrilateral face's parameter domain (SearchFacePatches' policy).
+struct SquarePatches
+{
+  using Domain = lagrange_detail::SquareDomain;
+  struct Sub
   {
     double U0, V0, H;
     int Depth;
   };
-  SubSquare stack[256];
-  int top = 0;
-  stack[top++] = { 0.0, 0.0, 1.0, 0 };
-  int budget = 6000;
-  double vals[3 * 16], net[3 * 16];
-  const std::vector<double>& M = b.ToBernstein1D; // q x q
-  while (top > 0)
+  static constexpr int Budget = 6000, MaxDepth = 30;
+  const LagrangeHexEmbeddingMesh& M;
+  Id F;
+  int Order;
+  const std::vector<double>& B; // 1D values at the lattice -> Bernstein (q x q)
+
+  static Sub Root()
   {
-    const SubSquare s = stack[--top];
-    if (--budget < 0)
-    {
-      certified = false;
-      return;
-    }
-    // the sub-patch's Bernstein net: values at its lattice, collocated in u then v
+    return { 0.0, 0.0, 1.0, 0 };
+  }
+  // the sub-patch's Bernstein net: values at its lattice, collocated in u then v
+  int Net(const Sub& s, double* net) const
+  {
+    const int p = this->Order, q = p + 1;
+    double vals[3 * 16];
     for (int bb = 0; bb < q; ++bb)
       for (int a = 0; a < q; ++a)
       {
         const double uv[2] = { s.U0 + s.H * a / p, s.V0 + s.H * bb / p };
-        this->FacePoint(f, uv, &vals[3 * (bb * q + a)]);
+        this->M.FacePoint(this->F, uv, &vals[3 * (bb * q + a)]);
       }
     for (int bb = 0; bb < q; ++bb)
       for (int a = 0; a < q; ++a)
@@ -341,138 +316,93 @@ void LagrangeHexEmbeddingMesh::SearchFace(
           double acc = 0.0;
           for (int k = 0; k < q; ++k)
             for (int l = 0; l < q; ++l)
-              acc += M[a * q + k] * M[bb * q + l] * vals[3 * (l * q + k) + d];
+              acc += this->B[a * q + k] * this->B[bb * q + l] * vals[3 * (l * q + k) + d];
           net[3 * (bb * q + a) + d] = acc;
         }
-    Interval box[3];
-    for (int i = 0; i < nq; ++i)
-      for (int d = 0; d < 3; ++d)
-        box[d].Add(net[3 * i + d]);
-    double lb = 0.0;
+    return q * q;
+  }
+  void Derivatives(const double* net, Interval xs[3], Interval xt[3], Interval xss[3],
+    Interval xst[3], Interval xtt[3]) const
+  {
+    const int p = this->Order, q = p + 1;
+    auto P = [&](int a, int bb, int d) { return net[3 * (bb * q + a) + d]; };
     for (int d = 0; d < 3; ++d)
     {
-      const double gap = std::max(0.0, std::max(box[d].Lo - v[d], v[d] - box[d].Hi));
-      lb += gap * gap;
+      xss[d].Lo = xss[d].Hi = xtt[d].Lo = xtt[d].Hi = xst[d].Lo = xst[d].Hi = 0.0;
+      for (int bb = 0; bb < q; ++bb)
+        for (int a = 0; a < p; ++a)
+        {
+          xs[d].Add(p * (P(a + 1, bb, d) - P(a, bb, d)));
+          xt[d].Add(p * (P(bb, a + 1, d) - P(bb, a, d)));
+        }
+      bool first = true;
+      auto add = [&](Interval& iv, double val, bool& fst) {
+        if (fst)
+          iv.Lo = iv.Hi = val;
+        else
+          iv.Add(val);
+      };
+      for (int bb = 0; bb < q; ++bb)
+        for (int a = 0; a + 2 <= p; ++a)
+        {
+          add(xss[d], p * (p - 1) * (P(a + 2, bb, d) - 2 * P(a + 1, bb, d) + P(a, bb, d)), first);
+          first = false;
+        }
+      first = true;
+      for (int bb = 0; bb < q; ++bb)
+        for (int a = 0; a + 2 <= p; ++a)
+        {
+          add(xtt[d], p * (p - 1) * (P(bb, a + 2, d) - 2 * P(bb, a + 1, d) + P(bb, a, d)), first);
+          first = false;
+        }
+      first = true;
+      for (int bb = 0; bb < p; ++bb)
+        for (int a = 0; a < p; ++a)
+        {
+          add(xst[d],
+            p * p * (P(a + 1, bb + 1, d) - P(a + 1, bb, d) - P(a, bb + 1, d) + P(a, bb, d)), first);
+          first = false;
+        }
     }
-    if (lb >= threshold())
-      continue;
-    // interval Hessian of |x - v|^2 / 2 in the sub-square's own coordinates (s, t)
-    double lambda = 0.0;
+  }
+  static void Centre(const Sub& s, double c[2])
+  {
+    c[0] = s.U0 + 0.5 * s.H;
+    c[1] = s.V0 + 0.5 * s.H;
+  }
+  static bool Inside(const Sub& s, const double u[2])
+  {
+    const double m = 1e-12 * s.H;
+    return u[0] >= s.U0 - m && u[0] <= s.U0 + s.H + m && u[1] >= s.V0 - m && u[1] <= s.V0 + s.H + m;
+  }
+  // d = (u - c) / H
+  static double CornerBound(const Sub& s, const double c[2], const double g[2], double lambda)
+  {
+    double low = HUGE_VAL;
+    for (int k = 0; k < 4; ++k)
     {
-      auto P = [&](int a, int bb, int d) { return net[3 * (bb * q + a) + d]; };
-      Interval xs[3], xt[3], xss[3], xst[3], xtt[3];
-      for (int d = 0; d < 3; ++d)
-      {
-        xss[d].Lo = xss[d].Hi = xtt[d].Lo = xtt[d].Hi = xst[d].Lo = xst[d].Hi = 0.0;
-        for (int bb = 0; bb < q; ++bb)
-          for (int a = 0; a < p; ++a)
-          {
-            xs[d].Add(p * (P(a + 1, bb, d) - P(a, bb, d)));
-            xt[d].Add(p * (P(bb, a + 1, d) - P(bb, a, d)));
-          }
-        bool first = true;
-        auto add = [&](Interval& iv, double val, bool& fst) {
-          if (fst)
-            iv.Lo = iv.Hi = val;
-          else
-            iv.Add(val);
-        };
-        for (int bb = 0; bb < q; ++bb)
-          for (int a = 0; a + 2 <= p; ++a)
-          {
-            add(xss[d], p * (p - 1) * (P(a + 2, bb, d) - 2 * P(a + 1, bb, d) + P(a, bb, d)), first);
-            first = false;
-          }
-        first = true;
-        for (int bb = 0; bb < q; ++bb)
-          for (int a = 0; a + 2 <= p; ++a)
-          {
-            add(xtt[d], p * (p - 1) * (P(bb, a + 2, d) - 2 * P(bb, a + 1, d) + P(bb, a, d)), first);
-            first = false;
-          }
-        first = true;
-        for (int bb = 0; bb < p; ++bb)
-          for (int a = 0; a < p; ++a)
-          {
-            add(xst[d],
-              p * p * (P(a + 1, bb + 1, d) - P(a + 1, bb, d) - P(a, bb + 1, d) + P(a, bb, d)),
-              first);
-            first = false;
-          }
-      }
-      Interval hss, htt, hst;
-      hss.Lo = hss.Hi = htt.Lo = htt.Hi = hst.Lo = hst.Hi = 0.0;
-      for (int d = 0; d < 3; ++d)
-      {
-        Interval e;
-        e.Lo = box[d].Lo - v[d];
-        e.Hi = box[d].Hi - v[d];
-        hss = Sum(hss, Sum(Square(xs[d]), Mul(e, xss[d])));
-        htt = Sum(htt, Sum(Square(xt[d]), Mul(e, xtt[d])));
-        hst = Sum(hst, Sum(Mul(xs[d], xt[d]), Mul(e, xst[d])));
-      }
-      const double off = std::max(std::abs(hst.Lo), std::abs(hst.Hi));
-      const double mean = 0.5 * (hss.Lo + htt.Lo), half = 0.5 * (hss.Lo - htt.Lo);
-      lambda = 2.0 * (mean - std::sqrt(half * half + off * off));
+      const double corner[2] = { s.U0 + s.H * (k & 1), s.V0 + s.H * (k >> 1) };
+      const double du = corner[0] - c[0], dv = corner[1] - c[1];
+      const double dl2 = (du * du + dv * dv) / (s.H * s.H);
+      low = std::min(low, g[0] * du + g[1] * dv + 0.5 * std::min(0.0, lambda) * dl2);
     }
-    // f(u) >= f(c) + grad f(c) . (u - c) + min(0, lambda) / 2 |(u - c) / H|^2: concave
-    // (or linear) in u, so its minimum over the square is at a corner
-    auto inside = [&](const double u[2]) {
-      const double m = 1e-12 * s.H;
-      return u[0] >= s.U0 - m && u[0] <= s.U0 + s.H + m && u[1] >= s.V0 - m &&
-        u[1] <= s.V0 + s.H + m;
-    };
-    auto secondOrder = [&](const double c[2], double& fc) {
-      double x[3], xu[3], xv[3];
-      this->FacePoint(f, c, x, xu, xv);
-      const double e[3] = { x[0] - v[0], x[1] - v[1], x[2] - v[2] };
-      fc = Dot(e, e);
-      const double g[2] = { 2 * Dot(xu, e), 2 * Dot(xv, e) };
-      double low = HUGE_VAL;
-      for (int k = 0; k < 4; ++k)
-      {
-        const double corner[2] = { s.U0 + s.H * (k & 1), s.V0 + s.H * (k >> 1) };
-        const double du = corner[0] - c[0], dv = corner[1] - c[1];
-        const double dl2 = (du * du + dv * dv) / (s.H * s.H);
-        low = std::min(low, g[0] * du + g[1] * dv + 0.5 * std::min(0.0, lambda) * dl2);
-      }
-      return fc + low;
-    };
-    const double cen[2] = { s.U0 + 0.5 * s.H, s.V0 + 0.5 * s.H };
-    double c[2] = { cen[0], cen[1] };
-    if (ownD2 < HUGE_VAL && inside(ownUV))
-      c[0] = ownUV[0], c[1] = ownUV[1];
-    double fc = 0.0;
-    if (secondOrder(c, fc) >= threshold())
-      continue;
-    double fcen = fc;
-    if (c[0] != cen[0] || c[1] != cen[1])
-    {
-      double x[3];
-      this->FacePoint(f, cen, x);
-      fcen = (x[0] - v[0]) * (x[0] - v[0]) + (x[1] - v[1]) * (x[1] - v[1]) +
-        (x[2] - v[2]) * (x[2] - v[2]);
-    }
-    if (s.Depth == 0 || fcen < best2 || fc < best2)
-    {
-      double uv[2] = { c[0], c[1] };
-      tryStart(uv);
-      if (inside(ownUV))
-      {
-        c[0] = ownUV[0], c[1] = ownUV[1];
-        if (secondOrder(c, fc) >= threshold())
-          continue;
-      }
-    }
-    if (s.Depth >= 30 || top + 4 > 256)
-    {
-      certified = false;
-      continue;
-    }
+    return low;
+  }
+  static int Split(const Sub& s, Sub* stack, int top)
+  {
     const double h = 0.5 * s.H;
     for (int k = 0; k < 4; ++k)
       stack[top++] = { s.U0 + h * (k & 1), s.V0 + h * (k >> 1), h, s.Depth + 1 };
+    return top;
   }
+};
+} // namespace
+
+void LagrangeHexEmbeddingMesh::SearchFace(
+  Id f, const double v[3], double& best2, Id& bestFace, double bestUV[2], bool& certified) const
+{
+  const SquarePatches patches{ *this, f, this->Basis->Order, this->Basis->ToBernstein1D };
+  lagrange_detail::SearchFacePatches(patches, *this, f, v, best2, bestFace, bestUV, certified);
 }
 
 double LagrangeHexEmbeddingMesh::ClosestBoundaryPoint(
