@@ -119,32 +119,13 @@ std::string LagrangeEmbeddingMesh::Build(
     {
       GatherCell(this->Points.data(), this->Connectivity.data(), nodesPerCell, c, x);
       LagrangeTetToBernstein(b, x, ctrl);
-      double* box = &cellBoxes[6 * c];
-      for (int d = 0; d < 3; ++d)
-      {
-        box[d] = HUGE_VAL;
-        box[d + 3] = -HUGE_VAL;
-      }
-      for (int k = 0; k < nodesPerCell; ++k)
-        for (int d = 0; d < 3; ++d)
-        {
-          box[d] = std::min(box[d], ctrl[3 * k + d]);
-          box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
-        }
+      lagrange_detail::ControlPointBox(ctrl, nodesPerCell, &cellBoxes[6 * c]);
       if (firstInvalidCell)
         invalid[c] = LagrangeTetIsValid(b, x) ? 0 : 1;
     }
   });
   if (firstInvalidCell)
-  {
-    *firstInvalidCell = ncells;
-    for (Id c = 0; c < ncells; ++c)
-      if (invalid[c])
-      {
-        *firstInvalidCell = c;
-        break;
-      }
-  }
+    *firstInvalidCell = lagrange_detail::FirstFlagged(invalid, ncells);
   this->CellTree.Build(cellBoxes);
   // the triangle's Bernstein collocation of degree p (faces and their sub-patches)
   const int p = b.Order;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace hoembed
 {
@@ -322,6 +323,52 @@ double LocalFaceSolve(const Eval& eval, const double v[3], double uv[2], int& it
       break;
   }
   return f;
+}
+
+// The bounding box (lo, hi) of a cell's n control points (3 per point): the cell lies in
+// their convex hull.
+inline void ControlPointBox(const double* ctrl, int n, double box[6])
+{
+  for (int d = 0; d < 3; ++d)
+  {
+    box[d] = HUGE_VAL;
+    box[d + 3] = -HUGE_VAL;
+  }
+  for (int k = 0; k < n; ++k)
+    for (int d = 0; d < 3; ++d)
+    {
+      box[d] = std::min(box[d], ctrl[3 * k + d]);
+      box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
+    }
+}
+
+// The first cell flagged in `invalid`, or n when none is.
+inline LagrangeId FirstFlagged(const std::vector<unsigned char>& invalid, LagrangeId n)
+{
+  for (LagrangeId c = 0; c < n; ++c)
+    if (invalid[c])
+      return c;
+  return n;
+}
+
+// The nearest boundary point over the faces whose boxes may hold a point nearer than the
+// best so far (search(f, best2, face, uv, certified) lowers best2 on face f); returns
+// best2, with the number of faces searched.
+template <typename Search>
+double NearestOverFaces(const AabbTree& faces, const double v[3], LagrangeId& face, double uv[2],
+  bool& certified, int* facesSearched, const Search& search)
+{
+  double best2 = HUGE_VAL;
+  face = -1;
+  certified = true;
+  int searched = 0;
+  faces.VisitNearer(v, best2, [&](LagrangeId f) {
+    ++searched;
+    search(f, best2, face, uv, certified);
+  });
+  if (facesSearched)
+    *facesSearched = searched;
+  return best2;
 }
 
 /*

@@ -160,17 +160,10 @@ void LagrangeEmbeddingMesh::SearchFace(
 double LagrangeEmbeddingMesh::ClosestBoundaryPoint(
   const double v[3], Id& face, double uv[2], bool& certified, int* facesSearched) const
 {
-  double best2 = HUGE_VAL;
-  face = -1;
-  certified = true;
-  int searched = 0;
-  this->FaceTree.VisitNearer(v, best2, [&](Id f) {
-    ++searched;
-    this->SearchFace(f, v, best2, face, uv, certified);
-  });
-  if (facesSearched)
-    *facesSearched = searched;
-  return best2;
+  return lagrange_detail::NearestOverFaces(this->FaceTree, v, face, uv, certified, facesSearched,
+    [&](Id f, double& best2, Id& bestFace, double bestUV[2], bool& ok) {
+      this->SearchFace(f, v, best2, bestFace, bestUV, ok);
+    });
 }
 
 } // namespace hoembed

@@ -146,29 +146,13 @@ std::string LagrangeHexEmbeddingMesh::Build(std::vector<double> points, std::vec
       double* t = &this->Tensors[static_cast<std::size_t>(3 * nt) * c];
       LagrangeHexToTensor(b, x, t);
       TensorHexToBernstein(b, t, ctrl);
-      double* box = &cellBoxes[6 * c];
-      for (int d = 0; d < 3; ++d)
-        box[d] = HUGE_VAL, box[d + 3] = -HUGE_VAL;
-      for (int k = 0; k < nt; ++k)
-        for (int d = 0; d < 3; ++d)
-        {
-          box[d] = std::min(box[d], ctrl[3 * k + d]);
-          box[d + 3] = std::max(box[d + 3], ctrl[3 * k + d]);
-        }
+      lagrange_detail::ControlPointBox(ctrl, nt, &cellBoxes[6 * c]);
       if (firstInvalidCell)
         invalid[c] = LagrangeHexIsValid(b, t) ? 0 : 1;
     }
   });
   if (firstInvalidCell)
-  {
-    *firstInvalidCell = ncells;
-    for (Id c = 0; c < ncells; ++c)
-      if (invalid[c])
-      {
-        *firstInvalidCell = c;
-        break;
-      }
-  }
+    *firstInvalidCell = lagrange_detail::FirstFlagged(invalid, ncells);
   this->CellTree.Build(cellBoxes);
   // the smooth normal field: angle-weighted nodal normals (paper eq. 6-7)
   this->NodalNormals.assign(3 * npts, 0.0);
@@ -408,17 +392,10 @@ void LagrangeHexEmbeddingMesh::SearchFace(
 double LagrangeHexEmbeddingMesh::ClosestBoundaryPoint(
   const double v[3], Id& face, double uv[2], bool& certified, int* facesSearched) const
 {
-  double best2 = HUGE_VAL;
-  face = -1;
-  certified = true;
-  int searched = 0;
-  this->FaceTree.VisitNearer(v, best2, [&](Id f) {
-    ++searched;
-    this->SearchFace(f, v, best2, face, uv, certified);
-  });
-  if (facesSearched)
-    *facesSearched = searched;
-  return best2;
+  return lagrange_detail::NearestOverFaces(this->FaceTree, v, face, uv, certified, facesSearched,
+    [&](Id f, double& best2, Id& bestFace, double bestUV[2], bool& ok) {
+      this->SearchFace(f, v, best2, bestFace, bestUV, ok);
+    });
 }
 
 namespace

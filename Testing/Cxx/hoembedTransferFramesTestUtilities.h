@@ -76,8 +76,8 @@ inline std::string EmbedPoints(
 /// 20 points off the mesh), inside points against VTK 1e-12 (more than 5 inside). A "deform" frame
 /// warns `deformWarning` (not checked when null). `label` names the case.
 inline void CheckTransferFrames(const PlainTetMesh& mesh, int npc,
-  const std::vector<double>& points, double diag, vtkNonLinearCell* cell,
-  const std::string& label, const char* deformWarning)
+  const std::vector<double>& points, double diag, vtkNonLinearCell* cell, const std::string& label,
+  const char* deformWarning)
 {
   const char* name = label.c_str();
   Embedded em;
@@ -174,8 +174,8 @@ inline void CheckTransferFrames(const PlainTetMesh& mesh, int npc,
               "points)\n",
     name, rest, worstRigid, offsets, worstVTK, inside);
   HOEMBED_CHECK(rest <= 1e-10, "%s: rest frame off by %g", name, rest);
-  HOEMBED_CHECK(worstRigid <= 1e-9 && offsets > 20,
-    "%s: rigid motion off by %g (%d offset points)", name, worstRigid, offsets);
+  HOEMBED_CHECK(worstRigid <= 1e-9 && offsets > 20, "%s: rigid motion off by %g (%d offset points)",
+    name, worstRigid, offsets);
   HOEMBED_CHECK(inside > 5 && worstVTK <= 1e-12, "%s: vs VTK %g", name, worstVTK);
   if (!deformWarning)
     return;
@@ -185,8 +185,8 @@ inline void CheckTransferFrames(const PlainTetMesh& mesh, int npc,
   f.Normals = hoembed::TransferNormals::Deform;
   warnings.clear();
   e = t.EvaluateFrame(f, out.data(), nullptr, warnings);
-  HOEMBED_CHECK(e.empty() && warnings.size() == 1 &&
-      warnings[0].find(deformWarning) != std::string::npos,
+  HOEMBED_CHECK(
+    e.empty() && warnings.size() == 1 && warnings[0].find(deformWarning) != std::string::npos,
     "%s: deform mode", name);
 }
 } // namespace hoembed_test
