@@ -248,13 +248,27 @@ inline const double* TD(const TransferEntry* e)
   return reinterpret_cast<const double*>(reinterpret_cast<const char*>(e) + 2 * sizeof(double));
 }
 
-// Four entries e[0..3] (a tail repeats its last entry: the extra lanes are computed and
-// dropped). Writes 12 values at out and, with normals, 12 floats at normals; returns the
-// number of normals left NaN among the first `count` lanes.
-template <bool Quadratic, typename T>
-inline int Group(const TransferEntry* const e[4], int count, const double* cellCoeffs,
-  const double* faceCoeffs, const float* cv, const unsigned char* foldedCells, T* out,
-  float* normals)
+// What a group of four vertices carries from the first pass over a block (everything
+// up to the squared lengths) to the second (the square roots and divisions, the stores).
+// Two passes rather than one chain per group: a group's chain (map, normal field, square
+// root, division, store) is longer than the out-of-order window reaches, so in one pass
+// the core would wait on it; each pass alone has short chains and overlaps many groups.
+struct GroupState
+{
+  __m256d X[3];     // p'
+  __m256d N[3];     // the normal field S^q n(u, v) (hasBits != 0)
+  __m256d Dist;     // d
+  __m256d Cof[3];   // cof(J') m (with normals)
+  __m256d NanMask;  // normals left NaN: det J' <= 0 or the cell folded
+  int HasBits;      // lanes with a normal offset
+};
+
+// First pass: four entries e[0..3] (a tail repeats its last entry: the extra lanes are
+// computed and dropped).
+template <bool Quadratic>
+inline void Front(const TransferEntry* const e[4], const double* cellCoeffs,
+  const double* faceCoeffs, const float* cv, const unsigned char* foldedCells, bool normals,
+  GroupState& g)
 {
   constexpr int csize = Quadratic ? 30 : 12;
   constexpr int fsize = Quadratic ? 18 : 9;
@@ -275,8 +289,11 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
     k[j] = cellCoeffs + csize * static_cast<std::int64_t>(e[j]->Cell);
   }
 
-  __m256d x[3], cof[3], det = _mm256_setzero_pd();
+  __m256d* x = g.X;
+  __m256d det = _mm256_setzero_pd();
   __m256d m[3];
+  g.Dist = dist;
+  g.HasBits = 0;
   if (normals)
   {
     __m128 f[3] = { _mm_loadu_ps(cv), _mm_loadu_ps(cv + 4), _mm_loadu_ps(cv + 8) };
@@ -288,7 +305,7 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
     if (normals)
     {
       // every vertex with its cell's map, offset vertices included (see the block header)
-      det = Cofactor<Quadratic>(kk, r, s, t, m, cof);
+      det = Cofactor<Quadratic>(kk, r, s, t, m, g.Cof);
     }
   });
 
@@ -305,7 +322,9 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
     {
       const __m256d one = _mm256_set1_pd(1.0);
       const __m256d L[4] = { Sub(Sub(Sub(one, r), s), t), r, s, t };
-      __m256d la, lb, lc, n[3];
+      __m256d la, lb, lc;
+      __m256d* n = g.N;
+      g.HasBits = hasBits;
       const std::int32_t f0 = e[0]->Face;
       const bool oneFace =
         hasBits == 15 && e[1]->Face == f0 && e[2]->Face == f0 && e[3]->Face == f0;
@@ -346,15 +365,34 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
         a[j] = faceCoeffs + fsize * static_cast<std::int64_t>(ej->Face >> 2);
       }
       WithCoefficients(a, fsize, [&](const auto& aa) { Field<Quadratic>(aa, S, lb, lc, n); });
-      const __m256d scale = Scale(Length2(n), dist);
-      for (int d = 0; d < 3; ++d)
-      {
-        const __m256d y = Add(x[d], Mul(scale, n[d]));
-        x[d] = hasBits == 15 ? y : _mm256_blendv_pd(x[d], y, LaneMask(hasBits));
-      }
     }
   }
+  if (normals)
+  {
+    const int folded = !foldedCells ? 0
+                                    : (foldedCells[e[0]->Cell] ? 1 : 0) |
+        (foldedCells[e[1]->Cell] ? 2 : 0) | (foldedCells[e[2]->Cell] ? 4 : 0) |
+        (foldedCells[e[3]->Cell] ? 8 : 0);
+    g.NanMask = _mm256_or_pd(
+      LaneMask(folded), _mm256_cmp_pd(det, _mm256_setzero_pd(), _CMP_NGT_UQ)); // !(det > 0)
+  }
+}
 
+// Second pass: p' + d n' into out (12 values, `count` vertices) and, with normals, the
+// shading normals into normals; returns the number of normals left NaN.
+template <typename T>
+inline int Back(const GroupState& g, int count, T* out, float* normals)
+{
+  __m256d x[3] = { g.X[0], g.X[1], g.X[2] };
+  if (g.HasBits != 0)
+  {
+    const __m256d scale = Scale(Length2(g.N), g.Dist);
+    for (int d = 0; d < 3; ++d)
+    {
+      const __m256d y = Add(x[d], Mul(scale, g.N[d]));
+      x[d] = g.HasBits == 15 ? y : _mm256_blendv_pd(x[d], y, LaneMask(g.HasBits));
+    }
+  }
   __m256d o[3];
   Interleave(x, o);
   if (count == 4)
@@ -375,18 +413,14 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
     return 0;
   }
   // Shading normals: cof(J') m normalised; NaN where det J' <= 0 or the cell is folded
-  const __m256d scale = Scale(Length2(cof), _mm256_set1_pd(1.0));
-  const int folded = !foldedCells ? 0
-                                  : (foldedCells[e[0]->Cell] ? 1 : 0) | (foldedCells[e[1]->Cell] ? 2 : 0) |
-      (foldedCells[e[2]->Cell] ? 4 : 0) | (foldedCells[e[3]->Cell] ? 8 : 0);
-  const __m256d nanMask = _mm256_or_pd(
-    LaneMask(folded), _mm256_cmp_pd(det, _mm256_setzero_pd(), _CMP_NGT_UQ)); // !(det > 0)
+  const __m256d scale = Scale(Length2(g.Cof), _mm256_set1_pd(1.0));
+  const __m256d nanMask = g.NanMask;
   const int left = __builtin_popcount(_mm256_movemask_pd(nanMask) & ((1 << count) - 1));
   const __m256d nan = _mm256_set1_pd(std::numeric_limits<double>::quiet_NaN());
   __m256d nv[3];
   for (int d = 0; d < 3; ++d)
   {
-    nv[d] = _mm256_blendv_pd(Mul(cof[d], scale), nan, nanMask);
+    nv[d] = _mm256_blendv_pd(Mul(g.Cof[d], scale), nan, nanMask);
   }
   Interleave(nv, o);
   if (count == 4)
@@ -410,31 +444,46 @@ std::int64_t Evaluate(const TransferEntry* plan, const double* cellCoeffs,
   const double* faceCoeffs, const float* covectors, const unsigned char* foldedCells,
   std::int64_t begin, std::int64_t end, T* out, float* normals)
 {
+  constexpr int kGroups = 16; // a block: 64 vertices, its state 7 KB (in L1)
+  GroupState state[kGroups];
   std::int64_t left = 0;
-  std::int64_t i = begin;
-  for (; i + 4 <= end; i += 4)
+  for (std::int64_t b = begin; b < end; b += 4 * kGroups)
   {
-    const TransferEntry* const e[4] = { plan + i, plan + i + 1, plan + i + 2, plan + i + 3 };
-    left += Group<Quadratic>(e, 4, cellCoeffs, faceCoeffs, normals ? covectors + 3 * i : nullptr,
-      foldedCells, out + 3 * i, normals ? normals + 3 * i : nullptr);
-  }
-  if (i < end)
-  {
-    // the last 1-3 entries: lanes padded with the last entry, covectors copied to a
-    // buffer of four (the arrays end here)
-    const int count = static_cast<int>(end - i);
-    const TransferEntry* e[4];
-    float cv[12] = {};
-    for (int j = 0; j < 4; ++j)
+    const int m = static_cast<int>(end - b < 4 * kGroups ? end - b : 4 * kGroups);
+    const int groups = (m + 3) / 4;
+    for (int gi = 0; gi < groups; ++gi)
     {
-      e[j] = plan + i + (j < count ? j : count - 1);
+      const std::int64_t i = b + 4 * gi;
+      const int count = m - 4 * gi < 4 ? m - 4 * gi : 4;
+      if (count == 4)
+      {
+        const TransferEntry* const e[4] = { plan + i, plan + i + 1, plan + i + 2, plan + i + 3 };
+        Front<Quadratic>(e, cellCoeffs, faceCoeffs, normals ? covectors + 3 * i : nullptr,
+          foldedCells, normals != nullptr, state[gi]);
+      }
+      else
+      {
+        // the last 1-3 entries: lanes padded with the last entry, covectors copied to a
+        // buffer of four (the arrays end here)
+        const TransferEntry* e[4];
+        float cv[12] = {};
+        for (int j = 0; j < 4; ++j)
+        {
+          e[j] = plan + i + (j < count ? j : count - 1);
+        }
+        for (int j = 0; normals && j < 3 * count; ++j)
+        {
+          cv[j] = covectors[3 * i + j];
+        }
+        Front<Quadratic>(e, cellCoeffs, faceCoeffs, cv, foldedCells, normals != nullptr, state[gi]);
+      }
     }
-    for (int j = 0; normals && j < 3 * count; ++j)
+    for (int gi = 0; gi < groups; ++gi)
     {
-      cv[j] = covectors[3 * i + j];
+      const std::int64_t i = b + 4 * gi;
+      const int count = m - 4 * gi < 4 ? m - 4 * gi : 4;
+      left += Back(state[gi], count, out + 3 * i, normals ? normals + 3 * i : nullptr);
     }
-    left += Group<Quadratic>(e, count, cellCoeffs, faceCoeffs, cv, foldedCells, out + 3 * i,
-      normals ? normals + 3 * i : nullptr);
   }
   return left;
 }
