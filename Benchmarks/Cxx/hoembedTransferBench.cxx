@@ -38,7 +38,8 @@
 namespace
 {
 // The kernel alone: a plan made from the embedding arrays, the bent frame's tables
-void KernelBench(vtkPolyData* surface, vtkUnstructuredGrid* rest, vtkUnstructuredGrid* bent, int reps)
+void KernelBench(
+  vtkPolyData* surface, vtkUnstructuredGrid* rest, vtkUnstructuredGrid* bent, int reps)
 {
   const vtkIdType nc = rest->GetNumberOfCells();
   const int npc = static_cast<int>(rest->GetCell(0)->GetNumberOfPoints());
@@ -93,7 +94,8 @@ void KernelBench(vtkPolyData* surface, vtkUnstructuredGrid* rest, vtkUnstructure
     for (int d = 0; d < 3; ++d)
       nn[3 * i + d] = v[d] / l;
   }
-  hoembed::ComputeFaceNormalCoefficients(topo, nn.data(), 0, topo.GetNumberOfBoundaryFaces(), fk.data());
+  hoembed::ComputeFaceNormalCoefficients(
+    topo, nn.data(), 0, topo.GetNumberOfBoundaryFaces(), fk.data());
   std::vector<float> n0(3 * nv), cov(3 * nv);
   for (std::int64_t i = 0; i < 3 * nv; ++i)
     n0[i] = static_cast<float>(g(rng));
@@ -107,10 +109,11 @@ void KernelBench(vtkPolyData* surface, vtkUnstructuredGrid* rest, vtkUnstructure
     const char* name;
     int simd, normals, dbl;
   };
-  const KCfg cfgs[] = { { "kernel plain, positions", 0, 0, 1 }, { "kernel avx2, positions", 1, 0, 1 },
-    { "kernel plain, positions float", 0, 0, 0 }, { "kernel avx2, positions float", 1, 0, 0 },
-    { "kernel plain, + normals", 0, 1, 1 }, { "kernel avx2, + normals", 1, 1, 1 },
-    { "kernel plain, + normals, float", 0, 1, 0 }, { "kernel avx2, + normals, float", 1, 1, 0 } };
+  const KCfg cfgs[] = { { "kernel plain, positions", 0, 0, 1 },
+    { "kernel avx2, positions", 1, 0, 1 }, { "kernel plain, positions float", 0, 0, 0 },
+    { "kernel avx2, positions float", 1, 0, 0 }, { "kernel plain, + normals", 0, 1, 1 },
+    { "kernel avx2, + normals", 1, 1, 1 }, { "kernel plain, + normals, float", 0, 1, 0 },
+    { "kernel avx2, + normals, float", 1, 1, 0 } };
   const int ncfg = 8;
   std::vector<std::vector<double>> wall(ncfg), cpu(ncfg);
   std::vector<std::vector<unsigned char>> bits(ncfg);

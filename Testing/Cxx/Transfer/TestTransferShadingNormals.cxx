@@ -365,11 +365,11 @@ void TestKernelSimd(int order)
                 left[simd] = hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), fc,
                   cov.data(), fl, range.first, range.second, f[simd].data(), nn[simd].data());
               else if (dbl)
-                hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), fc, range.first,
-                  range.second, d[simd].data());
+                hoembed::EvaluateTransfer(
+                  plan.data(), npc, coeffs.data(), fc, range.first, range.second, d[simd].data());
               else
-                hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), fc, range.first,
-                  range.second, f[simd].data());
+                hoembed::EvaluateTransfer(
+                  plan.data(), npc, coeffs.data(), fc, range.first, range.second, f[simd].data());
             }
             ++runs;
             compare(d[0].data(), d[1].data(), sizeof(double) * 3 * n);
@@ -379,8 +379,11 @@ void TestKernelSimd(int order)
             leftTotal += left[0];
           }
   hoembed::SetTransferKernelSimd(-1);
-  HOEMBED_CHECK(differ == 0, "kernel tet%d: the AVX2 kernel differs from the plain one in %d of %d runs", tet, differ, runs);
-  HOEMBED_CHECK(leftTotal > 0 && inverted > 0, "kernel tet%d: no folded normal reached (%lld inverted cells)", tet, static_cast<long long>(inverted));
+  HOEMBED_CHECK(differ == 0,
+    "kernel tet%d: the AVX2 kernel differs from the plain one in %d of %d runs", tet, differ, runs);
+  HOEMBED_CHECK(leftTotal > 0 && inverted > 0,
+    "kernel tet%d: no folded normal reached (%lld inverted cells)", tet,
+    static_cast<long long>(inverted));
   std::printf("kernel tet%d: AVX2 kernel bit for bit the plain one in %d runs (%d of %d groups "
               "in one cell, %d on one face, %lld inverted cells, %lld normals left NaN)\n",
     tet, runs, oneCell, groups, oneFace, static_cast<long long>(inverted),
