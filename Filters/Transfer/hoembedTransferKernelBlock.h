@@ -1,7 +1,8 @@
 // The block loop of hoembed::EvaluateTransfer, templated on the per-vertex arithmetic
-// (Ops: Map, Field, Cofactor). Private to hoembedTransferKernel.cxx (plain C++ Ops) and
-// hoembedTransferKernelAvx2.cxx (AVX2 Ops, compiled for AVX2): everything here has
-// internal linkage, so neither translation unit's code can stand in for the other's.
+// (Ops: Map, Field, Cofactor). Private to hoembedTransferKernel.cxx (the plain kernel,
+// ScalarOps); hoembedTransferKernelAvx2.cxx repeats these operations, in this order, four
+// vertices at a time (everything here has internal linkage, so the AVX2 translation unit's
+// code cannot stand in for the plain one's).
 #ifndef hoembedTransferKernelBlock_h
 #define hoembedTransferKernelBlock_h
 
@@ -120,13 +121,12 @@ std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const d
   // is a polynomial of degree q (2 for tri6, 1 for tri3) in (u, v); it is evaluated as
   // S^q n(u, v), a homogeneous polynomial in (S, lb, lc): no division, and the factor
   // S^q > 0 disappears in the normalisation.
-  //
-  // x and n have one double of slack: an Ops may store 4 lanes for 3 components.
+
   constexpr int kBlock = 64;
   const bool quadratic = nodesPerCell == 10;
   const int csize = quadratic ? 30 : 12;
   const int fsize = quadratic ? 18 : 9;
-  double x[3 * kBlock + 1], n[3 * kBlock + 1], w[kBlock], len2[kBlock], scale[kBlock];
+  double x[3 * kBlock], n[3 * kBlock], w[kBlock], len2[kBlock], scale[kBlock];
   std::int64_t left = 0;
   for (std::int64_t b = begin; b < end; b += kBlock)
   {
@@ -165,9 +165,15 @@ std::int64_t EvaluateBlocks(const TransferEntry* plan, int nodesPerCell, const d
       OffsetScales(len2, w, scale, m);
       for (int j = 0; j < m; ++j)
       {
-        x[3 * j] += scale[j] * n[3 * j];
-        x[3 * j + 1] += scale[j] * n[3 * j + 1];
-        x[3 * j + 2] += scale[j] * n[3 * j + 2];
+        // only the vertices with an offset: the others keep p' as is (adding 0 would turn
+        // a -0 into +0 depending on which other vertices share the block); a select, not
+        // a branch, so that the loop stays vectorised
+        const bool has = w[j] != 0.0;
+        for (int d = 0; d < 3; ++d)
+        {
+          const double y = x[3 * j + d] + scale[j] * n[3 * j + d];
+          x[3 * j + d] = has ? y : x[3 * j + d];
+        }
       }
     }
     T* o = out + 3 * b;

@@ -8,8 +8,11 @@
 // - on a bent and twisted model (a fine ellipsoid embedded with vtkEmbeddingCoordinatesFilter
 //   in a curved box mesh), the angle to the recomputed area-weighted normals of the
 //   deformed surface is bounded (distribution printed);
-// - without the Displacement array: a warning, and the recomputed normals.
+// - without the Displacement array: a warning, and the recomputed normals;
+// - the AVX2 kernel (four vertices per register) against the plain one, bit for bit, on
+//   random plans made to reach each of its paths (below).
 #include "hoembedTestUtilities.h"
+#include "hoembedTetMeshTopology.h"
 #include "hoembedTransferKernel.h"
 #include "hoembedTransferTestUtilities.h"
 #include "vtkDeformationTransferFilter.h"
@@ -210,6 +213,181 @@ void TestKernel(int order)
     worst < 1e-4, "kernel tet%d: cof(F) n0 off VTK's by %g degrees", order == 2 ? 10 : 4, worst);
   std::printf("kernel tet%d: cof(F) n0 against VTK's derivatives: worst %.3g degrees\n",
     order == 2 ? 10 : 4, worst);
+}
+
+// The AVX2 kernel against the plain one, bit for bit (memcmp: NaN normals included), on
+// a random plan that reaches each of its paths: runs of 1-9 consecutive entries in one
+// cell (groups of four in one cell, and groups over 2-4 cells), vertices with a normal
+// offset on one boundary face or on several, without one (Face -1, or d = 0), a zero
+// normal field (nodal normals zero on some faces), zero covectors, cells flagged folded,
+// cells inverted by the frame (det J' <= 0), points outside their cell (S <= 0); ranges
+// whose start and length are not multiples of four (tails of 1-3); double and float
+// points, with and without normals, offsets and flags.
+void TestKernelSimd(int order)
+{
+  const int tet = order == 2 ? 10 : 4;
+  if (!hoembed::SetTransferKernelSimd(1))
+  {
+    hoembed::SetTransferKernelSimd(-1);
+    std::printf("kernel tet%d: no AVX2 kernel here (plain only)\n", tet);
+    return;
+  }
+  auto rest = MakeBoxTetMesh(3, 2, 2, 3.0, 1.0, 1.0, order, Curve);
+  int npc;
+  auto conn = MeshConnectivity(rest, npc);
+  const std::int64_t nc = rest->GetNumberOfCells();
+  const std::int64_t np = rest->GetNumberOfPoints();
+  hoembed::TetMeshTopology topo;
+  topo.Build(conn.data(), nc, npc, np);
+  std::mt19937 rng(11 + order);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  // the frame: bent and twisted, and a few nodes thrown far (cells inverted)
+  auto pts = PointsOf(Deformed(rest, BendTwist));
+  for (int k = 0; k < 4; ++k)
+  {
+    const std::int64_t node = static_cast<std::int64_t>(uni(rng) * np) % np;
+    for (int d = 0; d < 3; ++d)
+      pts[3 * node + d] += 2.0 * g(rng);
+  }
+  const int cs = hoembed::CellCoefficientSize(npc), fs = hoembed::FaceCoefficientSize(npc);
+  auto restPts = PointsOf(rest);
+  std::vector<double> restCoeffs(cs * nc), coeffs(cs * nc);
+  hoembed::ComputeCellMapCoefficients(conn.data(), npc, restPts.data(), 0, nc, restCoeffs.data());
+  hoembed::ComputeCellMapCoefficients(conn.data(), npc, pts.data(), 0, nc, coeffs.data());
+  const std::int64_t nf = topo.GetNumberOfBoundaryFaces();
+  std::vector<double> nodal(3 * np), faceCoeffs(fs * nf);
+  for (double& v : nodal)
+    v = g(rng);
+  for (std::int64_t f = 0; f < nf; f += 7) // zero normal fields
+    for (int a = 0; a < topo.GetNodesPerFace(); ++a)
+      for (int d = 0; d < 3; ++d)
+        nodal[3 * topo.BoundaryFaceNodes[topo.GetNodesPerFace() * f + a] + d] = 0.0;
+  hoembed::ComputeFaceNormalCoefficients(topo, nodal.data(), 0, nf, faceCoeffs.data());
+  std::vector<unsigned char> folded(nc);
+  std::int64_t inverted =
+    hoembed::MarkInvertedCells(conn.data(), npc, pts.data(), 0, nc, folded.data());
+  std::vector<unsigned char> flags(folded);
+  for (std::int64_t c = 0; c < nc; c += 9)
+    flags[c] = 1;
+
+  const int n = 1203;
+  std::vector<hoembed::TransferEntry> plan(n);
+  std::vector<float> n0(3 * n);
+  for (int i = 0; i < n;)
+  {
+    const int run = 1 + static_cast<int>(uni(rng) * 9);
+    // a cell with a boundary face for most runs
+    std::int32_t cell = static_cast<std::int32_t>(uni(rng) * nc) % static_cast<std::int32_t>(nc);
+    for (int tries = 0; tries < 20 && uni(rng) < 0.8; ++tries)
+    {
+      bool boundary = false;
+      for (int f = 0; f < 4; ++f)
+        boundary = boundary || topo.CellBoundaryFace[4 * cell + f] >= 0;
+      if (boundary)
+        break;
+      cell = static_cast<std::int32_t>(uni(rng) * nc) % static_cast<std::int32_t>(nc);
+    }
+    const int sameFace = uni(rng) < 0.5 ? static_cast<int>(uni(rng) * 4) : -1;
+    for (int j = 0; j < run && i < n; ++j, ++i)
+    {
+      auto& e = plan[i];
+      e.Cell = cell;
+      double l[4], sum = 0;
+      for (double& x : l)
+        sum += (x = uni(rng));
+      if (uni(rng) < 0.03)
+        sum = -sum; // outside the cell: negative barycentric coordinates, S <= 0
+      e.PC[0] = l[1] / sum;
+      e.PC[1] = l[2] / sum;
+      e.PC[2] = l[3] / sum;
+      const int f = sameFace >= 0 ? sameFace : static_cast<int>(uni(rng) * 4) % 4;
+      const auto b = topo.CellBoundaryFace[4 * cell + f];
+      const double u = uni(rng);
+      e.Face = b >= 0 && u < 0.9 ? static_cast<std::int32_t>(4 * b + f) : -1;
+      e.Distance = u < 0.8 ? 0.05 * g(rng) : 0.0;
+      double m[3] = { g(rng), g(rng), g(rng) };
+      if (uni(rng) < 0.03)
+        m[0] = m[1] = m[2] = 0.0;
+      for (int d = 0; d < 3; ++d)
+        n0[3 * i + d] = static_cast<float>(m[d]);
+    }
+  }
+  std::vector<float> cov(3 * n);
+  hoembed::ComputeNormalCovectors(plan.data(), npc, restCoeffs.data(), n0.data(), 0, n, cov.data());
+
+  // What the plan reaches: groups of four (from entry 0) in one cell, with one face
+  int oneCell = 0, oneFace = 0, groups = 0;
+  for (int i = 0; i + 4 <= n; i += 4, ++groups)
+  {
+    bool cellSame = true, faceSame = plan[i].Face >= 0;
+    for (int j = 1; j < 4; ++j)
+    {
+      cellSame = cellSame && plan[i + j].Cell == plan[i].Cell;
+      faceSame = faceSame && plan[i + j].Face == plan[i].Face;
+    }
+    oneCell += cellSame ? 1 : 0;
+    oneFace += faceSame ? 1 : 0;
+  }
+  HOEMBED_CHECK(oneCell > groups / 10 && oneCell < groups - groups / 10 && oneFace > 0,
+    "kernel tet%d: the random plan misses a path (%d of %d groups in one cell, %d on one face)",
+    tet, oneCell, groups, oneFace);
+
+  const std::pair<int, int> ranges[] = { { 0, n }, { 1, n }, { 3, n - 2 }, { 5, 6 }, { 7, 9 },
+    { 2, 5 }, { 0, 4 }, { 8, 72 }, { 13, 13 + 67 } };
+  int differ = 0, runs = 0;
+  std::int64_t leftTotal = 0;
+  auto compare = [&](const void* a, const void* b, size_t bytes) {
+    differ += std::memcmp(a, b, bytes) != 0 ? 1 : 0;
+  };
+  for (const auto& range : ranges)
+    for (int withNormals = 0; withNormals < 2; ++withNormals)
+      for (int withFaces = 0; withFaces < 2; ++withFaces)
+        for (int withFlags = 0; withFlags < 2; ++withFlags)
+          for (int dbl = 0; dbl < 2; ++dbl)
+          {
+            const double* fc = withFaces ? faceCoeffs.data() : nullptr;
+            const unsigned char* fl = withFlags ? flags.data() : nullptr;
+            std::vector<double> d[2] = { std::vector<double>(3 * n, 7.0),
+              std::vector<double>(3 * n, 7.0) };
+            std::vector<float> f[2] = { std::vector<float>(3 * n, 7.0f),
+              std::vector<float>(3 * n, 7.0f) };
+            std::vector<float> nn[2] = { std::vector<float>(3 * n, 7.0f),
+              std::vector<float>(3 * n, 7.0f) };
+            std::int64_t left[2] = { 0, 0 };
+            for (int simd = 0; simd < 2; ++simd)
+            {
+              hoembed::SetTransferKernelSimd(simd);
+              if (withNormals && dbl)
+                left[simd] = hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), fc,
+                  cov.data(), fl, range.first, range.second, d[simd].data(), nn[simd].data());
+              else if (withNormals)
+                left[simd] = hoembed::EvaluateTransfer(plan.data(), npc, coeffs.data(), fc,
+                  cov.data(), fl, range.first, range.second, f[simd].data(), nn[simd].data());
+              else if (dbl)
+                hoembed::EvaluateTransfer(
+                  plan.data(), npc, coeffs.data(), fc, range.first, range.second, d[simd].data());
+              else
+                hoembed::EvaluateTransfer(
+                  plan.data(), npc, coeffs.data(), fc, range.first, range.second, f[simd].data());
+            }
+            ++runs;
+            compare(d[0].data(), d[1].data(), sizeof(double) * 3 * n);
+            compare(f[0].data(), f[1].data(), sizeof(float) * 3 * n);
+            compare(nn[0].data(), nn[1].data(), sizeof(float) * 3 * n);
+            differ += left[0] != left[1] ? 1 : 0;
+            leftTotal += left[0];
+          }
+  hoembed::SetTransferKernelSimd(-1);
+  HOEMBED_CHECK(differ == 0,
+    "kernel tet%d: the AVX2 kernel differs from the plain one in %d of %d runs", tet, differ, runs);
+  HOEMBED_CHECK(leftTotal > 0 && inverted > 0,
+    "kernel tet%d: no folded normal reached (%lld inverted cells)", tet,
+    static_cast<long long>(inverted));
+  std::printf("kernel tet%d: AVX2 kernel bit for bit the plain one in %d runs (%d of %d groups "
+              "in one cell, %d on one face, %lld inverted cells, %lld normals left NaN)\n",
+    tet, runs, oneCell, groups, oneFace, static_cast<long long>(inverted),
+    static_cast<long long>(leftTotal));
 }
 
 struct AngleStats
@@ -552,6 +730,7 @@ int main(int, char*[])
   for (int order : { 2, 1 })
   {
     TestKernel(order);
+    TestKernelSimd(order);
     TestFilter(order);
   }
   return Report("TestTransferShadingNormals");
