@@ -83,6 +83,8 @@ def one_run(name, count, order, threads):
         seconds=round(seconds, 2),
         cells=grid.n_cells,
     )
+    if os.environ.get("HOEMBED_BENCH_SET"):
+        rec["set"] = os.environ["HOEMBED_BENCH_SET"]
     if grid.n_cells == 0:
         rec["error"] = "no output"
         return rec
