@@ -15,6 +15,7 @@ the subdivided tri6 faces).
 
     .venv/bin/python Benchmarks/bench_mesher_real.py [--counts 1000 ...] [--orders 2 1]
         [--timeout 240] [--threads 1] [--only NAME ...] [--out bench_mesher_real.json]
+        [--set NAME=VALUE ...]   (settings other than the defaults, e.g. EnvelopeTolerance=0.01)
 
 JSON: Benchmarks/results/<--out> (written after every run). A run past the time limit is
 recorded as such, with the mesher's figures when only the checks ran out of time. Skips
@@ -23,6 +24,7 @@ cleanly without the data folders.
 
 import argparse
 import json
+import os
 import pathlib
 import subprocess
 import sys
@@ -64,6 +66,10 @@ def one_run(name, count, order, threads):
     alg.SetInputData(surface)
     alg.SetTargetNumberOfElements(count)
     alg.SetElementOrder(order)
+    # --set: the parent passes its NAME=VALUE pairs to each run through the environment
+    for kv in filter(None, os.environ.get("HOEMBED_BENCH_SET", "").split(",")):
+        key, value = kv.split("=")
+        getattr(alg, "Set" + key)(float(value))
     t0 = time.perf_counter()
     alg.Update()
     seconds = time.perf_counter() - t0
@@ -77,6 +83,8 @@ def one_run(name, count, order, threads):
         seconds=round(seconds, 2),
         cells=grid.n_cells,
     )
+    if os.environ.get("HOEMBED_BENCH_SET"):
+        rec["set"] = os.environ["HOEMBED_BENCH_SET"]
     if grid.n_cells == 0:
         rec["error"] = "no output"
         return rec
@@ -190,6 +198,13 @@ def main():
     ap.add_argument("--out", default="bench_mesher_real.json")
     ap.add_argument("--child", nargs=4)
     ap.add_argument(
+        "--set",
+        nargs="*",
+        default=[],
+        metavar="NAME=VALUE",
+        help="vtkTet10Mesher settings other than the defaults, e.g. CurvedQualityTarget=0.3",
+    )
+    ap.add_argument(
         "--table",
         action="store_true",
         help="print the Markdown tables of RESULTS.md from the JSON of --out",
@@ -208,6 +223,8 @@ def main():
     names += GENERATED
     if args.only:
         names = [n for n in names if n in args.only]
+    if args.set:
+        os.environ["HOEMBED_BENCH_SET"] = ",".join(args.set)
     runs = [(n, c, o) for c in args.counts for o in args.orders for n in names]
     out_dir = HERE / "results"
     out_dir.mkdir(exist_ok=True)
