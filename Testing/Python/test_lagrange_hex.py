@@ -16,7 +16,7 @@ import pyvista as pv
 import vtkmodules.vtkCommonCore as vtkCommonCore
 import vtkmodules.vtkCommonDataModel as dm
 from filter_routes import embed as filter_embed
-from filter_routes import transfer as filter_transfer
+from lagrange_checks import check_rigid_transfer, check_routes_agree_and_points_rebuilt
 
 KINDS = {  # name: (VTK type, node count)
     "lagrange-1": (72, 8),
@@ -108,44 +108,14 @@ def case(request):
 
 def test_routes_agree_and_points_rebuilt(case):
     kind, mesh, surface = case
-    got = hoembed.embed(surface, mesh)
-    via_filter = filter_embed(surface, mesh)
-    for name in (
-        "EmbeddingCellId",
-        "EmbeddingParametricCoords",
-        "EmbeddingDistance",
-        "EmbeddingClosestDistance",
-        "EmbeddingResidual",
-        "EmbeddingFace",
-    ):
-        assert np.array_equal(got[name], via_filter[name]), name
-    diag = mesh.length
-    assert got["EmbeddingResidual"].max() <= 1e-10 * diag
-    closest = got["EmbeddingClosestDistance"]
-    inside = closest == 0
-    assert 5 < inside.sum() < surface.n_points - 5
-    for i in np.where(inside)[0]:
-        x = vtk_location(kind, mesh, got["EmbeddingCellId"][i], got["EmbeddingParametricCoords"][i])
-        assert np.linalg.norm(x - surface.points[i]) <= 1e-10 * diag
-    samples = boundary_samples(kind, mesh)
-    for i in np.where(~inside)[0]:
-        sampled = np.linalg.norm(samples - surface.points[i], axis=1).min()
-        assert closest[i] <= sampled + 1e-8 * diag
+    check_routes_agree_and_points_rebuilt(
+        mesh, surface, lambda c, pc: vtk_location(kind, mesh, c, pc), boundary_samples(kind, mesh)
+    )
 
 
 def test_rigid_transfer(case):
-    kind, mesh, surface = case
-    embedded = hoembed.embed(surface, mesh)
-    a = 0.8
-    R = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
-    t = np.array([1.5, -2.0, 0.25])
-    moved = mesh.copy()
-    moved.points = mesh.points @ R.T + t
-    want = surface.points @ R.T + t
-    for route in (hoembed.transfer, filter_transfer):
-        out = route(embedded, moved)
-        err = np.abs(np.asarray(out.points, float) - want).max()
-        assert err <= 1e-9 * mesh.length, (route, err)
+    _, mesh, surface = case
+    check_rigid_transfer(mesh, surface)
 
 
 def test_mixed_mesh_refused(case):
