@@ -221,6 +221,24 @@ inline void Store12(const __m256d o[3], float* p)
   _mm_storeu_ps(p + 8, _mm256_cvtpd_ps(o[2]));
 }
 
+// The group's `count` (1-4) vertices of the interleaved o (x y z per vertex) to p: a tail
+// group goes through a buffer, so nothing past its last vertex is written.
+template <typename U>
+inline void StoreGroup(const __m256d o[3], U* p, int count)
+{
+  if (count == 4)
+  {
+    Store12(o, p);
+    return;
+  }
+  U tmp[12];
+  Store12(o, tmp);
+  for (int i = 0; i < 3 * count; ++i)
+  {
+    p[i] = tmp[i];
+  }
+}
+
 // All ones in the lanes j whose bit j is set in bits (0-15)
 inline __m256d LaneMask(int bits)
 {
@@ -362,19 +380,7 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
 
   __m256d o[3];
   Interleave(x, o);
-  if (count == 4)
-  {
-    Store12(o, out);
-  }
-  else
-  {
-    T tmp[12];
-    Store12(o, tmp);
-    for (int i = 0; i < 3 * count; ++i)
-    {
-      out[i] = tmp[i];
-    }
-  }
+  StoreGroup(o, out, count);
   if (!normals)
   {
     return 0;
@@ -395,19 +401,7 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
     nv[d] = _mm256_blendv_pd(Mul(cof[d], scale), nan, nanMask);
   }
   Interleave(nv, o);
-  if (count == 4)
-  {
-    Store12(o, normals);
-  }
-  else
-  {
-    float tmp[12];
-    Store12(o, tmp);
-    for (int i = 0; i < 3 * count; ++i)
-    {
-      normals[i] = tmp[i];
-    }
-  }
+  StoreGroup(o, normals, count);
   return left;
 }
 
