@@ -1,7 +1,7 @@
 // hoembed::EvaluateTransfer with AVX2, four vertices at a time: lane j of every register
 // belongs to vertex j of a group of four plan entries, so each lane runs the plain
-// kernel's scalar arithmetic (hoembedTransferKernel.cxx, ScalarOps, and the block loop of
-// hoembedTransferKernelBlock.h) on its own vertex: the same operations in the same order,
+// kernel's scalar arithmetic (hoembedTransferKernel.cxx: ScalarOps and the block loop
+// EvaluateBlocks) on its own vertex: the same operations in the same order,
 // no fused multiply-add (this file is compiled for AVX2 without FMA), hence the same bits.
 // Called only where the CPU has AVX2 (the dispatch in hoembedTransferKernel.cxx).
 //
@@ -328,27 +328,27 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
     {
       const __m256d one = _mm256_set1_pd(1.0);
       const __m256d L[4] = { Sub(Sub(Sub(one, r), s), t), r, s, t };
+      // each lane's face; lanes without an offset take the face of the first lane that
+      // has one (computed, then dropped by the blend below)
+      const TransferEntry* first = e[__builtin_ctz(hasBits)];
+      std::int32_t face[4];
+      for (int j = 0; j < 4; ++j)
+      {
+        face[j] = (hasBits >> j & 1 ? e[j] : first)->Face;
+      }
       __m256d la, lb, lc, n[3];
-      const std::int32_t f0 = e[0]->Face;
       const bool oneFace =
-        hasBits == 15 && e[1]->Face == f0 && e[2]->Face == f0 && e[3]->Face == f0;
+        hasBits == 15 && face[1] == face[0] && face[2] == face[0] && face[3] == face[0];
       if (oneFace)
       {
-        const int* corners = TetFaceNodes[f0 & 3];
+        const int* corners = TetFaceNodes[face[0] & 3];
         la = L[corners[0]];
         lb = L[corners[1]];
         lc = L[corners[2]];
       }
       else
       {
-        // each lane's corners by its local face; lanes without an offset take the face of
-        // the first lane that has one (computed, then dropped by the blend below)
-        const TransferEntry* first = e[__builtin_ctz(hasBits)];
-        std::int32_t face[4];
-        for (int j = 0; j < 4; ++j)
-        {
-          face[j] = (hasBits >> j & 1 ? e[j] : first)->Face;
-        }
+        // each lane's corners by its local face
         la = lb = lc = _mm256_setzero_pd();
         for (int f = 0; f < 4; ++f)
         {
@@ -365,8 +365,7 @@ inline int Group(const TransferEntry* const e[4], int count, const double* cellC
       const double* a[4];
       for (int j = 0; j < 4; ++j)
       {
-        const TransferEntry* ej = hasBits >> j & 1 ? e[j] : e[__builtin_ctz(hasBits)];
-        a[j] = faceCoeffs + fsize * static_cast<std::int64_t>(ej->Face >> 2);
+        a[j] = faceCoeffs + fsize * static_cast<std::int64_t>(face[j] >> 2);
       }
       WithCoefficients(a, fsize, [&](const auto& aa) { Field<Quadratic>(aa, S, lb, lc, n); });
       const __m256d scale = Scale(Length2(n), dist);
@@ -446,22 +445,33 @@ std::int64_t Evaluate(const TransferEntry* plan, const double* cellCoeffs, const
 }
 } // namespace
 
-std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell,
-  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
-  const unsigned char* folded, std::int64_t begin, std::int64_t end, double* out, float* normals)
+namespace
+{
+template <typename T>
+std::int64_t EvaluateByOrder(const TransferEntry* plan, int nodesPerCell, const double* cellCoeffs,
+  const double* faceCoeffs, const float* covectors, const unsigned char* folded, std::int64_t begin,
+  std::int64_t end, T* out, float* normals)
 {
   return nodesPerCell == 10
     ? Evaluate<true>(plan, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals)
     : Evaluate<false>(plan, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
+}
+} // namespace
+
+std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell,
+  const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
+  const unsigned char* folded, std::int64_t begin, std::int64_t end, double* out, float* normals)
+{
+  return EvaluateByOrder(
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 
 std::int64_t EvaluateTransferAvx2(const TransferEntry* plan, int nodesPerCell,
   const double* cellCoeffs, const double* faceCoeffs, const float* covectors,
   const unsigned char* folded, std::int64_t begin, std::int64_t end, float* out, float* normals)
 {
-  return nodesPerCell == 10
-    ? Evaluate<true>(plan, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals)
-    : Evaluate<false>(plan, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
+  return EvaluateByOrder(
+    plan, nodesPerCell, cellCoeffs, faceCoeffs, covectors, folded, begin, end, out, normals);
 }
 } // namespace transfer_detail
 } // namespace hoembed
