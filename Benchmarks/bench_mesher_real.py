@@ -16,6 +16,8 @@ the subdivided tri6 faces).
     .venv/bin/python Benchmarks/bench_mesher_real.py [--counts 1000 ...] [--orders 2 1]
         [--timeout 240] [--threads 1] [--only NAME ...] [--out bench_mesher_real.json]
         [--set NAME=VALUE ...]   (settings other than the defaults, e.g. EnvelopeTolerance=0.01)
+        [--data DIR ...]   (other folders of surfaces in place of ../shared/data's, e.g.
+                            held-out files; the generated cases then only with --only)
 
 JSON: Benchmarks/results/<--out> (written after every run). A run past the time limit is
 recorded as such, with the mesher's figures when only the checks ran out of time. Skips
@@ -35,6 +37,12 @@ ROOT = HERE.parent
 DATA = [ROOT.parent / "shared" / "data" / "meshes", ROOT.parent / "shared" / "data" / "meshes-real"]
 SUFFIXES = {".obj", ".stl", ".ply", ".glb", ".gltf", ".vtp", ".vtk"}
 GENERATED = ["gen:ribbed_beam", "gen:cube_with_cavity"]
+
+
+def data_folders():
+    """The input folders: --data's (passed to each run through the environment) or DATA."""
+    given = os.environ.get("HOEMBED_BENCH_DATA")
+    return [pathlib.Path(d) for d in given.split(os.pathsep)] if given else DATA
 
 
 def one_run(name, count, order, threads):
@@ -57,7 +65,7 @@ def one_run(name, count, order, threads):
 
         surface = cube_with_cavity()
     else:
-        path = next(d / name for d in DATA if (d / name).exists())
+        path = next(d / name for d in data_folders() if (d / name).exists())
         surface = pv.read(path)
         if isinstance(surface, pv.MultiBlock):
             surface = surface.combine()
@@ -205,6 +213,13 @@ def main():
         help="vtkTet10Mesher settings other than the defaults, e.g. CurvedQualityTarget=0.3",
     )
     ap.add_argument(
+        "--data",
+        nargs="*",
+        default=[],
+        metavar="DIR",
+        help="folders of surfaces to run in place of ../shared/data's",
+    )
+    ap.add_argument(
         "--table",
         action="store_true",
         help="print the Markdown tables of RESULTS.md from the JSON of --out",
@@ -216,11 +231,16 @@ def main():
         name, count, order, threads = args.child
         print("RESULT " + json.dumps(one_run(name, int(count), int(order), int(threads))))
         return 0
-    if not all(d.is_dir() for d in DATA):
-        print("bench_mesher_real: ../shared/data not found, skipped")
+    if args.data:
+        os.environ["HOEMBED_BENCH_DATA"] = os.pathsep.join(
+            str(pathlib.Path(d).resolve()) for d in args.data
+        )
+    folders = data_folders()
+    if not all(d.is_dir() for d in folders):
+        print(f"bench_mesher_real: {', '.join(map(str, folders))} not found, skipped")
         return 0
-    names = sorted(p.name for d in DATA for p in d.iterdir() if p.suffix.lower() in SUFFIXES)
-    names += GENERATED
+    names = sorted(p.name for d in folders for p in d.iterdir() if p.suffix.lower() in SUFFIXES)
+    names += GENERATED if not args.data or args.only else []
     if args.only:
         names = [n for n in names if n in args.only]
     if args.set:

@@ -78,76 +78,6 @@ Id CountFaceComponents(const std::vector<Id>& tets, Id nPts)
   return components;
 }
 
-// Remove flat boundary tets: a tet with exactly two boundary faces and a poor shape is
-// deleted when the edge shared by its two interior faces is not already a boundary edge
-// (the boundary stays a closed manifold; it only flips an edge). Returns how many went.
-Id RemoveBoundarySlivers(
-  const std::vector<double>& p, std::vector<Id>& tets, Id nPts, double qualityThreshold)
-{
-  Id removed = 0;
-  for (int pass = 0; pass < 4; ++pass)
-  {
-    const Id nt = static_cast<Id>(tets.size() / 4);
-    TetMeshTopology topo;
-    if (!topo.Build(tets.data(), nt, 4, nPts).empty())
-      break;
-    std::unordered_map<std::uint64_t, char> boundaryEdges;
-    for (Id e = 0; e < topo.GetNumberOfBoundaryEdges(); ++e)
-      boundaryEdges[static_cast<std::uint64_t>(topo.BoundaryEdgeNodes[3 * e]) * nPts +
-        topo.BoundaryEdgeNodes[3 * e + 1]] = 1;
-    std::vector<char> drop(nt, 0);
-    Id dropped = 0;
-    for (Id t = 0; t < nt; ++t)
-    {
-      int nb = 0;
-      bool neighbourDropped = false;
-      int interior[2], ni = 0;
-      for (int f = 0; f < 4; ++f)
-      {
-        const Id nbr = topo.FaceNeighbor[4 * t + f];
-        if (nbr < 0)
-          ++nb;
-        else
-        {
-          neighbourDropped |= drop[nbr] != 0;
-          if (ni < 2)
-            interior[ni++] = f;
-        }
-      }
-      if (nb != 2 || neighbourDropped || TetQuality(p, &tets[4 * t]) >= qualityThreshold)
-        continue;
-      // The edge shared by the two interior faces becomes a boundary edge.
-      Id common[3];
-      int nc = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          if (TetFaceNodes[interior[0]][a] == TetFaceNodes[interior[1]][b])
-            common[nc++] = tets[4 * t + TetFaceNodes[interior[0]][a]];
-      if (nc != 2)
-        continue;
-      const Id u = std::min(common[0], common[1]), v = std::max(common[0], common[1]);
-      if (boundaryEdges.count(static_cast<std::uint64_t>(u) * nPts + v))
-        continue;
-      drop[t] = 1;
-      ++dropped;
-    }
-    if (dropped == 0)
-      break;
-    std::vector<Id> kept;
-    kept.reserve(tets.size());
-    for (Id t = 0; t < nt; ++t)
-      if (!drop[t])
-        kept.insert(kept.end(), tets.begin() + 4 * t, tets.begin() + 4 * t + 4);
-    // Removing a tet may leave a neighbour hanging on by an edge or a vertex only (the
-    // mesh would no longer be one face-connected piece): then keep this pass undone.
-    if (CountFaceComponents(kept, nPts) > CountFaceComponents(tets, nPts))
-      break;
-    tets.swap(kept);
-    removed += dropped;
-  }
-  return removed;
-}
-
 // n += the unit normal of the triangle f (3 point ids into pts).
 void AddUnitNormal(const double* pts, const Id* f, double n[3])
 {
@@ -1354,6 +1284,76 @@ void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo,
   }
 }
 } // namespace
+
+// Remove flat boundary tets: a tet with exactly two boundary faces and a poor shape is
+// deleted when the edge shared by its two interior faces is not already a boundary edge
+// (the boundary stays a closed manifold; it only flips an edge). Returns how many went.
+std::int64_t RemoveBoundarySlivers(const std::vector<double>& p, std::vector<std::int64_t>& tets,
+  std::int64_t nPts, double qualityThreshold)
+{
+  Id removed = 0;
+  for (int pass = 0; pass < 4; ++pass)
+  {
+    const Id nt = static_cast<Id>(tets.size() / 4);
+    TetMeshTopology topo;
+    if (!topo.Build(tets.data(), nt, 4, nPts).empty())
+      break;
+    std::unordered_map<std::uint64_t, char> boundaryEdges;
+    for (Id e = 0; e < topo.GetNumberOfBoundaryEdges(); ++e)
+      boundaryEdges[static_cast<std::uint64_t>(topo.BoundaryEdgeNodes[3 * e]) * nPts +
+        topo.BoundaryEdgeNodes[3 * e + 1]] = 1;
+    std::vector<char> drop(nt, 0);
+    Id dropped = 0;
+    for (Id t = 0; t < nt; ++t)
+    {
+      int nb = 0;
+      bool neighbourDropped = false;
+      int interior[2], ni = 0;
+      for (int f = 0; f < 4; ++f)
+      {
+        const Id nbr = topo.FaceNeighbor[4 * t + f];
+        if (nbr < 0)
+          ++nb;
+        else
+        {
+          neighbourDropped |= drop[nbr] != 0;
+          if (ni < 2)
+            interior[ni++] = f;
+        }
+      }
+      if (nb != 2 || neighbourDropped || TetQuality(p, &tets[4 * t]) >= qualityThreshold)
+        continue;
+      // The edge shared by the two interior faces becomes a boundary edge.
+      Id common[3];
+      int nc = 0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          if (TetFaceNodes[interior[0]][a] == TetFaceNodes[interior[1]][b])
+            common[nc++] = tets[4 * t + TetFaceNodes[interior[0]][a]];
+      if (nc != 2)
+        continue;
+      const Id u = std::min(common[0], common[1]), v = std::max(common[0], common[1]);
+      if (boundaryEdges.count(static_cast<std::uint64_t>(u) * nPts + v))
+        continue;
+      drop[t] = 1;
+      ++dropped;
+    }
+    if (dropped == 0)
+      break;
+    std::vector<Id> kept;
+    kept.reserve(tets.size());
+    for (Id t = 0; t < nt; ++t)
+      if (!drop[t])
+        kept.insert(kept.end(), tets.begin() + 4 * t, tets.begin() + 4 * t + 4);
+    // Removing a tet may leave a neighbour hanging on by an edge or a vertex only (the
+    // mesh would no longer be one face-connected piece): then keep this pass undone.
+    if (CountFaceComponents(kept, nPts) > CountFaceComponents(tets, nPts))
+      break;
+    tets.swap(kept);
+    removed += dropped;
+  }
+  return removed;
+}
 
 CurvedMesh BuildCurvedMesh(std::vector<double> pts, std::vector<Id> tets,
   const SurfaceQueries& surface, const CurvedMeshOptions& options,

@@ -93,6 +93,15 @@ struct HOEMBEDFILTERSMESHING_EXPORT CurvedMesh
   std::string Error; ///< empty on success
 };
 
+/**
+ * Removes the flat boundary tets of a straight tet4 mesh (BuildCurvedMesh's first step):
+ * a tet with exactly two boundary faces and a scaled Jacobian below `qualityThreshold`
+ * goes when the edge shared by its two interior faces is not a boundary edge yet, so the
+ * boundary stays a closed manifold (an edge flip). Returns how many went.
+ */
+HOEMBEDFILTERSMESHING_EXPORT std::int64_t RemoveBoundarySlivers(const std::vector<double>& points,
+  std::vector<std::int64_t>& tets, std::int64_t numberOfPoints, double qualityThreshold);
+
 HOEMBEDFILTERSMESHING_EXPORT CurvedMesh BuildCurvedMesh(std::vector<double> points,
   std::vector<std::int64_t> tets, const SurfaceQueries& surface, const CurvedMeshOptions& options,
   const std::function<void(double)>& progress = std::function<void(double)>());
