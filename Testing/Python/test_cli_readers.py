@@ -1,6 +1,6 @@
 """Surface files VTK 9.1 alone does not turn into a surface, read by the CLI: PLY files
-storing triangle strips (VTK's PLY reader drops the 'tristrips' element) and glTF .glb
-files (pyvista gives a multiblock). The files are written here from generated surfaces;
+storing triangle strips (VTK's PLY reader drops the 'tristrips' element), glTF .glb
+files (pyvista gives a multiblock) and OFF files (no VTK reader). The files are written here from generated surfaces;
 the reference is the generated surface itself (its triangles, area and volume)."""
 
 import json
@@ -161,12 +161,67 @@ def test_glb_parts(tmp_path):
     assert got.volume == pytest.approx(a.volume + b.volume, rel=1e-5)
 
 
-def test_run_on_strip_ply_and_glb(tmp_path):
-    """hoembed run takes both with no extra flag."""
+def write_off(path, points, faces, counts_inline=False):
+    """An ASCII OFF file as geometry-processing data sets have them: a comment, the counts
+    (on the OFF line or the next), vertex lines with an extra colour on every other one,
+    polygon lines with a colour after the ids on some."""
+    lines = ["# written by test_cli_readers"]
+    head = f"{len(points)} {len(faces)} 0"
+    lines += [f"COFF {head}"] if counts_inline else ["COFF", head]
+    for k, p in enumerate(points):
+        lines.append(" ".join(repr(float(x)) for x in p) + (" 255 0 0 255" if k % 2 else ""))
+    for k, f in enumerate(faces):
+        lines.append(
+            f"{len(f)} " + " ".join(str(int(i)) for i in f) + (" 0.5 0.5 0.5" if k % 3 == 0 else "")
+        )
+    path.write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.parametrize("counts_inline", [False, True])
+def test_off(tmp_path, counts_inline):
+    a = torus()
+    path = tmp_path / "torus.off"
+    write_off(path, a.points, a.faces.reshape(-1, 4)[:, 1:], counts_inline)
+    got = _read_surface(path)
+    assert triangle_set(got) == triangle_set(a)
+    assert got.volume == pytest.approx(a.volume, rel=1e-6)
+    # polygons: a unit cube of six quads (outward) -> twelve triangles, area 6, volume 1
+    corners = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1)]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    path = tmp_path / "cube.off"
+    write_off(path, corners, quads)
+    cube = _read_surface(path)
+    assert cube.n_cells == 12
+    assert cube.area == pytest.approx(6.0)
+    assert cube.volume == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize(
+    "body,words",
+    [
+        ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "names vertex 7"),
+        ("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n", "ends early"),
+        ("OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n", "fewer than 3 numbers"),
+        ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", "declares 4 vertices but lists 3"),
+        ("4OFF\n3 1 0\n0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n", "variant '4OFF'"),
+        ("OFF BINARY\n\x03\x00\x00\x00", "binary OFF"),
+        ("ply\nformat ascii 1.0\nend_header\n", "not an OFF file"),
+    ],
+)
+def test_bad_off_is_refused(tmp_path, body, words):
+    path = tmp_path / "bad.off"
+    path.write_bytes(body.encode("latin-1"))
+    with pytest.raises(UsageError, match=words):
+        _read_surface(path)
+
+
+def test_run_on_strip_ply_glb_and_off(tmp_path):
+    """hoembed run takes them with no extra flag."""
     surface = pv.Sphere(radius=1.0, theta_resolution=40, phi_resolution=40)
-    files = [tmp_path / "s.ply", tmp_path / "s.glb"]
+    files = [tmp_path / "s.ply", tmp_path / "s.glb", tmp_path / "s.off"]
     write_strip_ply(files[0], surface, True)
     write_glb(files[1], [(surface.points, surface.faces.reshape(-1, 4)[:, 1:])])
+    write_off(files[2], surface.points, surface.faces.reshape(-1, 4)[:, 1:])
     for f in files:
         out = subprocess.run(
             [

@@ -6,6 +6,10 @@
   vertices, faces and strips (ASCII and binary), checking every index.
 - glTF / .glb files: pyvista (vtkGLTFReader) gives a multiblock of meshes;
   surface_of merges the blocks into one surface.
+- OFF files (Geomview's object file format, common in geometry processing data sets): VTK
+  has no reader for them. read_off reads the ASCII form: one vertex and one face per
+  line after the counts (extra values on a line, colours or normals, are ignored), polygons
+  as fans; the binary form is refused (its writers disagree on the face records).
 """
 
 import numpy as np
@@ -32,6 +36,10 @@ _PLY_TYPES = {
 
 class PlyError(ValueError):
     """A PLY file this reader cannot read, with the reason."""
+
+
+class OffError(ValueError):
+    """An OFF file this reader cannot read, with the reason."""
 
 
 def ply_elements(path):
@@ -205,6 +213,62 @@ def read_ply(path):
     if len(tris) and (tris.min() < 0 or tris.max() >= len(points)):
         bad = tris[(tris < 0) | (tris >= len(points))][0]
         raise PlyError(f"a face or strip names vertex {bad}, outside 0..{len(points) - 1}")
+    return points, tris
+
+
+def read_off(path):
+    """Points (n x 3) and triangles (m x 3, polygons as fans) of an ASCII OFF file.
+    Raises OffError naming the problem."""
+    with open(path, "rb") as fh:
+        data = fh.read()
+    if data[:64].split(b"\n", 1)[0].split(b"#")[0].split()[1:2] == [b"BINARY"]:
+        raise OffError(
+            "binary OFF is not read (its writers disagree on the face records); save it as ASCII OFF, PLY or OBJ"
+        )
+    try:
+        text = data.decode("ascii")
+    except UnicodeDecodeError:
+        raise OffError("not an ASCII OFF file (non-ASCII bytes)") from None
+    lines = [ln.split("#", 1)[0].split() for ln in text.splitlines()]
+    lines = [ln for ln in lines if ln]
+    if not lines or not lines[0][0].endswith("OFF"):
+        raise OffError("not an OFF file (the first line is not OFF, COFF, NOFF, ...)")
+    key = lines[0][0]
+    if key[:-3].strip("STCN"):  # 4OFF, nOFF: 4 or n dimensions
+        raise OffError(f"the OFF variant {key!r} is not read (only 3D: OFF, COFF, NOFF, STOFF)")
+    counts = lines[0][1:] if len(lines[0]) > 1 else (lines[1] if len(lines) > 1 else [])
+    body = lines[1:] if len(lines[0]) > 1 else lines[2:]
+    try:
+        nv, nf = int(counts[0]), int(counts[1])
+    except (IndexError, ValueError):
+        raise OffError("the OFF header lacks the vertex and face counts") from None
+    if nv <= 0 or nf < 0:
+        raise OffError(f"bad OFF counts: {nv} vertices, {nf} faces")
+    if len(body) < nv + nf:
+        raise OffError(
+            f"the OFF file ends early: {nv} vertices and {nf} faces declared, {len(body)} lines found"
+        )
+    try:
+        points = np.array([ln[:3] for ln in body[:nv]], dtype=np.float64)
+    except ValueError:
+        raise OffError(
+            "an OFF vertex line has fewer than 3 numbers or one that is not a number"
+        ) from None
+    tris = []
+    for k, ln in enumerate(body[nv : nv + nf]):
+        try:
+            n = int(ln[0])
+            f = np.array(ln[1 : 1 + n], dtype=np.int64)
+        except ValueError:
+            raise OffError(f"OFF face {k} is not a list of whole numbers") from None
+        if n < 0 or len(f) != n:
+            raise OffError(f"OFF face {k} declares {n} vertices but lists {len(f)}")
+        if n >= 3:
+            tris.append(np.stack([np.full(n - 2, f[0]), f[1:-1], f[2:]], axis=1))
+    tris = np.concatenate(tris) if tris else np.zeros((0, 3), np.int64)
+    if len(tris) and (tris.min() < 0 or tris.max() >= nv):
+        bad = tris[(tris < 0) | (tris >= nv)][0]
+        raise OffError(f"an OFF face names vertex {bad}, outside 0..{nv - 1}")
     return points, tris
 
 

@@ -65,7 +65,7 @@ def _parser():
         help="run the pipeline on a surface file",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
-    run.add_argument("surface", help="closed triangle surface (.obj .stl .ply .vtp .vtk ...)")
+    run.add_argument("surface", help="closed triangle surface (.obj .stl .ply .off .vtp .vtk ...)")
     live = sub.add_parser(
         "live",
         help="interactive window: drag the surface and it follows (hoembed.live)",
@@ -226,7 +226,7 @@ def _step(label, func, *args, **kwargs):
 
 
 # Surface formats the CLI hands to VTK (through pyvista.read).
-_SURFACE_TYPES = (".obj", ".stl", ".ply", ".vtp", ".vtk", ".vtu", ".g", ".glb", ".gltf")
+_SURFACE_TYPES = (".obj", ".stl", ".ply", ".off", ".vtp", ".vtk", ".vtu", ".g", ".glb", ".gltf")
 
 
 def _check_surface_file(path):
@@ -385,15 +385,17 @@ def _check_stl(path, size):
 def _read_child(path, out):
     """Child-process half of _read_surface: read with VTK, keep the surface, write it as
     .vtp. Exit 3 with a message on stderr when the file holds no surface. PLY triangle
-    strips (which VTK's reader drops) and glTF scenes (multiblocks) go through
-    hoembed._readers."""
+    strips (which VTK's reader drops), OFF files (no VTK reader) and glTF scenes
+    (multiblocks) go through hoembed._readers."""
     import pyvista
 
     from hoembed import _readers
 
     try:
-        if path.lower().endswith(".ply") and _readers.has_strips(path):
-            points, tris = _readers.read_ply(path)
+        low = path.lower()
+        if low.endswith(".off") or (low.endswith(".ply") and _readers.has_strips(path)):
+            read = _readers.read_off if low.endswith(".off") else _readers.read_ply
+            points, tris = read(path)
             data = pyvista.PolyData(
                 points, np.hstack([np.full((len(tris), 1), 3), tris]).ravel() if len(tris) else None
             )
