@@ -1285,9 +1285,8 @@ void CountCurvedNodes(CurvedMesh& out, const TetMeshTopology& topo,
 }
 } // namespace
 
-// Remove flat boundary tets: a tet with exactly two boundary faces and a poor shape is
-// deleted when the edge shared by its two interior faces is not already a boundary edge
-// (the boundary stays a closed manifold; it only flips an edge). Returns how many went.
+// (documented in the header) Each pass removes what it can without a neighbour of a removed
+// tet being removed too, then rebuilds the topology.
 std::int64_t RemoveBoundarySlivers(const std::vector<double>& p, std::vector<std::int64_t>& tets,
   std::int64_t nPts, double qualityThreshold)
 {

@@ -779,10 +779,11 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
         RemoveBoundarySlivers(t.Points, tets, np, CurvedMeshOptions().SliverQuality);
       return static_cast<double>(t.Tets.size() / 4 - removed);
     };
-    const double count = tg.Error.empty() ? outputCount(tg) : 0.0;
-    const double ratio = tg.Error.empty() ? count / options.TargetNumberOfElements : 1.0;
-    if (tg.Error.empty() && !out.Wrapped && options.Wrap == 0 && folded &&
-      !(options.TargetEdgeLength > 0.0) && (ratio > 1.3 || ratio < 1.0 / 1.3))
+    const bool countMatters = tg.Error.empty() && !out.Wrapped && options.Wrap == 0 && folded &&
+      !(options.TargetEdgeLength > 0.0);
+    const double count = countMatters ? outputCount(tg) : 0.0;
+    const double ratio = count / options.TargetNumberOfElements;
+    if (countMatters && (ratio > 1.3 || ratio < 1.0 / 1.3))
     {
       double offset = 0.0;
       TetGenResult wrapped;

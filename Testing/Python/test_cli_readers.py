@@ -1,7 +1,8 @@
 """Surface files VTK 9.1 alone does not turn into a surface, read by the CLI: PLY files
 storing triangle strips (VTK's PLY reader drops the 'tristrips' element), glTF .glb
-files (pyvista gives a multiblock) and OFF files (no VTK reader). The files are written here from generated surfaces;
-the reference is the generated surface itself (its triangles, area and volume)."""
+files (pyvista gives a multiblock) and OFF files (no VTK reader). The files are written
+here from generated surfaces; the reference is the generated surface itself (its
+triangles, area and volume)."""
 
 import json
 import struct

@@ -174,6 +174,21 @@ def _strip_triangles(ids):
     return t[keep]
 
 
+def _fan(polygon):
+    """The triangles of a polygon (point ids, at least 3) as a fan from its first corner."""
+    return np.stack([np.full(len(polygon) - 2, polygon[0]), polygon[1:-1], polygon[2:]], axis=1)
+
+
+def _triangles(parts, npoints, error, what):
+    """The triangle arrays in `parts` as one (m x 3), every id checked against `npoints`
+    (raising `error` naming `what` holds the first bad id)."""
+    tris = np.concatenate(parts) if parts else np.zeros((0, 3), np.int64)
+    if len(tris) and (tris.min() < 0 or tris.max() >= npoints):
+        bad = tris[(tris < 0) | (tris >= npoints)][0]
+        raise error(f"{what} names vertex {bad}, outside 0..{npoints - 1}")
+    return tris
+
+
 def read_ply(path):
     """Points (n x 3) and triangles (m x 3) of a PLY file's vertices, faces (fans) and
     triangle strips. Raises PlyError naming the problem."""
@@ -200,20 +215,15 @@ def read_ply(path):
         if name == "face":
             key = "vertex_indices" if "vertex_indices" in lists else lists[0]
             for r in records:
-                f = r[key]
-                if len(f) >= 3:
-                    tris.append(np.stack([np.full(len(f) - 2, f[0]), f[1:-1], f[2:]], axis=1))
+                if len(r[key]) >= 3:
+                    tris.append(_fan(r[key]))
         elif name == "tristrips":
             key = "vertex_indices" if "vertex_indices" in lists else lists[0]
             for r in records:
                 tris.append(_strip_triangles(r[key]))
     if points is None or len(points) == 0:
         raise PlyError("the PLY file has no vertices")
-    tris = np.concatenate(tris) if tris else np.zeros((0, 3), np.int64)
-    if len(tris) and (tris.min() < 0 or tris.max() >= len(points)):
-        bad = tris[(tris < 0) | (tris >= len(points))][0]
-        raise PlyError(f"a face or strip names vertex {bad}, outside 0..{len(points) - 1}")
-    return points, tris
+    return points, _triangles(tris, len(points), PlyError, "a face or strip")
 
 
 def read_off(path):
@@ -221,7 +231,7 @@ def read_off(path):
     Raises OffError naming the problem."""
     with open(path, "rb") as fh:
         data = fh.read()
-    if data[:64].split(b"\n", 1)[0].split(b"#")[0].split()[1:2] == [b"BINARY"]:
+    if b"BINARY" in data.split(b"\n", 1)[0].split():
         raise OffError(
             "binary OFF is not read (its writers disagree on the face records); save it as ASCII OFF, PLY or OBJ"
         )
@@ -264,12 +274,8 @@ def read_off(path):
         if n < 0 or len(f) != n:
             raise OffError(f"OFF face {k} declares {n} vertices but lists {len(f)}")
         if n >= 3:
-            tris.append(np.stack([np.full(n - 2, f[0]), f[1:-1], f[2:]], axis=1))
-    tris = np.concatenate(tris) if tris else np.zeros((0, 3), np.int64)
-    if len(tris) and (tris.min() < 0 or tris.max() >= nv):
-        bad = tris[(tris < 0) | (tris >= nv)][0]
-        raise OffError(f"an OFF face names vertex {bad}, outside 0..{nv - 1}")
-    return points, tris
+            tris.append(_fan(f))
+    return points, _triangles(tris, nv, OffError, "an OFF face")
 
 
 def surface_of(data):

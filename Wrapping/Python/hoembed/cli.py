@@ -393,9 +393,13 @@ def _read_child(path, out):
 
     try:
         low = path.lower()
-        if low.endswith(".off") or (low.endswith(".ply") and _readers.has_strips(path)):
-            read = _readers.read_off if low.endswith(".off") else _readers.read_ply
-            points, tris = read(path)
+        own = None  # VTK's reader
+        if low.endswith(".off"):
+            own = _readers.read_off
+        elif low.endswith(".ply") and _readers.has_strips(path):
+            own = _readers.read_ply
+        if own:
+            points, tris = own(path)
             data = pyvista.PolyData(
                 points, np.hstack([np.full((len(tris), 1), 3), tris]).ravel() if len(tris) else None
             )
