@@ -4,6 +4,7 @@
 #include "hoembedQuadraticMap.h"
 #include "hoembedSpatialOrder.h"
 #include "hoembedSurfaceCheck.h"
+#include "hoembedSurfaceRefine.h"
 #include "hoembedSurfaceWrap.h"
 #include "hoembedTetGenBridge.h"
 
@@ -20,6 +21,11 @@ namespace hoembed
 namespace
 {
 using Id = std::int64_t;
+
+// The longest boundary edge TetGen is given, in element sizes h: an edge bisected at
+// 1.4 h leaves halves of 0.7 h, so the boundary's edges stay within about a factor two of
+// h either way.
+constexpr double kLongestBoundaryEdge = 1.4;
 
 // Facts about the fine surface that the later steps need.
 struct FineSurfaceFacts
@@ -147,50 +153,42 @@ TetGenResult TetrahedralizeAtSize(const std::vector<double>& points, const std::
   return run;
 }
 
+// The search for the element size h whose mesh has the target count: the closest count
+// yet, and the sizes known to give too many (Fine) and too few (Coarse) elements.
+struct CountSearch
+{
+  double BestMismatch = DBL_MAX;
+  double Fine = 0.0;
+  double Coarse = DBL_MAX;
+};
+
 // Keeps `run` in `best` when its element count is the closest yet to the target (log
 // ratio), and scales h towards the target; true when the count is close enough (or the
-// size was given as an edge length).
+// size was given as an edge length). The count is a step function of h (a boundary
+// refined by halving moves in steps, TetGen's refinement jumps), so a step of the cube
+// root of the ratio can overshoot: a step that would leave the bracket of sizes tried is
+// replaced by the bracket's geometric middle, so that the search closes in on a step's
+// edge instead of going back and forth over it.
 bool KeepClosestCount(TetGenResult& run, const MesherOptions& options, double& h,
-  double& bestMismatch, TetGenResult& best)
+  CountSearch& search, TetGenResult& best)
 {
   const double ratio = static_cast<double>(run.Tets.size() / 4) / options.TargetNumberOfElements;
   const double mismatch = std::fabs(std::log(ratio));
-  if (mismatch < bestMismatch)
+  if (mismatch < search.BestMismatch)
   {
-    bestMismatch = mismatch;
+    search.BestMismatch = mismatch;
     best = std::move(run);
   }
   if (options.TargetEdgeLength > 0.0 || (ratio > 0.8 && ratio < 1.25))
     return true;
+  if (ratio > 1.0)
+    search.Fine = std::max(search.Fine, h);
+  else
+    search.Coarse = std::min(search.Coarse, h);
   h *= std::cbrt(ratio);
+  if (search.Coarse < DBL_MAX && search.Fine > 0.0 && (h <= search.Fine || h >= search.Coarse))
+    h = std::sqrt(search.Fine * search.Coarse);
   return false;
-}
-
-// Each triangle into four at its edge midpoints (one point per edge).
-void SplitTriangles(std::vector<double>& pts, std::vector<Id>& tris)
-{
-  std::map<std::pair<Id, Id>, Id> mid;
-  auto midpoint = [&](Id a, Id b) {
-    const std::pair<Id, Id> key(std::min(a, b), std::max(a, b));
-    auto it = mid.find(key);
-    if (it != mid.end())
-      return it->second;
-    const Id m = static_cast<Id>(pts.size() / 3);
-    for (int d = 0; d < 3; ++d)
-      pts.push_back(0.5 * (pts[3 * a + d] + pts[3 * b + d]));
-    mid.emplace(key, m);
-    return m;
-  };
-  std::vector<Id> out;
-  out.reserve(4 * tris.size());
-  for (size_t t = 0; t < tris.size() / 3; ++t)
-  {
-    const Id a = tris[3 * t], b = tris[3 * t + 1], c = tris[3 * t + 2];
-    const Id ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-    const Id four[12] = { a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca };
-    out.insert(out.end(), four, four + 12);
-  }
-  tris = std::move(out);
 }
 
 // Step 2: decimate the fine surface to the boundary of edge length h and mesh it with
@@ -218,7 +216,7 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
   params.RadiusEdgeRatio = options.RadiusEdgeRatio;
   params.MinDihedralAngle = options.MinDihedralAngle;
   params.MaxCreatedTetrahedra = options.CoarseTetGenMaxCreated;
-  double bestMismatch = DBL_MAX;
+  CountSearch search;
   std::string lastError;
   double triFactor = 1.0;
   bool smoothed = false;
@@ -250,11 +248,14 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       coarseTris = fineTris;
       // Fewer triangles than the element size asks for (a low-poly input: a cube of 12):
       // TetGen adds no points on the boundary (PreserveBoundary), so the count would stay
-      // far below the target; each triangle is split in four at its edge midpoints (on
-      // the surface, and shared, so the surface stays closed and manifold) until there are
-      // enough.
-      while (4.0 * static_cast<double>(coarseTris.size() / 3) <= 2.0 * nTri)
-        SplitTriangles(coarsePoints, coarseTris);
+      // far below the target; the longest edges are bisected (on the surface, in both
+      // triangles, so it stays closed and manifold) until there are as many triangles as
+      // the size asks for, as the decimation above gives, or no edge is over the size's
+      // bound. A bound alone would over-refine long thin triangles (a CAD part's), and
+      // the count would jump where the count control crosses 0.9 between the two paths.
+      const double have = static_cast<double>(coarseTris.size() / 3);
+      BisectLongEdges(coarsePoints, coarseTris, kLongestBoundaryEdge * h,
+        static_cast<Id>(std::ceil(std::max(0.0, 0.5 * (nTri - have)))));
     }
     const Id ncp = static_cast<Id>(coarsePoints.size() / 3);
     const Id nct = static_cast<Id>(coarseTris.size() / 3);
@@ -301,7 +302,7 @@ TetGenResult CoarsenAndTetrahedralize(const std::vector<double>& finePoints,
       tg = std::move(run);
       break;
     }
-    if (KeepClosestCount(run, options, h, bestMismatch, tg))
+    if (KeepClosestCount(run, options, h, search, tg))
       break;
   }
   if (tg.Tets.empty())
@@ -464,7 +465,7 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
   TetGenParameters params;
   params.RadiusEdgeRatio = options.RadiusEdgeRatio;
   params.MinDihedralAngle = options.MinDihedralAngle;
-  double bestMismatch = DBL_MAX;
+  CountSearch search;
   for (int attempt = 0; attempt < 3; ++attempt)
   {
     const double off = offsetFor(h);
@@ -500,9 +501,9 @@ TetGenResult WrapAndTetrahedralize(const std::vector<double>& finePoints,
         tg.Error = "TetGen could not mesh the envelope: " + run.Error;
       break;
     }
-    const double before = bestMismatch;
-    const bool done = KeepClosestCount(run, options, h, bestMismatch, tg);
-    if (bestMismatch < before)
+    const double before = search.BestMismatch;
+    const bool done = KeepClosestCount(run, options, h, search, tg);
+    if (search.BestMismatch < before)
       offset = off;
     if (done)
       break;
@@ -770,8 +771,8 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     // instead when its count is closer. The counts compared are those the output will
     // have: TetGen's less the flat boundary tets that curving removes first (13% of them
     // for fertility at 300, none for a camel at 4000), so that the bound is the issue's,
-    // 30% either way. Only then: a low-poly input (a cube) has its triangles split, never
-    // folds, and keeps its edges.
+    // 30% either way. Only then: a low-poly input (a cube) has its long edges bisected,
+    // never folds, and keeps its edges.
     auto outputCount = [&](const TetGenResult& t) {
       std::vector<Id> tets = t.Tets;
       const Id np = static_cast<Id>(t.Points.size() / 3);
@@ -945,9 +946,9 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
     std::ostringstream msg;
     msg << "the mesh has " << cells << " elements for a target of "
         << options.TargetNumberOfElements << " (" << countRatio
-        << " times): no element size tried came closer (a surface of few triangles has them "
-           "split in four, one that folds when decimated keeps more, and TetGen's refinement "
-           "can jump between sizes); another TargetNumberOfElements or a TargetEdgeLength may "
+        << " times): no element size tried came closer (a surface that folds when decimated "
+           "keeps more triangles, and TetGen's refinement can jump between sizes); another "
+           "TargetNumberOfElements or a TargetEdgeLength may "
            "land closer";
     out.Warnings.push_back(msg.str());
   }
