@@ -33,7 +33,7 @@ struct Shorter
     return x.E > y.E;
   }
 };
-}
+} // namespace
 
 std::int64_t BisectLongEdges(
   std::vector<double>& points, std::vector<Id>& tris, double maxLength, std::int64_t maxSplits)
@@ -117,4 +117,4 @@ std::int64_t BisectLongEdges(
   }
   return splits;
 }
-}
+} // namespace hoembed

@@ -43,6 +43,6 @@ namespace hoembed
  */
 HOEMBEDFILTERSMESHING_EXPORT std::int64_t BisectLongEdges(std::vector<double>& points,
   std::vector<std::int64_t>& tris, double maxLength, std::int64_t maxSplits);
-}
+} // namespace hoembed
 
 #endif

@@ -78,3 +78,30 @@ def test_thin_real_parts_keep_promises(data_dir, name):
     # every cell at the floor but for a few TetGen slivers (named in a warning)
     assert fd["PoorElementCount"][0] <= 0.01 * grid.n_cells
     assert 0.7 * 1000 <= grid.n_cells <= 1.3 * 1000
+
+
+def test_poor_clean_mesh_takes_the_envelope(data_dir):
+    """Raised text on a slab (closed and clean) at 4000 elements: TetGen keeps the thin
+    strips of its boundary triangles whatever the size, and its mesh has a median quality
+    of 0.15 with no cell below the floor (no sliver rule fires). The envelope, at 0.58, is
+    meshed instead, with a warning naming both medians; at 10000 TetGen's median is above
+    0.2 and the clean boundary stays."""
+    import warnings
+
+    path = data_dir.parent / "meshes-real" / "embossed_text.obj"
+    if not path.exists():
+        pytest.skip(f"{path} not available")
+    surface = pv.read(path).extract_surface().triangulate()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        grid = hoembed.tet10_mesh(surface, n_elements=4000, order=1)
+    text = [str(w.message) for w in caught if "median quality of" in str(w.message)]
+    assert len(text) == 1, [str(w.message) for w in caught]
+    assert grid.field_data["EnvelopeOffset"][0] > 0.0
+    assert np.median(grid.cell_data["MinScaledJacobian"]) >= 0.2
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        kept = hoembed.tet10_mesh(surface, n_elements=10000, order=1)
+    assert not [w for w in caught if "median quality of" in str(w.message)]
+    assert kept.field_data["EnvelopeOffset"][0] == 0.0
+    assert np.median(kept.cell_data["MinScaledJacobian"]) >= 0.2

@@ -34,8 +34,8 @@ Surface Box(double sx, double sy, double sz)
     s.Points.push_back((i & 2) ? sy : 0.0);
     s.Points.push_back((i & 4) ? sz : 0.0);
   }
-  s.Tris = { 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0,
-    6, 2, 1, 3, 7, 1, 7, 5 };
+  s.Tris = { 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6,
+    2, 1, 3, 7, 1, 7, 5 };
   return s;
 }
 
@@ -50,9 +50,9 @@ Surface Icosahedron()
   for (const auto& c : v)
     for (double x : c)
       s.Points.push_back(x / n);
-  s.Tris = { 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10,
-    7, 6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8,
-    6, 7, 9, 8, 1 };
+  s.Tris = { 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7,
+    6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7,
+    9, 8, 1 };
   return s;
 }
 
@@ -63,8 +63,8 @@ const double* P(const Surface& s, Id i)
 
 double Distance(const double* a, const double* b)
 {
-  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-    (a[2] - b[2]) * (a[2] - b[2]));
+  return std::sqrt(
+    (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 struct Measures
@@ -96,8 +96,8 @@ Measures Measure(const Surface& s)
       const double a = Distance(c[k], c[(k + 1) % 3]), b = Distance(c[k], c[(k + 2) % 3]),
                    o = Distance(c[(k + 1) % 3], c[(k + 2) % 3]);
       m.LongestEdge = std::max(m.LongestEdge, a);
-      m.SmallestAngle =
-        std::min(m.SmallestAngle, std::acos(std::clamp((a * a + b * b - o * o) / (2 * a * b), -1.0, 1.0)));
+      m.SmallestAngle = std::min(
+        m.SmallestAngle, std::acos(std::clamp((a * a + b * b - o * o) / (2 * a * b), -1.0, 1.0)));
       ++directed[{ s.Tris[3 * t + k], s.Tris[3 * t + (k + 1) % 3] }];
     }
   }
@@ -125,8 +125,8 @@ void CheckRefined(const char* name, Surface s, double bound)
   HOEMBED_CHECK(after.ClosedOriented, "%s: no longer closed and consistently oriented", name);
   HOEMBED_CHECK(std::fabs(after.Area - before.Area) <= 1e-12 * before.Area &&
       std::fabs(after.Volume - before.Volume) <= 1e-12 * std::fabs(before.Volume),
-    "%s: area %.17g -> %.17g, volume %.17g -> %.17g", name, before.Area, after.Area,
-    before.Volume, after.Volume);
+    "%s: area %.17g -> %.17g, volume %.17g -> %.17g", name, before.Area, after.Area, before.Volume,
+    after.Volume);
   HOEMBED_CHECK(after.SmallestAngle >= 0.5 * before.SmallestAngle - 1e-12,
     "%s: smallest angle %.4g deg, input's %.4g deg", name, after.SmallestAngle * 180 / M_PI,
     before.SmallestAngle * 180 / M_PI);
@@ -142,8 +142,8 @@ void CheckRefined(const char* name, Surface s, double bound)
       Distance(P(s, c[1]), P(s, c[2])), Distance(P(s, c[2]), P(s, c[0])) });
     overRefined += longest <= 0.5 * bound;
   }
-  HOEMBED_CHECK(overRefined == 0, "%s: %d triangles with every edge under half the bound", name,
-    overRefined);
+  HOEMBED_CHECK(
+    overRefined == 0, "%s: %d triangles with every edge under half the bound", name, overRefined);
 
   // Deterministic, and the same under a power-of-two scaling.
   Surface scaled = again;
@@ -157,7 +157,7 @@ void CheckRefined(const char* name, Surface s, double bound)
     same = scaled.Points[i] == s.Points[i] * 0x1p-10;
   HOEMBED_CHECK(same, "%s: not the scaled result under a scaling by 2^-10", name);
 }
-}
+} // namespace
 
 int main(int, char*[])
 {
