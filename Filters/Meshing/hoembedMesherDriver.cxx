@@ -109,6 +109,21 @@ Id CountComponents(Id npts, const std::vector<Id>& tris)
   return n;
 }
 
+// The scaled Jacobian of each of TetGen's straight tets.
+std::vector<double> StraightQualities(const TetGenResult& tg)
+{
+  std::vector<double> q(tg.Tets.size() / 4);
+  for (size_t t = 0; t < q.size(); ++t)
+  {
+    double x[12];
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 3; ++d)
+        x[3 * a + d] = tg.Points[3 * tg.Tets[4 * t + a] + d];
+    q[t] = Tet4ScaledJacobian(x);
+  }
+  return q;
+}
+
 // Straight tets of TetGen's mesh below the quality floor. TetGen leaves a few (slivers
 // whose four corners lie on the boundary: up to 5% on the real closed meshes measured,
 // Benchmarks/RESULTS.md); many (over 10%) mean that the coarsened surface has parts
@@ -119,16 +134,8 @@ Id CountPoorStraightTets(const TetGenResult& tg, double floor)
 {
   if (!tg.Error.empty())
     return 0;
-  Id poor = 0;
-  for (size_t t = 0; t < tg.Tets.size() / 4; ++t)
-  {
-    double x[12];
-    for (int a = 0; a < 4; ++a)
-      for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = tg.Points[3 * tg.Tets[4 * t + a] + d];
-    poor += Tet4ScaledJacobian(x) < floor ? 1 : 0;
-  }
-  return poor;
+  const std::vector<double> q = StraightQualities(tg);
+  return static_cast<Id>(std::count_if(q.begin(), q.end(), [&](double v) { return v < floor; }));
 }
 
 bool MostlySlivers(const TetGenResult& tg, const MesherOptions& options, Id& poor)
@@ -140,15 +147,7 @@ bool MostlySlivers(const TetGenResult& tg, const MesherOptions& options, Id& poo
 // The median scaled Jacobian of TetGen's straight tets (0 for no mesh).
 double MedianStraightQuality(const TetGenResult& tg)
 {
-  std::vector<double> q(tg.Tets.size() / 4);
-  for (size_t t = 0; t < q.size(); ++t)
-  {
-    double x[12];
-    for (int a = 0; a < 4; ++a)
-      for (int d = 0; d < 3; ++d)
-        x[3 * a + d] = tg.Points[3 * tg.Tets[4 * t + a] + d];
-    q[t] = Tet4ScaledJacobian(x);
-  }
+  std::vector<double> q = StraightQualities(tg);
   if (q.empty())
     return 0.0;
   std::nth_element(q.begin(), q.begin() + (q.size() - 1) / 2, q.end());
