@@ -18,6 +18,8 @@ the subdivided tri6 faces).
         [--set NAME=VALUE ...]   (settings other than the defaults, e.g. EnvelopeTolerance=0.01)
         [--data DIR ...]   (other folders of surfaces in place of ../shared/data's, e.g.
                             held-out files; the generated cases then only with --only)
+    Low-poly generated cases (gen:cube, gen:long_box, gen:capped_cylinder,
+    gen:icosahedron) run only when --only names them.
 
 JSON: Benchmarks/results/<--out> (written after every run). A run past the time limit is
 recorded as such, with the mesher's figures when only the checks ran out of time. Skips
@@ -37,6 +39,16 @@ ROOT = HERE.parent
 DATA = [ROOT.parent / "shared" / "data" / "meshes", ROOT.parent / "shared" / "data" / "meshes-real"]
 SUFFIXES = {".obj", ".stl", ".ply", ".glb", ".gltf", ".vtp", ".vtk", ".off"}
 GENERATED = ["gen:ribbed_beam", "gen:cube_with_cavity"]
+# Low-poly surfaces of 12-192 triangles (test_low_poly_counts_follow_the_target's), whose
+# boundaries are refined to the element size: run with --only, e.g. --only gen:cube.
+LOW_POLY = {
+    "gen:cube": lambda pv: pv.Cube().triangulate().clean(),
+    "gen:long_box": lambda pv: pv.Box(bounds=(0, 4, 0, 1, 0, 1), level=3).triangulate().clean(),
+    "gen:capped_cylinder": lambda pv: (
+        pv.Cylinder(resolution=24, capping=True).triangulate().clean()
+    ),
+    "gen:icosahedron": lambda pv: pv.Icosahedron().triangulate().clean(),
+}
 
 
 def data_folders():
@@ -60,6 +72,8 @@ def one_run(name, count, order, threads):
         from test_mesher_thin import ribbed_beam
 
         surface = ribbed_beam()
+    elif name in LOW_POLY:
+        surface = LOW_POLY[name](pv)
     elif name == "gen:cube_with_cavity":
         from test_mesher_any_surface import cube_with_cavity
 
@@ -247,6 +261,7 @@ def main():
         return 0
     names = sorted(p.name for d in folders for p in d.iterdir() if p.suffix.lower() in SUFFIXES)
     names += GENERATED if not args.data or args.only else []
+    names += list(LOW_POLY) if args.only else []
     if args.only:
         names = [n for n in names if n in args.only]
     if args.set:

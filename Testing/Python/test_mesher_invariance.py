@@ -137,3 +137,13 @@ def test_storage_order_open_surface():
     assert len(ref[1]) > 0
     check_same(grid(shuffled(s, 4), 300, threads=2), ref, "shuffled, 2 threads")
     check_same(grid(s, 300, threads=1), ref, "again")
+
+
+def test_low_poly_surface():
+    """A capped cylinder of 92 triangles at 4000 elements takes the low-poly path (its
+    longest edges bisected, ties in length broken by vertex ids): the same mesh scaled by
+    2^±10, stored otherwise and on 2 threads."""
+    s = pv.Cylinder(resolution=24, capping=True).triangulate().clean()
+    check_invariant(s, 4000, order=1)
+    ref = grid(s, 4000, 1, threads=1)
+    check_same(grid(shuffled(s, 4), 4000, 1, threads=2), ref, "shuffled, 2 threads")
