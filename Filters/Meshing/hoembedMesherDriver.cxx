@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cfloat>
-#include <map>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -764,6 +763,14 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
   report(0.1);
   TetGenResult tg;
   bool envelopeMeshed = false;
+  // The envelope's mesh in place of the clean surface's, with the warning that says why.
+  auto takeEnvelope = [&](TetGenResult& wrapped, double offset, const std::string& why) {
+    out.Warnings.push_back(why);
+    tg = std::move(wrapped);
+    out.Wrapped = true;
+    out.EnvelopeOffset = offset;
+    envelopeMeshed = true;
+  };
   if (notClean.empty() && options.Wrap <= 0)
   {
     bool folded = false;
@@ -820,11 +827,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
             << options.TargetNumberOfElements
             << " (it folds when decimated further: parts thinner than the element size); the "
                "surface's envelope is meshed instead (EnvelopeTolerance)";
-        out.Warnings.push_back(msg.str());
-        tg = std::move(wrapped);
-        out.Wrapped = true;
-        out.EnvelopeOffset = offset;
-        envelopeMeshed = true;
+        takeEnvelope(wrapped, offset, msg.str());
       }
     }
     // Poor without being mostly slivers: a clean surface of thin strips of triangles
@@ -847,11 +850,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
         msg << "the coarsened surface's elements have a median quality of " << median
             << " (thin strips of boundary triangles); the surface's envelope, at " << wrappedMedian
             << ", is meshed instead (EnvelopeTolerance)";
-        out.Warnings.push_back(msg.str());
-        tg = std::move(wrapped);
-        out.Wrapped = true;
-        out.EnvelopeOffset = offset;
-        envelopeMeshed = true;
+        takeEnvelope(wrapped, offset, msg.str());
       }
     }
   }
@@ -996,8 +995,7 @@ MesherResult RunMesher(const std::vector<double>& points, const std::vector<Id>&
         << options.TargetNumberOfElements << " (" << countRatio
         << " times): no element size tried came closer (a surface that folds when decimated "
            "keeps more triangles, and TetGen's refinement can jump between sizes); another "
-           "TargetNumberOfElements or a TargetEdgeLength may "
-           "land closer";
+           "TargetNumberOfElements or a TargetEdgeLength may land closer";
     out.Warnings.push_back(msg.str());
   }
   report(1.0);
