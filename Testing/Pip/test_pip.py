@@ -145,6 +145,42 @@ def test_transfer_bitwise(case):
             assert not np.allclose(ref.points, embedded_ref.points)
 
 
+def cpu_has_avx2():
+    try:
+        with open("/proc/cpuinfo") as f:
+            return any(
+                line.startswith("flags") and "avx2" in line.split() for line in f.read().splitlines()
+            )
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not cpu_has_avx2(), reason="this CPU has no AVX2 (the plain kernel runs)")
+def test_the_wheel_runs_the_avx2_transfer_kernel():
+    # the wheel compiles the transfer kernel's AVX2 copy as the VTK build does (one source
+    # list, Filters/Transfer/sources.cmake), and chooses it here; it gives the plain bits
+    from hoembed import _hoembed
+
+    case = sorted(CASES)[0]
+    mesh = read(case, "mesh.vtu")
+    emb = hoembed.embed(read(case, "surface.vtp"), mesh)
+    deformed = read(case, "deformed_1.vtu")
+    # the shading normals carried by the deformation go through the kernel too
+    deformed.point_data["Displacement"] = deformed.points - mesh.points
+    got = {}
+    try:
+        assert _hoembed.transfer_kernel_simd(-1)
+        for simd in (1, 0):
+            assert _hoembed.transfer_kernel_simd(simd) == bool(simd)
+            out = hoembed.transfer(emb, deformed, compute_point_normals="transform")
+            got[simd] = (np.array(out.points), np.array(out.point_data["Normals"]))
+    finally:
+        _hoembed.transfer_kernel_simd(-1)
+    for a, b in zip(got[1], got[0]):
+        assert bitwise(a, b)
+    assert not np.allclose(got[1][0], emb.points)
+
+
 def test_rigid_motion_is_rigid():
     # independent of the reference: frame 0 is a rigid motion (generate_reference.py)
     case = sorted(CASES)[0]

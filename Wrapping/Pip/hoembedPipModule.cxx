@@ -868,6 +868,13 @@ NB_MODULE(_hoembed, m)
     "The driver's sentence refusing `value` for its property `name` ('' when valid).");
 
   m.def(
+    "transfer_kernel_simd", [](int mode) { return hoembed::SetTransferKernelSimd(mode); },
+    nb::arg("mode") = -1,
+    "Which code the transfer's per-vertex kernel runs: 1 its AVX2 copy (where the build has "
+    "it and the CPU has AVX2), 0 the plain one, -1 (default) chosen from the CPU; both give "
+    "the same bits. Returns whether the AVX2 copy is now used (for tests and timings).");
+
+  m.def(
     "number_of_threads", [] { return hoembed::ParallelThreadCount(); },
     "Threads the kernels' loops use (the wheel: HOEMBED_NUM_THREADS, else the hardware's; "
     "the VTK build: vtkSMPTools' estimate).");
