@@ -149,7 +149,8 @@ def cpu_has_avx2():
     try:
         with open("/proc/cpuinfo") as f:
             return any(
-                line.startswith("flags") and "avx2" in line.split() for line in f.read().splitlines()
+                line.startswith("flags") and "avx2" in line.split()
+                for line in f.read().splitlines()
             )
     except OSError:
         return False
