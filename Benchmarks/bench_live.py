@@ -45,6 +45,11 @@ after how many frames the grab's own factor was taken.
         [--grab-repeats 3] [--drag-frames 60] [--overlap-rounds 2] [--passes 1,2]
         [--point-normals transform] [--float-points] [--save DIR]
 
+In a venv with the wheel (what a pip user runs; `backend` "pip" in the JSON), whose loops
+take their thread count from HOEMBED_NUM_THREADS at start-up:
+
+    HOEMBED_NUM_THREADS=2 python Benchmarks/bench_live.py --passes 2 ...
+
 After the 2-thread passes, the last frame of the drag is transferred with both kinds of
 point normals and the angle between them reported (normals_angle_deg: median, 99th and
 99.9th percentiles, max; the inverted elements and the normals recomputed for them).
@@ -289,6 +294,14 @@ def main():
         "DIR/embedded.vtp: the inputs of build/bin/hoembedTransferBench)",
     )
     args = ap.parse_args()
+    passes = [int(t) for t in args.passes.split(",") if t]
+    if hoembed.BACKEND == "pip" and any(t != hoembed.number_of_threads() for t in passes + [2]):
+        # the wheel's loops take their thread count from HOEMBED_NUM_THREADS at start-up;
+        # vtkSMPTools (the user's pip VTK) does not reach them
+        ap.error(
+            f"the wheel runs {hoembed.number_of_threads()} threads: run with "
+            "HOEMBED_NUM_THREADS=2 and --passes 2"
+        )
     bandwidth = stream_bandwidth()
     load_start = os.getloadavg()
     t0 = time.perf_counter()
@@ -323,6 +336,7 @@ def main():
         "elements": int(fe.n_cells),
         "fe_nodes": int(fe.n_points),
         "frames": args.frames,
+        "backend": hoembed.BACKEND,  # "vtk" (the VTK build) or "pip" (the wheel)
         "setup_s": setup,
         "load_average_start": load_start,
         "point_normals": args.point_normals,
@@ -332,7 +346,7 @@ def main():
         "passes": {},
     }
     skip = min(5, args.frames // 4)
-    for threads in [int(t) for t in args.passes.split(",") if t]:
+    for threads in passes:
         vtkSMPTools.Initialize(threads)
         rows, grabbed = run_pass(session, args.frames)
         result["passes"][f"{threads} thread{'s' if threads > 1 else ''}"] = summarise(rows, skip)
