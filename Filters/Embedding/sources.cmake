@@ -38,9 +38,5 @@ set(hoembed_embedding_private_headers
 list(TRANSFORM hoembed_embedding_headers PREPEND "${hoembed_embedding_dir}/")
 list(TRANSFORM hoembed_embedding_sources PREPEND "${hoembed_embedding_dir}/")
 list(TRANSFORM hoembed_embedding_private_headers PREPEND "${hoembed_embedding_dir}/")
-# The kernels never read errno: let sqrt compile to the instruction alone (results are
-# unchanged: IEEE sqrt either way).
-if (CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
-  set_source_files_properties(${hoembed_embedding_sources}
-    PROPERTIES COMPILE_OPTIONS "-fno-math-errno")
-endif ()
+include("${CMAKE_CURRENT_LIST_DIR}/../../cmake/HOEmbedKernelOptions.cmake")
+hoembed_no_math_errno(${hoembed_embedding_sources})

@@ -17,12 +17,8 @@ set(hoembed_transfer_sources
   hoembedLagrangeTransfer.cxx)
 list(TRANSFORM hoembed_transfer_headers PREPEND "${hoembed_transfer_dir}/")
 list(TRANSFORM hoembed_transfer_sources PREPEND "${hoembed_transfer_dir}/")
-# The kernels never read errno: let sqrt compile to the instruction alone (results are
-# unchanged: IEEE sqrt either way).
-if (CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
-  set_source_files_properties(${hoembed_transfer_sources}
-    PROPERTIES COMPILE_OPTIONS "-fno-math-errno")
-endif ()
+include("${CMAKE_CURRENT_LIST_DIR}/../../cmake/HOEmbedKernelOptions.cmake")
+hoembed_no_math_errno(${hoembed_transfer_sources})
 # The per-vertex transfer kernel has an AVX2 copy (hoembedTransferKernelAvx2.cxx, chosen at
 # run time on CPUs that have AVX2; the same bits as the plain one), on x86-64 GCC/Clang:
 # the dispatch and the copy see the definition, in any binary for any x86-64.
