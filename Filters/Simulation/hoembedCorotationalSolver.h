@@ -69,8 +69,9 @@
  * at the first step after the worker is done, or, with a lag, exactly that many steps
  * after it was asked for (waited for then: results independent of timing). A set that
  * changes again before its factor is ready makes the job stale (dropped, or kept as the
- * newer unprescribed factor); one job at a time. Static solves, and the first step, stay
- * synchronous.
+ * newer unprescribed factor); one job at a time. The worker runs at the lowest priority
+ * (Linux), so that it takes the cycles the steps leave rather than half of theirs. Static
+ * solves, and the first step, stay synchronous.
  *
  * StaticSolve: solves f_int(x) = f_ext by repeated linearised solves (the first one is
  * exactly small-strain linear elasticity from the rest state), needs clamped nodes.
