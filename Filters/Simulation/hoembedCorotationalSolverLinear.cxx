@@ -125,10 +125,29 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
 void CorotationalSolver::Impl::FillFactor(
   PreconditionerFactor& f, const RowMat& source, bool rest, double cM, double cK)
 {
+  f.Free = Free;
+  f.CM = cM;
+  f.CK = cK;
+  f.NoPrescribed = NumberPrescribed == 0;
+  FillValues(f, source, rest);
+  if (!rest)
+  {
+    f.Q = NodeRot;
+  }
+}
+
+// Reads only what stays fixed until the worker is joined (the pattern, the rest mass and
+// stiffness values, the permutation; Initialize joins it first) and f's own mask and
+// coefficients, so the worker can run it for a rest-matrix job.
+void CorotationalSolver::Impl::FillValues(
+  PreconditionerFactor& f, const RowMat& source, bool rest) const
+{
   double* pv = f.Permuted.valuePtr();
   const double* cur = source.valuePtr();
   const int* outer = source.outerIndexPtr();
   const int* inner = source.innerIndexPtr();
+  const std::vector<char>& free = f.Free;
+  const double cM = f.CM, cK = f.CK;
   for (long long r = 0; r < 3 * NP; ++r)
   {
     for (int k = outer[r]; k < outer[r + 1]; ++k)
@@ -139,7 +158,7 @@ void CorotationalSolver::Impl::FillFactor(
       }
       const int c = inner[k];
       double v;
-      if (!Free[r] || !Free[c])
+      if (!free[r] || !free[c])
       {
         v = (r == c) ? 1.0 : 0.0;
       }
@@ -150,10 +169,6 @@ void CorotationalSolver::Impl::FillFactor(
       pv[PermValue[k]] = v;
     }
   }
-  f.Free = Free;
-  f.CM = cM;
-  f.CK = cK;
-  f.NoPrescribed = NumberPrescribed == 0;
   if (rest)
   {
     f.Q.assign(9 * NP, 0.0);
@@ -161,10 +176,6 @@ void CorotationalSolver::Impl::FillFactor(
     {
       f.Q[9 * p] = f.Q[9 * p + 4] = f.Q[9 * p + 8] = 1.0;
     }
-  }
-  else
-  {
-    f.Q = NodeRot;
   }
 }
 
@@ -321,7 +332,19 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK, bool rest)
     T.Solve -= assembly; // counted in the solve phase of Step; keep it in assembly
   }
   std::shared_ptr<PreconditionerFactor> job = NewFactor();
-  FillFactor(*job, A, rest, cM, cK);
+  if (rest)
+  {
+    // what the step reads of a running job (its set and coefficients) is set here; its
+    // values are filled by the worker (a few ms of the frame that asked for it)
+    job->Free = Free;
+    job->CM = cM;
+    job->CK = cK;
+    job->NoPrescribed = NumberPrescribed == 0;
+  }
+  else
+  {
+    FillFactor(*job, A, false, cM, cK); // of this step's A, which later steps overwrite
+  }
   Job = job;
   JobStep = StepCount;
   JobGeneration = Generation;
@@ -329,10 +352,14 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK, bool rest)
   const bool large = Large();
   const long long np = NP;
   std::atomic<bool>* done = &WorkerDone;
-  Worker = std::thread([job, large, np, done]() {
+  Worker = std::thread([this, job, rest, large, np, done]() {
     LowerThisThreadsPriority();
     try
     {
+      if (rest)
+      {
+        FillValues(*job, A, true);
+      }
       job->Compute(large, np);
     }
     catch (...) // out of memory: the job is dropped, the stand-in keeps serving
