@@ -284,6 +284,8 @@ struct CorotationalSolver::Impl
   void Recycle(std::shared_ptr<PreconditionerFactor> f);
   // copy source (rest: cM M + cK K instead) into f with the current Free mask
   void FillFactor(PreconditionerFactor& f, const RowMat& source, bool rest, double cM, double cK);
+  // f's set, coefficients and NoPrescribed (what the step reads of a running job)
+  void DescribeFactor(PreconditionerFactor& f, double cM, double cK) const;
   // f's values only, for f's Free, CM and CK (rest: no source values read)
   void FillValues(PreconditionerFactor& f, const RowMat& source, bool rest) const;
   void BackgroundPreconditioner(double cM, double cK);

@@ -122,13 +122,18 @@ bool CorotationalSolver::Impl::FactorMatrix(const RowMat& source, bool rest, dou
   return FactorOK();
 }
 
-void CorotationalSolver::Impl::FillFactor(
-  PreconditionerFactor& f, const RowMat& source, bool rest, double cM, double cK)
+void CorotationalSolver::Impl::DescribeFactor(PreconditionerFactor& f, double cM, double cK) const
 {
   f.Free = Free;
   f.CM = cM;
   f.CK = cK;
   f.NoPrescribed = NumberPrescribed == 0;
+}
+
+void CorotationalSolver::Impl::FillFactor(
+  PreconditionerFactor& f, const RowMat& source, bool rest, double cM, double cK)
+{
+  DescribeFactor(f, cM, cK);
   FillValues(f, source, rest);
   if (!rest)
   {
@@ -336,10 +341,7 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK, bool rest)
   {
     // what the step reads of a running job (its set and coefficients) is set here; its
     // values are filled by the worker (a few ms of the frame that asked for it)
-    job->Free = Free;
-    job->CM = cM;
-    job->CK = cK;
-    job->NoPrescribed = NumberPrescribed == 0;
+    DescribeFactor(*job, cM, cK);
   }
   else
   {
@@ -349,10 +351,7 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK, bool rest)
   JobStep = StepCount;
   JobGeneration = Generation;
   WorkerDone.store(false, std::memory_order_relaxed);
-  const bool large = Large();
-  const long long np = NP;
-  std::atomic<bool>* done = &WorkerDone;
-  Worker = std::thread([this, job, rest, large, np, done]() {
+  Worker = std::thread([this, job, rest]() {
     LowerThisThreadsPriority();
     try
     {
@@ -360,13 +359,13 @@ void CorotationalSolver::Impl::StartJob(double cM, double cK, bool rest)
       {
         FillValues(*job, A, true);
       }
-      job->Compute(large, np);
+      job->Compute(Large(), NP);
     }
     catch (...) // out of memory: the job is dropped, the stand-in keeps serving
     {
       job->OK = false;
     }
-    done->store(true, std::memory_order_release);
+    WorkerDone.store(true, std::memory_order_release);
   });
 }
 
